@@ -1,0 +1,92 @@
+using System.CommandLine;
+using Serilog;
+using Serilog.Events;
+
+namespace PmacStream.Cli;
+
+/// <summary>Options every command shares, logging set-up, and the exit-code convention.</summary>
+internal static class CliGlobals
+{
+    /// <summary>Success.</summary>
+    public const int Ok = 0;
+
+    /// <summary>The input has errors or the job failed.</summary>
+    public const int Failed = 1;
+
+    /// <summary>Usage or I/O error.</summary>
+    public const int UsageOrIo = 2;
+
+    public static readonly Option<bool> Verbose = new("--verbose", "-v")
+    {
+        Description = "Log every controller command and reply (Debug level) to stderr.",
+        Recursive = true,
+    };
+
+    public static readonly Option<string?> LogFile = new("--log-file")
+    {
+        Description = "Also write the log (Debug level) to this file.",
+        Recursive = true,
+    };
+
+    public static async Task<int> RunAsync(RootCommand root, string[] args)
+    {
+        var parse = root.Parse(args);
+        ConfigureLogging(parse.GetValue(Verbose), parse.GetValue(LogFile));
+        try
+        {
+            if (parse.Errors.Count > 0)
+            {
+                foreach (var e in parse.Errors)
+                {
+                    await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+                }
+
+                await Console.Error.WriteLineAsync("Try 'pmacstream --help'.").ConfigureAwait(false);
+                return UsageOrIo;
+            }
+
+            return await parse.InvokeAsync().ConfigureAwait(false);
+        }
+        catch (CliException e)
+        {
+            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            return e.ExitCode;
+        }
+        catch (IOException e)
+        {
+            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            return UsageOrIo;
+        }
+        catch (UnauthorizedAccessException e)
+        {
+            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            return UsageOrIo;
+        }
+        finally
+        {
+            await Log.CloseAndFlushAsync().ConfigureAwait(false);
+        }
+    }
+
+    private static void ConfigureLogging(bool verbose, string? logFile)
+    {
+        var config = new LoggerConfiguration()
+            .MinimumLevel.Debug()
+            .WriteTo.Console(
+                restrictedToMinimumLevel: verbose ? LogEventLevel.Debug : LogEventLevel.Warning,
+                standardErrorFromLevel: LogEventLevel.Verbose,
+                outputTemplate: "[{Timestamp:HH:mm:ss.fff} {Level:u3}] {Message:lj}{NewLine}{Exception}");
+        if (!string.IsNullOrEmpty(logFile))
+        {
+            config = config.WriteTo.File(logFile, outputTemplate: "{Timestamp:O} [{Level:u3}] {SourceContext} {Message:lj}{NewLine}{Exception}");
+        }
+
+        Log.Logger = config.CreateLogger();
+    }
+}
+
+/// <summary>An error the CLI reports in one line, with its exit code (no stack trace).</summary>
+internal sealed class CliException(string message, int exitCode = CliGlobals.UsageOrIo) : Exception(message)
+{
+    public int ExitCode { get; } = exitCode;
+}

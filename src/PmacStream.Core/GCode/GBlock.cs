@@ -1,0 +1,114 @@
+using System.Text;
+
+namespace PmacStream.GCode;
+
+/// <summary>
+/// One source line as the reader saw it. The reader reuses a single instance per line while streaming, so
+/// consumers that keep a block must copy what they need (<see cref="TextWithoutComments"/>, <see cref="Words"/> copy).
+/// </summary>
+public sealed class GBlock
+{
+    internal byte[] Buffer = new byte[256];
+    internal readonly List<GWord> WordList = new(16);
+    internal readonly List<Diagnostic> DiagnosticList = new(2);
+    internal readonly List<(int Start, int Length)> CommentList = new(2);
+
+    /// <summary>1-based source line number.</summary>
+    public int LineNumber { get; internal set; }
+
+    /// <summary>Byte offset of the line's first byte in the file.</summary>
+    public long ByteOffset { get; internal set; }
+
+    /// <summary>Length of the line in bytes, without its line end.</summary>
+    public int Length { get; internal set; }
+
+    /// <summary>The raw bytes of the line (no line end).</summary>
+    public ReadOnlySpan<byte> Line => Buffer.AsSpan(0, Length);
+
+    /// <summary>The address words in source order.</summary>
+    public IReadOnlyList<GWord> Words => WordList;
+
+    /// <summary>Findings of the lexer for this line (illegal characters, malformed numbers, unclosed comments).</summary>
+    public IReadOnlyList<Diagnostic> LexicalDiagnostics => DiagnosticList;
+
+    /// <summary>Comment spans (<c>( ... )</c> and <c>; ...</c>), as offsets into <see cref="Line"/>, delimiters included.</summary>
+    public IReadOnlyList<(int Start, int Length)> Comments => CommentList;
+
+    /// <summary>The line starts with <c>/</c>: skipped when block delete is on.</summary>
+    public bool BlockDelete { get; internal set; }
+
+    /// <summary>The line is a <c>%</c> tape mark.</summary>
+    public bool IsTapeMark { get; internal set; }
+
+    /// <summary>Nothing but white space and comments (or empty).</summary>
+    public bool IsEmpty => WordList.Count == 0 && !IsTapeMark;
+
+    /// <summary>The program number when the line carries <c>O</c>nnnn (or <c>:</c>nnnn), else null.</summary>
+    public double? ProgramNumber
+    {
+        get
+        {
+            foreach (var w in WordList)
+            {
+                if (w.Letter == 'O')
+                {
+                    return w.Value;
+                }
+            }
+
+            return null;
+        }
+    }
+
+    /// <summary>The text of a word's number exactly as written (sign and points included).</summary>
+    public ReadOnlySpan<byte> NumberText(in GWord word) => Buffer.AsSpan(word.NumberStart, word.NumberLength);
+
+    /// <summary>The comments' inner text, decoded (UTF-8, falling back to GBK when the bytes are not UTF-8).</summary>
+    public IEnumerable<string> CommentTexts()
+    {
+        foreach (var (start, length) in CommentList)
+        {
+            yield return TextDecoding.Decode(Buffer.AsSpan(start, length));
+        }
+    }
+
+    /// <summary>The words only, upper case, one space between them: <c>G1 X1. Y-2.5</c>.</summary>
+    public string TextWithoutComments()
+    {
+        var sb = new StringBuilder(Length);
+        foreach (var w in WordList)
+        {
+            if (sb.Length > 0)
+            {
+                sb.Append(' ');
+            }
+
+            sb.Append(w.Letter);
+            foreach (var b in NumberText(w))
+            {
+                sb.Append((char)b);
+            }
+        }
+
+        return sb.ToString();
+    }
+
+    /// <summary>Finds the first word with the given letter.</summary>
+    public bool TryGetWord(char letter, out GWord word)
+    {
+        foreach (var w in WordList)
+        {
+            if (w.Letter == letter)
+            {
+                word = w;
+                return true;
+            }
+        }
+
+        word = default;
+        return false;
+    }
+
+    /// <summary>The decoded line text, for display.</summary>
+    public override string ToString() => TextDecoding.Decode(Line);
+}

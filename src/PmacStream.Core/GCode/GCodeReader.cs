@@ -1,0 +1,400 @@
+using System.Buffers;
+using System.Globalization;
+
+namespace PmacStream.GCode;
+
+/// <summary>
+/// Streams a G-code program line by line from bytes, never holding more than one line. Accepts what CAM posts and
+/// people write: no spaces (<c>G0X1.Y-2.5</c>), spaces between letter and number (<c>G0Z  0.1</c>), lower case,
+/// <c>.5</c>/<c>5.</c>/<c>+5</c>, tabs, CR/LF/CRLF, <c>( )</c> and <c>;</c> comments holding UTF-8 or GBK text,
+/// <c>%</c> tape marks, <c>/</c> block delete, <c>O</c>/<c>:</c> program numbers and <c>N</c> numbers.
+/// Lexical problems become diagnostics on the block; the reader itself never throws on content.
+/// </summary>
+public sealed class GCodeReader : IDisposable
+{
+    /// <summary>Longest line accepted; longer lines are cut there and reported (E114), so memory stays bounded.</summary>
+    public const int MaxLineLength = 1 << 20;
+
+    private readonly Stream _stream;
+    private readonly bool _leaveOpen;
+    private readonly byte[] _chunk;
+    private readonly GBlock _block = new();
+    private int _chunkPos;
+    private int _chunkLen;
+    private long _chunkFileOffset;
+    private int _lineNumber;
+    private bool _pendingCrLf;
+    private bool _eof;
+
+    /// <summary>Reads from a stream (which the reader disposes unless <paramref name="leaveOpen"/>).</summary>
+    public GCodeReader(Stream stream, bool leaveOpen = false, int bufferSize = 1 << 16)
+    {
+        _stream = stream;
+        _leaveOpen = leaveOpen;
+        _chunk = ArrayPool<byte>.Shared.Rent(bufferSize);
+    }
+
+    /// <summary>Opens a file for sequential reading.</summary>
+    public static GCodeReader Open(string path) =>
+        new(new FileStream(path, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan));
+
+    /// <summary>Bytes consumed so far (for progress).</summary>
+    public long Position => _chunkFileOffset + _chunkPos;
+
+    /// <summary>The current block after <see cref="Read"/> returned true. The same instance every time.</summary>
+    public GBlock Current => _block;
+
+    /// <summary>Reads the next line. Returns false at the end of the input.</summary>
+    public bool Read()
+    {
+        if (!ReadLine())
+        {
+            return false;
+        }
+
+        Lex(_block);
+        return true;
+    }
+
+    /// <summary>Reads every block of a file, yielding the shared instance (copy what you keep).</summary>
+    public static IEnumerable<GBlock> ReadAll(string path)
+    {
+        using var reader = Open(path);
+        while (reader.Read())
+        {
+            yield return reader.Current;
+        }
+    }
+
+    /// <summary>Lexes a single line of text (tests, the HMI, the store's formatter).</summary>
+    public static GBlock LexLine(string text, int lineNumber = 1)
+    {
+        var block = new GBlock();
+        var bytes = System.Text.Encoding.UTF8.GetBytes(text);
+        block.Buffer = bytes.Length == 0 ? new byte[1] : bytes;
+        block.Length = bytes.Length;
+        block.LineNumber = lineNumber;
+        Lex(block);
+        return block;
+    }
+
+    /// <inheritdoc />
+    public void Dispose()
+    {
+        ArrayPool<byte>.Shared.Return(_chunk);
+        if (!_leaveOpen)
+        {
+            _stream.Dispose();
+        }
+    }
+
+    private bool Fill()
+    {
+        if (_eof)
+        {
+            return false;
+        }
+
+        _chunkFileOffset += _chunkLen;
+        _chunkPos = 0;
+        _chunkLen = _stream.Read(_chunk, 0, _chunk.Length);
+        if (_chunkLen <= 0)
+        {
+            _chunkLen = 0;
+            _eof = true;
+            return false;
+        }
+
+        return true;
+    }
+
+    private bool ReadLine()
+    {
+        var b = _block;
+        b.Length = 0;
+        b.DiagnosticList.Clear();
+        var truncated = false;
+        var started = false;
+
+        while (true)
+        {
+            if (_chunkPos >= _chunkLen && !Fill())
+            {
+                if (!started)
+                {
+                    return false;
+                }
+
+                break;
+            }
+
+            if (_pendingCrLf)
+            {
+                _pendingCrLf = false;
+                if (_chunk[_chunkPos] == (byte)'\n')
+                {
+                    _chunkPos++;
+                    continue;
+                }
+            }
+
+            if (!started)
+            {
+                started = true;
+                b.ByteOffset = _chunkFileOffset + _chunkPos;
+            }
+
+            var span = _chunk.AsSpan(_chunkPos, _chunkLen - _chunkPos);
+            var end = span.IndexOfAny((byte)'\n', (byte)'\r');
+            var take = end < 0 ? span.Length : end;
+            Append(b, span[..take], ref truncated);
+            _chunkPos += take;
+            if (end >= 0)
+            {
+                if (span[end] == (byte)'\r')
+                {
+                    _pendingCrLf = true;
+                }
+
+                _chunkPos++;
+                break;
+            }
+        }
+
+        b.LineNumber = ++_lineNumber;
+        if (truncated)
+        {
+            b.DiagnosticList.Add(new Diagnostic(Severity.Error, DiagnosticCodes.LineTooLong, b.LineNumber, MaxLineLength,
+                DiagnosticText.Format(DiagnosticCodes.LineTooLong, MaxLineLength)));
+        }
+
+        return true;
+    }
+
+    private static void Append(GBlock b, ReadOnlySpan<byte> data, ref bool truncated)
+    {
+        if (b.Length + data.Length > MaxLineLength)
+        {
+            truncated = true;
+            data = data[..Math.Max(0, MaxLineLength - b.Length)];
+        }
+
+        if (b.Length + data.Length > b.Buffer.Length)
+        {
+            var bigger = new byte[Math.Max(b.Length + data.Length, b.Buffer.Length * 2)];
+            b.Buffer.AsSpan(0, b.Length).CopyTo(bigger);
+            b.Buffer = bigger;
+        }
+
+        data.CopyTo(b.Buffer.AsSpan(b.Length));
+        b.Length += data.Length;
+    }
+
+    private static void Lex(GBlock b)
+    {
+        b.WordList.Clear();
+        b.CommentList.Clear();
+        b.BlockDelete = false;
+        b.IsTapeMark = false;
+        var line = b.Buffer.AsSpan(0, b.Length);
+        var i = SkipBlanks(line, 0);
+        var reportedLowercase = false;
+
+        if (i < line.Length && line[i] == (byte)'%')
+        {
+            b.IsTapeMark = true;
+            i++;
+        }
+        else if (i < line.Length && line[i] == (byte)'/')
+        {
+            b.BlockDelete = true;
+            i++;
+            // Optional block-delete level (/1../9) is read as part of the marker.
+            if (i < line.Length && line[i] is >= (byte)'1' and <= (byte)'9')
+            {
+                i++;
+            }
+        }
+
+        while (true)
+        {
+            i = SkipBlanks(line, i);
+            if (i >= line.Length)
+            {
+                break;
+            }
+
+            var c = line[i];
+            if (c == (byte)'(')
+            {
+                var close = line[(i + 1)..].IndexOf((byte)')');
+                if (close < 0)
+                {
+                    b.CommentList.Add((i, line.Length - i));
+                    Add(b, Severity.Error, DiagnosticCodes.UnclosedComment, i + 1);
+                    break;
+                }
+
+                b.CommentList.Add((i, close + 2));
+                i += close + 2;
+                continue;
+            }
+
+            if (c == (byte)';')
+            {
+                b.CommentList.Add((i, line.Length - i));
+                break;
+            }
+
+            if (b.IsTapeMark)
+            {
+                // Text after % on a tape-mark line is ignored by controllers; keep it as a comment.
+                b.CommentList.Add((i, line.Length - i));
+                break;
+            }
+
+            var isLower = c is >= (byte)'a' and <= (byte)'z';
+            if ((c is >= (byte)'A' and <= (byte)'Z') || isLower || c == (byte)':')
+            {
+                var letter = c == (byte)':' ? 'O' : (char)(c & 0xDF);
+                if (isLower && !reportedLowercase)
+                {
+                    reportedLowercase = true;
+                    Add(b, Severity.Warning, DiagnosticCodes.LowercaseLetter, i + 1, (char)c);
+                }
+
+                var column = i + 1;
+                var j = SkipBlanks(line, i + 1);
+                var numStart = j;
+                if (j < line.Length && (line[j] == (byte)'+' || line[j] == (byte)'-'))
+                {
+                    j++;
+                }
+
+                var digits = 0;
+                var points = 0;
+                while (j < line.Length)
+                {
+                    var d = line[j];
+                    if (d is >= (byte)'0' and <= (byte)'9')
+                    {
+                        digits++;
+                    }
+                    else if (d == (byte)'.')
+                    {
+                        points++;
+                    }
+                    else
+                    {
+                        break;
+                    }
+
+                    j++;
+                }
+
+                if (digits == 0 || points > 1)
+                {
+                    Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, (char)c);
+                    i = Math.Max(j, i + 1);
+                    continue;
+                }
+
+                var text = line[numStart..j];
+                var value = ParseNumber(text);
+                b.WordList.Add(new GWord(letter, value, column, numStart, j - numStart, isLower));
+                i = j;
+                continue;
+            }
+
+            // Report the whole run of junk once, not every byte of it.
+            Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
+            i++;
+            while (i < line.Length && !IsTokenStart(line[i]))
+            {
+                i++;
+            }
+        }
+    }
+
+    private static bool IsTokenStart(byte c) =>
+        c is (byte)'(' or (byte)';' or (byte)' ' or (byte)'\t' or (byte)':' || (c is >= (byte)'A' and <= (byte)'Z') || (c is >= (byte)'a' and <= (byte)'z');
+
+    private static string Printable(ReadOnlySpan<byte> line, int i)
+    {
+        var c = line[i];
+        if (c >= 0x20 && c < 0x7F)
+        {
+            return ((char)c).ToString();
+        }
+
+        return $"0x{c:X2}";
+    }
+
+    private static double ParseNumber(ReadOnlySpan<byte> text)
+    {
+        // Fast path for the common case; falls back to the BCL for exotic lengths.
+        long mantissa = 0;
+        var scale = 0;
+        var negative = false;
+        var afterPoint = false;
+        var i = 0;
+        if (text[0] == (byte)'-' || text[0] == (byte)'+')
+        {
+            negative = text[0] == (byte)'-';
+            i = 1;
+        }
+
+        var significant = 0;
+        for (; i < text.Length; i++)
+        {
+            var c = text[i];
+            if (c == (byte)'.')
+            {
+                afterPoint = true;
+                continue;
+            }
+
+            if (significant >= 17)
+            {
+                return double.Parse(System.Text.Encoding.ASCII.GetString(text), NumberStyles.Float, CultureInfo.InvariantCulture);
+            }
+
+            mantissa = (mantissa * 10) + (c - (byte)'0');
+            if (mantissa != 0)
+            {
+                significant++;
+            }
+
+            if (afterPoint)
+            {
+                scale++;
+            }
+        }
+
+        double v = mantissa;
+        if (scale > 0)
+        {
+            v /= Pow10[Math.Min(scale, Pow10.Length - 1)];
+        }
+
+        return negative ? -v : v;
+    }
+
+    private static readonly double[] Pow10 =
+    [
+        1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    ];
+
+    private static int SkipBlanks(ReadOnlySpan<byte> line, int i)
+    {
+        while (i < line.Length && (line[i] == (byte)' ' || line[i] == (byte)'\t' || line[i] == 0x0B || line[i] == 0x0C))
+        {
+            i++;
+        }
+
+        return i;
+    }
+
+    private static void Add(GBlock b, Severity severity, string code, int column, params object[] args) =>
+        b.DiagnosticList.Add(new Diagnostic(severity, code, b.LineNumber, column, DiagnosticText.Format(code, args)));
+}

@@ -1,0 +1,1 @@
+namespace PmacStream.Sim.Tests;
