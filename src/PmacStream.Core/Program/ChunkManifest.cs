@@ -1,0 +1,112 @@
+using System.Text.Json;
+using System.Text.Json.Serialization;
+
+namespace PmacStream.Program;
+
+/// <summary>Where the tracking marker goes relative to the move it tracks.</summary>
+public enum TrackingPlacement
+{
+    /// <summary><c>M0==i</c> before the move of line i: M0 equals the line whose move is executing.</summary>
+    Exact,
+
+    /// <summary>The paper's placement, <c>M0==i</c> at the end of line i: M0 reports i while line i+1 moves.</summary>
+    Paper,
+}
+
+/// <summary>How the programmed feed reaches the controller.</summary>
+public enum FeedMode
+{
+    /// <summary>The paper's <c>F(P500)</c> on every block; programmed F values are carried into P500.</summary>
+    Paper,
+
+    /// <summary>Programmed F words kept; speed changes through the <c>%</c> feed override.</summary>
+    Override,
+}
+
+/// <summary>One chunk file of a split program: a rotary-buffer download unit.</summary>
+/// <param name="Index">1-based chunk number.</param>
+/// <param name="FileName">File name relative to the manifest's folder (<c>name_0001.pmc</c>).</param>
+/// <param name="FirstSourceLine">First source line carried by the chunk.</param>
+/// <param name="LastSourceLine">Last source line carried by the chunk.</param>
+/// <param name="BlockCount">Source blocks in the chunk (non-empty blocks that produce a PMAC line).</param>
+/// <param name="MotionBlockCount">Blocks in the chunk that execute a move or dwell (what the executed-move log counts).</param>
+/// <param name="ByteSize">File size in bytes.</param>
+/// <param name="EstimatedWords">Rotary-buffer words the chunk's program lines take (the splitter's estimate).</param>
+/// <param name="Sha256">Hex SHA-256 of the file.</param>
+public sealed record ChunkInfo(
+    int Index,
+    string FileName,
+    int FirstSourceLine,
+    int LastSourceLine,
+    int BlockCount,
+    int MotionBlockCount,
+    long ByteSize,
+    int EstimatedWords,
+    string Sha256);
+
+/// <summary>
+/// <c>manifest.json</c>: what a split produced, so streaming, resume and the HMI know the chunks without re-splitting,
+/// and can refuse a source that changed since (its SHA-256).
+/// </summary>
+public sealed record ChunkManifest(
+    string SourcePath,
+    long SourceSize,
+    string SourceSha256,
+    int TotalBlocks,
+    int TotalMotionBlocks,
+    string TrackVariable,
+    TrackingPlacement Tracking,
+    FeedMode Feed,
+    string FeedVariable,
+    IReadOnlyList<ChunkInfo> Chunks)
+{
+    /// <summary>The file name the splitter writes beside the chunks.</summary>
+    public const string FileName = "manifest.json";
+
+    private static readonly JsonSerializerOptions Json = new()
+    {
+        WriteIndented = true,
+        PropertyNamingPolicy = JsonNamingPolicy.CamelCase,
+        Converters = { new JsonStringEnumConverter(JsonNamingPolicy.CamelCase) },
+    };
+
+    /// <summary>Reads a manifest.</summary>
+    public static ChunkManifest Load(string path)
+    {
+        using var s = File.OpenRead(path);
+        return JsonSerializer.Deserialize<ChunkManifest>(s, Json) ?? throw new InvalidDataException($"{path}: empty manifest");
+    }
+
+    /// <summary>Writes the manifest as indented JSON.</summary>
+    public void Save(string path)
+    {
+        using var s = File.Create(path);
+        JsonSerializer.Serialize(s, this, Json);
+    }
+
+    /// <summary>The chunk that carries a source line, or null when the line lies outside every chunk.</summary>
+    public ChunkInfo? ChunkOfLine(int sourceLine)
+    {
+        // Chunks are in source order, so a binary search on the first line finds it.
+        int lo = 0, hi = Chunks.Count - 1;
+        while (lo <= hi)
+        {
+            var mid = (lo + hi) / 2;
+            var c = Chunks[mid];
+            if (sourceLine < c.FirstSourceLine)
+            {
+                hi = mid - 1;
+            }
+            else if (sourceLine > c.LastSourceLine)
+            {
+                lo = mid + 1;
+            }
+            else
+            {
+                return c;
+            }
+        }
+
+        return null;
+    }
+}
