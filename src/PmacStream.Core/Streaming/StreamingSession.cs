@@ -268,7 +268,7 @@ public sealed class StreamingSession
             _chunksDownloaded = checkpoint.ChunksDownloaded;
             _currentChunk = Program.ChunkOfTracked(m);
             _tracked = m;
-            _lastSentTag = m;
+            _lastSentTag = Math.Max(m, Program.LastTrackedBefore(_next));
             _startTimestamp = _time.GetTimestamp();
             _rateTimestamp = _startTimestamp;
             var pr = await ReadLinesAheadAsync(cancellationToken).ConfigureAwait(false);
