@@ -83,6 +83,7 @@ public static class LadderParser
         {
             var lines = text.Replace("\r\n", "\n", StringComparison.Ordinal).Replace('\r', '\n').Split('\n');
             PendingRung? open = null;
+            PendingRung? previousRung = null;
             for (var i = 0; i < lines.Length; i++)
             {
                 var lineNo = i + 1;
@@ -95,16 +96,40 @@ public static class LadderParser
 
                 if (open is not null)
                 {
-                    // A rung continues while a bracket is open or the previous line ended with an operator.
-                    Tokenize(code, lineNo, open.Tokens);
-                    if (!NeedsContinuation(open.Tokens))
+                    // A rung continues while a bracket is open or the previous line ended with an operator, unless
+                    // the line plainly starts a new rung (a forgotten ')' is then reported on the unfinished rung).
+                    var more = new List<Token>();
+                    Tokenize(code, lineNo, more);
+                    var startsRung = more.Count >= 2 && more[0].Kind == TokKind.Name && more[1].Kind == TokKind.Assign;
+                    if (!startsRung)
                     {
-                        open = null;
+                        open.Tokens.AddRange(more);
+                        previousRung = open;
+                        if (!NeedsContinuation(open.Tokens))
+                        {
+                            open = null;
+                        }
+
+                        continue;
+                    }
+
+                    open = null;
+                }
+
+                var trimmed = code.TrimStart();
+                if (previousRung is not null && (trimmed[0] == '&' || trimmed[0] == '|'))
+                {
+                    // A line that starts with an operator carries on the rung just above it.
+                    Tokenize(code, lineNo, previousRung.Tokens);
+                    if (NeedsContinuation(previousRung.Tokens))
+                    {
+                        open = previousRung;
                     }
 
                     continue;
                 }
 
+                previousRung = null;
                 var words = SplitWords(code, lineNo);
                 var first = words[0];
                 var isRung = words.Count >= 2 && words[1].Text.StartsWith('=') || first.Text.Contains('=', StringComparison.Ordinal);
@@ -124,6 +149,7 @@ public static class LadderParser
 
                 var rung = new PendingRung(new Word(tokens[0].Text, tokens[0].Line, tokens[0].Column), tokens.Skip(2).ToList(), lineNo);
                 _rungs.Add(rung);
+                previousRung = rung;
                 if (NeedsContinuation(rung.Tokens))
                 {
                     open = rung;
