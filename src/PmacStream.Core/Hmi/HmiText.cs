@@ -223,6 +223,9 @@ public static class HmiText
         return language == HmiLanguage.Chinese && t.Zh.Length > 0 ? t.Zh : t.En;
     }
 
+    /// <summary>True when the table has a text for the id (tests check that none is missing).</summary>
+    internal static bool IsDefined(TextId id) => Table.ContainsKey(id);
+
     /// <summary>Formats the text for an id with arguments (invariant number formatting).</summary>
     public static string Format(TextId id, HmiLanguage language, params object[] args) =>
         string.Format(CultureInfo.InvariantCulture, Get(id, language), args);

@@ -16,8 +16,8 @@ public sealed class MainPresenter : IAsyncDisposable
     /// <summary>Lines indexed before a newly opened program is shown (more than any screen holds).</summary>
     public const int FirstScreenLines = 256;
 
-    private static readonly ILogger Log = Serilog.Log.ForContext<MainPresenter>();
 
+    private readonly ILogger _log;
     private readonly IMainView _view;
     private readonly IHmiBackend _backend;
     private readonly HmiLogSink? _logSink;
@@ -41,9 +41,13 @@ public sealed class MainPresenter : IAsyncDisposable
     private double _feed;
     private FeedScale _feedScale = FeedScale.Paper;
 
-    /// <summary>Wires the presenter to a view and the core; <paramref name="logSink"/> feeds the log pane.</summary>
-    public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null)
+    /// <summary>
+    /// Wires the presenter to a view and the core. <paramref name="logSink"/> feeds the log pane (the application
+    /// adds it to the global Serilog logger); <paramref name="logger"/> replaces the global logger for job events.
+    /// </summary>
+    public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null, ILogger? logger = null)
     {
+        _log = logger ?? Serilog.Log.ForContext<MainPresenter>();
         _view = view;
         _backend = backend;
         _logSink = logSink;
@@ -135,7 +139,7 @@ public sealed class MainPresenter : IAsyncDisposable
                 }
                 catch (Exception e) when (e is not OperationCanceledException)
                 {
-                    Log.Error(e, "Streaming stopped: {Message}. The job can be resumed after interruption", e.Message);
+                    _log.Error(e, "Streaming stopped: {Message}. The job can be resumed after interruption", e.Message);
                     _lastStatus = job.Status with { State = HmiJobState.Failed, Message = e.Message };
                     await FinishJobAsync().ConfigureAwait(true);
                     return;
@@ -185,7 +189,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
 
         RefreshProgramLineCount();
-        Log.Information("Opened {Path} ({Size:N0} bytes)", path, source.FileSize);
+        _log.Information("Opened {Path} ({Size:N0} bytes)", path, source.FileSize);
         RefreshCommands();
         RefreshStatus();
     }
@@ -254,7 +258,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
         catch (Exception e)
         {
-            Log.Error("{Message}", e.Message);
+            _log.Error("{Message}", e.Message);
             _view.ShowError(e.Message);
         }
         finally
@@ -289,7 +293,7 @@ public sealed class MainPresenter : IAsyncDisposable
         {
             _connection = await _backend.ConnectAsync(settings, _life.Token).ConfigureAwait(true);
             _view.ConnectionState = F(TextId.StateConnected, _connection.Description);
-            Log.Information("Connected to {Device}", _connection.Description);
+            _log.Information("Connected to {Device}", _connection.Description);
         }
         catch
         {
@@ -313,7 +317,7 @@ public sealed class MainPresenter : IAsyncDisposable
         {
             _connection = null;
             await c.DisposeAsync().ConfigureAwait(true);
-            Log.Information("Disconnected from {Device}", c.Description);
+            _log.Information("Disconnected from {Device}", c.Description);
         }
 
         _view.ConnectionState = T(TextId.StateDisconnected);
@@ -327,7 +331,7 @@ public sealed class MainPresenter : IAsyncDisposable
         _view.Diagnostics = result.Diagnostics
             .Select(d => string.Create(CultureInfo.InvariantCulture, $"{d.Line}:{d.Column}  {(d.Severity == Severity.Error ? "E" : "W")}  {d.Code}  {d.Message}"))
             .ToList();
-        Log.Information("Checked {Path}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
+        _log.Information("Checked {Path}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
     }
 
     private void JumpToDiagnostic(int index)
@@ -350,7 +354,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var linesPerChunk = Math.Max(1, _view.LinesPerChunk);
         var split = await _backend.SplitAsync(new HmiSplitRequest(program.Path, linesPerChunk), _life.Token).ConfigureAwait(true);
         SetSplit(split);
-        Log.Information("Split {Path} into {Chunks} chunk files ({Blocks} blocks) in {Directory}",
+        _log.Information("Split {Path} into {Chunks} chunk files ({Blocks} blocks) in {Directory}",
             program.Path, split.Manifest.Chunks.Count, split.Manifest.TotalBlocks, split.Directory);
     }
 
@@ -423,7 +427,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var ok = await _view.ConfirmAsync(T(TextId.ConfirmStartTitle), F(TextId.ConfirmStartText, line, string.Join(Environment.NewLine, preamble))).ConfigureAwait(true);
         if (!ok)
         {
-            Log.Information("Start from line {Line} declined by the operator", line);
+            _log.Information("Start from line {Line} declined by the operator", line);
             return;
         }
 
@@ -436,7 +440,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feed);
         var job = await _backend.StartAsync(_connection!, request, _life.Token).ConfigureAwait(true);
         BeginJob(job);
-        Log.Information("Job started{From} with strategy {Strategy}, feed {Feed}{Unit}",
+        _log.Information("Job started{From} with strategy {Strategy}, feed {Feed}{Unit}",
             fromLine is null ? string.Empty : $" from line {fromLine}", request.Strategy, _feed, _feedScale.Unit);
     }
 
@@ -455,7 +459,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var text = F(TextId.ConfirmResumeText, interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk, string.Join(Environment.NewLine, preamble));
         if (!await _view.ConfirmAsync(T(TextId.ConfirmResumeTitle), text).ConfigureAwait(true))
         {
-            Log.Information("Resume of job {Job} declined by the operator", interrupted.JobId);
+            _log.Information("Resume of job {Job} declined by the operator", interrupted.JobId);
             return;
         }
 
@@ -466,7 +470,7 @@ public sealed class MainPresenter : IAsyncDisposable
 
         var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feed, _life.Token).ConfigureAwait(true);
         BeginJob(job);
-        Log.Information("Job {Job} resumed at line {Line} (chunk {Chunk})", interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk);
+        _log.Information("Job {Job} resumed at line {Line} (chunk {Chunk})", interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk);
     }
 
     private HmiSplitResult RequireReady()
@@ -509,7 +513,7 @@ public sealed class MainPresenter : IAsyncDisposable
                 _view.ShowError(s.Message ?? T(TextId.StateFailed));
             }
 
-            Log.Information("Job {State} at line {Line}, {Percent:0.0}%{Message}", s.State, s.CurrentLine, s.Percent,
+            _log.Information("Job {State} at line {Line}, {Percent:0.0}%{Message}", s.State, s.CurrentLine, s.Percent,
                 s.Message is null ? string.Empty : ": " + s.Message);
         }
 
@@ -522,7 +526,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var job = _job ?? throw new InvalidOperationException("No job is running.");
         await command(job).ConfigureAwait(true);
         _lastStatus = job.Status;
-        Log.Information("Operator {Command} at line {Line}", name, _lastStatus.CurrentLine);
+        _log.Information("Operator {Command} at line {Line}", name, _lastStatus.CurrentLine);
         if (_lastStatus.IsFinished)
         {
             await FinishJobAsync().ConfigureAwait(true);
@@ -541,7 +545,7 @@ public sealed class MainPresenter : IAsyncDisposable
             await job.SetSingleBlockAsync(on, _life.Token).ConfigureAwait(true);
         }
 
-        Log.Information("Single block {State}", on ? "on" : "off");
+        _log.Information("Single block {State}", on ? "on" : "off");
     }
 
     private async Task FeedChangedAsync()
@@ -554,7 +558,7 @@ public sealed class MainPresenter : IAsyncDisposable
             _lastStatus = job.Status;
         }
 
-        Log.Information("Feed set to {Feed}{Unit}", value, _feedScale.Unit);
+        _log.Information("Feed set to {Feed}{Unit}", value, _feedScale.Unit);
     }
 
     private void ShowJob()
