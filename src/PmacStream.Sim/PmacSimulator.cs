@@ -513,7 +513,13 @@ public sealed partial class PmacSimulator : IDisposable
                 }
 
                 cs.Calculate();
+                var before = cs.Current;
                 cs.TryStartNext(_now);
+                if (cs.Current is not null && !ReferenceEquals(before, cs.Current))
+                {
+                    changed = true; // a move started: calculation may run one further ahead
+                }
+
                 if (cs.CompleteIfDone(_now) is { } seg)
                 {
                     Record(cs, seg);
