@@ -233,7 +233,7 @@ internal sealed class ExprParser(List<Token> tokens)
     private Expr ParseMultiplicative(bool condition)
     {
         var left = ParseUnary(condition);
-        while (Peek.Kind == TokenKind.Symbol && Peek.Text is "*" or "/" or "%" or "&")
+        while (Peek.Kind == TokenKind.Symbol && Peek.Text is "*" or "/" or "%" or "&" && !StartsCommand())
         {
             var op = Next().Text;
             left = new BinaryExpr(op, left, ParseUnary(condition));
@@ -296,6 +296,17 @@ internal sealed class ExprParser(List<Token> tokens)
         }
 
         throw new SimSyntaxException(3);
+    }
+
+    /// <summary>
+    /// "P1=2 &amp;1" and "P1=2 %50": a spaced-off &amp; or % glued to a number starts the next command (coordinate
+    /// system, feed override) rather than continuing the expression; "M1&amp;M2" and "M1 &amp; M2" stay operators.
+    /// </summary>
+    private bool StartsCommand()
+    {
+        var t = Peek;
+        var next = PeekAt(1);
+        return Pos > 0 && tokens[Pos - 1].End < t.Start && next.Kind == TokenKind.Number && next.Start == t.End;
     }
 
     public static int VariableIndex(Token number)
