@@ -2,7 +2,8 @@
  * A stand-in for Delta Tau's Pcomm32.dll, for testing PmacStream's PComm32 marshalling on Linux.
  * Same exported names and (Windows 32-bit) argument types; it answers by forwarding to the PmacStream simulator's
  * TCP server with VR_PMAC GETRESPONSE (continuing with READREADY/GETBUFFER). The server address comes from the
- * environment variable PMACSTREAM_PCOMM_ADDR ("127.0.0.1:PORT"). Return values carry PComm's status nibble:
+ * environment variable PMACSTREAM_PCOMM_ADDR ("127.0.0.1:PORT") or from PmacStandInSetAddress (a test hook: .NET on
+ * Unix does not change the native environment). Return values carry PComm's status nibble:
  * 0x80000000 EOT (ACK seen), 0xE0000000 error (buffer holds "ERRnnn"), 0xC0000000 timeout, 0xF0000000 fail.
  */
 #include <arpa/inet.h>
@@ -29,6 +30,12 @@ typedef int32_t (*DOWNLOADGETPROC)(int32_t index, char *buffer, int32_t max);
 typedef void (*DOWNLOADPROGRESS)(int32_t percent);
 
 static int sockets[MAXDEV] = {-1, -1, -1, -1, -1, -1, -1, -1};
+static char address[128];
+
+void PmacStandInSetAddress(const char *addr)
+{
+    snprintf(address, sizeof address, "%s", addr);
+}
 
 static int send_packet(int s, uint8_t type, uint8_t request, uint16_t wvalue, const char *data, uint16_t len)
 {
@@ -103,7 +110,7 @@ int32_t OpenPmacDevice(uint32_t dev)
         return 0;
     if (sockets[dev] >= 0)
         return 1;
-    const char *addr = getenv("PMACSTREAM_PCOMM_ADDR");
+    const char *addr = address[0] ? address : getenv("PMACSTREAM_PCOMM_ADDR");
     if (!addr)
         return 0;
     char host[64];
