@@ -216,7 +216,10 @@ public sealed class PComm32Connection : IPmacConnection
         var ret = Call(() => Lib().PmacGetResponseA(_device, buffer, (uint)buffer.Length, cmd));
         var status = DecodeStatus(ret, out var count);
         var raw = buffer.AsSpan(0, LengthOf(buffer, Math.Min(count, buffer.Length)));
-        Log.Debug("{Device} > {Command} < {Reply} [{Status}] ({Ms:0.000} ms)", Description, command, ReplyParser.Visible(raw), status, sw.Elapsed.TotalMilliseconds);
+        if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+        {
+            Log.Debug("{Device} > {Command} < {Reply} [{Status}] ({Ms:0.000} ms)", Description, command, ReplyParser.Visible(raw), status, sw.Elapsed.TotalMilliseconds);
+        }
         ThrowOnLinkStatus(status, command);
         var text = Encoding.ASCII.GetString(raw);
         var err = text.IndexOf("ERR", StringComparison.Ordinal);
