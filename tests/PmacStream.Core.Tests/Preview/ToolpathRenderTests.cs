@@ -1,3 +1,4 @@
+using PmacStream.GCode;
 using PmacStream.Preview;
 using static PmacStream.Core.Tests.Preview.PreviewTestKit;
 
