@@ -84,21 +84,5 @@ public sealed class InProcessConnection : IPmacConnection
     /// <inheritdoc />
     public ValueTask DisposeAsync() => ValueTask.CompletedTask;
 
-    internal static string Visible(ReadOnlySpan<byte> raw)
-    {
-        var sb = new StringBuilder(raw.Length + 8);
-        foreach (var b in raw)
-        {
-            _ = b switch
-            {
-                ReplyParser.Ack => sb.Append("<ACK>"),
-                ReplyParser.Bel => sb.Append("<BEL>"),
-                ReplyParser.Cr => sb.Append("<CR>"),
-                _ when b < 0x20 || b > 0x7E => sb.Append($"<{b:X2}>"),
-                _ => sb.Append((char)b),
-            };
-        }
-
-        return sb.ToString();
-    }
+    internal static string Visible(ReadOnlySpan<byte> raw) => ReplyParser.Visible(raw);
 }
