@@ -626,7 +626,7 @@ public sealed class MainPresenter : IAsyncDisposable
             Split: open && !running,
             Execute: ready,
             Hold: running && !held,
-            Resume: running && (held || _view.SingleBlock),
+            Resume: running,
             Abort: running,
             StartFromLine: ready,
             ResumeInterrupted: connected && open && !running);
