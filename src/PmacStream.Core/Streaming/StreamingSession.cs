@@ -563,7 +563,7 @@ public sealed class StreamingSession
             _next = new StreamPosition(p.Chunk + 1, 0);
             _nextExact = true;
             _chunksDownloaded++;
-            var at = $"{_track}={_tracked}, {ChunkFraction:P0} of chunk {_currentChunk}";
+            var at = _state == SessionState.Idle ? "the start" : $"{_track}={_tracked}, {ChunkFraction:P0} of chunk {_currentChunk}";
             Log.Information("{Kind} chunk {Chunk} ({Lines} lines) at {At}", late ? "late download of" : "downloaded", p.Chunk, body.Count, at);
             Raise(late ? StreamingEventKind.ChunkDownloadedLate : StreamingEventKind.ChunkDownloaded,
                 late ? $"chunk {p.Chunk} downloaded late (window missed) at {at}" : $"chunk {p.Chunk} downloaded at {at}", p.Chunk);
