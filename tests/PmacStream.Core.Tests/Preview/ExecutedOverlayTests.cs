@@ -82,6 +82,34 @@ public class ExecutedOverlayTests
     }
 
     [Fact]
+    public void Executed_arc_band_follows_the_arc_not_the_chord_of_the_logged_end_points()
+    {
+        // Line 3: a half circle of radius 20 about (0, 0) from (20, 0) to (-20, 0) through (0, 20).
+        var log = WriteLog((2, 20, 0), (3, -20, 0));
+        try
+        {
+            var pic = RenderGCode("G21 G90 G17\nG0 X20 Y0 Z0\nG3 X-20 Y0 I-20 J0 F100\n", PreviewView.XY, 300, 300, log: log);
+            var proj = pic.Projection;
+            var (cx, cy) = proj.ToPixel(new Point3D(0, 0, 0));
+            var rpx = 20 * proj.Scale;
+            foreach (var deg in new[] { 30, 60, 90, 120, 150 })
+            {
+                var a = deg * Math.PI / 180;
+                // Two pixels outside the arc is band; the chord's middle (the centre) has none.
+                var (bx, by) = (cx + ((rpx + 2) * Math.Cos(a)), cy - ((rpx + 2) * Math.Sin(a)));
+                Near(pic.Image, bx, by, Palette.Executed, 1).Should().BeTrue($"the band runs along the arc at {deg} degrees");
+            }
+
+            pic.Image[(int)Math.Round(cx), (int)Math.Round(cy) - 2].Should().Be(Palette.Background, "no chord is drawn through the centre");
+            pic.Execution!.IsExact.Should().BeTrue();
+        }
+        finally
+        {
+            File.Delete(log);
+        }
+    }
+
+    [Fact]
     public void Runs_merge_consecutive_lines()
     {
         var program = "G21 G90\nG0 X0 Y0 Z0\n" + string.Concat(Enumerable.Range(1, 10).Select(i => $"G1 X{i} F100\n"));
