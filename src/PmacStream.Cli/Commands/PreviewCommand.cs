@@ -1,5 +1,6 @@
 using System.CommandLine;
 using System.Globalization;
+using PmacStream.GCode;
 using PmacStream.Preview;
 
 namespace PmacStream.Cli.Commands;
@@ -109,12 +110,12 @@ internal static class PreviewCommand
             exit = CliGlobals.Failed;
             foreach (var issue in source.Issues.Take(MaxListed))
             {
-                Console.Error.WriteLine($"{path}:{issue.Line}:{issue.Column}: error: {issue.Message} (block not drawn)");
+                Console.Error.WriteLine(issue.Format(path));
             }
 
             if (source.IssueCount > MaxListed)
             {
-                Console.Error.WriteLine($"{path}: ... and {source.IssueCount - MaxListed} more blocks that could not be drawn");
+                Console.Error.WriteLine($"{path}: ... and {source.IssueCount - MaxListed} more errors ('pmacstream check' lists them all); blocks that cannot be interpreted are not drawn");
             }
         }
 

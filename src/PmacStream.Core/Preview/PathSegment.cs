@@ -43,16 +43,6 @@ public enum ArcPlane
     YZ = 19,
 }
 
-/// <summary>The length unit a program was written in (G20/G21).</summary>
-public enum LengthUnits
-{
-    /// <summary>G21 millimetres (the default).</summary>
-    Millimetres,
-
-    /// <summary>G20 inches.</summary>
-    Inches,
-}
-
 /// <summary>
 /// One move of the toolpath as the preview draws it: what the renderer consumes, one at a time, so a program of any
 /// size is drawn without keeping its points. Coordinates are absolute and in millimetres.

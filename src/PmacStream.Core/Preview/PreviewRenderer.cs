@@ -1,6 +1,8 @@
 using System.Globalization;
 using Serilog;
 
+using PmacStream.GCode;
+
 namespace PmacStream.Preview;
 
 /// <summary>The direction the toolpath is looked at.</summary>
