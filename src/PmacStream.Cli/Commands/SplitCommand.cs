@@ -1,4 +1,5 @@
 using System.CommandLine;
+using PmacStream.GCode;
 using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;
@@ -6,6 +7,8 @@ namespace PmacStream.Cli.Commands;
 /// <summary>`pmacstream split`: seed 000's splitting step.</summary>
 internal static class SplitCommand
 {
+    private const int MaxListed = 50;
+
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "The G-code program to split." };
@@ -20,21 +23,23 @@ internal static class SplitCommand
         var feed = new Option<string>("--feed") { Description = "paper: F(P500) on moves, programmed F carried into P500; override: keep F words.", DefaultValueFactory = _ => "paper" };
         feed.AcceptOnlyFromAmong("paper", "override");
         var feedVar = new Option<string>("--feed-var") { Description = "Variable the feed expression reads.", DefaultValueFactory = _ => "P500" };
-        var tail = new Option<string>("--tail") { Description = "Program tail appended to the last chunk (the paper's machine: \"M03 M05\").", DefaultValueFactory = _ => "M05" };
+        var tail = new Option<string?>("--tail") { Description = "Program tail appended to the last chunk (default: the profile's, M05; the paper's machine: \"M03 M05\")." };
+        var profile = new Option<string?>("--profile") { Description = "Machine profile JSON the program is checked against (default: the built-in milling set)." };
         var keepN = new Option<bool>("--keep-n") { Description = "Keep N numbers (a PMAC reads them as labels)." };
         var noBlockDelete = new Option<bool>("--no-block-delete") { Description = "Block delete off: emit / blocks instead of skipping them." };
         var force = new Option<bool>("--force") { Description = "Split even if the program has errors (what is not G-code is dropped)." };
 
         var cmd = new Command("split", "Split a program into rotary-buffer chunk files with line tracking.");
         cmd.Arguments.Add(file);
-        foreach (var o in new Option[] { outDir, lines, rotWords, wordsPerBlock, bytesPerWord, trackVar, tracking, feed, feedVar, tail, keepN, noBlockDelete, force })
+        foreach (var o in new Option[] { outDir, lines, rotWords, wordsPerBlock, bytesPerWord, trackVar, tracking, feed, feedVar, tail, profile, keepN, noBlockDelete, force })
         {
             cmd.Options.Add(o);
         }
 
-        cmd.SetAction(async (parse, ct) =>
+        cmd.SetAction((parse, ct) => CommandGuard.RunAsync(async () =>
         {
             var path = parse.GetValue(file)!;
+            var machine = Prog1000Command.LoadProfile(parse.GetValue(profile));
             var options = new SplitOptions
             {
                 OutDir = parse.GetValue(outDir),
@@ -46,7 +51,7 @@ internal static class SplitCommand
                 Tracking = parse.GetValue(tracking) == "paper" ? TrackingPlacement.Paper : TrackingPlacement.Exact,
                 Feed = parse.GetValue(feed) == "override" ? FeedMode.Override : FeedMode.Paper,
                 FeedVariable = parse.GetValue(feedVar)!.ToUpperInvariant(),
-                ProgramTail = parse.GetValue(tail) ?? "",
+                ProgramTail = parse.GetValue(tail) ?? machine.ProgramTail,
                 KeepN = parse.GetValue(keepN),
                 BlockDelete = !parse.GetValue(noBlockDelete),
                 AllowErrors = parse.GetValue(force),
@@ -63,6 +68,36 @@ internal static class SplitCommand
             if (!File.Exists(path))
             {
                 throw new CliException($"{path}: no such file", CliGlobals.UsageOrIo);
+            }
+
+            if (!options.AllowErrors)
+            {
+                // The checker's full diagnostics decide; the splitter's own lexical check is then redundant.
+                var errors = new List<Diagnostic>();
+                var summary = await Task.Run(() => new Checker(machine).CheckFile(path, d =>
+                {
+                    if (d.Severity == Severity.Error && errors.Count < MaxListed)
+                    {
+                        errors.Add(d);
+                    }
+                }, null, ct), ct).ConfigureAwait(false);
+                if (summary.HasErrors)
+                {
+                    foreach (var d in errors)
+                    {
+                        await Console.Error.WriteLineAsync(d.Format(path)).ConfigureAwait(false);
+                    }
+
+                    if (summary.Errors > errors.Count)
+                    {
+                        await Console.Error.WriteLineAsync($"... and {summary.Errors - errors.Count} more").ConfigureAwait(false);
+                    }
+
+                    await Console.Error.WriteLineAsync($"pmacstream split: {path}: {summary.Errors} error(s); not split (--force splits anyway)").ConfigureAwait(false);
+                    return CliGlobals.Failed;
+                }
+
+                options = options with { AllowErrors = true };
             }
 
             SplitResult result;
@@ -97,7 +132,7 @@ internal static class SplitCommand
             }
 
             return CliGlobals.Ok;
-        });
+        }));
         return cmd;
     }
 }
@@ -106,4 +141,29 @@ internal static class SplitCommand
 internal sealed class SyncProgress<T>(Action<T> report) : IProgress<T>
 {
     public void Report(T value) => report(value);
+}
+
+/// <summary>
+/// Turns a <see cref="CliException"/> or I/O failure inside an action into its one-line message and exit code
+/// (System.CommandLine's default handler would print a stack trace and exit 1).
+/// </summary>
+internal static class CommandGuard
+{
+    public static async Task<int> RunAsync(Func<Task<int>> body)
+    {
+        try
+        {
+            return await body().ConfigureAwait(false);
+        }
+        catch (CliException e)
+        {
+            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            return e.ExitCode;
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            return CliGlobals.UsageOrIo;
+        }
+    }
 }

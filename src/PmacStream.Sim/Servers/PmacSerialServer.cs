@@ -108,7 +108,10 @@ public sealed class PmacSerialServer : IAsyncDisposable
                             reply = port.Execute(command);
                         }
 
-                        Log.Debug("{Name} > {Command} < {Reply}", _name, command, ReplyParser.Visible(reply));
+                        if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+                        {
+                            Log.Debug("{Name} > {Command} < {Reply}", _name, command, ReplyParser.Visible(reply));
+                        }
                         Interlocked.Increment(ref _commands);
                         await _stream.WriteAsync(reply, stop).ConfigureAwait(false);
                     }
