@@ -19,7 +19,7 @@ public sealed class CoreHmiBackend : IHmiBackend
     public const int MaxListedDiagnostics = 10_000;
 
     /// <summary>Motion blocks whose times are kept for the ETA (12 bytes each); longer programs use the measured rate.</summary>
-    public const int MaxTimedBlocks = 4_000_000;
+    public const int MaxTimedBlocks = 2_000_000;
 
     private static readonly ILogger Log = Serilog.Log.ForContext<CoreHmiBackend>();
 

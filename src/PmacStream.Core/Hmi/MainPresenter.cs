@@ -227,7 +227,11 @@ public sealed class MainPresenter : IAsyncDisposable
             _connection = null;
         }
 
-        CloseProgram();
+        // No view calls here: the window may already be gone (the application disposes after the message loop).
+        _program?.Dispose();
+        _program = null;
+        _chunkLines?.Dispose();
+        _chunkLines = null;
         _life.Dispose();
     }
 

@@ -76,7 +76,7 @@ public sealed class ScreenLayoutTests
     }
 }
 
-/// <summary>Draws the screen in a realistic state: the sample program checked and split for real, a job half way.</summary>
+/// <summary>Draws the screen in a realistic state: the sample program checked, split and half way through a job on the simulator.</summary>
 public sealed class ScreenSketchTests : IAsyncLifetime
 {
     private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-sketch-" + Guid.NewGuid().ToString("N"));
@@ -93,19 +93,6 @@ public sealed class ScreenSketchTests : IAsyncLifetime
         return Task.CompletedTask;
     }
 
-    /// <summary>Real checker and splitter; connection and job from the fakes (the picture shows a job in progress).</summary>
-    private sealed class SketchBackend(CoreHmiBackend core, FakeBackend fake) : IHmiBackend
-    {
-        public IReadOnlyList<string> Strategies => core.Strategies;
-        public Task<IPmacConnection> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default) => fake.ConnectAsync(settings, cancellationToken);
-        public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default) => core.CheckAsync(path, language, cancellationToken);
-        public Task<HmiSplitResult> SplitAsync(HmiSplitRequest request, CancellationToken cancellationToken = default) => core.SplitAsync(request, cancellationToken);
-        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default) => core.BuildPreambleAsync(program, line, cancellationToken);
-        public Task<IHmiJob> StartAsync(IPmacConnection connection, HmiJobRequest request, CancellationToken cancellationToken = default) => fake.StartAsync(connection, request, cancellationToken);
-        public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => fake.FindInterruptedAsync(sourcePath, cancellationToken);
-        public Task<IHmiJob> ResumeInterruptedAsync(IPmacConnection connection, HmiInterruptedJob job, double feed, CancellationToken cancellationToken = default) => fake.ResumeInterruptedAsync(connection, job, feed, cancellationToken);
-    }
-
     [Theory]
     [InlineData(HmiLanguage.English, "hmi-screen")]
     [InlineData(HmiLanguage.Chinese, "hmi-screen-zh")]
@@ -119,10 +106,19 @@ public sealed class ScreenSketchTests : IAsyncLifetime
 
         var source = Path.Combine(_dir, "demo.nc");
         File.Copy(Path.Combine(root, "samples", "demo.nc"), source);
+        using var sim = new PmacStream.Sim.PmacSimulator();
+        var backend = new CoreHmiBackend(
+            simulator: async ct =>
+            {
+                var conn = new InProcessConnection(sim.OpenPort("hmi"), "simulator (in-process)");
+                await ControllerSetup.DownloadTolerantAsync(conn, ControllerSetup.Library(), ct);
+                return conn;
+            },
+            time: new SimClock(sim));
         var view = new FakeView { Language = language, LinesPerChunk = 1000 };
         var sink = new HmiLogSink();
         var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();
-        await using var p = new MainPresenter(view, new SketchBackend(new CoreHmiBackend(), new FakeBackend { LinesPerTick = 3 }), sink, log);
+        await using var p = new MainPresenter(view, backend, sink, log);
 
         async Task Do(Action a)
         {
@@ -135,16 +131,16 @@ public sealed class ScreenSketchTests : IAsyncLifetime
         await Do(view.ClickCheck);
         await Do(view.ClickSplit);
         await Do(() => view.SelectChunk(1));
-        await Do(() => view.MoveFeed(1200));
         await Do(view.ClickExecute);
-        while (view.ExecutingLine < 1480)
+        while (view.ExecutingLine < 1480 && p.JobActive)
         {
             await p.TickAsync();
+            sim.Advance(TimeSpan.FromSeconds(0.5));
         }
 
         view.Errors.Should().BeEmpty();
         view.ChunkFiles.Should().HaveCount(4, "3225 lines in chunks of at most 1000 blocks");
-        view.ExecutingLine.Should().BeInRange(1480, 1482);
+        view.ExecutingLine.Should().BeInRange(1480, 1500);
         view.Status.CurrentFile.Should().StartWith("2/4");
         var title = $"{view.Texts[TextId.Title]} – demo.nc";
         var html = ScreenSketch.Render(view, title, programTopLine: view.ExecutingLine - 10, chunkTopLine: 1, selectedChunk: 1);
@@ -157,7 +153,7 @@ public sealed class ScreenSketchTests : IAsyncLifetime
             html.Should().Contain("程序段执行").And.Contain("断点续加工");
         }
 
-        // PMACSTREAM_HMI_SKETCH_DIR=docs makes the test leave the page there for headless chromium.
+        // PMACSTREAM_HMI_SKETCH_DIR=DIR makes the test leave the page there for headless chromium.
         if (Environment.GetEnvironmentVariable("PMACSTREAM_HMI_SKETCH_DIR") is { Length: > 0 } outDir)
         {
             File.WriteAllText(Path.Combine(outDir, name + ".html"), html);
