@@ -247,6 +247,10 @@ public static class PreviewRenderer
 {
     private static readonly ILogger Logger = Log.ForContext(typeof(PreviewRenderer));
 
+    /// <summary>Renders a G-code file (the HMI's preview panel): <c>RenderFile(path).WithMarker(position)</c>.</summary>
+    public static PreviewPicture RenderFile(string path, PreviewOptions? options = null, string? executedLogPath = null, CancellationToken cancellationToken = default) =>
+        Render(new GCodeToolpathSource(path), options, executedLogPath, cancellationToken);
+
     /// <summary>Pass 1 alone: the toolpath's extents and move counts.</summary>
     public static PreviewExtents MeasureExtents(IToolpathSource source, CancellationToken cancellationToken = default) =>
         Measure(source, null, cancellationToken);

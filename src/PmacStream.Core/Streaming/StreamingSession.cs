@@ -59,6 +59,7 @@ public sealed class StreamingSession
     private bool _singleBlock;
     private int _lastDurableChunk;
     private bool _runSent;
+    private long _ticks;
 
     /// <summary>Creates a session on a PComm-style device facade; downloads go through its <c>Download</c>.</summary>
     public StreamingSession(IPmacDevices devices, ChunkedProgram program, StreamingOptions options, ICheckpointSink? checkpoints = null, IMoveTimes? moveTimes = null, TimeProvider? time = null, IStreamingStrategy? strategy = null)
@@ -340,6 +341,12 @@ public sealed class StreamingSession
             var downloadedBefore = _chunksDownloaded;
             var m = await ReadTrackAsync(cancellationToken).ConfigureAwait(false);
             FollowTrack(m);
+
+            if (++_ticks % 20 == 0)
+            {
+                // The feed can change from the program (P500= lines) or the panel: refresh it about once a second.
+                await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
+            }
 
             if (_draining)
             {
