@@ -19,7 +19,7 @@ public sealed class CoreHmiBackend : IHmiBackend
     public const int MaxListedDiagnostics = 10_000;
 
     /// <summary>Motion blocks whose times are kept for the ETA (12 bytes each); longer programs use the measured rate.</summary>
-    public const int MaxTimedBlocks = 4_000_000;
+    public const int MaxTimedBlocks = 2_000_000;
 
     private static readonly ILogger Log = Serilog.Log.ForContext<CoreHmiBackend>();
 
@@ -77,7 +77,7 @@ public sealed class CoreHmiBackend : IHmiBackend
                 version = $"(VERSION answered ERR{e.Number:000})";
             }
 
-            Log.Information("Connected to {Device} ({Settings}), firmware {Version}", connection.Description, settings, version);
+            Log.Information("Connected to {Device:l} ({Settings}), firmware {Version:l}", connection.Description, settings, version);
             return connection;
         }
         catch
@@ -141,7 +141,7 @@ public sealed class CoreHmiBackend : IHmiBackend
                 }
             }
 
-            Log.Information("Checked {Path}: {Summary}, estimated run time {Seconds:0} s", path, summary.ToString(), summary.EstimatedSeconds);
+            Log.Information("Checked {Path:l}: {Summary:l}, estimated run time {Seconds:0} s", path, summary.ToString(), summary.EstimatedSeconds);
             return new HmiCheckResult(diagnostics, summary.Blocks, summary.Errors, summary.Warnings);
         }, cancellationToken);
 
@@ -167,7 +167,7 @@ public sealed class CoreHmiBackend : IHmiBackend
         var session = NewSession(connection, split, request.Strategy, request.SingleBlock, journal);
         await SetFeedBeforeStartAsync(connection, split.Manifest, request.Feed, cancellationToken).ConfigureAwait(false);
         await session.StartAsync(request.FromLine, preamble, cancellationToken).ConfigureAwait(false);
-        Log.Information("Job {Job} started on {Device}: {Chunks} chunks, strategy {Strategy}{From}", jobId, connection.Description,
+        Log.Information("Job {Job} started on {Device:l}: {Chunks} chunks, strategy {Strategy:l}{From:l}", jobId, connection.Description,
             split.Manifest.Chunks.Count, request.Strategy, request.FromLine is { } f ? $", from line {f}" : string.Empty);
         return new SessionJob(session, request.Feed);
     }
@@ -213,7 +213,7 @@ public sealed class CoreHmiBackend : IHmiBackend
             }
             catch (InvalidOperationException e)
             {
-                Log.Warning("Job {Job}: {Message}; restarting at line {Line} with the restore preamble", record.JobId, e.Message, job.ResumeLine);
+                Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.JobId, e.Message, job.ResumeLine);
             }
         }
 

@@ -49,9 +49,9 @@ public static class HmiLayout
     /// <summary>PComm32 device number box.</summary>
     public static readonly LayoutBox DeviceNumberBox = new(96, 106, 60, 23);
     /// <summary>Connect button.</summary>
-    public static readonly LayoutBox ConnectButton = new(300, 20, 118, 30);
+    public static readonly LayoutBox ConnectButton = new(336, 20, 84, 28);
     /// <summary>Disconnect button.</summary>
-    public static readonly LayoutBox DisconnectButton = new(300, 56, 118, 30);
+    public static readonly LayoutBox DisconnectButton = new(336, 52, 84, 28);
     /// <summary>Connection state label.</summary>
     public static readonly LayoutBox ConnectionStateLabel = new(170, 110, 250, 36);
 
@@ -94,17 +94,17 @@ public static class HmiLayout
     // ---- middle: ListBox1 (chunk files and their lines), ListBox2 (program lines), commands and status
 
     /// <summary>Chunk files label.</summary>
-    public static readonly LayoutBox ChunkFilesLabel = new(8, 168, 300, 18);
+    public static readonly LayoutBox ChunkFilesLabel = new(8, 168, 360, 18);
     /// <summary>ListBox1: chunk files.</summary>
-    public static readonly LayoutBox ChunkFilesList = new(8, 188, 300, 170);
+    public static readonly LayoutBox ChunkFilesList = new(8, 188, 360, 170);
     /// <summary>Chunk lines label.</summary>
-    public static readonly LayoutBox ChunkLinesLabel = new(8, 366, 300, 18);
+    public static readonly LayoutBox ChunkLinesLabel = new(8, 366, 360, 18);
     /// <summary>Lines of the selected chunk file (virtual).</summary>
-    public static readonly LayoutBox ChunkLinesList = new(8, 386, 300, 222);
+    public static readonly LayoutBox ChunkLinesList = new(8, 386, 360, 222);
     /// <summary>Program lines label.</summary>
-    public static readonly LayoutBox ProgramLinesLabel = new(316, 168, 556, 18);
+    public static readonly LayoutBox ProgramLinesLabel = new(376, 168, 496, 18);
     /// <summary>ListBox2: program lines (virtual).</summary>
-    public static readonly LayoutBox ProgramLinesList = new(316, 188, 556, 420);
+    public static readonly LayoutBox ProgramLinesList = new(376, 188, 496, 420);
 
     /// <summary>Execute button.</summary>
     public static readonly LayoutBox ExecuteButton = new(880, 188, 190, 48);

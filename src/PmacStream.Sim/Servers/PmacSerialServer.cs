@@ -112,8 +112,8 @@ public sealed class PmacSerialServer : IAsyncDisposable
                         {
                             Log.Debug("{Name} > {Command} < {Reply}", _name, command, ReplyParser.Visible(reply));
                         }
-                        Interlocked.Increment(ref _commands);
                         await _stream.WriteAsync(reply, stop).ConfigureAwait(false);
+                        Interlocked.Increment(ref _commands);
                     }
                     else if (b == 0x0A)
                     {

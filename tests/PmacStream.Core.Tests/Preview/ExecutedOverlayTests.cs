@@ -52,8 +52,8 @@ public class ExecutedOverlayTests
     [Fact]
     public void Gap_and_double_are_coloured_and_listed()
     {
-        // Line 4 (the right edge) never ran; line 5 (the top edge) ran twice, as after a resume from the wrong line.
-        var log = WriteLog((2, 0, 0), (3, 40, 0), (5, 0, 40), (5, 0, 40), (6, 0, 0));
+        // Line 4 (the right edge) never ran; line 5 ran again after line 6, as after a resume from the wrong line.
+        var log = WriteLog((2, 0, 0), (3, 40, 0), (5, 0, 40), (6, 0, 0), (5, 0, 40));
         try
         {
             var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
@@ -82,12 +82,41 @@ public class ExecutedOverlayTests
     }
 
     [Fact]
+    public void Executed_arc_band_follows_the_arc_not_the_chord_of_the_logged_end_points()
+    {
+        // Line 3: a half circle of radius 20 about (0, 0) from (20, 0) to (-20, 0) through (0, 20).
+        var log = WriteLog((2, 20, 0), (3, -20, 0));
+        try
+        {
+            var pic = RenderGCode("G21 G90 G17\nG0 X20 Y0 Z0\nG3 X-20 Y0 I-20 J0 F100\n", PreviewView.XY, 300, 300, log: log);
+            var proj = pic.Projection;
+            var (cx, cy) = proj.ToPixel(new Point3D(0, 0, 0));
+            var rpx = 20 * proj.Scale;
+            foreach (var deg in new[] { 30, 60, 90, 120, 150 })
+            {
+                var a = deg * Math.PI / 180;
+                // Two pixels outside the arc is band; the chord's middle (the centre) has none.
+                var (bx, by) = (cx + ((rpx + 2) * Math.Cos(a)), cy - ((rpx + 2) * Math.Sin(a)));
+                Near(pic.Image, bx, by, Palette.Executed, 1).Should().BeTrue($"the band runs along the arc at {deg} degrees");
+            }
+
+            pic.Image[(int)Math.Round(cx), (int)Math.Round(cy) - 2].Should().Be(Palette.Background, "no chord is drawn through the centre");
+            pic.Execution!.IsExact.Should().BeTrue();
+        }
+        finally
+        {
+            File.Delete(log);
+        }
+    }
+
+    [Fact]
     public void Runs_merge_consecutive_lines()
     {
         var program = "G21 G90\nG0 X0 Y0 Z0\n" + string.Concat(Enumerable.Range(1, 10).Select(i => $"G1 X{i} F100\n"));
-        // Program lines 3..12 are the feeds. Execute 3..5, skip 6..9, execute 10..12, and 11 three times.
+        // Program lines 3..12 are the feeds. Execute 3..5, skip 6..9, execute 10..12, then 11 again, then 11 and 12
+        // again; 4 split into two controller moves (consecutive rows) is still one execution.
         var rows = new List<(long, double, double)>();
-        foreach (var line in new[] { 3, 4, 5, 10, 11, 11, 11, 12 })
+        foreach (var line in new[] { 3, 4, 4, 5, 10, 11, 12, 11, 10, 11, 12 })
         {
             rows.Add((line, line - 2, 0));
         }
@@ -98,7 +127,8 @@ public class ExecutedOverlayTests
             var pic = RenderGCode(program, PreviewView.XY, 200, 200, log: log);
             pic.Execution!.Missing.Should().Equal(new LineRun(6, 9, 0));
             pic.Execution.MissingLines.Should().Be(4);
-            pic.Execution.Repeated.Should().Equal(new LineRun(11, 11, 3));
+            pic.Execution.Repeated.Should().Equal(new LineRun(10, 10, 2), new LineRun(11, 11, 3), new LineRun(12, 12, 2));
+            pic.Execution.RepeatedLines.Should().Be(3);
             pic.Execution.Missing[0].ToString().Should().Be("lines 6-9");
         }
         finally
@@ -129,7 +159,8 @@ public class ExecutedOverlayTests
     [InlineData("seq,line,x\n1,2,3\n", "1:1", "expected the header")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,2,0,1,abc,0,0,linear\n", "2:", "column 'x' expects a number, found 'abc'")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,2,0,1,0,0\n", "2:1", "expected 8 comma-separated fields")]
-    [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,-2,0,1,0,0,0,linear\n", "2:3", "column 'line' expects a whole number")]
+    [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n-1,2,0,1,0,0,0,linear\n", "2:1", "column 'sequence' expects a whole number >= 0")]
+    [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,2.5,0,1,0,0,0,linear\n", "2:3", "column 'line' expects a whole number")]
     public void Malformed_log_names_file_line_and_column(string content, string where, string what)
     {
         var path = Path.Combine(Path.GetTempPath(), $"pmacstream-badlog-{Guid.NewGuid():N}.csv");
@@ -150,7 +181,7 @@ public class ExecutedOverlayTests
     public void Log_rows_parse_with_invariant_numbers()
     {
         var row = ExecutedLogReader.ParseRow("12,345,1.5,2.25,-1.5e1,2,3.125,circle", "log", 2);
-        row.Should().Be(new ExecutedMove(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle"));
+        row.Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle"));
     }
 
     [Fact]
@@ -160,14 +191,20 @@ public class ExecutedOverlayTests
         for (var i = 0; i < 300; i++)
         {
             counts.Add(5);
+            counts.Add(6);
         }
 
         counts.Add(1_000_000);
+        counts.Add(1_000_000); // consecutive rows of one line: one execution
+        counts.Add(0);
+        counts.Add(-3);
         counts[5].Should().Be(255);
+        counts[6].Should().Be(255);
         counts[1_000_000].Should().Be(1);
         counts[999_999].Should().Be(0);
-        counts[-1].Should().Be(0);
-        counts.Rows.Should().Be(301);
+        counts[0].Should().Be(0);
+        counts[-3].Should().Be(0);
+        counts.Rows.Should().Be(604);
         counts.MaxLine.Should().Be(1_000_000);
     }
 }

@@ -156,4 +156,21 @@ public class PngAndRasterTests
         Enumerable.Range(6, 5).Should().OnlyContain(x => image[x, 6] == ink);
         image[8, 3].Should().NotBe(ink);
     }
+
+    [Fact]
+    public void Bgra_copy_swaps_red_and_blue_only()
+    {
+        var image = new RgbaImage(2, 1, new Rgba(10, 20, 30, 40));
+        image.Set(1, 0, new Rgba(1, 2, 3));
+        image.ToBgra().Should().Equal(30, 20, 10, 40, 3, 2, 1, 255);
+    }
+
+    [Fact]
+    public void Program_positions_in_inches_become_millimetres()
+    {
+        Point3D.FromProgram(new PmacStream.GCode.Point3(1, -2, 0.5), PmacStream.GCode.LengthUnits.Inches)
+            .Should().Be(new Point3D(25.4, -50.8, 12.7));
+        Point3D.FromProgram(new PmacStream.GCode.Point3(1, -2, 0.5), PmacStream.GCode.LengthUnits.Millimetres)
+            .Should().Be(new Point3D(1, -2, 0.5));
+    }
 }

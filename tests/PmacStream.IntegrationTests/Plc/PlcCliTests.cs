@@ -67,6 +67,22 @@ public sealed class PlcCliTests : IDisposable
     }
 
     [Fact]
+    public async Task Unwritable_output_is_a_usage_error_and_leaves_nothing()
+    {
+        var outPath = Path.Combine(_dir, "no-such-dir", "x.pmc");
+        var act = async () => await Run(PlcSamples.Path_("motor-fwd-rev.ladder"), null, outPath);
+        (await act.Should().ThrowAsync<CliException>()).Which.ExitCode.Should().Be(CliGlobals.UsageOrIo);
+        Directory.GetFileSystemEntries(_dir).Should().BeEmpty();
+    }
+
+    [Fact]
+    public async Task Command_line_errors_exit_2_without_a_stack_trace()
+    {
+        var code = await PlcCommand.Create().Parse(["plc", Path.Combine(_dir, "nope.ladder")]).InvokeAsync();
+        code.Should().Be(CliGlobals.UsageOrIo);
+    }
+
+    [Fact]
     public async Task Command_line_parsing_wires_the_argument_and_options()
     {
         var outPath = Path.Combine(_dir, "spindle.pmc");

@@ -82,6 +82,8 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
         var act = () => _connection.DownloadAsync(lines);
         (await act.Should().ThrowAsync<PmacErrorException>()).Which.LineInBatch.Should().Be(123);
         _controller.Executed.Should().Equal(lines.Take(123));
+        await WaitUntil(() => _server!.CommandsServed >= 124);
+        await Task.Delay(100);
         _server!.CommandsServed.Should().Be(124, "the refused line was the last one sent");
     }
 
@@ -111,7 +113,10 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
         await _connection.DisposeAsync();
         var act = () => quick.GetResponseAsync("SLEEP 800");
         (await act.Should().ThrowAsync<PmacLinkException>()).WithMessage("*no complete reply*");
-        await Task.Delay(700);
+
+        // Let the late ACK arrive before the next command, so the test shows it is discarded (not a race).
+        await WaitUntil(() => _server!.CommandsServed >= 1);
+        await Task.Delay(300);
         (await quick.GetResponseAsync("VER")).Should().Be("1.947", "the late ACK was discarded before the next command");
     }
 
@@ -131,7 +136,7 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
 
     private static async Task WaitUntil(Func<bool> condition)
     {
-        for (var i = 0; i < 200 && !condition(); i++)
+        for (var i = 0; i < 1000 && !condition(); i++)
         {
             await Task.Delay(10);
         }
