@@ -243,7 +243,7 @@ internal static class StreamRunner
             SimSpeed = new Option<string>("--sim-speed") { Description = "Simulator clock: realtime, Nx (e.g. 20x) or instant.", DefaultValueFactory = _ => forDemo ? "60x" : "20x" },
             BufferWords = new Option<int>("--buffer-words") { Description = "Rotary buffer size in words (the simulator's is defined to this).", DefaultValueFactory = _ => 16_000 },
             TickMs = new Option<int>("--tick-ms") { Description = "Timer period (the paper's timer1 interval), milliseconds.", DefaultValueFactory = _ => 50 },
-            SingleBlock = new Option<bool>("--single-block") { Description = "Single-block mode: run one block per start." },
+            SingleBlock = new Option<bool>("--single-block") { Description = "Single-block mode (HMI only: each block needs a start)." },
             SafeZ = new Option<double>("--safe-z") { Description = "Safe Z for the approach when starting from a line.", DefaultValueFactory = _ => 10.0 },
         };
         if (!forDemo)
@@ -254,7 +254,6 @@ internal static class StreamRunner
             cmd.Options.Add(o.Yes);
             cmd.Options.Add(o.JobDb);
             cmd.Options.Add(o.SafeZ);
-            cmd.Options.Add(o.SingleBlock);
         }
 
         cmd.Options.Add(o.SimSpeed);
