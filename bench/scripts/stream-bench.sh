@@ -9,5 +9,7 @@ dotnet build -c Release bench/PmacStream.Benchmarks -v q -nologo
 B=bench/PmacStream.Benchmarks/bin/Release/net10.0/PmacStream.Benchmarks
 echo "== CPU and underruns: $LINES blocks at 1000 blocks/s, 2 ms simulated link delay"
 "$B" stream-bench cpu "$LINES"
-echo "== memory: streaming a ~$MB MB program"
-"$B" stream-bench memory "$MB"
+echo "== memory: streaming a ~$MB MB program (split first, then streamed by a fresh process)"
+"$B" stream-bench memory "$MB" --split-only
+/usr/bin/time -v "$B" stream-bench stream-only "${TMPDIR:-/tmp}/pmacstream-bench/mem/chunks/manifest.json" 2>&1 | grep -E "Chunk|Adaptive|Maximum resident"
+rm -rf "${TMPDIR:-/tmp}/pmacstream-bench/mem"

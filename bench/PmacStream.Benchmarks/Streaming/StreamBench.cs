@@ -29,7 +29,12 @@ public static class StreamBench
 
         if (args.Length >= 2 && args[0] == "memory")
         {
-            return Memory(long.Parse(args[1], CultureInfo.InvariantCulture));
+            return Memory(long.Parse(args[1], CultureInfo.InvariantCulture), splitOnly: args.Length > 2 && args[2] == "--split-only");
+        }
+
+        if (args.Length >= 2 && args[0] == "stream-only")
+        {
+            return StreamOnly(args[1]);
         }
 
         Console.Error.WriteLine("usage: stream-bench cpu LINES [chunk,pr,adaptive] | stream-bench memory MB");
@@ -144,7 +149,30 @@ public static class StreamBench
         return 0;
     }
 
-    private static int Memory(long megabytes)
+    /// <summary>Streams an existing split in a fresh process, so the peak working set is the streamer's alone.</summary>
+    private static int StreamOnly(string manifestPath)
+    {
+        var program = ChunkedProgram.Open(manifestPath);
+        var controller = new NullController();
+        var conn = new InProcessConnection(controller, "null");
+        foreach (var kind in new[] { StrategyKind.Chunk, StrategyKind.Adaptive })
+        {
+            controller.Reset();
+            var session = new StreamingSession(conn, program, new StreamingOptions { Strategy = kind, BufferWords = 16_000 });
+            var sw = Stopwatch.StartNew();
+            session.StartAsync().GetAwaiter().GetResult();
+            while (session.State == SessionState.Running)
+            {
+                session.TickAsync().GetAwaiter().GetResult();
+            }
+
+            Console.WriteLine($"{kind,-9}: {session.Status.State}, {controller.Lines} lines streamed in {sw.Elapsed.TotalSeconds:0.0} s; process peak working set {Process.GetCurrentProcess().PeakWorkingSet64 / 1e6:0} MB");
+        }
+
+        return 0;
+    }
+
+    private static int Memory(long megabytes, bool splitOnly = false)
     {
         var dir = Folder("mem");
         var src = Path.Combine(dir, "big.nc");
@@ -155,6 +183,12 @@ public static class StreamBench
         var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(dir, "chunks") });
         Console.WriteLine($"program: {size / 1e6:0} MB, {split.Manifest.TotalBlocks} blocks, {split.Manifest.Chunks.Count} chunks (generate+split {sw.Elapsed.TotalSeconds:0} s)");
         File.Delete(src);
+        if (splitOnly)
+        {
+            Console.WriteLine($"split kept: {split.ManifestPath}");
+            return 0;
+        }
+
         GC.Collect();
         var before = Process.GetCurrentProcess().WorkingSet64;
         var program = ChunkedProgram.Open(split.ManifestPath);
