@@ -353,7 +353,10 @@ internal static class StreamRunner
         };
         IMoveTimes? times = source is not null && File.Exists(source) ? StartFromLine.MoveTimes(source) : null;
         TimeProvider? time = target.Sim is { } sim ? new SimClock(sim) : null;
-        return new StreamingSession(target.Connection, program, options, sink, times, time);
+        // Chunk files go through the PComm-style facade, as the paper calls it: Download(0, file, true, true, true, true).
+        var devices = new PmacDevices();
+        devices.Add(options.PmacNumber, target.Connection);
+        return new StreamingSession(devices, program, options, sink, times, time);
     }
 
     /// <summary>Plans a start from a line, shows the preamble and asks for confirmation; null when refused.</summary>
