@@ -283,6 +283,12 @@ public sealed class StreamingSession
                     $"the controller reports {_track}={m} but the job had reached line {checkpoint.LastExecutedLine}: it lost the job (reset or abort); restart from line {checkpoint.LastExecutedLine} with a preamble");
             }
 
+            if (checkpoint.Started && await ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == false)
+            {
+                throw new InvalidOperationException(
+                    $"the controller is not running the job (aborted, stopped or reset) at {_track}={m}: restart from line {Math.Max(m, checkpoint.LastExecutedLine)} with a preamble");
+            }
+
             await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
             _next = checkpoint.Next;
             _nextExact = checkpoint.NextExact;
@@ -940,6 +946,15 @@ public sealed class StreamingSession
         Log.Warning("unexpected status reply '{Text}' to {Cs}??; the drain falls back to stable M0 readings", text, _cs);
         _statusUnsupported = true;
         return true;
+    }
+
+    /// <summary>Program-running bit of the coordinate system status (first word, bit 0); null when the reply is not understood.</summary>
+    private async Task<bool?> ProgramRunningAsync(CancellationToken cancellationToken)
+    {
+        var text = FirstValue(await OnlineAsync($"{_cs}??", cancellationToken).ConfigureAwait(false)).Replace(" ", string.Empty, StringComparison.Ordinal);
+        return text.Length >= 6 && int.TryParse(text.AsSpan(0, 6), NumberStyles.HexNumber, CultureInfo.InvariantCulture, out var w1)
+            ? (w1 & 1) != 0
+            : null;
     }
 
     private async Task CheckDryAndDoneAsync(CancellationToken cancellationToken)

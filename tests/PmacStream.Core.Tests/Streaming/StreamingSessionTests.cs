@@ -265,3 +265,46 @@ public class StreamingSessionTests
         rig.Controller.Log.Should().BeEmpty();
     }
 }
+
+public class ResumeTests
+{
+    [Fact]
+    public async Task A_new_session_resumes_from_the_checkpoint_while_the_controller_keeps_running()
+    {
+        var program = FakeSplit.Write(FakeSplit.TempFolder("resume"), FakeSplit.Program(1500, 12), 150);
+        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 20_000 }, capacityWords: 20_000);
+        await rig.Session.StartAsync();
+        for (var i = 0; i < 40; i++)
+        {
+            await rig.Session.TickAsync();
+            rig.Advance(0.05);
+        }
+
+        // The host "dies": the controller runs on for a while with what it holds, then a new session resumes.
+        rig.Advance(0.5);
+        rig.Session = rig.NewSession();
+        await rig.Session.ResumeAsync(rig.Sink.Last!);
+        (await rig.RunAsync()).Should().BeTrue(rig.Session.Status.Message);
+        rig.Controller.Moves.Select(m => m.SourceLine).Should().Equal(program.TrackedLines());
+    }
+
+    [Fact]
+    public async Task Resume_refuses_a_controller_that_no_longer_runs_the_job()
+    {
+        var program = FakeSplit.Write(FakeSplit.TempFolder("aborted"), FakeSplit.Program(800, 13), 100);
+        var rig = new Rig(program, new StreamingOptions());
+        await rig.Session.StartAsync();
+        for (var i = 0; i < 10; i++)
+        {
+            await rig.Session.TickAsync();
+            rig.Advance(0.05);
+        }
+
+        var cp = rig.Session.Checkpoint;
+        rig.Controller.Execute("&1A");
+        rig.Session = rig.NewSession();
+        var act = () => rig.Session.ResumeAsync(cp);
+        (await act.Should().ThrowAsync<InvalidOperationException>()).WithMessage("*not running the job*restart from line*");
+        rig.Session.State.Should().Be(SessionState.Idle, "nothing was taken over; a start from the line can follow");
+    }
+}
