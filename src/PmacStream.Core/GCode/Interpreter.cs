@@ -191,9 +191,8 @@ public sealed class Interpreter
                 {
                     if (diags != null)
                     {
-                        var first = ModalState.Num(isG ? gIn[group] : mIn[group]);
                         var names = isG ? MachineProfile.GGroupNames : MachineProfile.MGroupNames;
-                        Add(diags, DiagnosticCodes.ModalGroupConflict, line, w.Column, w.Letter, first, Ascii(block.NumberText(w)), names[group]);
+                        Add(diags, DiagnosticCodes.ModalGroupConflict, line, w.Column, w.Letter, CodeText(isG ? gIn[group] : mIn[group]), CodeText(w.Value), names[group]);
                     }
 
                     continue;
@@ -694,6 +693,8 @@ public sealed class Interpreter
 
         return _snapshot;
     }
+
+    private static string CodeText(double code) => (code < 10 ? "0" : string.Empty) + ModalState.Num(code);
 
     private static string Ascii(ReadOnlySpan<byte> text) => Encoding.ASCII.GetString(text);
 
