@@ -131,6 +131,9 @@ public sealed class Interpreter
     };
 
     /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
+    // Hot loop of a million-line program: compile optimized at once instead of spending the first
+    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
     internal bool StepCore(GBlock block, List<Diagnostic>? diags)
     {
         var words = block.WordList;
