@@ -15,14 +15,15 @@ internal sealed class ChunkFileWriter : IDisposable
     private const int Depth = 4;
 
     private readonly BlockingCollection<(int Index, string Path, byte[] Data, int Length)> _queue = new(Depth);
-    private readonly ConcurrentDictionary<int, string> _hashes = new();
+    private readonly ChunkTable _table;
     private readonly Action<int>? _afterWritten;
     private readonly CancellationToken _ct;
     private readonly Task _task;
     private volatile Exception? _failure;
 
-    public ChunkFileWriter(Action<int>? afterWritten, CancellationToken ct)
+    public ChunkFileWriter(ChunkTable table, Action<int>? afterWritten, CancellationToken ct)
     {
+        _table = table;
         _afterWritten = afterWritten;
         _ct = ct;
         _task = Task.Factory.StartNew(Run, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
@@ -49,12 +50,11 @@ internal sealed class ChunkFileWriter : IDisposable
         }
     }
 
-    /// <summary>Waits for every queued chunk; returns the hex SHA-256 of each by index. Rethrows a writer failure.</summary>
-    public IReadOnlyDictionary<int, string> Complete()
+    /// <summary>Waits for every queued chunk (their hashes are then in the table). Rethrows a writer failure.</summary>
+    public void Complete()
     {
         _queue.CompleteAdding();
         _task.GetAwaiter().GetResult();
-        return _hashes;
     }
 
     public void Dispose()
@@ -78,6 +78,7 @@ internal sealed class ChunkFileWriter : IDisposable
 
     private void Run()
     {
+        Span<byte> hash = stackalloc byte[32];
         try
         {
             foreach (var (index, path, data, length) in _queue.GetConsumingEnumerable())
@@ -91,7 +92,8 @@ internal sealed class ChunkFileWriter : IDisposable
                         fs.Write(span);
                     }
 
-                    _hashes[index] = Convert.ToHexStringLower(SHA256.HashData(span));
+                    SHA256.HashData(span, hash);
+                    _table.SetHash(index, hash);
                 }
                 finally
                 {

@@ -167,7 +167,7 @@ public static class Splitter
         private readonly int _tailWords;
         private readonly ByteLine _block = new(256);
         private readonly ByteLine _chunk;
-        private readonly List<ChunkInfo> _chunks = [];
+        private readonly ChunkTable _chunks;
         private readonly List<Diagnostic> _errors = [];
         private int _errorCount;
         private int _warnings;
@@ -191,6 +191,7 @@ public static class Splitter
             _source = source;
             _folder = folder;
             _name = Path.GetFileNameWithoutExtension(source);
+            _chunks = new ChunkTable(_name);
             _o = options;
             _progress = progress;
             _ct = ct;
@@ -217,7 +218,7 @@ public static class Splitter
             long size;
             // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
             var sourceHash = Task.Run(() => HashFile(_source), _ct);
-            using (var writer = new ChunkFileWriter(_o.AfterChunkWritten, _ct))
+            using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct))
             {
                 _writer = writer;
                 using (var reader = new GCodeReader(
@@ -257,11 +258,7 @@ public static class Splitter
                 }
 
                 Finish();
-                var hashes = writer.Complete();
-                for (var i = 0; i < _chunks.Count; i++)
-                {
-                    _chunks[i] = _chunks[i] with { Sha256 = hashes[_chunks[i].Index] };
-                }
+                writer.Complete();
             }
 
             var (sha, hashedSize) = sourceHash.GetAwaiter().GetResult();
@@ -538,11 +535,9 @@ public static class Splitter
             }
 
             _chunk.Append(FooterBytes);
-            var index = _chunks.Count + 1;
-            var fileName = $"{_name}_{index:D4}{ChunkExtension}";
             var data = _chunk.Span;
-            _writer!.Enqueue(index, Path.Combine(_folder, fileName), data);
-            _chunks.Add(new ChunkInfo(index, fileName, _chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, data.Length, words, ""));
+            var index = _chunks.Add(_chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, data.Length, words);
+            _writer!.Enqueue(index, Path.Combine(_folder, _chunks.FileName(index)), data);
             _chunk.Clear();
             _chunk.Append(HeaderBytes);
             _chunkBlocks = 0;
