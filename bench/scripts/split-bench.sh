@@ -22,16 +22,21 @@ run() { # name file extra-args...
   rm -rf "$out"
   /usr/bin/time -v -o "$work/time.txt" dotnet "$cli" split "$file" --out "$out" "$@" >"$work/stdout.txt" 2>&1 || {
     cat "$work/stdout.txt"; return 1; }
-  local bytes wall rss
+  local bytes wall rss user sys
   bytes=$(stat -c %s "$file")
   wall=$(grep "Elapsed (wall clock)" "$work/time.txt" | awk '{print $NF}')
   rss=$(grep "Maximum resident set size" "$work/time.txt" | awk '{print $NF}')
-  python3 - "$name" "$bytes" "$wall" "$rss" "$(tail -2 "$work/stdout.txt" | head -1)" <<'PY'
+  user=$(grep "User time" "$work/time.txt" | awk '{print $NF}')
+  sys=$(grep "System time" "$work/time.txt" | awk '{print $NF}')
+  # Wall MB/s is what the goal names; on a shared machine it mostly measures the queue for a CPU, so the CPU
+  # time (user + sys) and the load average are printed too.
+  python3 - "$name" "$bytes" "$wall" "$rss" "$user" "$sys" "$(tail -2 "$work/stdout.txt" | head -1)" "$(cut -d' ' -f1 /proc/loadavg)" <<'PY'
 import sys
-name, size, wall, rss, summary = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4]), sys.argv[5]
+name, size, wall, rss, user, sys_, summary, load = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4]), float(sys.argv[5]), float(sys.argv[6]), sys.argv[7], sys.argv[8]
 parts = [float(p) for p in wall.split(":")]
 secs = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
-print(f"{name:<28} {size/1e6:9.1f} MB {secs:7.2f} s {size/1e6/secs:7.1f} MB/s  peak RSS {rss/1024:6.1f} MB  ({summary})")
+cpu = user + sys_
+print(f"{name:<26} {size/1e6:7.1f} MB wall {secs:7.2f} s {size/1e6/secs:7.1f} MB/s | cpu {cpu:6.2f} s (user {user:.2f} sys {sys_:.2f}) {size/1e6/cpu:6.1f} MB/cpu-s | peak RSS {rss/1024:5.1f} MB | load {load} | {summary}")
 PY
   rm -rf "$out"
 }
