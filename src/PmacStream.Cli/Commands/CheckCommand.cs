@@ -17,6 +17,9 @@ internal static class CheckCommand
     /// <summary>JSON output keeps at most this many diagnostics (the counts stay exact) so memory stays bounded.</summary>
     internal const int JsonDiagnosticLimit = 100_000;
 
+    /// <summary>Tests capture the output here instead of the process's standard output.</summary>
+    internal static TextWriter? OutputOverride { get; set; }
+
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "G-code program to check." };
@@ -66,7 +69,8 @@ internal static class CheckCommand
             throw new CliException(e is InvalidDataException ? e.Message : $"{profilePath}: {e.Message}");
         }
 
-        using var stdout = new StreamWriter(Console.OpenStandardOutput(), new UTF8Encoding(false), 1 << 16) { AutoFlush = false };
+        // Buffered: a program with an error on every line must not cost a write call per line.
+        using var stdout = OutputOverride ?? new StreamWriter(Console.OpenStandardOutput(), new UTF8Encoding(false), 1 << 16) { AutoFlush = false };
         var kept = new List<Diagnostic>();
         var dropped = 0;
         Action<Diagnostic> onDiagnostic = json
@@ -113,21 +117,43 @@ internal static class CheckCommand
             throw new CliException($"--db {dbPath}: is a directory, expected a database file");
         }
 
+        var created = !File.Exists(dbPath);
         try
         {
             using var store = ProgramStore.Open(dbPath);
             return store.Import(file, machine, onDiagnostic, ct).Summary;
         }
-        catch (Microsoft.Data.Sqlite.SqliteException e)
+        catch (Exception e) when (e is Microsoft.Data.Sqlite.SqliteException or IOException or UnauthorizedAccessException or OperationCanceledException)
         {
+            // The import rolled back; a database file this run created would only be an empty shell.
+            if (created)
+            {
+                Microsoft.Data.Sqlite.SqliteConnection.ClearAllPools();
+                foreach (var f in new[] { dbPath, dbPath + "-wal", dbPath + "-shm" })
+                {
+                    try
+                    {
+                        File.Delete(f);
+                    }
+                    catch (IOException)
+                    {
+                    }
+                }
+            }
+
+            if (e is OperationCanceledException)
+            {
+                throw;
+            }
+
             throw new CliException($"--db {dbPath}: {e.Message}");
         }
     }
 
-    private static void WriteJson(StreamWriter output, string file, CheckSummary summary, List<Diagnostic> diagnostics, int dropped)
+    private static void WriteJson(TextWriter output, string file, CheckSummary summary, List<Diagnostic> diagnostics, int dropped)
     {
-        output.Flush();
-        using (var w = new Utf8JsonWriter(output.BaseStream, new JsonWriterOptions { Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
+        var buffer = new MemoryStream();
+        using (var w = new Utf8JsonWriter(buffer, new JsonWriterOptions { Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
         {
             w.WriteStartObject();
             w.WriteString("file", file);
@@ -155,6 +181,6 @@ internal static class CheckCommand
             w.WriteEndObject();
         }
 
-        output.WriteLine();
+        output.WriteLine(Encoding.UTF8.GetString(buffer.GetBuffer(), 0, (int)buffer.Length));
     }
 }

@@ -21,7 +21,16 @@ internal static class PlcCommand
             var path = parseResult.GetValue(file)!;
             var plcNumber = parseResult.GetValue(plc);
             var outPath = parseResult.GetValue(output);
-            return await RunAsync(path, plcNumber, outPath, Console.Out, Console.Error, ct).ConfigureAwait(false);
+            try
+            {
+                return await RunAsync(path, plcNumber, outPath, Console.Out, Console.Error, ct).ConfigureAwait(false);
+            }
+            catch (CliException e)
+            {
+                // Handled here: System.CommandLine's default handler would print a stack trace and exit 1.
+                await Console.Error.WriteLineAsync($"pmacstream plc: {e.Message}").ConfigureAwait(false);
+                return e.ExitCode;
+            }
         });
         return cmd;
     }
@@ -39,7 +48,16 @@ internal static class PlcCommand
             throw new CliException($"{path}: no such file", CliGlobals.UsageOrIo);
         }
 
-        var text = await File.ReadAllTextAsync(path, ct).ConfigureAwait(false);
+        string text;
+        try
+        {
+            text = await File.ReadAllTextAsync(path, ct).ConfigureAwait(false);
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            throw new CliException($"{path}: {e.Message}", CliGlobals.UsageOrIo);
+        }
+
         var program = LadderParser.TryParse(text, out var diagnostics);
         if (program is null)
         {
@@ -76,6 +94,10 @@ internal static class PlcCommand
         {
             await File.WriteAllTextAsync(temp, generated.Text, new UTF8Encoding(false), ct).ConfigureAwait(false);
             File.Move(temp, full, overwrite: true);
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            throw new CliException($"{outPath}: cannot write: {e.Message}", CliGlobals.UsageOrIo);
         }
         finally
         {

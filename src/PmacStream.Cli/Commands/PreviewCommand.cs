@@ -1,5 +1,6 @@
 using System.CommandLine;
 using System.Globalization;
+using PmacStream.GCode;
 using PmacStream.Preview;
 
 namespace PmacStream.Cli.Commands;
@@ -17,13 +18,13 @@ internal static class PreviewCommand
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "G-code program to draw." };
-        var png = new Option<string>("--png") { Description = "PNG file to write.", Required = true };
-        var size = new Option<string>("--size") { Description = "Image size WIDTHxHEIGHT.", DefaultValueFactory = _ => "1200x900" };
+        var png = new Option<string>("--png") { Description = "PNG file to write (replaced atomically).", Required = true, HelpName = "OUT.png" };
+        var size = new Option<string>("--size") { Description = "Image size WIDTHxHEIGHT, each 16..8192.", HelpName = "WxH", DefaultValueFactory = _ => "1200x900" };
         var view = new Option<string>("--view") { Description = "View: xy, xz, yz or iso.", DefaultValueFactory = _ => "xy" };
         view.AcceptOnlyFromAmong("xy", "xz", "yz", "iso");
-        var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV) to overlay and check against the program." };
+        var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV: sequence,line,start_s,end_s,x,y,z,kind) to overlay; lists lines run zero or several times.", HelpName = "LOG.csv" };
 
-        var cmd = new Command("preview", "Draw the toolpath of a program to a PNG (rapids dashed, feeds solid, arcs as arcs).");
+        var cmd = new Command("preview", "Draw the toolpath of a program to a PNG (rapids dashed, feeds solid, arcs as arcs). Exit 1 when the program has errors or the executed log shows moves run zero or several times.");
         cmd.Arguments.Add(file);
         cmd.Options.Add(png);
         cmd.Options.Add(size);
@@ -109,12 +110,12 @@ internal static class PreviewCommand
             exit = CliGlobals.Failed;
             foreach (var issue in source.Issues.Take(MaxListed))
             {
-                Console.Error.WriteLine($"{path}:{issue.Line}:{issue.Column}: error: {issue.Message} (block not drawn)");
+                Console.Error.WriteLine(issue.Format(path));
             }
 
             if (source.IssueCount > MaxListed)
             {
-                Console.Error.WriteLine($"{path}: ... and {source.IssueCount - MaxListed} more blocks that could not be drawn");
+                Console.Error.WriteLine($"{path}: ... and {source.IssueCount - MaxListed} more errors ('pmacstream check' lists them all); blocks that cannot be interpreted are not drawn");
             }
         }
 

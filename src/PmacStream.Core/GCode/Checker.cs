@@ -126,9 +126,10 @@ public sealed class Checker
                 diags.Add(d);
             }
 
-            var decoded = interp.Step(block, diags);
-            if (decoded != null)
+            var isBlock = interp.StepCore(block, diags);
+            if (isBlock)
             {
+                ref readonly var decoded = ref interp.Last;
                 blocks++;
                 seconds += decoded.DurationSeconds;
                 if (firstBlockLine == 0)
@@ -183,9 +184,9 @@ public sealed class Checker
                 }
             }
 
-            if (decoded != null)
+            if (isBlock && onBlock != null)
             {
-                onBlock?.Invoke(decoded);
+                onBlock(interp.Materialize());
             }
         }
 

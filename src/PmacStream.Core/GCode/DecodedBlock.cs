@@ -82,8 +82,9 @@ public sealed record DecodedBlock
     public double DurationSeconds { get; init; }
 
     /// <summary>
-    /// The block as G-code: the motion code (when it moves or dwells) followed by the words it carries. Reading
-    /// this text back in the same prior state yields an equal block (the property tests check it).
+    /// The block as self-contained G-code: the sequence number, the code in force in every G group, the words the
+    /// block carries, then the M codes in force. Reading this text back in the same prior state yields an equal block
+    /// (the property tests check it); repeating modal codes is harmless to the controller.
     /// </summary>
     public string ToGCode()
     {
@@ -101,14 +102,18 @@ public sealed record DecodedBlock
             }
         }
 
-        W('N', N);
-        switch (Motion)
+        void Code(char letter, double? v)
         {
-            case MotionKind.Rapid: sb.Append(sb.Length > 0 ? " " : string.Empty).Append("G00"); break;
-            case MotionKind.Linear: sb.Append(sb.Length > 0 ? " " : string.Empty).Append("G01"); break;
-            case MotionKind.ArcCw: sb.Append(sb.Length > 0 ? " " : string.Empty).Append("G02"); break;
-            case MotionKind.ArcCcw: sb.Append(sb.Length > 0 ? " " : string.Empty).Append("G03"); break;
-            case MotionKind.Dwell: sb.Append(sb.Length > 0 ? " " : string.Empty).Append("G04"); break;
+            if (v is { } value)
+            {
+                sb.Append(sb.Length > 0 ? " " : string.Empty).Append(letter).Append(value < 10 ? "0" : string.Empty).Append(ModalState.Num(value));
+            }
+        }
+
+        W('N', N);
+        for (var g = 0; g < 9; g++)
+        {
+            Code('G', Modal.GetG(g));
         }
 
         W('X', X);
@@ -124,6 +129,11 @@ public sealed record DecodedBlock
         W('H', H);
         W('D', D);
         W('P', P);
+        for (var m = 0; m < 3; m++)
+        {
+            Code('M', Modal.GetM(m));
+        }
+
         return sb.ToString();
     }
 }

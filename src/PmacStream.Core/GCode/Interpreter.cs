@@ -32,6 +32,7 @@ public sealed class Interpreter
     private double? _feed;
     private Point3 _pos;
     private ModalState? _snapshot;
+    private LastBlock _last;
     private bool _dirty = true;
 
     /// <summary>Starts in the profile's power-on state (its <see cref="MachineProfile.Startup"/> codes) at the origin.</summary>
@@ -106,12 +107,36 @@ public sealed class Interpreter
     /// </summary>
     public DecodedBlock? Step(GBlock block) => Step(block, null);
 
-    internal DecodedBlock? Step(GBlock block, List<Diagnostic>? diags)
+    internal DecodedBlock? Step(GBlock block, List<Diagnostic>? diags) => StepCore(block, diags) ? Materialize() : null;
+
+    /// <summary>The last interpreted block, without allocating (the checker's hot path when nothing is stored).</summary>
+    internal ref readonly LastBlock Last => ref _last;
+
+    /// <summary>The last interpreted block as a record.</summary>
+    internal DecodedBlock Materialize() => new()
+    {
+        Line = _last.Line,
+        ByteOffset = _last.ByteOffset,
+        N = _last.N,
+        BlockDelete = _last.BlockDelete,
+        Modal = Snapshot(),
+        X = _last.X, Y = _last.Y, Z = _last.Z, I = _last.I, J = _last.J, K = _last.K, R = _last.R, F = _last.F, S = _last.S,
+        T = _last.T, H = _last.H, D = _last.D, P = _last.P,
+        Motion = _last.Motion,
+        Start = _last.Start,
+        End = _last.End,
+        Center = _last.Center,
+        Length = _last.Length,
+        DurationSeconds = _last.DurationSeconds,
+    };
+
+    /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
+    internal bool StepCore(GBlock block, List<Diagnostic>? diags)
     {
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
         {
-            return null;
+            return false;
         }
 
         var line = block.LineNumber;
@@ -200,7 +225,7 @@ public sealed class Interpreter
 
         if (onlyO)
         {
-            return null;
+            return false;
         }
 
         // Modal groups first (units, plane, distance, offsets), so that motion in the same block uses them.
@@ -429,13 +454,12 @@ public sealed class Interpreter
         }
 
         _pos = end;
-        return new DecodedBlock
+        _last = new LastBlock
         {
             Line = line,
             ByteOffset = block.ByteOffset,
             N = Word('N', col, val),
             BlockDelete = block.BlockDelete,
-            Modal = Snapshot(),
             X = x, Y = y, Z = z, I = i0, J = j0, K = k0, R = r, F = f, S = s, T = t, H = h, D = d, P = p,
             Motion = kind,
             Start = start,
@@ -444,6 +468,7 @@ public sealed class Interpreter
             Length = length,
             DurationSeconds = seconds,
         };
+        return true;
     }
 
     private int IndexOfGroupWithKey(int key)
@@ -675,5 +700,19 @@ public sealed class Interpreter
     private static void Add(List<Diagnostic>? diags, string code, int line, int column, params object[] args)
     {
         diags?.Add(new Diagnostic(DiagnosticCodes.SeverityOf(code), code, line, column, DiagnosticText.Format(code, args)));
+    }
+
+    /// <summary>The fields of a decoded block without the allocation.</summary>
+    internal struct LastBlock
+    {
+        public int Line;
+        public long ByteOffset;
+        public double? N;
+        public bool BlockDelete;
+        public double? X, Y, Z, I, J, K, R, F, S, T, H, D, P;
+        public MotionKind Motion;
+        public Point3 Start, End;
+        public Point3? Center;
+        public double Length, DurationSeconds;
     }
 }

@@ -28,6 +28,7 @@ public sealed class MachineProfile
     private readonly Dictionary<int, (CodeDefinition Def, int Group)> _g = new();
     private readonly Dictionary<int, (CodeDefinition Def, int Group)> _m = new();
     private readonly bool[] _letters = new bool[26];
+    private readonly Dictionary<int, Point3> _offsets = new();
 
     private MachineProfile(Dto dto, string source)
     {
@@ -68,6 +69,13 @@ public sealed class MachineProfile
             {
                 throw Bad(source, $"workOffsets.{key}: expected [x, y, z]");
             }
+
+            if (key.Length < 2 || char.ToUpperInvariant(key[0]) != 'G' || !int.TryParse(key.AsSpan(1), NumberStyles.None, CultureInfo.InvariantCulture, out var code))
+            {
+                throw Bad(source, $"workOffsets.{key}: expected a work offset code such as G54");
+            }
+
+            _offsets[code] = new Point3(value[0], value[1], value[2]);
         }
 
         AddCodes(dto.GCodes, 'G', GGroupNames, _g, source);
@@ -170,8 +178,7 @@ public sealed class MachineProfile
     public bool AcceptsLetter(char letter) => letter is >= 'A' and <= 'Z' && _letters[letter - 'A'];
 
     /// <summary>The work offset of G54..G59 (zero when the profile does not set it).</summary>
-    public Point3 WorkOffset(int code) =>
-        WorkOffsets.TryGetValue("G" + code.ToString(CultureInfo.InvariantCulture), out var v) ? new Point3(v[0], v[1], v[2]) : default;
+    public Point3 WorkOffset(int code) => _offsets.TryGetValue(code, out var v) ? v : default;
 
     internal static int Key(double number) => (int)Math.Round(number * 10.0);
 

@@ -139,6 +139,12 @@ public enum TextId
     SelectLineFirst,
     /// <summary>The program has errors: {0}.</summary>
     ProgramHasErrors,
+    /// <summary>Closing while a job runs.</summary>
+    ConfirmCloseRunning,
+    /// <summary>Line number column header.</summary>
+    LineColumn,
+    /// <summary>Text column header.</summary>
+    TextColumn,
 }
 
 /// <summary>The HMI's string table: English and Simplified Chinese for every <see cref="TextId"/>.</summary>
@@ -209,6 +215,10 @@ public static class HmiText
         [TextId.NoInterruptedJob] = ("No interrupted job recorded for this program.", "没有该程序的中断记录。"),
         [TextId.Declined] = ("Not started: the operator declined.", "未开始：操作员取消。"),
         [TextId.SelectLineFirst] = ("Select a program line first.", "请先选择程序行。"),
+        [TextId.ConfirmCloseRunning] = ("A job is running. If you close now the controller finishes the lines already downloaded and the job can be resumed later from its checkpoint. Close?",
+            "作业正在运行。现在关闭，控制器将执行完已下载的程序行，之后可从断点继续加工。是否关闭？"),
+        [TextId.LineColumn] = ("Line", "行号"),
+        [TextId.TextColumn] = ("Block", "程序段"),
         [TextId.ProgramHasErrors] = ("The program has errors and cannot be split: {0}", "程序有错误，无法拆分：{0}"),
     };
 

@@ -44,15 +44,15 @@ public sealed record ConnectionSettings(
 }
 
 /// <summary>A check's findings.</summary>
-/// <param name="Diagnostics">Every finding, in line order.</param>
+/// <param name="Diagnostics">The findings in line order (a huge program's list may be cut; the counts are not).</param>
 /// <param name="Blocks">Blocks in the program.</param>
-public sealed record HmiCheckResult(IReadOnlyList<Diagnostic> Diagnostics, int Blocks)
+/// <param name="Errors">Findings that stop the program.</param>
+/// <param name="Warnings">Findings that let it run.</param>
+public sealed record HmiCheckResult(IReadOnlyList<Diagnostic> Diagnostics, long Blocks, int Errors, int Warnings)
 {
-    /// <summary>Findings that stop the program.</summary>
-    public int Errors => Diagnostics.Count(d => d.Severity == Severity.Error);
-
-    /// <summary>Findings that let it run.</summary>
-    public int Warnings => Diagnostics.Count(d => d.Severity == Severity.Warning);
+    /// <summary>Counts the severities of a complete list.</summary>
+    public static HmiCheckResult FromList(IReadOnlyList<Diagnostic> diagnostics, long blocks) =>
+        new(diagnostics, blocks, diagnostics.Count(d => d.Severity == Severity.Error), diagnostics.Count(d => d.Severity == Severity.Warning));
 }
 
 /// <summary>What to split and how.</summary>
@@ -129,7 +129,8 @@ public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int?
 /// <param name="Chunk">Chunk holding that line.</param>
 /// <param name="Strategy">Strategy the job used.</param>
 /// <param name="CheckpointTime">When the checkpoint was written.</param>
-public sealed record HmiInterruptedJob(long JobId, HmiSplitResult Program, int ResumeLine, int Chunk, string Strategy, DateTimeOffset CheckpointTime);
+/// <param name="Record">The backend's own record of the job (opaque to the presenter).</param>
+public sealed record HmiInterruptedJob(long JobId, HmiSplitResult Program, int ResumeLine, int Chunk, string Strategy, DateTimeOffset CheckpointTime, object? Record = null);
 
 /// <summary>
 /// A running job as the presenter drives it: <see cref="TickAsync"/> from the form's <c>timer1_Tick</c> does the

@@ -139,7 +139,7 @@ public sealed class MainPresenter : IAsyncDisposable
                 }
                 catch (Exception e) when (e is not OperationCanceledException)
                 {
-                    _log.Error(e, "Streaming stopped: {Message}. The job can be resumed after interruption", e.Message);
+                    _log.Error(e, "Streaming stopped: {Message:l}. The job can be resumed after interruption", e.Message);
                     _lastStatus = job.Status with { State = HmiJobState.Failed, Message = e.Message };
                     await FinishJobAsync().ConfigureAwait(true);
                     return;
@@ -189,7 +189,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
 
         RefreshProgramLineCount();
-        _log.Information("Opened {Path} ({Size:N0} bytes)", path, source.FileSize);
+        _log.Information("Opened {Path:l} ({Size:N0} bytes)", path, source.FileSize);
         RefreshCommands();
         RefreshStatus();
     }
@@ -227,7 +227,11 @@ public sealed class MainPresenter : IAsyncDisposable
             _connection = null;
         }
 
-        CloseProgram();
+        // No view calls here: the window may already be gone (the application disposes after the message loop).
+        _program?.Dispose();
+        _program = null;
+        _chunkLines?.Dispose();
+        _chunkLines = null;
         _life.Dispose();
     }
 
@@ -258,7 +262,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
         catch (Exception e)
         {
-            _log.Error("{Message}", e.Message);
+            _log.Error("{Message:l}", e.Message);
             _view.ShowError(e.Message);
         }
         finally
@@ -293,7 +297,7 @@ public sealed class MainPresenter : IAsyncDisposable
         {
             _connection = await _backend.ConnectAsync(settings, _life.Token).ConfigureAwait(true);
             _view.ConnectionState = F(TextId.StateConnected, _connection.Description);
-            _log.Information("Connected to {Device}", _connection.Description);
+            _log.Information("Connected to {Device:l}", _connection.Description);
         }
         catch
         {
@@ -317,7 +321,7 @@ public sealed class MainPresenter : IAsyncDisposable
         {
             _connection = null;
             await c.DisposeAsync().ConfigureAwait(true);
-            _log.Information("Disconnected from {Device}", c.Description);
+            _log.Information("Disconnected from {Device:l}", c.Description);
         }
 
         _view.ConnectionState = T(TextId.StateDisconnected);
@@ -331,7 +335,7 @@ public sealed class MainPresenter : IAsyncDisposable
         _view.Diagnostics = result.Diagnostics
             .Select(d => string.Create(CultureInfo.InvariantCulture, $"{d.Line}:{d.Column}  {(d.Severity == Severity.Error ? "E" : "W")}  {d.Code}  {d.Message}"))
             .ToList();
-        _log.Information("Checked {Path}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
+        _log.Information("Checked {Path:l}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
     }
 
     private void JumpToDiagnostic(int index)
@@ -354,7 +358,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var linesPerChunk = Math.Max(1, _view.LinesPerChunk);
         var split = await _backend.SplitAsync(new HmiSplitRequest(program.Path, linesPerChunk), _life.Token).ConfigureAwait(true);
         SetSplit(split);
-        _log.Information("Split {Path} into {Chunks} chunk files ({Blocks} blocks) in {Directory}",
+        _log.Information("Split {Path:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
             program.Path, split.Manifest.Chunks.Count, split.Manifest.TotalBlocks, split.Directory);
     }
 
@@ -440,7 +444,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feed);
         var job = await _backend.StartAsync(_connection!, request, _life.Token).ConfigureAwait(true);
         BeginJob(job);
-        _log.Information("Job started{From} with strategy {Strategy}, feed {Feed}{Unit}",
+        _log.Information("Job started{From:l} with strategy {Strategy:l}, feed {Feed} {Unit:l}",
             fromLine is null ? string.Empty : $" from line {fromLine}", request.Strategy, _feed, _feedScale.Unit);
     }
 
@@ -513,7 +517,7 @@ public sealed class MainPresenter : IAsyncDisposable
                 _view.ShowError(s.Message ?? T(TextId.StateFailed));
             }
 
-            _log.Information("Job {State} at line {Line}, {Percent:0.0}%{Message}", s.State, s.CurrentLine, s.Percent,
+            _log.Information("Job {State} at line {Line}, {Percent:0.0}%{Message:l}", s.State, s.CurrentLine, s.Percent,
                 s.Message is null ? string.Empty : ": " + s.Message);
         }
 
@@ -526,7 +530,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var job = _job ?? throw new InvalidOperationException("No job is running.");
         await command(job).ConfigureAwait(true);
         _lastStatus = job.Status;
-        _log.Information("Operator {Command} at line {Line}", name, _lastStatus.CurrentLine);
+        _log.Information("Operator {Command:l} at line {Line}", name, _lastStatus.CurrentLine);
         if (_lastStatus.IsFinished)
         {
             await FinishJobAsync().ConfigureAwait(true);
@@ -545,7 +549,7 @@ public sealed class MainPresenter : IAsyncDisposable
             await job.SetSingleBlockAsync(on, _life.Token).ConfigureAwait(true);
         }
 
-        _log.Information("Single block {State}", on ? "on" : "off");
+        _log.Information("Single block {State:l}", on ? "on" : "off");
     }
 
     private async Task FeedChangedAsync()
@@ -558,7 +562,7 @@ public sealed class MainPresenter : IAsyncDisposable
             _lastStatus = job.Status;
         }
 
-        _log.Information("Feed set to {Feed}{Unit}", value, _feedScale.Unit);
+        _log.Information("Feed set to {Feed} {Unit:l}", value, _feedScale.Unit);
     }
 
     private void ShowJob()
@@ -626,7 +630,7 @@ public sealed class MainPresenter : IAsyncDisposable
             Split: open && !running,
             Execute: ready,
             Hold: running && !held,
-            Resume: running && (held || _view.SingleBlock),
+            Resume: running,
             Abort: running,
             StartFromLine: ready,
             ResumeInterrupted: connected && open && !running);

@@ -758,12 +758,7 @@ public static class LadderParser
                 _failed = true;
             }
 
-            private static string Describe(Token t) => t.Kind switch
-            {
-                TokKind.End => "the end of the rung",
-                TokKind.Name => $"'{t.Text}'",
-                _ => $"'{t.Text}'",
-            };
+            private static string Describe(Token t) => t.Kind == TokKind.End ? "the end of the rung" : $"'{t.Text}'";
 
             private LadderExpr? Parallel()
             {

@@ -229,7 +229,10 @@ public sealed class EthernetConnection : IPmacConnection
             var socket = await EnsureConnectedAsync(cancellationToken).ConfigureAwait(false);
             var sw = Stopwatch.StartNew();
             var raw = await RunGuardedAsync(ct => exchange(socket, ct), what, cancellationToken).ConfigureAwait(false);
-            Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, what, InProcessConnection.Visible(raw), sw.Elapsed.TotalMilliseconds);
+            if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+            {
+                Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, what, ReplyParser.Visible(raw), sw.Elapsed.TotalMilliseconds);
+            }
             return raw;
         }
         finally

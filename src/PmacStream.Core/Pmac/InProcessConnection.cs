@@ -32,7 +32,10 @@ public sealed class InProcessConnection : IPmacConnection
         {
             var sw = Stopwatch.StartNew();
             var raw = _port.Execute(command);
-            Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, command, Visible(raw), sw.Elapsed.TotalMilliseconds);
+            if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+            {
+                Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, command, Visible(raw), sw.Elapsed.TotalMilliseconds);
+            }
             return ReplyParser.Parse(raw, command);
         }
         finally

@@ -1,5 +1,4 @@
 using System.Diagnostics;
-using System.Reflection;
 using System.Runtime.InteropServices;
 using System.Text;
 using Serilog;
@@ -34,10 +33,11 @@ public enum PCommStatus
 /// <summary>
 /// A Turbo PMAC through Delta Tau's PComm32 driver (<c>Pcomm32.dll</c>, Windows): P/Invoke into
 /// <c>OpenPmacDevice</c>, <c>ClosePmacDevice</c>, <c>PmacGetResponseA</c>, <c>PmacFlush</c>,
-/// <c>PmacGetControlResponseA</c> and <c>PmacDownloadA</c>. Compiles everywhere; where the library cannot be loaded
-/// every call throws <see cref="PmacLinkException"/> saying so. The library is found by normal probing, or at
-/// <see cref="LibraryPath"/> / the <c>PMACSTREAM_PCOMM32_LIBRARY</c> environment variable (the Linux tests point it at
-/// a stand-in built from C).
+/// <c>PmacGetControlResponseA</c> and <c>PmacDownloadA</c>, bound at first use from the library (NativeLibrary +
+/// unmanaged function pointers, so the library path is configurable per connection). Compiles everywhere; where the
+/// library cannot be loaded every call throws <see cref="PmacLinkException"/> saying so. The library is the
+/// constructor's path, else the <c>PMACSTREAM_PCOMM32_LIBRARY</c> environment variable, else <c>Pcomm32.dll</c>
+/// (the Linux tests point it at a stand-in built from C).
 /// </summary>
 public sealed class PComm32Connection : IPmacConnection
 {
@@ -51,28 +51,21 @@ public sealed class PComm32Connection : IPmacConnection
     private bool _open;
     private bool _disposed;
 
-    static PComm32Connection()
-    {
-        try
-        {
-            NativeLibrary.SetDllImportResolver(typeof(PComm32Connection).Assembly, Resolve);
-        }
-        catch (InvalidOperationException)
-        {
-            // Another resolver was set for this assembly; normal probing applies.
-        }
-    }
+    private readonly string? _libraryPath;
+    private Native? _native;
 
-    /// <summary>Creates the connection to PComm32 device <paramref name="device"/> (0 = the first PMAC configured in PComm).</summary>
-    public PComm32Connection(int device)
+    /// <summary>
+    /// Creates the connection to PComm32 device <paramref name="device"/> (0 = the first PMAC configured in PComm).
+    /// <paramref name="libraryPath"/> names the driver library file; null = the <c>PMACSTREAM_PCOMM32_LIBRARY</c>
+    /// environment variable, else <c>Pcomm32.dll</c> by the system's normal search.
+    /// </summary>
+    public PComm32Connection(int device, string? libraryPath = null)
     {
         ArgumentOutOfRangeException.ThrowIfNegative(device);
         _device = (uint)device;
+        _libraryPath = libraryPath;
         Description = $"pcomm32 device {device}";
     }
-
-    /// <summary>The driver library to load (a full path); null = the <c>PMACSTREAM_PCOMM32_LIBRARY</c> variable, else <c>Pcomm32.dll</c>.</summary>
-    public static string? LibraryPath { get; set; }
 
     /// <inheritdoc />
     public string Description { get; }
@@ -143,7 +136,7 @@ public sealed class PComm32Connection : IPmacConnection
                 };
                 Native.DownloadProgress onProgress = percent => progress?.Invoke(percent);
                 var file = Encoding.Default.GetBytes(Path.GetFullPath(path) + "\0");
-                var result = Call(() => Native.PmacDownloadA(_device, onMessage, null, onProgress, file, options.Macro ? 1 : 0, options.Map ? 1 : 0, options.Log ? 1 : 0, options.Dnld ? 1 : 0));
+                var result = Call(() => Lib().PmacDownloadA(_device, onMessage, null, onProgress, file, options.Macro ? 1 : 0, options.Map ? 1 : 0, options.Log ? 1 : 0, options.Dnld ? 1 : 0));
                 GC.KeepAlive(onMessage);
                 GC.KeepAlive(onProgress);
                 return result != 0;
@@ -158,7 +151,7 @@ public sealed class PComm32Connection : IPmacConnection
             {
                 Call(() =>
                 {
-                    Native.PmacFlush(_device);
+                    Lib().PmacFlush(_device);
                     return 0;
                 });
                 Log.Debug("{Device} > <CTRL-X>", Description);
@@ -173,7 +166,7 @@ public sealed class PComm32Connection : IPmacConnection
             {
                 var sw = Stopwatch.StartNew();
                 var buffer = new byte[ResponseSize];
-                var ret = Call(() => Native.PmacGetControlResponseA(_device, buffer, (uint)buffer.Length, (byte)control));
+                var ret = Call(() => Lib().PmacGetControlResponseA(_device, buffer, (uint)buffer.Length, (byte)control));
                 var status = DecodeStatus(ret, out var count);
                 ThrowOnLinkStatus(status, $"<CTRL-{(char)(control + 64)}>");
                 count = Math.Min(count, buffer.Length);
@@ -200,9 +193,9 @@ public sealed class PComm32Connection : IPmacConnection
                 _open = false;
                 try
                 {
-                    _ = Native.ClosePmacDevice(_device);
+                    _ = _native?.ClosePmacDevice(_device);
                 }
-                catch (Exception e) when (e is DllNotFoundException or EntryPointNotFoundException or BadImageFormatException)
+                catch (PmacLinkException)
                 {
                     // Nothing was opened through a missing library.
                 }
@@ -220,10 +213,13 @@ public sealed class PComm32Connection : IPmacConnection
         var sw = Stopwatch.StartNew();
         var buffer = new byte[ResponseSize];
         var cmd = Encoding.ASCII.GetBytes(command + "\0");
-        var ret = Call(() => Native.PmacGetResponseA(_device, buffer, (uint)buffer.Length, cmd));
+        var ret = Call(() => Lib().PmacGetResponseA(_device, buffer, (uint)buffer.Length, cmd));
         var status = DecodeStatus(ret, out var count);
         var raw = buffer.AsSpan(0, LengthOf(buffer, Math.Min(count, buffer.Length)));
-        Log.Debug("{Device} > {Command} < {Reply} [{Status}] ({Ms:0.000} ms)", Description, command, ReplyParser.Visible(raw), status, sw.Elapsed.TotalMilliseconds);
+        if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+        {
+            Log.Debug("{Device} > {Command} < {Reply} [{Status}] ({Ms:0.000} ms)", Description, command, ReplyParser.Visible(raw), status, sw.Elapsed.TotalMilliseconds);
+        }
         ThrowOnLinkStatus(status, command);
         var text = Encoding.ASCII.GetString(raw);
         var err = text.IndexOf("ERR", StringComparison.Ordinal);
@@ -257,7 +253,7 @@ public sealed class PComm32Connection : IPmacConnection
             return;
         }
 
-        if (Call(() => Native.OpenPmacDevice(_device)) == 0)
+        if (Call(() => Lib().OpenPmacDevice(_device)) == 0)
         {
             throw new PmacLinkException($"{Description}: OpenPmacDevice({_device}) failed (is the device configured in PComm32 and the controller on?)");
         }
@@ -308,21 +304,52 @@ public sealed class PComm32Connection : IPmacConnection
         return nul >= 0 ? nul : count;
     }
 
-    private static IntPtr Resolve(string libraryName, Assembly assembly, DllImportSearchPath? searchPath)
+    private Native Lib()
     {
-        if (libraryName != Native.Library)
+        if (_native is not null)
         {
-            return IntPtr.Zero;
+            return _native;
         }
 
-        var path = LibraryPath ?? Environment.GetEnvironmentVariable(LibraryEnvironmentVariable);
-        return !string.IsNullOrEmpty(path) && NativeLibrary.TryLoad(path, out var handle) ? handle : IntPtr.Zero;
+        var path = _libraryPath ?? Environment.GetEnvironmentVariable(LibraryEnvironmentVariable);
+        if (string.IsNullOrEmpty(path))
+        {
+            path = "Pcomm32.dll";
+        }
+
+        if (!NativeLibrary.TryLoad(path, typeof(PComm32Connection).Assembly, DllImportSearchPath.SafeDirectories | DllImportSearchPath.System32, out var handle))
+        {
+            throw new PmacLinkException(
+                $"PComm32 is not available: the driver library '{path}' could not be loaded. PComm32 is Delta Tau's Windows driver " +
+                "(installed with PEWIN32PRO2); elsewhere connect over Ethernet (tcp://HOST:1025) or serial (serial:PORT) instead");
+        }
+
+        _native = new Native(handle, path);
+        return _native;
     }
 
-    /// <summary>The driver's exports. Windows <c>long</c>, <c>BOOL</c> and <c>DWORD</c> are all 32-bit; WINAPI is stdcall.</summary>
-    internal static class Native
+    /// <summary>
+    /// The driver's exports, bound by name from the loaded library. Windows <c>long</c>, <c>BOOL</c> and <c>DWORD</c>
+    /// are all 32-bit; WINAPI and CALLBACK are stdcall (the same as the platform default outside 32-bit x86).
+    /// </summary>
+    internal sealed unsafe class Native
     {
-        public const string Library = "Pcomm32";
+        private readonly delegate* unmanaged[Stdcall]<uint, int> _open;
+        private readonly delegate* unmanaged[Stdcall]<uint, int> _close;
+        private readonly delegate* unmanaged[Stdcall]<uint, byte*, uint, byte*, int> _getResponse;
+        private readonly delegate* unmanaged[Stdcall]<uint, byte*, uint, byte, int> _getControlResponse;
+        private readonly delegate* unmanaged[Stdcall]<uint, void> _flush;
+        private readonly delegate* unmanaged[Stdcall]<uint, IntPtr, IntPtr, IntPtr, byte*, int, int, int, int, int> _download;
+
+        public Native(IntPtr library, string path)
+        {
+            _open = (delegate* unmanaged[Stdcall]<uint, int>)Export(library, path, "OpenPmacDevice");
+            _close = (delegate* unmanaged[Stdcall]<uint, int>)Export(library, path, "ClosePmacDevice");
+            _getResponse = (delegate* unmanaged[Stdcall]<uint, byte*, uint, byte*, int>)Export(library, path, "PmacGetResponseA");
+            _getControlResponse = (delegate* unmanaged[Stdcall]<uint, byte*, uint, byte, int>)Export(library, path, "PmacGetControlResponseA");
+            _flush = (delegate* unmanaged[Stdcall]<uint, void>)Export(library, path, "PmacFlush");
+            _download = (delegate* unmanaged[Stdcall]<uint, IntPtr, IntPtr, IntPtr, byte*, int, int, int, int, int>)Export(library, path, "PmacDownloadA");
+        }
 
         [UnmanagedFunctionPointer(CallingConvention.StdCall)]
         public delegate void DownloadMsgProc(IntPtr text, int newline);
@@ -333,22 +360,47 @@ public sealed class PComm32Connection : IPmacConnection
         [UnmanagedFunctionPointer(CallingConvention.StdCall)]
         public delegate void DownloadProgress(int percent);
 
-        [DllImport(Library, CallingConvention = CallingConvention.StdCall)]
-        public static extern int OpenPmacDevice(uint device);
+        public int OpenPmacDevice(uint device) => _open(device);
 
-        [DllImport(Library, CallingConvention = CallingConvention.StdCall)]
-        public static extern int ClosePmacDevice(uint device);
+        public int ClosePmacDevice(uint device) => _close(device);
 
-        [DllImport(Library, CallingConvention = CallingConvention.StdCall)]
-        public static extern int PmacGetResponseA(uint device, [Out] byte[] response, uint maxChar, [In] byte[] command);
+        public int PmacGetResponseA(uint device, byte[] response, uint maxChar, byte[] command)
+        {
+            fixed (byte* r = response)
+            fixed (byte* c = command)
+            {
+                return _getResponse(device, r, maxChar, c);
+            }
+        }
 
-        [DllImport(Library, CallingConvention = CallingConvention.StdCall)]
-        public static extern int PmacGetControlResponseA(uint device, [Out] byte[] response, uint maxChar, byte control);
+        public int PmacGetControlResponseA(uint device, byte[] response, uint maxChar, byte control)
+        {
+            fixed (byte* r = response)
+            {
+                return _getControlResponse(device, r, maxChar, control);
+            }
+        }
 
-        [DllImport(Library, CallingConvention = CallingConvention.StdCall)]
-        public static extern void PmacFlush(uint device);
+        public void PmacFlush(uint device) => _flush(device);
 
-        [DllImport(Library, CallingConvention = CallingConvention.StdCall)]
-        public static extern int PmacDownloadA(uint device, DownloadMsgProc? message, DownloadGetProc? get, DownloadProgress? progress, [In] byte[] fileName, int macro, int map, int log, int dnld);
+        public int PmacDownloadA(uint device, DownloadMsgProc? message, DownloadGetProc? get, DownloadProgress? progress, byte[] fileName, int macro, int map, int log, int dnld)
+        {
+            fixed (byte* f = fileName)
+            {
+                var m = message is null ? IntPtr.Zero : Marshal.GetFunctionPointerForDelegate(message);
+                var g = get is null ? IntPtr.Zero : Marshal.GetFunctionPointerForDelegate(get);
+                var p = progress is null ? IntPtr.Zero : Marshal.GetFunctionPointerForDelegate(progress);
+                var result = _download(device, m, g, p, f, macro, map, log, dnld);
+                GC.KeepAlive(message);
+                GC.KeepAlive(get);
+                GC.KeepAlive(progress);
+                return result;
+            }
+        }
+
+        private static IntPtr Export(IntPtr library, string path, string name) =>
+            NativeLibrary.TryGetExport(library, name, out var address)
+                ? address
+                : throw new PmacLinkException($"PComm32 is not available: '{path}' has no export {name} (not a PComm32 driver?)");
     }
 }

@@ -66,7 +66,10 @@ public sealed class SerialConnection : IPmacConnection
         {
             var sw = Stopwatch.StartNew();
             var raw = await Task.Run(() => Exchange(command, cancellationToken), cancellationToken).ConfigureAwait(false);
-            Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, command, ReplyParser.Visible(raw), sw.Elapsed.TotalMilliseconds);
+            if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+            {
+                Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, command, ReplyParser.Visible(raw), sw.Elapsed.TotalMilliseconds);
+            }
             return ReplyParser.Parse(raw, command);
         }
         finally

@@ -98,7 +98,10 @@ public static class ArcGeometry
             var angle = q * (Math.PI / 2);
             var t = (angle - a0) / sweep;
             var n = Normal(s.Start, s.Plane) + ((Normal(s.End, s.Plane) - Normal(s.Start, s.Plane)) * t);
-            box.Add(FromPlane(ca + (r * Math.Cos(angle)), cb + (r * Math.Sin(angle)), n, s.Plane));
+            // Exact unit vectors at the quadrants, so extents read 0 and not 6e-16.
+            var quadrant = (((int)q % 4) + 4) % 4;
+            var (cos, sin) = quadrant switch { 0 => (1, 0), 1 => (0, 1), 2 => (-1, 0), _ => (0, -1) };
+            box.Add(FromPlane(ca + (r * cos), cb + (r * sin), n, s.Plane));
         }
     }
 }

@@ -9,7 +9,7 @@ namespace PmacStream.Preview;
 /// <param name="EndSeconds">Virtual time the move ended.</param>
 /// <param name="End">Where the move ended (mm).</param>
 /// <param name="Kind">Move kind as the simulator names it (rapid, linear, circle, dwell ...).</param>
-public readonly record struct ExecutedMove(long Sequence, long Line, double StartSeconds, double EndSeconds, Point3D End, string Kind);
+public readonly record struct ExecutedLogRow(long Sequence, long Line, double StartSeconds, double EndSeconds, Point3D End, string Kind);
 
 /// <summary>
 /// Streams an executed-move log CSV row by row (a log as long as the program never sits in memory). Bad input is
@@ -23,7 +23,7 @@ public static class ExecutedLogReader
     private static readonly string[] Columns = Header.Split(',');
 
     /// <summary>Reads every row of the log at <paramref name="path"/>.</summary>
-    public static IEnumerable<ExecutedMove> Read(string path, CancellationToken cancellationToken = default)
+    public static IEnumerable<ExecutedLogRow> Read(string path, CancellationToken cancellationToken = default)
     {
         using var reader = new StreamReader(path, System.Text.Encoding.UTF8, true, 1 << 16);
         var name = Path.GetFileName(path);
@@ -53,7 +53,7 @@ public static class ExecutedLogReader
     }
 
     /// <summary>Parses one data row (exposed for tests).</summary>
-    internal static ExecutedMove ParseRow(string text, string name, long lineNo)
+    internal static ExecutedLogRow ParseRow(string text, string name, long lineNo)
     {
         Span<Range> parts = stackalloc Range[9];
         var span = text.AsSpan();
@@ -63,8 +63,8 @@ public static class ExecutedLogReader
             throw new InvalidDataException($"{name}:{lineNo}:1: expected 8 comma-separated fields ({Header}), found {Math.Min(n, 9)}{(n > 8 ? " or more" : string.Empty)}");
         }
 
-        return new ExecutedMove(
-            Int(text, parts, 0, name, lineNo), Int(text, parts, 1, name, lineNo), Num(text, parts, 2, name, lineNo), Num(text, parts, 3, name, lineNo),
+        return new ExecutedLogRow(
+            Int(text, parts, 0, name, lineNo, 0), Int(text, parts, 1, name, lineNo, long.MinValue), Num(text, parts, 2, name, lineNo), Num(text, parts, 3, name, lineNo),
             new Point3D(Num(text, parts, 4, name, lineNo), Num(text, parts, 5, name, lineNo), Num(text, parts, 6, name, lineNo)),
             span[parts[7]].Trim().ToString());
     }
@@ -80,22 +80,28 @@ public static class ExecutedLogReader
         return v;
     }
 
-    private static long Int(string text, ReadOnlySpan<Range> parts, int i, string name, long lineNo)
+    private static long Int(string text, ReadOnlySpan<Range> parts, int i, string name, long lineNo, long min)
     {
         var field = text.AsSpan()[parts[i]].Trim();
-        if (!long.TryParse(field, NumberStyles.Integer, CultureInfo.InvariantCulture, out var v) || v < 0)
+        if (!long.TryParse(field, NumberStyles.Integer, CultureInfo.InvariantCulture, out var v) || v < min)
         {
-            throw new InvalidDataException($"{name}:{lineNo}:{parts[i].Start.GetOffset(text.Length) + 1}: column '{Columns[i]}' expects a whole number >= 0, found '{field.ToString()}'");
+            var what = min == 0 ? "a whole number >= 0" : "a whole number";
+            throw new InvalidDataException($"{name}:{lineNo}:{parts[i].Start.GetOffset(text.Length) + 1}: column '{Columns[i]}' expects {what}, found '{field.ToString()}'");
         }
 
         return v;
     }
 }
 
-/// <summary>How often each source line was executed (saturating at 255), one byte per line number.</summary>
+/// <summary>
+/// How often each source line was executed (saturating at 255), one byte per line number. Consecutive log rows of
+/// the same line count as one execution: one block may become several controller moves; running it again after
+/// other lines is what counts twice. Lines of 0 or less (no tracking value yet) are not counted.
+/// </summary>
 public sealed class ExecutionCounts
 {
     private byte[] _counts = new byte[1024];
+    private long _previous = long.MinValue;
 
     /// <summary>Rows counted.</summary>
     public long Rows { get; private set; }
@@ -103,11 +109,13 @@ public sealed class ExecutionCounts
     /// <summary>Highest line number seen.</summary>
     public long MaxLine { get; private set; }
 
-    /// <summary>Counts one executed move of <paramref name="line"/>.</summary>
+    /// <summary>Counts one log row of <paramref name="line"/>.</summary>
     public void Add(long line)
     {
         Rows++;
-        if (line > int.MaxValue - 64)
+        var same = line == _previous;
+        _previous = line;
+        if (same || line <= 0 || line > int.MaxValue - 64)
         {
             return;
         }

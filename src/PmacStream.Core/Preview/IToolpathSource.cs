@@ -1,3 +1,5 @@
+using PmacStream.GCode;
+
 namespace PmacStream.Preview;
 
 /// <summary>

@@ -9,6 +9,13 @@ public readonly record struct Point3D(double X, double Y, double Z)
     /// <summary>The origin.</summary>
     public static Point3D Zero => default;
 
+    /// <summary>
+    /// A position from the interpreter or controller (program units) in millimetres, e.g. for
+    /// <see cref="PreviewPicture.WithMarker"/>.
+    /// </summary>
+    public static Point3D FromProgram(PmacStream.GCode.Point3 p, PmacStream.GCode.LengthUnits units) =>
+        units == PmacStream.GCode.LengthUnits.Inches ? new(p.X * 25.4, p.Y * 25.4, p.Z * 25.4) : new(p.X, p.Y, p.Z);
+
     /// <summary>Linear interpolation between two points.</summary>
     public static Point3D Lerp(Point3D a, Point3D b, double t) =>
         new(a.X + ((b.X - a.X) * t), a.Y + ((b.Y - a.Y) * t), a.Z + ((b.Z - a.Z) * t));
@@ -41,16 +48,6 @@ public enum ArcPlane
 
     /// <summary>G19: the YZ plane, normal +X, helix along X.</summary>
     YZ = 19,
-}
-
-/// <summary>The length unit a program was written in (G20/G21).</summary>
-public enum LengthUnits
-{
-    /// <summary>G21 millimetres (the default).</summary>
-    Millimetres,
-
-    /// <summary>G20 inches.</summary>
-    Inches,
 }
 
 /// <summary>

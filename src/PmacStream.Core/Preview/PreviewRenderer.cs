@@ -1,6 +1,8 @@
 using System.Globalization;
 using Serilog;
 
+using PmacStream.GCode;
+
 namespace PmacStream.Preview;
 
 /// <summary>The direction the toolpath is looked at.</summary>
@@ -168,6 +170,34 @@ public sealed class ViewProjection
     }
 }
 
+/// <summary>A set of line numbers, one bit each, growing as needed.</summary>
+internal sealed class LineSet
+{
+    private ulong[] _bits = new ulong[64];
+
+    public void Add(long line)
+    {
+        if (line < 0 || line > int.MaxValue)
+        {
+            return;
+        }
+
+        var word = (int)(line >> 6);
+        if (word >= _bits.Length)
+        {
+            Array.Resize(ref _bits, Math.Max(word + 1, _bits.Length * 2));
+        }
+
+        _bits[word] |= 1UL << (int)(line & 63);
+    }
+
+    public bool Contains(long line)
+    {
+        var word = line >> 6;
+        return line >= 0 && word < _bits.Length && (_bits[word] & (1UL << (int)(line & 63))) != 0;
+    }
+}
+
 /// <summary>A rendered preview: the image, how it maps coordinates, and what was found.</summary>
 public sealed class PreviewPicture
 {
@@ -238,16 +268,21 @@ public sealed class PreviewPicture
 /// move straight into the pixel buffer (nothing but the image is kept, so a program of any length fits). Rapids are
 /// dashed in their own colour, feeds solid, arcs are drawn as arcs (sampled by angle finely enough that the chord
 /// error stays under a quarter pixel) and helices as arcs with the normal axis moving linearly. With an executed log,
-/// the executed path goes under the program as a wide band (green once, magenta repeated) and moves never executed
-/// are drawn red.
+/// the executed path goes under the program as a wide band (green once, magenta repeated): straight moves from the
+/// log's end points as the machine went, executed arcs along the program's arc (the log has no centres); moves never
+/// executed are drawn red. Memory with a log adds one byte (execution count) and one bit (is an arc) per line.
 /// </summary>
 public static class PreviewRenderer
 {
     private static readonly ILogger Logger = Log.ForContext(typeof(PreviewRenderer));
 
+    /// <summary>Renders a G-code file (the HMI's preview panel): <c>RenderFile(path).WithMarker(position)</c>.</summary>
+    public static PreviewPicture RenderFile(string path, PreviewOptions? options = null, string? executedLogPath = null, CancellationToken cancellationToken = default) =>
+        Render(new GCodeToolpathSource(path), options, executedLogPath, cancellationToken);
+
     /// <summary>Pass 1 alone: the toolpath's extents and move counts.</summary>
     public static PreviewExtents MeasureExtents(IToolpathSource source, CancellationToken cancellationToken = default) =>
-        Measure(source, null, cancellationToken);
+        Measure(source, null, null, cancellationToken);
 
     /// <summary>Renders <paramref name="source"/>; with <paramref name="executedLogPath"/>, overlays that log.</summary>
     public static PreviewPicture Render(IToolpathSource source, PreviewOptions? options = null, string? executedLogPath = null, CancellationToken cancellationToken = default)
@@ -272,7 +307,10 @@ public static class PreviewRenderer
             pass++;
         }
 
-        var extents = Measure(source, f => Report(f, "extents"), cancellationToken);
+        // The log holds only end points: an executed arc drawn from it would be a chord. Arc lines are noted here
+        // (one bit a line) so their executed band is drawn along the program's arc instead.
+        var arcLines = executedLogPath is null ? null : new LineSet();
+        var extents = Measure(source, arcLines, f => Report(f, "extents"), cancellationToken);
         pass++;
         var min = extents.Min;
         var max = extents.Max;
@@ -294,7 +332,7 @@ public static class PreviewRenderer
         if (executedLogPath is not null && counts is not null)
         {
             report = new ExecutionReport { LogRows = counts.Rows };
-            DrawExecuted(image, projection, executedLogPath, counts, options, cancellationToken);
+            DrawExecuted(image, projection, executedLogPath, counts, arcLines!, options, cancellationToken);
             pass++;
         }
 
@@ -324,7 +362,7 @@ public static class PreviewRenderer
         return new PreviewPicture(image, projection, extents, source.Units, report, palette);
     }
 
-    private static PreviewExtents Measure(IToolpathSource source, Action<double>? progress, CancellationToken cancellationToken)
+    private static PreviewExtents Measure(IToolpathSource source, LineSet? arcLines, Action<double>? progress, CancellationToken cancellationToken)
     {
         var box = Box3.Empty;
         long rapids = 0, lines = 0, arcs = 0, n = 0;
@@ -334,6 +372,7 @@ public static class PreviewRenderer
             {
                 arcs++;
                 ArcGeometry.Extend(s, ref box);
+                arcLines?.Add(s.SourceLine);
             }
             else
             {
@@ -361,7 +400,7 @@ public static class PreviewRenderer
             : new PreviewExtents(new Point3D(box.MinX, box.MinY, box.MinZ), new Point3D(box.MaxX, box.MaxY, box.MaxZ), rapids, lines, arcs);
     }
 
-    private static void DrawExecuted(RgbaImage image, ViewProjection projection, string path, ExecutionCounts counts, PreviewOptions options, CancellationToken cancellationToken)
+    private static void DrawExecuted(RgbaImage image, ViewProjection projection, string path, ExecutionCounts counts, LineSet arcLines, PreviewOptions options, CancellationToken cancellationToken)
     {
         var width = Math.Max(1, options.ExecutedWidth);
         var havePrevious = false;
@@ -371,7 +410,11 @@ public static class PreviewRenderer
             var p = projection.ToPixelInt(row.End);
             var colour = counts[row.Line] > 1 ? options.Palette.Repeated : options.Palette.Executed;
             var from = havePrevious ? previous : p;
-            image.DrawLine(from.X, from.Y, p.X, p.Y, colour, width);
+            if (!arcLines.Contains(row.Line))
+            {
+                image.DrawLine(from.X, from.Y, p.X, p.Y, colour, width);
+            }
+
             previous = p;
             havePrevious = true;
         }
@@ -392,7 +435,13 @@ public static class PreviewRenderer
             var colour = rapid ? palette.Rapid : palette.Feed;
             if (counts is not null && report is not null && s.SourceLine > 0)
             {
-                if (counts[s.SourceLine] == 0)
+                var times = counts[s.SourceLine];
+                if (s.IsArc && times > 0)
+                {
+                    DrawSegment(image, projection, s, times > 1 ? palette.Repeated : palette.Executed, ref solid, Math.Max(1, options.ExecutedWidth));
+                }
+
+                if (times == 0)
                 {
                     colour = palette.Missing;
                     report.MissingLines++;
@@ -419,13 +468,13 @@ public static class PreviewRenderer
     }
 
     /// <summary>Draws one move; arcs as polylines fine enough to look round at this scale.</summary>
-    internal static void DrawSegment(RgbaImage image, ViewProjection projection, in PathSegment s, Rgba colour, ref DashPattern dash)
+    internal static void DrawSegment(RgbaImage image, ViewProjection projection, in PathSegment s, Rgba colour, ref DashPattern dash, int width = 1)
     {
         var p0 = projection.ToPixelInt(s.Start);
         if (!s.IsArc)
         {
             var p1 = projection.ToPixelInt(s.End);
-            image.DrawLine(p0.X, p0.Y, p1.X, p1.Y, colour, 1, ref dash);
+            image.DrawLine(p0.X, p0.Y, p1.X, p1.Y, colour, width, ref dash);
             return;
         }
 
@@ -444,7 +493,7 @@ public static class PreviewRenderer
             var q = projection.ToPixelInt(p);
             if (q != previous || i == n)
             {
-                image.DrawLine(previous.X, previous.Y, q.X, q.Y, colour, 1, ref dash);
+                image.DrawLine(previous.X, previous.Y, q.X, q.Y, colour, width, ref dash);
                 previous = q;
             }
         }

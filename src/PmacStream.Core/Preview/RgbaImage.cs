@@ -55,6 +55,24 @@ public sealed class RgbaImage
     /// <summary>A deep copy (e.g. to draw a marker on without touching the rendered toolpath).</summary>
     public RgbaImage Clone() => new(Width, Height, (byte[])Pixels.Clone());
 
+    /// <summary>
+    /// The pixels in B, G, R, A order (what a WinForms <c>Bitmap</c> of <c>Format32bppArgb</c> holds in memory), for
+    /// copying into a bitmap's locked bits row by row (stride <c>Width * 4</c>).
+    /// </summary>
+    public byte[] ToBgra()
+    {
+        var bgra = new byte[Pixels.Length];
+        for (var o = 0; o < bgra.Length; o += 4)
+        {
+            bgra[o] = Pixels[o + 2];
+            bgra[o + 1] = Pixels[o + 1];
+            bgra[o + 2] = Pixels[o];
+            bgra[o + 3] = Pixels[o + 3];
+        }
+
+        return bgra;
+    }
+
     /// <summary>The colour at (x, y).</summary>
     public Rgba this[int x, int y]
     {

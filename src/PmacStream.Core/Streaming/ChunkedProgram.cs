@@ -301,6 +301,26 @@ public sealed class ChunkedProgram
         return n;
     }
 
+    /// <summary>The tracked line of the last marker before <paramref name="position"/> (0 when none).</summary>
+    public int LastTrackedBefore(StreamPosition position)
+    {
+        var c = Math.Min(position.Chunk, TotalChunks);
+        var line = position.Chunk > TotalChunks ? int.MaxValue : position.Line;
+        for (; c >= 1; c--, line = int.MaxValue)
+        {
+            var body = Body(c);
+            for (var i = Math.Min(line, body.Count) - 1; i >= 0; i--)
+            {
+                if (body[i].TrackedLine > 0)
+                {
+                    return body[i].TrackedLine;
+                }
+            }
+        }
+
+        return 0;
+    }
+
     /// <summary>Moves a position that lies at the end of a chunk to the start of the next one.</summary>
     public StreamPosition Normalize(StreamPosition p)
     {

@@ -58,6 +58,8 @@ public sealed class StreamingSession
     private double? _feed;
     private bool _singleBlock;
     private int _lastDurableChunk;
+    private bool _runSent;
+    private long _ticks;
 
     /// <summary>Creates a session on a PComm-style device facade; downloads go through its <c>Download</c>.</summary>
     public StreamingSession(IPmacDevices devices, ChunkedProgram program, StreamingOptions options, ICheckpointSink? checkpoints = null, IMoveTimes? moveTimes = null, TimeProvider? time = null, IStreamingStrategy? strategy = null)
@@ -164,7 +166,7 @@ public sealed class StreamingSession
     }
 
     /// <summary>The checkpoint now (what a crash-safe resume needs).</summary>
-    public Checkpoint Checkpoint => new(_tracked, _currentChunk, _next, _nextExact, _chunksDownloaded, _state, _time.GetUtcNow());
+    public Checkpoint Checkpoint => new(_tracked, _currentChunk, _next, _nextExact, _chunksDownloaded, _state, _time.GetUtcNow(), _runSent);
 
     private double FeedScale => _feedMode == FeedMode.Override && _feed is > 0 ? _feed.Value / 100.0 : 1.0;
 
@@ -219,14 +221,25 @@ public sealed class StreamingSession
             }
 
             await DownloadNextChunkAsync(late: false, cancellationToken).ConfigureAwait(false);
-            await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
             _state = SessionState.Running;
+            await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
+            _runSent = true;
             Raise(StreamingEventKind.Started, fromLine is { } f ? $"started at line {f} ({_strategy.Name})" : $"started ({_strategy.Name})", _next.Chunk);
             SaveCheckpoint(durable: true);
         }
         catch (Exception e) when (e is PmacLinkException or PmacErrorException)
         {
-            Fault(e);
+            if (_linesSent == 0 && _nextExact && !_bufferOpen)
+            {
+                // Nothing of the program reached the buffer: the start can simply be tried again.
+                _state = SessionState.Idle;
+                _message = $"start failed: {e.Message}";
+            }
+            else
+            {
+                Fault(e);
+            }
+
             throw;
         }
         finally
@@ -255,6 +268,13 @@ public sealed class StreamingSession
         {
             _bufferOpen = true; // unknown: the crashed host may have left it open
             await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+            if (!checkpoint.Started)
+            {
+                // The crashed host had begun sending but never gave the run command.
+                await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
+            }
+
+            _runSent = true;
             var m = await ReadTrackAsync(cancellationToken).ConfigureAwait(false);
             if (m < checkpoint.LastExecutedLine)
             {
@@ -268,7 +288,7 @@ public sealed class StreamingSession
             _chunksDownloaded = checkpoint.ChunksDownloaded;
             _currentChunk = Program.ChunkOfTracked(m);
             _tracked = m;
-            _lastSentTag = m;
+            _lastSentTag = Math.Max(m, Program.LastTrackedBefore(_next));
             _startTimestamp = _time.GetTimestamp();
             _rateTimestamp = _startTimestamp;
             var pr = await ReadLinesAheadAsync(cancellationToken).ConfigureAwait(false);
@@ -282,7 +302,9 @@ public sealed class StreamingSession
         }
         catch (Exception e) when (e is PmacLinkException or PmacErrorException)
         {
-            Fault(e);
+            // Nothing of the checkpoint was taken over: stay idle so the resume can simply be tried again.
+            _state = SessionState.Idle;
+            _message = $"resume failed: {e.Message}; try again when the controller answers";
             throw;
         }
         finally
@@ -319,6 +341,12 @@ public sealed class StreamingSession
             var downloadedBefore = _chunksDownloaded;
             var m = await ReadTrackAsync(cancellationToken).ConfigureAwait(false);
             FollowTrack(m);
+
+            if (++_ticks % 20 == 0)
+            {
+                // The feed can change from the program (P500= lines) or the panel: refresh it about once a second.
+                await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
+            }
 
             if (_draining)
             {
@@ -360,6 +388,13 @@ public sealed class StreamingSession
         {
             _bufferOpen = true;
             await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+            if (!_runSent)
+            {
+                // The start broke off before the run command: give it now.
+                await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
+                _runSent = true;
+            }
+
             _strategy.Reset();
             _draining = !_nextExact;
             _drainStableReads = 0;

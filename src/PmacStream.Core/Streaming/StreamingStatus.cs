@@ -99,7 +99,8 @@ public sealed record StreamingEvent(StreamingEventKind Kind, string Message, int
 /// <param name="ChunksDownloaded">Chunks completely sent.</param>
 /// <param name="State">Session state.</param>
 /// <param name="TimeUtc">When it was taken.</param>
-public sealed record Checkpoint(int LastExecutedLine, int CurrentChunk, StreamPosition Next, bool NextExact, int ChunksDownloaded, SessionState State, DateTimeOffset TimeUtc);
+/// <param name="Started">True once the run command (<c>&amp;n R</c>) was given.</param>
+public sealed record Checkpoint(int LastExecutedLine, int CurrentChunk, StreamPosition Next, bool NextExact, int ChunksDownloaded, SessionState State, DateTimeOffset TimeUtc, bool Started = true);
 
 /// <summary>Where checkpoints go (the job store; tests use memory).</summary>
 public interface ICheckpointSink

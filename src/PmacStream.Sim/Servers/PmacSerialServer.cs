@@ -108,9 +108,12 @@ public sealed class PmacSerialServer : IAsyncDisposable
                             reply = port.Execute(command);
                         }
 
-                        Log.Debug("{Name} > {Command} < {Reply}", _name, command, ReplyParser.Visible(reply));
-                        Interlocked.Increment(ref _commands);
+                        if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+                        {
+                            Log.Debug("{Name} > {Command} < {Reply}", _name, command, ReplyParser.Visible(reply));
+                        }
                         await _stream.WriteAsync(reply, stop).ConfigureAwait(false);
+                        Interlocked.Increment(ref _commands);
                     }
                     else if (b == 0x0A)
                     {

@@ -389,7 +389,7 @@ public sealed class PmacTcpServer : IAsyncDisposable
                 reply = port.Execute(command);
             }
 
-            if (!quiet)
+            if (!quiet && Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
             {
                 Log.Debug("tcp {Id} > {Command} < {Reply}", id, command, ReplyParser.Visible(reply));
             }

@@ -153,7 +153,7 @@ internal sealed class FakeBackend : IHmiBackend
             }
         }
 
-        return Task.FromResult(new HmiCheckResult(diags, blocks));
+        return Task.FromResult(HmiCheckResult.FromList(diags, blocks));
     }
 
     public Task<HmiSplitResult> SplitAsync(HmiSplitRequest request, CancellationToken cancellationToken = default)

@@ -65,3 +65,36 @@ public sealed class HmiTextAndLogTests
         sink.Drain().Should().ContainSingle().Which.Should().Contain("DBG -: > \"M0\"");
     }
 }
+
+public sealed class ControllerSetupTests
+{
+    private sealed class RefusingConnection(string refuse) : PmacStream.Pmac.IPmacConnection
+    {
+        public List<string> Received { get; } = [];
+        public string Description => "refusing";
+        public Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default)
+        {
+            Received.Add(command);
+            return command == refuse ? throw new PmacStream.Pmac.PmacErrorException(3, command) : Task.FromResult(string.Empty);
+        }
+
+        public Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task FlushAsync(CancellationToken cancellationToken = default) => Task.CompletedTask;
+        public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
+        public ValueTask DisposeAsync() => ValueTask.CompletedTask;
+    }
+
+    [Fact]
+    public async Task Library_download_goes_on_past_a_refused_line_and_reports_it()
+    {
+        var library = ControllerSetup.Library();
+        library.Should().Contain(l => l.StartsWith("OPEN PROG 1000", StringComparison.Ordinal)).And.Contain("CLOSE");
+        var refuse = library.First(l => l.StartsWith("N1000", StringComparison.Ordinal));
+        var conn = new RefusingConnection(refuse);
+
+        var refused = await ControllerSetup.DownloadTolerantAsync(conn, library);
+
+        refused.Should().Equal(refuse);
+        conn.Received.Should().Equal(library, "every line was offered, in order, the refused one included");
+    }
+}

@@ -22,6 +22,9 @@ public interface IPlcRig
 
     /// <summary>Puts a captured state back.</summary>
     void Restore(object snapshot);
+
+    /// <summary>Clears the I/O words and images, as at power-up (open memory is zeroed).</summary>
+    void PowerUp();
 }
 
 /// <summary>Runs the generated lines in the Core test evaluator (independent of the simulator).</summary>
@@ -53,6 +56,8 @@ public sealed class EvaluatorRig : IPlcRig
 
     public object Snapshot() =>
         (_ev.ReadWord(_in.Memory, _in.WordAddress), _ev.ReadWord(_out.Memory, _out.WordAddress), _stateWords.Select(a => _ev.ReadWord('Y', a)).ToArray());
+
+    public void PowerUp() => Restore(((long)0, (long)0, new long[_stateWords.Length]));
 
     public void Restore(object snapshot)
     {

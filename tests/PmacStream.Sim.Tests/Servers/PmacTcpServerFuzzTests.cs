@@ -34,7 +34,21 @@ public sealed class PmacTcpServerFuzzTests
     public async Task Random_and_mutated_packets_never_stop_the_server(int seed)
     {
         var controller = new FakeController();
-        await using var server = new PmacTcpServer(controller.OpenPort, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0), PacketTimeout = TimeSpan.FromMilliseconds(100) });
+        await FuzzAsync(controller.OpenPort, seed);
+    }
+
+    [Theory]
+    [InlineData(11)]
+    [InlineData(12)]
+    public async Task Random_and_mutated_packets_with_the_real_engine_behind(int seed)
+    {
+        using var sim = new PmacSimulator(new SimOptions { Speed = SimSpeed.Instant });
+        await FuzzAsync(() => sim.OpenPort("fuzz"), seed);
+    }
+
+    private static async Task FuzzAsync(Func<PmacStream.Pmac.IPmacPortEndpoint> ports, int seed)
+    {
+        await using var server = new PmacTcpServer(ports, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0), PacketTimeout = TimeSpan.FromMilliseconds(100) });
         server.Start();
         using var witness = new TcpWire(server.Port);
         var random = new Random(seed);

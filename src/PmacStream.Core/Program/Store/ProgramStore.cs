@@ -38,7 +38,7 @@ public sealed class ProgramStore : IDisposable
     private static readonly ILogger Logger = Log.ForContext<ProgramStore>();
 
     internal const string BlockColumns =
-        "program_id, seq, Lines, byte_offset, N, block_delete, GA, GB, GC, GD, GE, GF, GG, GH, GI, MA, MB, MC, " +
+        "key, program_id, Lines, byte_offset, N, block_delete, GA, GB, GC, GD, GE, GF, GG, GH, GI, MA, MB, MC, " +
         "X, Y, Z, I, J, K, R, F, S, T, H, D, P, motion, start_x, start_y, start_z, end_x, end_y, end_z, " +
         "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f";
 
@@ -58,15 +58,13 @@ public sealed class ProgramStore : IDisposable
             created TEXT NOT NULL);
         CREATE INDEX IF NOT EXISTS programs_sha ON programs(sha256);
         CREATE TABLE IF NOT EXISTS blocks (
-            program_id INTEGER NOT NULL, seq INTEGER NOT NULL, Lines INTEGER NOT NULL, byte_offset INTEGER NOT NULL,
+            key INTEGER PRIMARY KEY, program_id INTEGER NOT NULL, Lines INTEGER NOT NULL, byte_offset INTEGER NOT NULL,
             N REAL, block_delete INTEGER NOT NULL,
             GA REAL, GB REAL, GC REAL, GD REAL, GE REAL, GF REAL, GG REAL, GH REAL, GI REAL, MA REAL, MB REAL, MC REAL,
             X REAL, Y REAL, Z REAL, I REAL, J REAL, K REAL, R REAL, F REAL, S REAL, T REAL, H REAL, D REAL, P REAL,
             motion INTEGER NOT NULL, start_x REAL, start_y REAL, start_z REAL, end_x REAL, end_y REAL, end_z REAL,
             center_x REAL, center_y REAL, center_z REAL, length REAL, duration REAL,
-            modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL,
-            PRIMARY KEY (program_id, seq)) WITHOUT ROWID;
-        CREATE INDEX IF NOT EXISTS blocks_line ON blocks(program_id, Lines);
+            modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL);
         CREATE TABLE IF NOT EXISTS diagnostics (
             program_id INTEGER NOT NULL, severity TEXT NOT NULL, code TEXT NOT NULL, line INTEGER NOT NULL,
             col INTEGER NOT NULL, message TEXT NOT NULL);
@@ -151,9 +149,8 @@ public sealed class ProgramStore : IDisposable
     public DecodedBlock? GetBlockAtLine(long programId, int line)
     {
         using var cmd = _connection.CreateCommand();
-        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE program_id = $p AND Lines = $l LIMIT 1";
-        cmd.Parameters.AddWithValue("$p", programId);
-        cmd.Parameters.AddWithValue("$l", line);
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key = $k";
+        cmd.Parameters.AddWithValue("$k", Key(programId, line));
         using var r = cmd.ExecuteReader();
         return r.Read() ? ReadBlock(r) : null;
     }
@@ -162,9 +159,9 @@ public sealed class ProgramStore : IDisposable
     public DecodedBlock? GetBlockAtOrAfterLine(long programId, int line)
     {
         using var cmd = _connection.CreateCommand();
-        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE program_id = $p AND Lines >= $l ORDER BY Lines LIMIT 1";
-        cmd.Parameters.AddWithValue("$p", programId);
-        cmd.Parameters.AddWithValue("$l", line);
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key >= $a AND key <= $b ORDER BY key LIMIT 1";
+        cmd.Parameters.AddWithValue("$a", Key(programId, Math.Max(0, line)));
+        cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
         using var r = cmd.ExecuteReader();
         return r.Read() ? ReadBlock(r) : null;
     }
@@ -179,11 +176,10 @@ public sealed class ProgramStore : IDisposable
     public IEnumerable<DecodedBlock> ReadBlocks(long programId, int fromLine = 1, int toLine = int.MaxValue)
     {
         using var cmd = _connection.CreateCommand();
-        // Lines grows with seq, so line order is program order; the (program_id, Lines) index serves the range.
-        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE program_id = $p AND Lines BETWEEN $a AND $b ORDER BY Lines";
-        cmd.Parameters.AddWithValue("$p", programId);
-        cmd.Parameters.AddWithValue("$a", fromLine);
-        cmd.Parameters.AddWithValue("$b", toLine);
+        // The row key is (program, line), so a range of lines is a range of keys: no index, no sort.
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key BETWEEN $a AND $b ORDER BY key";
+        cmd.Parameters.AddWithValue("$a", Key(programId, Math.Max(0, fromLine)));
+        cmd.Parameters.AddWithValue("$b", Key(programId, Math.Max(0, toLine)));
         using var r = cmd.ExecuteReader();
         while (r.Read())
         {
@@ -213,14 +209,19 @@ public sealed class ProgramStore : IDisposable
         using var tx = _connection.BeginTransaction();
         using var cmd = _connection.CreateCommand();
         cmd.Transaction = tx;
-        cmd.CommandText = "DELETE FROM blocks WHERE program_id = $p; DELETE FROM diagnostics WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
+        cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
         cmd.Parameters.AddWithValue("$p", programId);
+        cmd.Parameters.AddWithValue("$a", Key(programId, 0));
+        cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
         cmd.ExecuteNonQuery();
         tx.Commit();
     }
 
     /// <inheritdoc />
     public void Dispose() => _connection.Dispose();
+
+    /// <summary>Row key of a block: program id in the high 32 bits, source line in the low ones (one block per line).</summary>
+    internal static long Key(long programId, int line) => (programId << 32) | (uint)line;
 
     private static List<ProgramInfo> ReadPrograms(SqliteCommand cmd)
     {
@@ -280,6 +281,7 @@ public sealed class ProgramWriter : IDisposable
     private readonly SqliteTransaction _tx;
     private readonly sqlite3_stmt _block;
     private readonly sqlite3_stmt _diag;
+    private readonly (BindState State, double Value)[] _bound = new (BindState, double)[64];
     private long _seq;
     private bool _completed;
     private bool _disposed;
@@ -315,38 +317,30 @@ public sealed class ProgramWriter : IDisposable
     /// <summary>Adds a block (in program order).</summary>
     public void Add(DecodedBlock b)
     {
-        var s = _block;
         var m = b.Modal;
-        raw.sqlite3_bind_int64(s, 1, ProgramId);
-        raw.sqlite3_bind_int64(s, 2, _seq++);
-        raw.sqlite3_bind_int(s, 3, b.Line);
-        raw.sqlite3_bind_int64(s, 4, b.ByteOffset);
-        Bind(s, 5, b.N);
-        raw.sqlite3_bind_int(s, 6, b.BlockDelete ? 1 : 0);
-        Bind(s, 7, m.GA); Bind(s, 8, m.GB); Bind(s, 9, m.GC); Bind(s, 10, m.GD); Bind(s, 11, m.GE); Bind(s, 12, m.GF);
-        Bind(s, 13, m.GG); Bind(s, 14, m.GH); Bind(s, 15, m.GI); Bind(s, 16, m.MA); Bind(s, 17, m.MB); Bind(s, 18, m.MC);
-        Bind(s, 19, b.X); Bind(s, 20, b.Y); Bind(s, 21, b.Z); Bind(s, 22, b.I); Bind(s, 23, b.J); Bind(s, 24, b.K);
-        Bind(s, 25, b.R); Bind(s, 26, b.F); Bind(s, 27, b.S); Bind(s, 28, b.T); Bind(s, 29, b.H); Bind(s, 30, b.D); Bind(s, 31, b.P);
-        raw.sqlite3_bind_int(s, 32, (int)b.Motion);
-        raw.sqlite3_bind_double(s, 33, b.Start.X); raw.sqlite3_bind_double(s, 34, b.Start.Y); raw.sqlite3_bind_double(s, 35, b.Start.Z);
-        raw.sqlite3_bind_double(s, 36, b.End.X); raw.sqlite3_bind_double(s, 37, b.End.Y); raw.sqlite3_bind_double(s, 38, b.End.Z);
-        if (b.Center is { } c)
-        {
-            raw.sqlite3_bind_double(s, 39, c.X); raw.sqlite3_bind_double(s, 40, c.Y); raw.sqlite3_bind_double(s, 41, c.Z);
-        }
-        else
-        {
-            raw.sqlite3_bind_null(s, 39); raw.sqlite3_bind_null(s, 40); raw.sqlite3_bind_null(s, 41);
-        }
-
-        raw.sqlite3_bind_double(s, 42, b.Length);
-        raw.sqlite3_bind_double(s, 43, b.DurationSeconds);
-        raw.sqlite3_bind_int(s, 44, m.Tool);
-        raw.sqlite3_bind_int(s, 45, m.LengthOffset);
-        raw.sqlite3_bind_int(s, 46, m.CutterComp);
-        raw.sqlite3_bind_double(s, 47, m.SpindleSpeed);
-        Bind(s, 48, m.Feed);
-        Step(s);
+        BindI(1, ProgramStore.Key(ProgramId, b.Line));
+        BindI(2, ProgramId);
+        BindI(3, b.Line);
+        BindI(4, b.ByteOffset);
+        BindD(5, b.N);
+        BindI(6, b.BlockDelete ? 1 : 0);
+        BindD(7, m.GA); BindD(8, m.GB); BindD(9, m.GC); BindD(10, m.GD); BindD(11, m.GE); BindD(12, m.GF);
+        BindD(13, m.GG); BindD(14, m.GH); BindD(15, m.GI); BindD(16, m.MA); BindD(17, m.MB); BindD(18, m.MC);
+        BindD(19, b.X); BindD(20, b.Y); BindD(21, b.Z); BindD(22, b.I); BindD(23, b.J); BindD(24, b.K);
+        BindD(25, b.R); BindD(26, b.F); BindD(27, b.S); BindD(28, b.T); BindD(29, b.H); BindD(30, b.D); BindD(31, b.P);
+        BindI(32, (int)b.Motion);
+        BindD(33, b.Start.X); BindD(34, b.Start.Y); BindD(35, b.Start.Z);
+        BindD(36, b.End.X); BindD(37, b.End.Y); BindD(38, b.End.Z);
+        BindD(39, b.Center?.X); BindD(40, b.Center?.Y); BindD(41, b.Center?.Z);
+        BindD(42, b.Length);
+        BindD(43, b.DurationSeconds);
+        BindI(44, m.Tool);
+        BindI(45, m.LengthOffset);
+        BindI(46, m.CutterComp);
+        BindD(47, m.SpindleSpeed);
+        BindD(48, m.Feed);
+        Step(_block);
+        _seq++;
     }
 
     /// <summary>Adds a diagnostic.</summary>
@@ -420,16 +414,46 @@ public sealed class ProgramWriter : IDisposable
         }
     }
 
-    private static void Bind(sqlite3_stmt s, int index, double? v)
+    // Bindings survive sqlite3_reset, and consecutive blocks share most values (modal codes, Z, feed), so only
+    // changed values are re-bound: this halves the native calls per row on CAM programs.
+    private void BindD(int index, double? v)
     {
+        ref var slot = ref _bound[index];
         if (v is { } value)
         {
-            raw.sqlite3_bind_double(s, index, value);
+            if (slot.State == BindState.Double && slot.Value.Equals(value))
+            {
+                return;
+            }
+
+            raw.sqlite3_bind_double(_block, index, value);
+            slot = (BindState.Double, value);
         }
-        else
+        else if (slot.State != BindState.Null)
         {
-            raw.sqlite3_bind_null(s, index);
+            raw.sqlite3_bind_null(_block, index);
+            slot = (BindState.Null, 0);
         }
+    }
+
+    private void BindI(int index, long v)
+    {
+        ref var slot = ref _bound[index];
+        if (slot.State == BindState.Integer && slot.Value == v)
+        {
+            return;
+        }
+
+        raw.sqlite3_bind_int64(_block, index, v);
+        slot = (BindState.Integer, v);
+    }
+
+    private enum BindState : byte
+    {
+        Unbound,
+        Null,
+        Double,
+        Integer,
     }
 
     private static void Check(int rc, sqlite3 db)
