@@ -96,6 +96,9 @@ public sealed partial class PmacSimulator : IDisposable
 
     internal SimMemory Memory { get; } = new();
 
+    /// <summary>Unexpected exceptions caught while executing commands (a simulator bug; tests assert 0).</summary>
+    internal long InternalFaults { get; private set; }
+
     /// <summary>Opens a new port (a serial line, a TCP connection, an in-process client).</summary>
     public SimPort OpenPort(string name)
     {
