@@ -1,3 +1,20 @@
 using BenchmarkDotNet.Running;
+using PmacStream.Benchmarks.Generators;
 
-BenchmarkSwitcher.FromAssembly(typeof(Program).Assembly).Run(args);
+// Verbs for whole-process scripts come first; anything else goes to BenchmarkDotNet.
+if (args.Length > 0 && args[0] == "gen-surfacing")
+{
+    if (args.Length != 3 || !long.TryParse(args[2], out var lines))
+    {
+        Console.Error.WriteLine("usage: gen-surfacing OUT.nc LINES");
+        return 2;
+    }
+
+    var sw = System.Diagnostics.Stopwatch.StartNew();
+    SurfacingGenerator.Write(args[1], lines);
+    Console.WriteLine($"wrote {lines} lines, {new FileInfo(args[1]).Length} bytes to {args[1]} in {sw.Elapsed.TotalSeconds:F1} s");
+    return 0;
+}
+
+BenchmarkSwitcher.FromAssembly(typeof(SurfacingGenerator).Assembly).Run(args);
+return 0;

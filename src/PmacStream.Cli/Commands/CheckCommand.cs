@@ -1,9 +1,186 @@
 using System.CommandLine;
+using System.Globalization;
+using System.Text;
+using System.Text.Json;
+using PmacStream.GCode;
+using PmacStream.Program.Store;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream check`.</summary>
+/// <summary>
+/// `pmacstream check FILE [--profile P.json] [--json] [--db PATH] [--lang en|zh-CN]`: one streamed pass that lists
+/// every diagnostic (<c>FILE:LINE:COL: error E104: ...</c>) and a summary line, optionally storing every block.
+/// Exit 0 without errors, 1 with errors, 2 for usage or I/O problems.
+/// </summary>
 internal static class CheckCommand
 {
-    public static Command Create() => Pending.Create("check", "Check a G-code program and list every error and warning.", "issue 3");
+    /// <summary>JSON output keeps at most this many diagnostics (the counts stay exact) so memory stays bounded.</summary>
+    internal const int JsonDiagnosticLimit = 100_000;
+
+    /// <summary>Tests capture the output here instead of the process's standard output.</summary>
+    internal static TextWriter? OutputOverride { get; set; }
+
+    public static Command Create()
+    {
+        var file = new Argument<string>("file") { Description = "G-code program to check." };
+        var profile = new Option<string?>("--profile") { Description = "Machine profile JSON (default: the built-in FANUC-style milling set)." };
+        var json = new Option<bool>("--json") { Description = "Print one JSON object instead of text lines." };
+        var db = new Option<string?>("--db") { Description = "Store every interpreted block and diagnostic in this SQLite file." };
+        var lang = new Option<string?>("--lang") { Description = "Message language: en or zh-CN (default: the UI culture)." };
+        var cmd = new Command("check", "Check a G-code program and list every error and warning.");
+        cmd.Arguments.Add(file);
+        cmd.Options.Add(profile);
+        cmd.Options.Add(json);
+        cmd.Options.Add(db);
+        cmd.Options.Add(lang);
+        cmd.SetAction((parse, ct) => Task.FromResult(Run(parse.GetValue(file)!, parse.GetValue(profile), parse.GetValue(json), parse.GetValue(db), parse.GetValue(lang), ct)));
+        return cmd;
+    }
+
+    internal static int Run(string file, string? profilePath, bool json, string? dbPath, string? lang, CancellationToken ct)
+    {
+        if (lang != null)
+        {
+            DiagnosticText.Culture = lang.ToLowerInvariant() switch
+            {
+                "en" or "en-us" or "en-gb" => CultureInfo.GetCultureInfo("en"),
+                "zh" or "zh-cn" or "zh-hans" => CultureInfo.GetCultureInfo("zh-CN"),
+                _ => throw new CliException($"--lang {lang}: expected en or zh-CN"),
+            };
+        }
+
+        if (Directory.Exists(file))
+        {
+            throw new CliException($"{file}: is a directory, expected a G-code file");
+        }
+
+        if (!File.Exists(file))
+        {
+            throw new CliException($"{file}: no such file");
+        }
+
+        MachineProfile machine;
+        try
+        {
+            machine = profilePath == null ? MachineProfile.Default : MachineProfile.Load(profilePath);
+        }
+        catch (Exception e) when (e is InvalidDataException or IOException or UnauthorizedAccessException)
+        {
+            throw new CliException(e is InvalidDataException ? e.Message : $"{profilePath}: {e.Message}");
+        }
+
+        // Buffered: a program with an error on every line must not cost a write call per line.
+        using var stdout = OutputOverride ?? new StreamWriter(Console.OpenStandardOutput(), new UTF8Encoding(false), 1 << 16) { AutoFlush = false };
+        var kept = new List<Diagnostic>();
+        var dropped = 0;
+        Action<Diagnostic> onDiagnostic = json
+            ? d =>
+            {
+                if (kept.Count < JsonDiagnosticLimit)
+                {
+                    kept.Add(d);
+                }
+                else
+                {
+                    dropped++;
+                }
+            }
+            : d => stdout.WriteLine(d.Format(file));
+
+        CheckSummary summary;
+        if (dbPath != null)
+        {
+            summary = CheckIntoStore(file, dbPath, machine, onDiagnostic, ct);
+        }
+        else
+        {
+            summary = new Checker(machine).CheckFile(file, onDiagnostic, null, ct);
+        }
+
+        if (json)
+        {
+            WriteJson(stdout, file, summary, kept, dropped);
+        }
+        else
+        {
+            stdout.WriteLine(summary.ToString());
+        }
+
+        stdout.Flush();
+        return summary.HasErrors ? CliGlobals.Failed : CliGlobals.Ok;
+    }
+
+    private static CheckSummary CheckIntoStore(string file, string dbPath, MachineProfile machine, Action<Diagnostic> onDiagnostic, CancellationToken ct)
+    {
+        if (Directory.Exists(dbPath))
+        {
+            throw new CliException($"--db {dbPath}: is a directory, expected a database file");
+        }
+
+        var created = !File.Exists(dbPath);
+        try
+        {
+            using var store = ProgramStore.Open(dbPath);
+            return store.Import(file, machine, onDiagnostic, ct).Summary;
+        }
+        catch (Exception e) when (e is Microsoft.Data.Sqlite.SqliteException or IOException or UnauthorizedAccessException or OperationCanceledException)
+        {
+            // The import rolled back; a database file this run created would only be an empty shell.
+            if (created)
+            {
+                Microsoft.Data.Sqlite.SqliteConnection.ClearAllPools();
+                foreach (var f in new[] { dbPath, dbPath + "-wal", dbPath + "-shm" })
+                {
+                    try
+                    {
+                        File.Delete(f);
+                    }
+                    catch (IOException)
+                    {
+                    }
+                }
+            }
+
+            if (e is OperationCanceledException)
+            {
+                throw;
+            }
+
+            throw new CliException($"--db {dbPath}: {e.Message}");
+        }
+    }
+
+    private static void WriteJson(TextWriter output, string file, CheckSummary summary, List<Diagnostic> diagnostics, int dropped)
+    {
+        var buffer = new MemoryStream();
+        using (var w = new Utf8JsonWriter(buffer, new JsonWriterOptions { Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
+        {
+            w.WriteStartObject();
+            w.WriteString("file", file);
+            w.WriteNumber("blocks", summary.Blocks);
+            w.WriteNumber("errors", summary.Errors);
+            w.WriteNumber("warnings", summary.Warnings);
+            w.WriteStartArray("diagnostics");
+            foreach (var d in diagnostics)
+            {
+                w.WriteStartObject();
+                w.WriteString("severity", d.Severity == Severity.Error ? "error" : "warning");
+                w.WriteString("code", d.Code);
+                w.WriteNumber("line", d.Line);
+                w.WriteNumber("column", d.Column);
+                w.WriteString("message", d.Message);
+                w.WriteEndObject();
+            }
+
+            w.WriteEndArray();
+            if (dropped > 0)
+            {
+                w.WriteNumber("diagnosticsOmitted", dropped);
+            }
+
+            w.WriteEndObject();
+        }
+
+        output.WriteLine(Encoding.UTF8.GetString(buffer.GetBuffer(), 0, (int)buffer.Length));
+    }
 }

@@ -43,4 +43,76 @@ public static class DiagnosticCodes
 
     /// <summary>A lowercase letter (accepted, but shop standards want upper case).</summary>
     public const string LowercaseLetter = "W004";
+
+    /// <summary>An unknown G code (not in the machine profile).</summary>
+    public const string UnknownGCode = "E104";
+
+    /// <summary>An unknown M code (not in the machine profile).</summary>
+    public const string UnknownMCode = "E105";
+
+    /// <summary>A value out of range: negative F, S, P, H or D.</summary>
+    public const string NegativeValue = "E106";
+
+    /// <summary>A T word that is not a whole number from 0 to the profile's tool count.</summary>
+    public const string ToolOutOfRange = "E107";
+
+    /// <summary>A G or M number with decimals that the profile does not know (<c>G1.5</c>).</summary>
+    public const string DecimalCode = "E108";
+
+    /// <summary>Two codes of one modal group in one block (<c>G00 G01</c>).</summary>
+    public const string ModalGroupConflict = "E109";
+
+    /// <summary>A block with no effective function code (only N, or words that do nothing alone).</summary>
+    public const string NoFunction = "E110";
+
+    /// <summary>The same word twice in a block (two X words).</summary>
+    public const string DuplicateWord = "E111";
+
+    /// <summary>Motion without axis words where the move needs an end point (an arc with neither axis words nor I/J/K).</summary>
+    public const string MotionWithoutAxes = "E112";
+
+    /// <summary>An arc without R or an I/J/K word of its plane.</summary>
+    public const string ArcWithoutCenter = "E113";
+
+    /// <summary>An arc whose end point is not on its circle (radii differ beyond tolerance, or R shorter than half the chord).</summary>
+    public const string ArcRadiusMismatch = "E115";
+
+    /// <summary>A feed move (G01/G02/G03) before any F word, or with F0.</summary>
+    public const string FeedMoveWithoutFeed = "E116";
+
+    /// <summary>An address letter the machine does not use (not in the profile's letters).</summary>
+    public const string UnsupportedLetter = "E118";
+
+    /// <summary>The file holds no blocks at all.</summary>
+    public const string EmptyProgram = "E120";
+
+    /// <summary>A NUL byte: the file is binary, not G-code.</summary>
+    public const string NulByte = "E121";
+
+    /// <summary>The file is UTF-16 (BOM found); G-code must be ASCII or UTF-8.</summary>
+    public const string Utf16File = "E122";
+
+    /// <summary>The program has no program number (O word).</summary>
+    public const string NoProgramNumber = "W001";
+
+    /// <summary>A block without a sequence number in a program that numbers other blocks.</summary>
+    public const string NoSequenceNumber = "W002";
+
+    /// <summary>A word that the block's codes do not use (ignored by the controller).</summary>
+    public const string UnusedWord = "W003";
+
+    /// <summary>A code missing a word it needs where the controller can still go on (G04 without P).</summary>
+    public const string MissingWord = "W005";
+
+    /// <summary>All codes, for tests and documentation.</summary>
+    public static readonly IReadOnlyList<string> All =
+    [
+        IllegalCharacter, MalformedNumber, UnclosedComment, UnknownGCode, UnknownMCode, NegativeValue, ToolOutOfRange,
+        DecimalCode, ModalGroupConflict, NoFunction, DuplicateWord, MotionWithoutAxes, ArcWithoutCenter, LineTooLong,
+        ArcRadiusMismatch, FeedMoveWithoutFeed, UnsupportedLetter, EmptyProgram, NulByte, Utf16File,
+        NoProgramNumber, NoSequenceNumber, UnusedWord, LowercaseLetter, MissingWord,
+    ];
+
+    /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>
+    public static Severity SeverityOf(string code) => code.StartsWith('W') ? Severity.Warning : Severity.Error;
 }

@@ -15,23 +15,49 @@ public static class DiagnosticText
         [DiagnosticCodes.UnclosedComment] = ("unclosed comment: expected ')' before the end of the line", "注释未闭合：行尾之前应有 ')'"),
         [DiagnosticCodes.LineTooLong] = ("line longer than {0} bytes: the rest of the line is ignored", "行长度超过 {0} 字节：其余部分被忽略"),
         [DiagnosticCodes.LowercaseLetter] = ("lowercase letter '{0}': accepted, but write address letters in upper case", "小写字母 '{0}'：可以接受，但地址字母应大写"),
+        [DiagnosticCodes.UnknownGCode] = ("unknown G code G{0}: not in machine profile '{1}'", "不可识别的 G 代码 G{0}：机床配置 '{1}' 中没有"),
+        [DiagnosticCodes.UnknownMCode] = ("unknown M code M{0}: not in machine profile '{1}'", "不可识别的 M 代码 M{0}：机床配置 '{1}' 中没有"),
+        [DiagnosticCodes.NegativeValue] = ("value out of range: {0}{1} must not be negative", "参数值超出范围：{0}{1} 不能为负"),
+        [DiagnosticCodes.ToolOutOfRange] = ("value out of range: T{0}: expected a whole tool number from 0 to {1}", "参数值超出范围：T{0}：刀具号应为 0 到 {1} 的整数"),
+        [DiagnosticCodes.DecimalCode] = ("value out of range: {0}{1}: the machine profile knows no {0} code with decimals like this", "参数值超出范围：{0}{1}：机床配置中没有这种带小数的 {0} 代码"),
+        [DiagnosticCodes.ModalGroupConflict] = ("{0}{1} and {0}{2} are both in modal group {3}: only one code of a group per block", "同一组模态代码重用：{0}{1} 与 {0}{2} 同属模态组 {3}，每段只能有一个"),
+        [DiagnosticCodes.NoFunction] = ("block has no effective function code: expected a G, M, F, S, T, H, D or axis word", "此段程序无有效功能代码：应有 G、M、F、S、T、H、D 或坐标字"),
+        [DiagnosticCodes.DuplicateWord] = ("word {0} appears twice in the block (first at column {1})", "同一段中字 {0} 出现两次（第一次在第 {1} 列）"),
+        [DiagnosticCodes.MotionWithoutAxes] = ("G{0} without axis words: expected an end point such as X, Y or Z", "G{0} 没有坐标字：应给出终点，如 X、Y 或 Z"),
+        [DiagnosticCodes.ArcWithoutCenter] = ("arc G{0} without R or {1}: expected the radius or the centre offset for plane G{2}", "圆弧 G{0} 没有 R 或 {1}：平面 G{2} 需要半径或圆心偏移"),
+        [DiagnosticCodes.ArcRadiusMismatch] = ("arc end point is not on the circle: start radius {0}, end radius {1} (tolerance {2})", "圆弧终点不在圆上：起点半径 {0}，终点半径 {1}（允差 {2}）"),
+        [DiagnosticCodes.FeedMoveWithoutFeed] = ("feed move G{0} without a feed rate: expected an F word greater than 0 before or in this block", "进给运动 G{0} 没有进给速度：本段或之前应有大于 0 的 F 字"),
+        [DiagnosticCodes.UnsupportedLetter] = ("address letter '{0}' is not used by machine profile '{1}' (letters {2})", "机床配置 '{1}' 不使用地址字母 '{0}'（可用字母 {2}）"),
+        [DiagnosticCodes.EmptyProgram] = ("empty program: the file holds no blocks", "空程序：文件中没有程序段"),
+        [DiagnosticCodes.NulByte] = ("NUL byte: this looks like a binary file, not G-code text", "NUL 字节：这像是二进制文件，不是 G 代码文本"),
+        [DiagnosticCodes.Utf16File] = ("the file is UTF-16 encoded: save it as ASCII or UTF-8", "文件为 UTF-16 编码：请另存为 ASCII 或 UTF-8"),
+        [DiagnosticCodes.NoProgramNumber] = ("the program has no program number: expected an O word such as O1001", "此程序没有指定程序号：应有 O 字，如 O1001"),
+        [DiagnosticCodes.NoSequenceNumber] = ("block has no sequence number while other blocks are numbered", "此程序段没有指定段号（其他程序段有段号）"),
+        [DiagnosticCodes.UnusedWord] = ("word {0} is not used by this block and is ignored", "指令后续参数不匹配：字 {0} 在本段中无用，将被忽略"),
+        [DiagnosticCodes.MissingWord] = ("{0} without {1}: {2}", "{0} 缺少 {1}：{3}"),
     };
 
     /// <summary>The culture messages are written in; defaults to the current UI culture.</summary>
     public static CultureInfo Culture { get; set; } = CultureInfo.CurrentUICulture;
 
+    /// <summary>True when a message is registered for the code.</summary>
+    public static bool IsRegistered(string code) => Texts.ContainsKey(code);
+
     /// <summary>Registers or replaces a message (the checker adds its codes here).</summary>
     public static void Register(string code, string english, string chinese) => Texts[code] = (english, chinese);
 
     /// <summary>Formats the message for a code in <see cref="Culture"/>.</summary>
-    public static string Format(string code, params object[] args)
+    public static string Format(string code, params object[] args) => Format(Culture, code, args);
+
+    /// <summary>Formats the message for a code in the given culture (zh* gives Simplified Chinese, anything else English).</summary>
+    public static string Format(CultureInfo culture, string code, params object[] args)
     {
         if (!Texts.TryGetValue(code, out var t))
         {
             return code;
         }
 
-        var zh = Culture.Name.StartsWith("zh", StringComparison.OrdinalIgnoreCase);
+        var zh = culture.Name.StartsWith("zh", StringComparison.OrdinalIgnoreCase);
         return string.Format(CultureInfo.InvariantCulture, zh ? t.Zh : t.En, args);
     }
 }

@@ -38,6 +38,9 @@ public sealed class GCodeReader : IDisposable
     public static GCodeReader Open(string path) =>
         new(new FileStream(path, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan));
 
+    /// <summary>True when the input starts with a UTF-16 byte-order mark (the lines will not be G-code; the checker says so).</summary>
+    public bool StartsWithUtf16Bom { get; private set; }
+
     /// <summary>Bytes consumed so far (for progress).</summary>
     public long Position => _chunkFileOffset + _chunkPos;
 
@@ -103,6 +106,20 @@ public sealed class GCodeReader : IDisposable
             _chunkLen = 0;
             _eof = true;
             return false;
+        }
+
+        if (_chunkFileOffset == 0)
+        {
+            // Editors on Windows like to prepend byte-order marks: skip UTF-8's, flag UTF-16's.
+            var head = _chunk.AsSpan(0, _chunkLen);
+            if (head.StartsWith((ReadOnlySpan<byte>)[0xEF, 0xBB, 0xBF]))
+            {
+                _chunkPos = 3;
+            }
+            else if (head.StartsWith((ReadOnlySpan<byte>)[0xFF, 0xFE]) || head.StartsWith((ReadOnlySpan<byte>)[0xFE, 0xFF]))
+            {
+                StartsWithUtf16Bom = true;
+            }
         }
 
         return true;
@@ -307,7 +324,15 @@ public sealed class GCodeReader : IDisposable
             }
 
             // Report the whole run of junk once, not every byte of it.
-            Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
+            if (c == 0)
+            {
+                Add(b, Severity.Error, DiagnosticCodes.NulByte, i + 1);
+            }
+            else
+            {
+                Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
+            }
+
             i++;
             while (i < line.Length && !IsTokenStart(line[i]))
             {

@@ -1,0 +1,718 @@
+using System.Text;
+
+namespace PmacStream.GCode;
+
+/// <summary>
+/// Interprets blocks one after another into <see cref="DecodedBlock"/> records, keeping the modal state (seed 002's
+/// GA-GI / MA-MC) and the absolute position. Streaming: it holds only the current state, so any program size works.
+/// Semantics are FANUC milling: I/J/K are incremental from the arc start, a negative R means more than 180 degrees,
+/// an arc with I/J/K and no axis words is a full circle, <c>G04 P</c> is in milliseconds (profile switch) and
+/// <c>G04 X</c> in seconds. Cutter radius and tool length compensation are recorded, not applied to the path.
+/// </summary>
+public sealed class Interpreter
+{
+    private const int GroupCount = 9;
+    private const int MGroupCount = 3;
+
+    private readonly MachineProfile _profile;
+    private readonly double?[] _g = new double?[GroupCount];
+    private readonly double?[] _m = new double?[MGroupCount];
+    private readonly bool[] _gNonModal = new bool[GroupCount];
+    private readonly bool[] _mNonModal = new bool[MGroupCount];
+    private LengthUnits _units = LengthUnits.Millimetres;
+    private int _plane = 17;
+    private bool _absolute = true;
+    private int _wcs = 54;
+    private int _tool;
+    private int _h;
+    private int _d;
+    private int _spindle = 5;
+    private double _speed;
+    private int _coolant = 9;
+    private double? _feed;
+    private Point3 _pos;
+    private ModalState? _snapshot;
+    private LastBlock _last;
+    private bool _dirty = true;
+
+    /// <summary>Starts in the profile's power-on state (its <see cref="MachineProfile.Startup"/> codes) at the origin.</summary>
+    public Interpreter(MachineProfile profile)
+    {
+        _profile = profile;
+        ClassifyGroups();
+        var startup = GCodeReader.LexLine(profile.Startup);
+        foreach (var w in startup.WordList)
+        {
+            if (w.Letter == 'G' && profile.GGroupOf(w.Value) is var gg and >= 0)
+            {
+                _g[gg] = w.Value;
+                ApplyG(MachineProfile.Key(w.Value));
+            }
+            else if (w.Letter == 'M' && profile.MGroupOf(w.Value) is var mg and >= 0)
+            {
+                _m[mg] = w.Value;
+                ApplyM(MachineProfile.Key(w.Value));
+            }
+        }
+
+        ClearNonModal();
+    }
+
+    /// <summary>Resumes from a known state and position (start from a block: the state after the block before it).</summary>
+    public Interpreter(MachineProfile profile, ModalState state, Point3 position)
+    {
+        _profile = profile;
+        ClassifyGroups();
+        for (var i = 0; i < GroupCount; i++)
+        {
+            _g[i] = state.GetG(i);
+        }
+
+        for (var i = 0; i < MGroupCount; i++)
+        {
+            _m[i] = state.GetM(i);
+        }
+
+        ClearNonModal();
+        _units = state.Units;
+        _plane = state.Plane;
+        _absolute = state.Absolute;
+        _wcs = state.WorkOffset;
+        _tool = state.Tool;
+        _h = state.LengthOffset;
+        _d = state.CutterComp;
+        _spindle = state.Spindle;
+        _speed = state.SpindleSpeed;
+        _coolant = state.Coolant;
+        _feed = state.Feed;
+        _pos = position;
+    }
+
+    /// <summary>The profile the interpreter works to.</summary>
+    public MachineProfile Profile => _profile;
+
+    /// <summary>The modal state after the last block (shared instance while nothing changes).</summary>
+    public ModalState State => Snapshot();
+
+    /// <summary>The absolute position after the last block.</summary>
+    public Point3 Position => _pos;
+
+    /// <summary>When true, blocks starting with <c>/</c> are skipped (the operator's block-delete switch).</summary>
+    public bool BlockDeleteEnabled { get; set; }
+
+    /// <summary>
+    /// Interprets one block. Returns null for empty, comment-only, tape-mark and program-number-only lines (and for
+    /// deleted blocks when <see cref="BlockDeleteEnabled"/>). Never throws on content: what cannot be executed is
+    /// skipped here and reported by the checker.
+    /// </summary>
+    public DecodedBlock? Step(GBlock block) => Step(block, null);
+
+    internal DecodedBlock? Step(GBlock block, List<Diagnostic>? diags) => StepCore(block, diags) ? Materialize() : null;
+
+    /// <summary>The last interpreted block, without allocating (the checker's hot path when nothing is stored).</summary>
+    internal ref readonly LastBlock Last => ref _last;
+
+    /// <summary>The last interpreted block as a record.</summary>
+    internal DecodedBlock Materialize() => new()
+    {
+        Line = _last.Line,
+        ByteOffset = _last.ByteOffset,
+        N = _last.N,
+        BlockDelete = _last.BlockDelete,
+        Modal = Snapshot(),
+        X = _last.X, Y = _last.Y, Z = _last.Z, I = _last.I, J = _last.J, K = _last.K, R = _last.R, F = _last.F, S = _last.S,
+        T = _last.T, H = _last.H, D = _last.D, P = _last.P,
+        Motion = _last.Motion,
+        Start = _last.Start,
+        End = _last.End,
+        Center = _last.Center,
+        Length = _last.Length,
+        DurationSeconds = _last.DurationSeconds,
+    };
+
+    /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
+    internal bool StepCore(GBlock block, List<Diagnostic>? diags)
+    {
+        var words = block.WordList;
+        if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
+        {
+            return false;
+        }
+
+        var line = block.LineNumber;
+        Span<int> col = stackalloc int[26];          // column of the first word of each letter, 0 = absent
+        Span<double> val = stackalloc double[26];
+        Span<double> gIn = stackalloc double[GroupCount];
+        Span<int> gCol = stackalloc int[GroupCount];
+        Span<double> mIn = stackalloc double[MGroupCount];
+        Span<int> mCol = stackalloc int[MGroupCount];
+        var onlyO = true;
+        var effective = false;
+        for (var i = 0; i < words.Count; i++)
+        {
+            var w = words[i];
+            var li = w.Letter - 'A';
+            if (w.Letter != 'O')
+            {
+                onlyO = false;
+            }
+
+            if (!_profile.AcceptsLetter(w.Letter))
+            {
+                Add(diags, DiagnosticCodes.UnsupportedLetter, line, w.Column, w.Letter, _profile.Name, _profile.Letters);
+                continue;
+            }
+
+            if (w.Letter == 'G' || w.Letter == 'M')
+            {
+                effective = true;
+                var isG = w.Letter == 'G';
+                var group = isG ? _profile.GGroupOf(w.Value) : _profile.MGroupOf(w.Value);
+                if (group < 0)
+                {
+                    if (diags != null)
+                    {
+                        var text = Ascii(block.NumberText(w));
+                        if (!w.IsInteger)
+                        {
+                            Add(diags, DiagnosticCodes.DecimalCode, line, w.Column, w.Letter, text);
+                        }
+                        else
+                        {
+                            Add(diags, isG ? DiagnosticCodes.UnknownGCode : DiagnosticCodes.UnknownMCode, line, w.Column, text, _profile.Name);
+                        }
+                    }
+
+                    continue;
+                }
+
+                var slotCol = isG ? gCol : mCol;
+                if (slotCol[group] != 0)
+                {
+                    if (diags != null)
+                    {
+                        var first = ModalState.Num(isG ? gIn[group] : mIn[group]);
+                        var names = isG ? MachineProfile.GGroupNames : MachineProfile.MGroupNames;
+                        Add(diags, DiagnosticCodes.ModalGroupConflict, line, w.Column, w.Letter, first, Ascii(block.NumberText(w)), names[group]);
+                    }
+
+                    continue;
+                }
+
+                slotCol[group] = w.Column;
+                (isG ? gIn : mIn)[group] = w.Value;
+                continue;
+            }
+
+            if (li is < 0 or >= 26)
+            {
+                continue;
+            }
+
+            if (col[li] != 0)
+            {
+                Add(diags, DiagnosticCodes.DuplicateWord, line, w.Column, w.Letter, col[li]);
+                continue;
+            }
+
+            col[li] = w.Column;
+            val[li] = w.Value;
+            if (w.Letter is not ('N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L'))
+            {
+                effective = true;
+            }
+        }
+
+        if (onlyO)
+        {
+            return false;
+        }
+
+        // Modal groups first (units, plane, distance, offsets), so that motion in the same block uses them.
+        ClearNonModal();
+        var dwell = false;
+        var motionInBlock = -1;
+        for (var gi = 0; gi < GroupCount; gi++)
+        {
+            if (gCol[gi] == 0)
+            {
+                continue;
+            }
+
+            var key = MachineProfile.Key(gIn[gi]);
+            SetG(gi, gIn[gi]);
+            ApplyG(key);
+            if (key == 40)
+            {
+                dwell = true;
+            }
+            else if (key is 0 or 10 or 20 or 30)
+            {
+                motionInBlock = key / 10;
+            }
+        }
+
+        for (var mi = 0; mi < MGroupCount; mi++)
+        {
+            if (mCol[mi] != 0)
+            {
+                SetM(mi, mIn[mi]);
+                ApplyM(MachineProfile.Key(mIn[mi]));
+            }
+        }
+
+        double? Word(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
+        int ColOf(char c, Span<int> col) => col[c - 'A'];
+
+        // Values and their ranges.
+        var f = Word('F', col, val);
+        if (f is { } fv)
+        {
+            if (fv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('F', col), 'F', ModalState.Num(fv));
+            }
+            else if (_feed != fv)
+            {
+                _feed = fv;
+                _dirty = true;
+            }
+        }
+
+        var s = Word('S', col, val);
+        if (s is { } sv)
+        {
+            if (sv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('S', col), 'S', ModalState.Num(sv));
+            }
+            else if (_speed != sv)
+            {
+                _speed = sv;
+                _dirty = true;
+            }
+        }
+
+        var t = Word('T', col, val);
+        if (t is { } tv)
+        {
+            if (tv < 0 || tv > _profile.ToolCount || tv != Math.Floor(tv))
+            {
+                Add(diags, DiagnosticCodes.ToolOutOfRange, line, ColOf('T', col), ModalState.Num(tv), _profile.ToolCount);
+            }
+            else if (_tool != (int)tv)
+            {
+                _tool = (int)tv;
+                _dirty = true;
+            }
+        }
+
+        var h = Word('H', col, val);
+        if (h is { } hv)
+        {
+            if (hv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('H', col), 'H', ModalState.Num(hv));
+            }
+            else if (_h != (int)hv)
+            {
+                _h = (int)hv;
+                _dirty = true;
+            }
+        }
+
+        var d = Word('D', col, val);
+        if (d is { } dv)
+        {
+            if (dv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('D', col), 'D', ModalState.Num(dv));
+            }
+            else if (_d != (int)dv)
+            {
+                _d = (int)dv;
+                _dirty = true;
+            }
+        }
+
+        var p = Word('P', col, val);
+        if (p is { } pv && pv < 0)
+        {
+            Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('P', col), 'P', ModalState.Num(pv));
+        }
+
+        var x = Word('X', col, val);
+        var y = Word('Y', col, val);
+        var z = Word('Z', col, val);
+        var i0 = Word('I', col, val);
+        var j0 = Word('J', col, val);
+        var k0 = Word('K', col, val);
+        var r = Word('R', col, val);
+        var hasAxes = x.HasValue || y.HasValue || z.HasValue || col['A' - 'A'] != 0 || col['B' - 'A'] != 0 || col['C' - 'A'] != 0;
+
+        if (!effective)
+        {
+            var first = words[0].Column;
+            Add(diags, DiagnosticCodes.NoFunction, line, first);
+        }
+
+        var start = _pos;
+        var end = start;
+        Point3? center = null;
+        var kind = MotionKind.None;
+        double length = 0;
+        double seconds = 0;
+        var usedArcWords = false;
+        var usedP = false;
+
+        if (dwell)
+        {
+            kind = MotionKind.Dwell;
+            usedP = p.HasValue;
+            if (p is { } pd && pd >= 0)
+            {
+                seconds = _profile.DwellPInMilliseconds ? pd / 1000.0 : pd;
+            }
+            else if (x is { } xd && xd >= 0)
+            {
+                seconds = xd;
+            }
+            else if (!p.HasValue && !x.HasValue)
+            {
+                Add(diags, DiagnosticCodes.MissingWord, line, gCol[IndexOfGroupWithKey(40)], "G04", "P", "dwell of 0 s", "暂停 0 秒");
+            }
+
+            if (y.HasValue)
+            {
+                Add(diags, DiagnosticCodes.UnusedWord, line, ColOf('Y', col), 'Y');
+            }
+
+            if (z.HasValue)
+            {
+                Add(diags, DiagnosticCodes.UnusedWord, line, ColOf('Z', col), 'Z');
+            }
+
+            if (p.HasValue && x.HasValue)
+            {
+                Add(diags, DiagnosticCodes.UnusedWord, line, ColOf('X', col), 'X');
+            }
+        }
+        else if (hasAxes || ((motionInBlock is 2 or 3) && (i0.HasValue || j0.HasValue || k0.HasValue)))
+        {
+            end = Target(start, x, y, z);
+            var mode = _g[0] is { } ga ? MachineProfile.Key(ga) / 10 : -1;
+            var modeCol = motionInBlock >= 0 ? gCol[0] : words[0].Column;
+            switch (mode)
+            {
+                case 0:
+                    kind = MotionKind.Rapid;
+                    length = start.DistanceTo(end);
+                    seconds = length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
+                    break;
+                case 1:
+                    kind = MotionKind.Linear;
+                    length = start.DistanceTo(end);
+                    seconds = FeedTime(length, diags, line, modeCol, 1);
+                    break;
+                case 2:
+                case 3:
+                    kind = mode == 2 ? MotionKind.ArcCw : MotionKind.ArcCcw;
+                    usedArcWords = true;
+                    (center, length) = Arc(mode == 2, start, end, i0, j0, k0, r, diags, line, modeCol, col);
+                    seconds = FeedTime(length, diags, line, modeCol, mode);
+                    break;
+                default:
+                    // Axis words with no motion mode in force: the startup codes of the profile set none.
+                    Add(diags, DiagnosticCodes.MotionWithoutAxes, line, words[0].Column, "00/G01");
+                    end = start;
+                    break;
+            }
+        }
+        else if (motionInBlock is 2 or 3)
+        {
+            Add(diags, DiagnosticCodes.MotionWithoutAxes, line, gCol[0], motionInBlock == 2 ? "02" : "03");
+            usedArcWords = true;
+        }
+
+        if (diags != null)
+        {
+            if (!usedArcWords)
+            {
+                foreach (var c in "IJKR")
+                {
+                    if (col[c - 'A'] != 0)
+                    {
+                        Add(diags, DiagnosticCodes.UnusedWord, line, col[c - 'A'], c);
+                    }
+                }
+            }
+
+            if (p.HasValue && !usedP && effective)
+            {
+                Add(diags, DiagnosticCodes.UnusedWord, line, ColOf('P', col), 'P');
+            }
+        }
+
+        _pos = end;
+        _last = new LastBlock
+        {
+            Line = line,
+            ByteOffset = block.ByteOffset,
+            N = Word('N', col, val),
+            BlockDelete = block.BlockDelete,
+            X = x, Y = y, Z = z, I = i0, J = j0, K = k0, R = r, F = f, S = s, T = t, H = h, D = d, P = p,
+            Motion = kind,
+            Start = start,
+            End = end,
+            Center = center,
+            Length = length,
+            DurationSeconds = seconds,
+        };
+        return true;
+    }
+
+    private int IndexOfGroupWithKey(int key)
+    {
+        for (var i = 0; i < GroupCount; i++)
+        {
+            if (_g[i] is { } v && MachineProfile.Key(v) == key)
+            {
+                return i;
+            }
+        }
+
+        return 0;
+    }
+
+    private double FeedTime(double length, List<Diagnostic>? diags, int line, int column, int mode)
+    {
+        if (_feed is { } feed && feed > 0)
+        {
+            return length / feed * 60.0;
+        }
+
+        Add(diags, DiagnosticCodes.FeedMoveWithoutFeed, line, column, "0" + mode);
+        return 0;
+    }
+
+    private Point3 Target(Point3 start, double? x, double? y, double? z)
+    {
+        if (_absolute)
+        {
+            var o = _profile.WorkOffset(_wcs);
+            return new Point3(x is { } ax ? ax + o.X : start.X, y is { } ay ? ay + o.Y : start.Y, z is { } az ? az + o.Z : start.Z);
+        }
+
+        return new Point3(start.X + (x ?? 0), start.Y + (y ?? 0), start.Z + (z ?? 0));
+    }
+
+    private (Point3? Center, double Length) Arc(bool cw, Point3 start, Point3 end, double? i, double? j, double? k, double? r,
+        List<Diagnostic>? diags, int line, int column, Span<int> col)
+    {
+        // Map the plane to (first, second, linear) axes; G18 is ZX so that G02/G03 keep the right-hand rule.
+        (double s1, double s2, double sl, double e1, double e2, double el, double? o1, double? o2, string names) = _plane switch
+        {
+            18 => (start.Z, start.X, start.Y, end.Z, end.X, end.Y, k, i, "I/K"),
+            19 => (start.Y, start.Z, start.X, end.Y, end.Z, end.X, j, k, "J/K"),
+            _ => (start.X, start.Y, start.Z, end.X, end.Y, end.Z, i, j, "I/J"),
+        };
+
+        double c1, c2;
+        var tol = _profile.ArcTolerance;
+        if (r is { } radius)
+        {
+            var dx = e1 - s1;
+            var dy = e2 - s2;
+            var chord = Math.Sqrt((dx * dx) + (dy * dy));
+            var half = chord / 2;
+            var rr = Math.Abs(radius);
+            if (chord < 1e-12 || half - rr > tol)
+            {
+                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, col['R' - 'A'], ModalState.Num(Math.Round(rr, 4)),
+                    ModalState.Num(Math.Round(half, 4)), ModalState.Num(tol));
+                return (null, start.DistanceTo(end));
+            }
+
+            var hgt = Math.Sqrt(Math.Max(0, (rr * rr) - (half * half)));
+            var sign = (cw ? -1 : 1) * (radius < 0 ? -1 : 1);
+            c1 = s1 + (dx / 2) + (-dy / chord * hgt * sign);
+            c2 = s2 + (dy / 2) + (dx / chord * hgt * sign);
+        }
+        else if (o1.HasValue || o2.HasValue)
+        {
+            c1 = s1 + (o1 ?? 0);
+            c2 = s2 + (o2 ?? 0);
+            var r0 = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
+            var r1 = Math.Sqrt(((e1 - c1) * (e1 - c1)) + ((e2 - c2) * (e2 - c2)));
+            if (Math.Abs(r0 - r1) > tol && Math.Abs(r0 - r1) > 0.001 * Math.Max(r0, r1))
+            {
+                var firstOffset = _plane switch { 18 => Min(col['K' - 'A'], col['I' - 'A']), 19 => Min(col['J' - 'A'], col['K' - 'A']), _ => Min(col['I' - 'A'], col['J' - 'A']) };
+                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, firstOffset, ModalState.Num(Math.Round(r0, 4)),
+                    ModalState.Num(Math.Round(r1, 4)), ModalState.Num(tol));
+            }
+        }
+        else
+        {
+            Add(diags, DiagnosticCodes.ArcWithoutCenter, line, column, cw ? "02" : "03", names, _plane);
+            return (null, start.DistanceTo(end));
+        }
+
+        var a0 = Math.Atan2(s2 - c2, s1 - c1);
+        var a1 = Math.Atan2(e2 - c2, e1 - c1);
+        var sweep = cw ? a0 - a1 : a1 - a0;
+        while (sweep <= 1e-12)
+        {
+            sweep += 2 * Math.PI;
+        }
+
+        var rad = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
+        var planar = rad * sweep;
+        var helix = el - sl;
+        var len = Math.Sqrt((planar * planar) + (helix * helix));
+        var centre = _plane switch
+        {
+            18 => new Point3(c2, start.Y, c1),
+            19 => new Point3(start.X, c1, c2),
+            _ => new Point3(c1, c2, start.Z),
+        };
+        return (centre, len);
+    }
+
+    private static int Min(int a, int b) => a == 0 ? b : b == 0 ? a : Math.Min(a, b);
+
+    private void ClassifyGroups()
+    {
+        // A group is non-modal when every code in it is one that acts only in its own block.
+        int[] nonModalG = [40, 90, 100, 280, 300, 530, 650, 920];
+        int[] nonModalM = [0, 10, 20, 300, 60, 980, 990];
+        Classify(_profile.GCodes, MachineProfile.GGroupNames, nonModalG, _gNonModal);
+        Classify(_profile.MCodes, MachineProfile.MGroupNames, nonModalM, _mNonModal);
+    }
+
+    private static void Classify(IReadOnlyList<CodeDefinition> codes, IReadOnlyList<string> names, int[] nonModal, bool[] result)
+    {
+        for (var gi = 0; gi < names.Count; gi++)
+        {
+            var any = false;
+            var all = true;
+            foreach (var c in codes)
+            {
+                if (!string.Equals(c.Group, names[gi], StringComparison.OrdinalIgnoreCase))
+                {
+                    continue;
+                }
+
+                any = true;
+                var key = MachineProfile.Key(double.Parse(c.Code.AsSpan(1), System.Globalization.CultureInfo.InvariantCulture));
+                all &= Array.IndexOf(nonModal, key) >= 0;
+            }
+
+            result[gi] = any && all;
+        }
+    }
+
+    private void ClearNonModal()
+    {
+        for (var i = 0; i < GroupCount; i++)
+        {
+            if (_gNonModal[i] && _g[i] != null)
+            {
+                _g[i] = null;
+                _dirty = true;
+            }
+        }
+
+        for (var i = 0; i < MGroupCount; i++)
+        {
+            if (_mNonModal[i] && _m[i] != null)
+            {
+                _m[i] = null;
+                _dirty = true;
+            }
+        }
+    }
+
+    private void SetG(int group, double value)
+    {
+        if (_g[group] != value)
+        {
+            _g[group] = value;
+            _dirty = true;
+        }
+    }
+
+    private void SetM(int group, double value)
+    {
+        if (_m[group] != value)
+        {
+            _m[group] = value;
+            _dirty = true;
+        }
+    }
+
+    private void ApplyG(int key)
+    {
+        switch (key)
+        {
+            case 170 or 180 or 190: _plane = key / 10; break;
+            case 200: _units = LengthUnits.Inches; break;
+            case 210: _units = LengthUnits.Millimetres; break;
+            case 900: _absolute = true; break;
+            case 910: _absolute = false; break;
+            case >= 540 and <= 590 when key % 10 == 0: _wcs = key / 10; break;
+            default: return;
+        }
+
+        _dirty = true;
+    }
+
+    private void ApplyM(int key)
+    {
+        switch (key)
+        {
+            case 30 or 40 or 50: _spindle = key / 10; break;
+            case 70 or 80 or 90: _coolant = key / 10; break;
+            default: return;
+        }
+
+        _dirty = true;
+    }
+
+    private ModalState Snapshot()
+    {
+        if (_dirty || _snapshot is null)
+        {
+            _snapshot = new ModalState
+            {
+                GA = _g[0], GB = _g[1], GC = _g[2], GD = _g[3], GE = _g[4], GF = _g[5], GG = _g[6], GH = _g[7], GI = _g[8],
+                MA = _m[0], MB = _m[1], MC = _m[2],
+                Units = _units, Plane = _plane, Absolute = _absolute, WorkOffset = _wcs, Tool = _tool, LengthOffset = _h,
+                CutterComp = _d, Spindle = _spindle, SpindleSpeed = _speed, Coolant = _coolant, Feed = _feed,
+            };
+            _dirty = false;
+        }
+
+        return _snapshot;
+    }
+
+    private static string Ascii(ReadOnlySpan<byte> text) => Encoding.ASCII.GetString(text);
+
+    private static void Add(List<Diagnostic>? diags, string code, int line, int column, params object[] args)
+    {
+        diags?.Add(new Diagnostic(DiagnosticCodes.SeverityOf(code), code, line, column, DiagnosticText.Format(code, args)));
+    }
+
+    /// <summary>The fields of a decoded block without the allocation.</summary>
+    internal struct LastBlock
+    {
+        public int Line;
+        public long ByteOffset;
+        public double? N;
+        public bool BlockDelete;
+        public double? X, Y, Z, I, J, K, R, F, S, T, H, D, P;
+        public MotionKind Motion;
+        public Point3 Start, End;
+        public Point3? Center;
+        public double Length, DurationSeconds;
+    }
+}

@@ -1,0 +1,200 @@
+using System.Text;
+using PmacStream.GCode;
+
+namespace PmacStream.Core.Tests.GCode;
+
+/// <summary>Every diagnostic code: a bad block that triggers it (line and column asserted) and a good one that does not.</summary>
+public class CheckerDiagnosticTests
+{
+    private static IReadOnlyList<Diagnostic> Check(string text) => new Checker(MachineProfile.Default).CheckText(text).Diagnostics;
+
+    private static IReadOnlyList<Diagnostic> CheckBytes(byte[] bytes)
+    {
+        var list = new List<Diagnostic>();
+        new Checker(MachineProfile.Default).Check(new MemoryStream(bytes), "<bytes>", list.Add);
+        return list;
+    }
+
+    public static TheoryData<string, string, int, int> Bad => new()
+    {
+        { DiagnosticCodes.IllegalCharacter, "O1\nG01 X1 F100 @", 2, 13 },
+        { DiagnosticCodes.MalformedNumber, "O1\nG01 X1.2.3 F100", 2, 5 },
+        { DiagnosticCodes.MalformedNumber, "O1\nG01 X- F100", 2, 5 },
+        { DiagnosticCodes.UnclosedComment, "O1\nG01 X1 F100 (open", 2, 13 },
+        { DiagnosticCodes.UnknownGCode, "O1\nG00 X1\nG05 X2", 3, 1 },
+        { DiagnosticCodes.UnknownMCode, "O1\nM06", 2, 1 },
+        { DiagnosticCodes.NegativeValue, "O1\nG01 X1 F-5", 2, 8 },
+        { DiagnosticCodes.NegativeValue, "O1\nS-100 M03", 2, 1 },
+        { DiagnosticCodes.ToolOutOfRange, "O1\nT99", 2, 1 },
+        { DiagnosticCodes.ToolOutOfRange, "O1\nG00 T1.5", 2, 5 },
+        { DiagnosticCodes.DecimalCode, "O1\nG1.5 X1 F100", 2, 1 },
+        { DiagnosticCodes.DecimalCode, "O1\nM3.5", 2, 1 },
+        { DiagnosticCodes.ModalGroupConflict, "O1\nG00 G01 X1 F100", 2, 5 },
+        { DiagnosticCodes.ModalGroupConflict, "O1\nM03 M05", 2, 5 },
+        { DiagnosticCodes.NoFunction, "O1\nN10", 2, 1 },
+        { DiagnosticCodes.NoFunction, "O1\n  P5", 2, 3 },
+        { DiagnosticCodes.DuplicateWord, "O1\nG00 X1 X2", 2, 8 },
+        { DiagnosticCodes.MotionWithoutAxes, "O1\nF100\nG02 R5", 3, 1 },
+        { DiagnosticCodes.ArcWithoutCenter, "O1\nF100\nG02 X2 Y0", 3, 1 },
+        { DiagnosticCodes.ArcWithoutCenter, "O1\nF100\nG18\nG02 X2 Z0 J1", 4, 1 },
+        { DiagnosticCodes.ArcRadiusMismatch, "O1\nF100\nG02 X2 Y0 I1.5 J0", 3, 11 },
+        { DiagnosticCodes.ArcRadiusMismatch, "O1\nF100\nG02 X10 Y0 R2", 3, 12 },
+        { DiagnosticCodes.FeedMoveWithoutFeed, "O1\nG01 X1", 2, 1 },
+        { DiagnosticCodes.FeedMoveWithoutFeed, "O1\nG01 F0\nX1", 3, 1 },
+        { DiagnosticCodes.UnsupportedLetter, "O1\nG00 X1 Q5", 2, 8 },
+        { DiagnosticCodes.EmptyProgram, string.Empty, 1, 1 },
+        { DiagnosticCodes.EmptyProgram, "(just a comment)\n\n%\n", 3, 1 },
+        { DiagnosticCodes.NulByte, "O1\nG00 X1\0\0\0", 2, 7 },
+        { DiagnosticCodes.NoProgramNumber, "\nG00 X1", 2, 1 },
+        { DiagnosticCodes.NoSequenceNumber, "O1\nN10 G00 X1\nG00 Y1", 3, 1 },
+        { DiagnosticCodes.NoSequenceNumber, "O1\nG00 X1\nN20 G00 Y1", 2, 1 },
+        { DiagnosticCodes.UnusedWord, "O1\nG00 X1 R5", 2, 8 },
+        { DiagnosticCodes.UnusedWord, "O1\nM05 P2", 2, 5 },
+        { DiagnosticCodes.LowercaseLetter, "O1\ng00 x1", 2, 1 },
+        { DiagnosticCodes.MissingWord, "O1\nG04", 2, 1 },
+    };
+
+    public static TheoryData<string, string> Good => new()
+    {
+        { DiagnosticCodes.IllegalCharacter, "O1\nG01 X1 F100 (ok: @ in a comment) ; and here @" },
+        { DiagnosticCodes.MalformedNumber, "O1\nG01 X1.23 Y.5 Z5. F+100" },
+        { DiagnosticCodes.UnclosedComment, "O1\nG01 X1 F100 (closed)(twice)" },
+        { DiagnosticCodes.UnknownGCode, "O1\nG0 X2\nG00 X1" },
+        { DiagnosticCodes.UnknownMCode, "O1\nM05" },
+        { DiagnosticCodes.NegativeValue, "O1\nG01 X-1 F5\nS100 M03" },
+        { DiagnosticCodes.ToolOutOfRange, "O1\nT24" },
+        { DiagnosticCodes.DecimalCode, "O1\nG1 X1 F100\nM3" },
+        { DiagnosticCodes.ModalGroupConflict, "O1\nG00 G17 G90 G21 G54 X1\nM03 M08" },
+        { DiagnosticCodes.NoFunction, "O1\nN10 M05" },
+        { DiagnosticCodes.DuplicateWord, "O1\nG00 X1 Y2" },
+        { DiagnosticCodes.MotionWithoutAxes, "O1\nF100\nG02 X2 Y0 R1\nG03 I-1\nG01\nG00" },
+        { DiagnosticCodes.ArcWithoutCenter, "O1\nF100\nG02 X2 Y0 I1 J0\nG18\nG03 X0 Z0 I-1" },
+        { DiagnosticCodes.ArcRadiusMismatch, "O1\nF100\nG02 X2 Y0 I1 J0\nG03 X0 Y0 R1\nG02 X2 Y0 R-1.0005" },
+        { DiagnosticCodes.FeedMoveWithoutFeed, "O1\nG01 X1 F100\nG00 X0" },
+        { DiagnosticCodes.UnsupportedLetter, "O1\nG00 X1 Y5 Z2" },
+        { DiagnosticCodes.EmptyProgram, "O1\nM05" },
+        { DiagnosticCodes.NulByte, "O1\nG00 X1" },
+        { DiagnosticCodes.NoProgramNumber, "%\nO1001 (PART)\nG00 X1\n%" },
+        { DiagnosticCodes.NoSequenceNumber, "O1\nG00 X1\nG00 Y1" },
+        { DiagnosticCodes.UnusedWord, "O1\nG00 X1\nG04 P200" },
+        { DiagnosticCodes.LowercaseLetter, "O1\nG00 X1 (lower case in comments is fine)" },
+        { DiagnosticCodes.MissingWord, "O1\nG04 P500\nG04 X1.5" },
+    };
+
+    [Theory]
+    [MemberData(nameof(Bad))]
+    public void Bad_block_triggers_the_code_at_its_line_and_column(string code, string program, int line, int column)
+    {
+        var diags = Check(program);
+        diags.Should().Contain(d => d.Code == code && d.Line == line && d.Column == column,
+            "{0} expected at {1}:{2}, got: {3}", code, line, column, string.Join(" | ", diags.Select(d => $"{d.Code}@{d.Line}:{d.Column}")));
+        diags.First(d => d.Code == code).Severity.Should().Be(code[0] == 'E' ? Severity.Error : Severity.Warning);
+    }
+
+    [Theory]
+    [MemberData(nameof(Good))]
+    public void Good_block_does_not_trigger_the_code(string code, string program)
+    {
+        var diags = Check(program);
+        diags.Should().NotContain(d => d.Code == code, string.Join(" | ", diags.Select(d => $"{d.Code}@{d.Line}:{d.Column} {d.Message}")));
+    }
+
+    [Fact]
+    public void Every_code_has_a_bad_case_and_a_good_case_and_both_messages()
+    {
+        var bad = Bad.Select(r => (string)r[0]).ToHashSet();
+        var good = Good.Select(r => (string)r[0]).ToHashSet();
+        var special = new[] { DiagnosticCodes.LineTooLong, DiagnosticCodes.Utf16File }; // byte-level cases below
+        foreach (var code in DiagnosticCodes.All)
+        {
+            (bad.Contains(code) || special.Contains(code)).Should().BeTrue($"{code} needs a bad case");
+            (good.Contains(code) || special.Contains(code)).Should().BeTrue($"{code} needs a good case");
+            DiagnosticText.IsRegistered(code).Should().BeTrue();
+            var en = DiagnosticText.Format(System.Globalization.CultureInfo.GetCultureInfo("en"), code, "X", "Y", "Z", "W");
+            var zh = DiagnosticText.Format(System.Globalization.CultureInfo.GetCultureInfo("zh-CN"), code, "X", "Y", "Z", "W");
+            en.Should().NotBe(zh);
+            zh.Should().MatchRegex(@"\p{IsCJKUnifiedIdeographs}");
+        }
+
+        DiagnosticCodes.All.Should().OnlyHaveUniqueItems();
+    }
+
+    [Fact]
+    public void Line_too_long_is_cut_and_reported_and_the_next_line_is_read()
+    {
+        var big = "O1\nG00 X1 (" + new string('A', GCodeReader.MaxLineLength + 10) + ")\nG00 Y@\n";
+        var diags = CheckBytes(Encoding.ASCII.GetBytes(big));
+        diags.Should().Contain(d => d.Code == DiagnosticCodes.LineTooLong && d.Line == 2 && d.Column == GCodeReader.MaxLineLength);
+        diags.Should().Contain(d => d.Code == DiagnosticCodes.MalformedNumber && d.Line == 3 && d.Column == 5);
+        CheckBytes(Encoding.ASCII.GetBytes("O1\nG00 X1 (" + new string('A', 1000) + ")\n")).Should().NotContain(d => d.Code == DiagnosticCodes.LineTooLong);
+    }
+
+    [Fact]
+    public void Utf16_is_reported_once_and_utf8_bom_is_skipped()
+    {
+        var utf16 = Encoding.Unicode.GetPreamble().Concat(Encoding.Unicode.GetBytes("O1\nG00 X1\n")).ToArray();
+        var d16 = CheckBytes(utf16);
+        d16.Should().ContainSingle().Which.Should().Match<Diagnostic>(d => d.Code == DiagnosticCodes.Utf16File && d.Line == 1 && d.Column == 1);
+
+        var utf8 = Encoding.UTF8.GetPreamble().Concat(Encoding.UTF8.GetBytes("O1\nG00 X1 (中文注释)\n")).ToArray();
+        CheckBytes(utf8).Should().BeEmpty();
+    }
+
+    [Fact]
+    public void Binary_input_says_binary_once_not_per_byte()
+    {
+        var rnd = new Random(7);
+        var bytes = new byte[20000];
+        rnd.NextBytes(bytes);
+        bytes[5] = 0;
+        bytes[9000] = 0;
+        var diags = CheckBytes(bytes);
+        diags.Count(d => d.Code == DiagnosticCodes.NulByte).Should().Be(1);
+        diags.Should().Contain(d => d.Severity == Severity.Error);
+    }
+
+    [Fact]
+    public void Cr_only_program_checks_clean_with_right_line_numbers()
+    {
+        var demo = File.ReadAllText(Path.Combine(RepoRoot.Path, "samples", "demo.nc")).Replace("\r\n", "\n");
+        var crOnly = demo.Replace('\n', '\r');
+        var (summary, diags) = new Checker(MachineProfile.Default).CheckText(crOnly);
+        diags.Should().BeEmpty();
+        summary.Lines.Should().Be(demo.TrimEnd('\n').Split('\n').Length);
+
+        var lines = demo.Split('\n');
+        lines[9] = "N90 F-1200.";
+        var (_, bad) = new Checker(MachineProfile.Default).CheckText(string.Join('\r', lines));
+        bad.Should().ContainSingle().Which.Should().Match<Diagnostic>(d => d.Code == DiagnosticCodes.NegativeValue && d.Line == 10 && d.Column == 5);
+    }
+
+    [Fact]
+    public void Demo_program_checks_clean_under_the_default_profile()
+    {
+        var (summary, diags) = new Checker(MachineProfile.Default).CheckText(File.ReadAllText(Path.Combine(RepoRoot.Path, "samples", "demo.nc")));
+        diags.Should().BeEmpty();
+        summary.Blocks.Should().BeGreaterThan(3000);
+        summary.EstimatedSeconds.Should().BeGreaterThan(0);
+    }
+
+    [Fact]
+    public void Reports_every_problem_not_only_the_first()
+    {
+        var diags = Check("O1\nG00 G01 X1 X2 Q3 @\nG05\nM99\n");
+        diags.Select(d => d.Code).Should().Contain(new[]
+        {
+            DiagnosticCodes.ModalGroupConflict, DiagnosticCodes.DuplicateWord, DiagnosticCodes.UnsupportedLetter,
+            DiagnosticCodes.IllegalCharacter, DiagnosticCodes.UnknownGCode, DiagnosticCodes.UnknownMCode,
+        });
+        diags.Select(d => d.Line).Should().BeInAscendingOrder();
+    }
+
+    [Fact]
+    public void Messages_follow_the_culture()
+    {
+        var zh = DiagnosticText.Format(System.Globalization.CultureInfo.GetCultureInfo("zh-CN"), DiagnosticCodes.ModalGroupConflict, "G", "0", "1", "GA");
+        zh.Should().Contain("同一组模态代码重用");
+        var en = DiagnosticText.Format(System.Globalization.CultureInfo.GetCultureInfo("en"), DiagnosticCodes.ModalGroupConflict, "G", "0", "1", "GA");
+        en.Should().Be("G0 and G1 are both in modal group GA: only one code of a group per block");
+    }
+}
