@@ -96,6 +96,9 @@ public sealed partial class PmacSimulator : IDisposable
 
     internal SimMemory Memory { get; } = new();
 
+    /// <summary>Unexpected exceptions caught while executing commands (a simulator bug; tests assert 0).</summary>
+    internal long InternalFaults { get; private set; }
+
     /// <summary>Opens a new port (a serial line, a TCP connection, an in-process client).</summary>
     public SimPort OpenPort(string name)
     {
@@ -428,9 +431,12 @@ public sealed partial class PmacSimulator : IDisposable
     private void Pump(double until, bool untilIdle, long maxIterations)
     {
         long iterations = 0;
+        var stalled = 0;
         var interval = Math.Max(1e-6, Options.PlcScanIntervalMs / 1000.0);
         while (true)
         {
+            var before = _now;
+            var movesBefore = _executed.Count;
             Settle();
             if (_now >= until)
             {
@@ -491,6 +497,14 @@ public sealed partial class PmacSimulator : IDisposable
 
             if (++iterations >= maxIterations)
             {
+                break;
+            }
+
+            // Guard against a clock that cannot move on (a bug must never hang a host or a test run).
+            stalled = _now > before || _executed.Count > movesBefore ? 0 : stalled + 1;
+            if (stalled > 10_000)
+            {
+                Log.Error("simulated clock stalled at {Time} s; giving up this advance", _now);
                 break;
             }
         }
