@@ -79,6 +79,19 @@ public sealed partial class PmacSimulator : IDisposable
         }
     }
 
+    /// <summary>
+    /// The executed moves from 0-based index <paramref name="fromIndex"/> on (Sequence = index + 1): for pollers that
+    /// should not copy the whole log each time.
+    /// </summary>
+    public IReadOnlyList<ExecutedMove> ExecutedMovesFrom(int fromIndex)
+    {
+        lock (_sync)
+        {
+            var start = Math.Clamp(fromIndex, 0, _executed.Count);
+            return _executed.GetRange(start, _executed.Count - start);
+        }
+    }
+
     /// <summary>A snapshot of the counters.</summary>
     public SimCounters Counters
     {
@@ -305,7 +318,10 @@ public sealed partial class PmacSimulator : IDisposable
 
         StopClock();
         _disposed = true;
-        _wake.Dispose();
+        lock (_sync)
+        {
+            _wake.Dispose();
+        }
     }
 
     internal ProgramBuffer? FindProgram(int number) => _programs.GetValueOrDefault(number);
@@ -363,7 +379,22 @@ public sealed partial class PmacSimulator : IDisposable
         }
     }
 
-    internal void Wake() => _wake.Set();
+    internal void Wake()
+    {
+        if (_disposed || _clock is null)
+        {
+            return; // nobody waits; after Dispose the event is gone
+        }
+
+        try
+        {
+            _wake.Set();
+        }
+        catch (ObjectDisposedException)
+        {
+            // disposed concurrently: nothing to wake
+        }
+    }
 
     private static char NormalizeSpace(char space)
     {

@@ -215,6 +215,26 @@ public class ProgramControlTests
     }
 
     [Fact]
+    public void Executed_moves_from_an_index_returns_only_the_newer_ones()
+    {
+        using var h = Loaded();
+        h.Ok("R");
+        h.Sim.RunUntilIdle();
+        h.Sim.ExecutedMovesFrom(3).Select(m => m.Sequence).Should().Equal(4, 5);
+        h.Sim.ExecutedMovesFrom(9).Should().BeEmpty();
+    }
+
+    [Fact]
+    public void A_disposed_simulator_refuses_commands_cleanly()
+    {
+        var h = new SimHarness(new SimOptions { Speed = SimSpeed.Instant });
+        h.Sim.StartClock();
+        h.Dispose();
+        h.Sim.ClockRunning.Should().BeFalse();
+        h.Send("P1").Should().Be("0<CR><ACK>", "the engine still answers; only the clock is gone");
+    }
+
+    [Fact]
     public void Speed_parses_the_cli_forms()
     {
         SimSpeed.Parse("realtime").Should().Be(SimSpeed.Realtime);
