@@ -46,6 +46,16 @@ internal sealed class ByteLine
         Append(text);
     }
 
+    /// <summary>Makes room for <paramref name="count"/> bytes and returns the free space after the content.</summary>
+    public Span<byte> Reserve(int count)
+    {
+        Ensure(count);
+        return _buffer.AsSpan(Length);
+    }
+
+    /// <summary>Takes what was written into the span <see cref="Reserve"/> returned, given what is left of it.</summary>
+    public void Commit(Span<byte> rest) => Length = _buffer.Length - rest.Length;
+
     public void Insert(int at, ReadOnlySpan<byte> bytes)
     {
         Ensure(bytes.Length);

@@ -19,26 +19,28 @@ internal enum BlockMotion
 /// Decides which blocks execute a move or a dwell. Kept small and separate so it can be swapped for the gcode
 /// helper's interpreter. Rule: G04 is a dwell; otherwise a block with an X Y Z A B C word moves, unless a G code on
 /// the same block takes the axis words as data (G10, G52, G92: on a PMAC their subroutines READ them, nothing moves).
-/// PMAC starts in LINEAR mode, so axis words move even before any G00/G01.
+/// PMAC starts in LINEAR mode, so axis words move even before any G00/G01. Stateless, so blocks are classified
+/// alone (the splitter never looks back).
 /// </summary>
-internal sealed class MotionClassifier
+internal static class MotionClassifier
 {
-    /// <summary>Classifies one block (its words only; comments, N and O are irrelevant).</summary>
-    public BlockMotion Classify(GBlock block)
+    /// <summary>Classifies one block from its words; <paramref name="endsProgram"/> tells whether it carries M02/M30.</summary>
+    public static BlockMotion Classify(ReadOnlySpan<GWord> words, out bool endsProgram)
     {
         var hasAxis = false;
         var dataOnly = false;
-        var words = block.Words;
-        for (var i = 0; i < words.Count; i++)
+        var dwell = false;
+        endsProgram = false;
+        foreach (ref readonly var w in words)
         {
-            var w = words[i];
             switch (w.Letter)
             {
                 case 'G':
                     switch (w.CodeTimesTen)
                     {
                         case 40:
-                            return BlockMotion.Dwell;
+                            dwell = true;
+                            break;
                         case 100:
                         case 520:
                         case 920:
@@ -47,6 +49,13 @@ internal sealed class MotionClassifier
                         case 923:
                             dataOnly = true;
                             break;
+                    }
+
+                    break;
+                case 'M':
+                    if (w.CodeTimesTen is 20 or 300)
+                    {
+                        endsProgram = true;
                     }
 
                     break;
@@ -61,21 +70,6 @@ internal sealed class MotionClassifier
             }
         }
 
-        return hasAxis && !dataOnly ? BlockMotion.Move : BlockMotion.None;
-    }
-
-    /// <summary>True when the block carries a program end code (M02 or M30).</summary>
-    public static bool EndsProgram(GBlock block)
-    {
-        var words = block.Words;
-        for (var i = 0; i < words.Count; i++)
-        {
-            if (words[i].Letter == 'M' && words[i].CodeTimesTen is 20 or 300)
-            {
-                return true;
-            }
-        }
-
-        return false;
+        return dwell ? BlockMotion.Dwell : hasAxis && !dataOnly ? BlockMotion.Move : BlockMotion.None;
     }
 }

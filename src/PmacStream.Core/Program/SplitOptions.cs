@@ -1,12 +1,10 @@
-using System.Text.RegularExpressions;
-
 namespace PmacStream.Program;
 
 /// <summary>
 /// How <see cref="Splitter"/> cuts a program into rotary-buffer chunks. Defaults follow seed 000: 1000 blocks per
 /// chunk, ~50 KB per chunk, <c>F(P500)</c> feeds, <c>M0==line</c> tracking (placed exactly, not as the paper did).
 /// </summary>
-public sealed partial record SplitOptions
+public sealed record SplitOptions
 {
     /// <summary>At most this many source blocks per chunk (the paper's 1000 lines).</summary>
     public int LinesPerChunk { get; init; } = 1000;
@@ -76,12 +74,12 @@ public sealed partial record SplitOptions
             throw new ArgumentException($"rot words, words per block and bytes per word must be positive (got {RotWords}, {WordsPerBlock}, {BytesPerWord})");
         }
 
-        if (!VariableName().IsMatch(TrackVariable) || !TrackVariable.StartsWith('M'))
+        if (!IsVariable(TrackVariable) || !TrackVariable.StartsWith('M'))
         {
             throw new ArgumentException($"track variable must be an M-variable such as M0 (got '{TrackVariable}')");
         }
 
-        if (!VariableName().IsMatch(FeedVariable))
+        if (!IsVariable(FeedVariable))
         {
             throw new ArgumentException($"feed variable must be a P, Q or M variable such as P500 (got '{FeedVariable}')");
         }
@@ -95,6 +93,7 @@ public sealed partial record SplitOptions
         }
     }
 
-    [GeneratedRegex("^[PQM][0-9]{1,4}$")]
-    private static partial Regex VariableName();
+    /// <summary>P, Q or M followed by 1-4 digits (no Regex: it would load an assembly for one check).</summary>
+    private static bool IsVariable(string name) =>
+        name.Length is >= 2 and <= 5 && name[0] is 'P' or 'Q' or 'M' && name.AsSpan(1).IndexOfAnyExceptInRange('0', '9') < 0;
 }

@@ -1,3 +1,5 @@
+using System.Buffers.Text;
+using System.Runtime.InteropServices;
 using System.Security.Cryptography;
 using System.Text;
 using PmacStream.GCode;
@@ -152,8 +154,6 @@ public static class Splitter
     {
         private static readonly byte[] HeaderBytes = Encoding.ASCII.GetBytes(Header);
         private static readonly byte[] FooterBytes = Encoding.ASCII.GetBytes(Footer);
-        private static readonly byte[] FeedOpen = "F("u8.ToArray();
-        private static readonly byte[] Assign = "=="u8.ToArray();
 
         private readonly string _source;
         private readonly string _folder;
@@ -161,19 +161,19 @@ public static class Splitter
         private readonly SplitOptions _o;
         private readonly IProgress<SplitProgress>? _progress;
         private readonly CancellationToken _ct;
-        private readonly MotionClassifier _classifier = new();
         private readonly byte[] _track;
         private readonly byte[] _feedVar;
         private readonly byte[] _tail;
         private readonly int _tailWords;
         private readonly ByteLine _block = new(256);
         private readonly ByteLine _chunk;
-        private readonly List<ChunkInfo> _chunks = [];
+        private readonly ChunkTable _chunks;
         private readonly List<Diagnostic> _errors = [];
         private int _errorCount;
         private int _warnings;
         private long _totalBytes;
         private GCodeReader? _reader;
+        private ChunkFileWriter? _writer;
 
         // Current chunk.
         private int _chunkBlocks;
@@ -191,6 +191,7 @@ public static class Splitter
             _source = source;
             _folder = folder;
             _name = Path.GetFileNameWithoutExtension(source);
+            _chunks = new ChunkTable(_name);
             _o = options;
             _progress = progress;
             _ct = ct;
@@ -214,44 +215,73 @@ public static class Splitter
 
         public (ChunkManifest Manifest, int Warnings) Execute()
         {
-            string sha;
             long size;
-            using (var hashing = new HashingReadStream(new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan)))
-            using (var reader = new GCodeReader(hashing, leaveOpen: true, bufferSize: 1 << 18))
+            // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
+            var sourceHash = Task.Run(() => HashFile(_source), _ct);
+            using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct))
             {
-                _totalBytes = hashing.Length;
-                _reader = reader;
-                var n = 0;
-                while (reader.Read())
+                _writer = writer;
+                using (var reader = new GCodeReader(
+                    new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan),
+                    leaveOpen: false, bufferSize: 1 << 18))
                 {
-                    if ((++n & 0x3FFF) == 0)
+                    _totalBytes = new FileInfo(_source).Length;
+                    _reader = reader;
+                    var n = 0;
+                    while (reader.Read())
                     {
-                        _ct.ThrowIfCancellationRequested();
+                        if ((++n & 0x3FFF) == 0)
+                        {
+                            _ct.ThrowIfCancellationRequested();
+                        }
+
+                        var b = reader.Current;
+                        if (b.LexicalDiagnostics.Count > 0)
+                        {
+                            Collect(b);
+                        }
+
+                        if (_errorCount > 0 && !_o.AllowErrors)
+                        {
+                            continue; // keep reading to list every error; nothing is written anyway
+                        }
+
+                        if (b.IsTapeMark || (b.BlockDelete && _o.BlockDelete))
+                        {
+                            continue;
+                        }
+
+                        Emit(b);
                     }
 
-                    var b = reader.Current;
-                    if (b.LexicalDiagnostics.Count > 0)
-                    {
-                        Collect(b);
-                    }
-
-                    if (_errorCount > 0 && !_o.AllowErrors)
-                    {
-                        continue; // keep reading to list every error; nothing is written anyway
-                    }
-
-                    if (b.IsTapeMark || (b.BlockDelete && _o.BlockDelete))
-                    {
-                        continue;
-                    }
-
-                    Emit(b);
+                    size = reader.Position;
                 }
 
-                sha = hashing.HexHash();
-                size = hashing.BytesRead;
+                Finish();
+                writer.Complete();
             }
 
+            var (sha, hashedSize) = sourceHash.GetAwaiter().GetResult();
+            if (hashedSize != size)
+            {
+                throw new IOException($"{_source}: changed while it was being split ({size} bytes read, {hashedSize} hashed)");
+            }
+
+            var manifest = new ChunkManifest(_source, size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
+                _o.Tracking, _o.Feed, _o.FeedVariable, _chunks)
+            {
+                LinesPerChunk = _o.LinesPerChunk,
+                RotWords = _o.RotWords,
+                WordsPerBlock = _o.WordsPerBlock,
+                MaxChunkBytes = _o.MaxChunkBytes,
+                ProgramTail = _o.ProgramTail,
+                KeepN = _o.KeepN,
+            };
+            return (manifest, _warnings);
+        }
+
+        private void Finish()
+        {
             if (_errorCount > 0 && !_o.AllowErrors)
             {
                 throw new SplitException(
@@ -265,17 +295,13 @@ public static class Splitter
             }
 
             Flush(last: true);
-            var manifest = new ChunkManifest(_source, size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
-                _o.Tracking, _o.Feed, _o.FeedVariable, _chunks)
-            {
-                LinesPerChunk = _o.LinesPerChunk,
-                RotWords = _o.RotWords,
-                WordsPerBlock = _o.WordsPerBlock,
-                MaxChunkBytes = _o.MaxChunkBytes,
-                ProgramTail = _o.ProgramTail,
-                KeepN = _o.KeepN,
-            };
-            return (manifest, _warnings);
+        }
+
+        private static (string Sha, long Size) HashFile(string path)
+        {
+            using var fs = new FileStream(path, FileMode.Open, FileAccess.Read, FileShare.Read, 1 << 20, FileOptions.SequentialScan);
+            var sha = Convert.ToHexStringLower(SHA256.HashData(fs));
+            return (sha, fs.Length);
         }
 
         private void Collect(GBlock b)
@@ -299,12 +325,14 @@ public static class Splitter
 
         private void Emit(GBlock b)
         {
-            var words = b.Words;
+            // Hot path: spans over the reader's own word list and line bytes, no allocation per block.
+            var words = CollectionsMarshal.AsSpan(b.WordList);
+            var src = b.Buffer;
             var paperFeed = _o.Feed == FeedMode.Paper;
             var feedIndex = -1;
             var nIndex = -1;
             var any = false;
-            for (var i = 0; i < words.Count; i++)
+            for (var i = 0; i < words.Length; i++)
             {
                 switch (words[i].Letter)
                 {
@@ -327,87 +355,123 @@ public static class Splitter
                 return; // empty, comment-only, N-only or O-only: nothing for the controller
             }
 
-            var motion = any ? _classifier.Classify(b) : BlockMotion.None;
-            var endsProgram = motion == BlockMotion.None && MotionClassifier.EndsProgram(b);
+            var endsProgram = false;
+            var motion = any ? MotionClassifier.Classify(words, out endsProgram) : BlockMotion.None;
+            endsProgram &= motion == BlockMotion.None;
             var line = _block;
             line.Clear();
+            // Upper bound: every word's text plus a separator, the source line once more (for P500=F), markers.
+            var o = line.Reserve((2 * b.Length) + (2 * words.Length) + 64 + (2 * (_track.Length + _feedVar.Length)));
             var values = 0;
             if (feedIndex >= 0)
             {
                 // Where the program sets F, the value goes into the feed variable so F(P500) keeps it.
-                line.Append(_feedVar);
-                line.Append((byte)'=');
-                line.AppendNumber(b.NumberText(words[feedIndex]));
-                line.AppendCrLf();
+                o = Put(o, _feedVar);
+                o[0] = (byte)'=';
+                o = Number(o[1..], src, words[feedIndex]);
+                o[0] = (byte)'\r';
+                o[1] = (byte)'\n';
+                o = o[2..];
                 values++;
             }
 
             if (any)
             {
-                var start = line.Length;
+                var sep = false;
                 if (_o.KeepN && nIndex >= 0)
                 {
-                    line.Append((byte)'N');
-                    line.AppendNumber(b.NumberText(words[nIndex]));
+                    o[0] = (byte)'N';
+                    o = Number(o[1..], src, words[nIndex]);
+                    sep = true;
                     values++;
                 }
 
-                if (motion != BlockMotion.None && _o.Tracking == TrackingPlacement.Exact)
+                var tracked = motion != BlockMotion.None;
+                if (tracked && _o.Tracking == TrackingPlacement.Exact)
                 {
-                    Separate(line, start);
-                    AppendTrack(line, b.LineNumber);
+                    if (sep)
+                    {
+                        o[0] = (byte)' ';
+                        o = o[1..];
+                    }
+
+                    o = Track(o, b.LineNumber);
+                    sep = true;
                     values++;
                 }
 
-                for (var i = 0; i < words.Count; i++)
+                foreach (ref readonly var w in words)
                 {
-                    var w = words[i];
                     if (w.Letter is 'N' or 'O' || (w.Letter == 'F' && paperFeed))
                     {
                         continue;
                     }
 
-                    Separate(line, start);
-                    line.Append((byte)w.Letter);
-                    line.AppendNumber(b.NumberText(w));
+                    if (sep)
+                    {
+                        o[0] = (byte)' ';
+                        o = o[1..];
+                    }
+
+                    o[0] = (byte)w.Letter;
+                    o = Number(o[1..], src, w);
+                    sep = true;
                     values++;
                 }
 
                 if (motion == BlockMotion.Move && paperFeed)
                 {
-                    line.Append((byte)' ');
-                    line.Append(FeedOpen);
-                    line.Append(_feedVar);
-                    line.Append((byte)')');
+                    o[0] = (byte)' ';
+                    o[1] = (byte)'F';
+                    o[2] = (byte)'(';
+                    o = Put(o[3..], _feedVar);
+                    o[0] = (byte)')';
+                    o = o[1..];
                     values++;
                 }
 
-                if (motion != BlockMotion.None && _o.Tracking == TrackingPlacement.Paper)
+                if (tracked && _o.Tracking == TrackingPlacement.Paper)
                 {
-                    line.Append((byte)' ');
-                    AppendTrack(line, b.LineNumber);
+                    o[0] = (byte)' ';
+                    o = Track(o[1..], b.LineNumber);
                     values++;
                 }
 
-                line.AppendCrLf();
+                o[0] = (byte)'\r';
+                o[1] = (byte)'\n';
+                o = o[2..];
             }
 
+            line.Commit(o);
             Add(b.LineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
         }
 
-        private static void Separate(ByteLine line, int start)
+        private static Span<byte> Put(Span<byte> o, byte[] bytes)
         {
-            if (line.Length > start)
-            {
-                line.Append((byte)' ');
-            }
+            bytes.CopyTo(o);
+            return o[bytes.Length..];
         }
 
-        private void AppendTrack(ByteLine line, int sourceLine)
+        /// <summary>A number as written in the source, minus a leading <c>+</c> (the PMAC reads it as an operator).</summary>
+        private static Span<byte> Number(Span<byte> o, byte[] src, in GWord w)
         {
-            line.Append(_track);
-            line.Append(Assign);
-            line.Append(sourceLine);
+            var text = src.AsSpan(w.NumberStart, w.NumberLength);
+            if (text.Length > 1 && text[0] == (byte)'+')
+            {
+                text = text[1..];
+            }
+
+            text.CopyTo(o);
+            return o[text.Length..];
+        }
+
+        private Span<byte> Track(Span<byte> o, int sourceLine)
+        {
+            o = Put(o, _track);
+            o[0] = (byte)'=';
+            o[1] = (byte)'=';
+            Utf8Formatter.TryFormat(sourceLine, o[2..], out var written);
+            return o[(2 + written)..];
         }
 
         private void Add(int sourceLine, bool motion, bool endsProgram, int words)
@@ -471,22 +535,14 @@ public static class Splitter
             }
 
             _chunk.Append(FooterBytes);
-            var index = _chunks.Count + 1;
-            var fileName = $"{_name}_{index:D4}{ChunkExtension}";
             var data = _chunk.Span;
-            using (var fs = new FileStream(Path.Combine(_folder, fileName), FileMode.CreateNew, FileAccess.Write, FileShare.None, 1))
-            {
-                fs.Write(data);
-            }
-
-            var sha = Convert.ToHexStringLower(SHA256.HashData(data));
-            _chunks.Add(new ChunkInfo(index, fileName, _chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, data.Length, words, sha));
+            var index = _chunks.Add(_chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, data.Length, words);
+            _writer!.Enqueue(index, Path.Combine(_folder, _chunks.FileName(index)), data);
             _chunk.Clear();
             _chunk.Append(HeaderBytes);
             _chunkBlocks = 0;
             _chunkMotion = 0;
             _chunkWords = 0;
-            _o.AfterChunkWritten?.Invoke(index);
             _progress?.Report(new SplitProgress(_reader?.Position ?? _totalBytes, _totalBytes, _chunks.Count, _totalBlocks));
         }
     }
