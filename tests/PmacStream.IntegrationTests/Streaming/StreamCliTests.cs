@@ -91,7 +91,10 @@ public sealed class StreamCliTests : IDisposable
         var lib = new InProcessConnection(sim.OpenPort("setup"));
         await lib.DownloadAsync(SimRig.Library);
         await lib.GetResponseAsync("P500=6000");
-        await using var server = new PmacTcpServer(() => sim.OpenPort("tcp"), new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
+        // A Turbo PMAC has one Ethernet port whatever the number of TCP connections: a buffer the killed host left
+        // open is still open on it, and the resuming host's CLOSE closes it.
+        var ethernet = sim.OpenPort("ethernet");
+        await using var server = new PmacTcpServer(() => ethernet, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
         server.Start();
         sim.StartClock();
         var spec = $"127.0.0.1:{server.Port}";
