@@ -97,6 +97,7 @@ public sealed class StreamCliTests : IDisposable
         await using var server = new PmacTcpServer(() => ethernet, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
         server.Start();
         sim.StartClock();
+        using var stopClock = new StopClockOnDispose(sim);
         var spec = $"127.0.0.1:{server.Port}";
 
         // First host: killed once execution is well into the job (past the first chunk boundary).
@@ -175,4 +176,10 @@ public sealed class StreamCliTests : IDisposable
         using var after = JobStore.Open(db);
         after.Get(id)!.Checkpoint!.State.Should().Be(SessionState.Completed);
     }
+}
+
+/// <summary>Stops the simulator's clock thread even when an assertion fails, before the simulator is disposed.</summary>
+internal sealed class StopClockOnDispose(PmacSimulator sim) : IDisposable
+{
+    public void Dispose() => sim.StopClock();
 }
