@@ -28,7 +28,7 @@ internal static class Lexer
 {
     private static readonly string[] Keywords =
     [
-        "ABS", "ACOS", "AND", "ASIN", "ATAN", "ATAN2", "CALL", "CID", "CIRCLE", "CLEAR", "CLOSE", "COS", "DATE", "DEF",
+        "ABS", "ACOS", "AND", "ASIN", "ATAN", "ATAN2", "CALL", "CC", "CCR", "CID", "CIRCLE", "CLEAR", "CLOSE", "COS", "DATE", "DEF",
         "DEFINE", "DEL", "DELAY", "DELETE", "DIS", "DISABLE", "DWELL", "ELSE", "ENA", "ENABLE", "ENDI", "ENDIF", "ENDW",
         "ENDWHILE", "EXP", "GAT", "GATHER", "GOSUB", "GOTO", "IF", "INC", "INT", "LINEAR", "LIST", "LN", "NORMAL", "OPEN",
         "OR", "PLC", "PR", "PROG", "RAPID", "READ", "RET", "RETURN", "ROT", "SAVE", "SIN", "SQRT", "STOP", "TA", "TAN",
