@@ -121,6 +121,12 @@ internal sealed class CoordinateSystem : IVariableAccess
 
     private double Tm { get; set; }
 
+    /// <summary>Cutter radius compensation mode: 0 off (CC0), 1 left (CC1), 2 right (CC2).</summary>
+    public int CutterComp { get; private set; }
+
+    /// <summary>Cutter radius (CCR).</summary>
+    public double CutterRadius { get; private set; }
+
     private bool IncrementalRadius { get; set; }
 
     private (double I, double J, double K) Normal { get; set; }
@@ -354,7 +360,7 @@ internal sealed class CoordinateSystem : IVariableAccess
                 return;
             }
 
-            if (_blockedBy is not null)
+            if (_blockedBy is not null || _programEnded || Quitting || !Running)
             {
                 return;
             }
@@ -461,6 +467,13 @@ internal sealed class CoordinateSystem : IVariableAccess
                         case ParamKind.Tm:
                             Tm = v;
                             TimeMode = true;
+                            break;
+                        case ParamKind.CutterComp:
+                            // Accepted and remembered; the simulated path stays the programmed (uncompensated) one.
+                            CutterComp = (int)v;
+                            break;
+                        case ParamKind.CutterRadius:
+                            CutterRadius = v;
                             break;
                     }
 
@@ -619,12 +632,12 @@ internal sealed class CoordinateSystem : IVariableAccess
         }
 
         var caller = _stack[^1];
-        var q100 = (long)Get('Q', 100);
+        var q100 = 0L; // READ reports only the letters this call received
         var line = caller.Buffer[caller.Line].Statements;
-        while (caller.Stmt < line.Length && line[caller.Stmt] is WordStmt w && letters.Contains(w.Letter))
+        while (caller.Stmt < line.Length && ArgumentOf(line[caller.Stmt]) is { } arg && letters.Contains(arg.Letter))
         {
-            var n = w.Letter - 'A';
-            Set('Q', 101 + n, w.Value.Eval(this));
+            var n = arg.Letter - 'A';
+            Set('Q', 101 + n, arg.Value.Eval(this));
             q100 |= 1L << n;
             caller.Stmt++;
         }
@@ -632,6 +645,15 @@ internal sealed class CoordinateSystem : IVariableAccess
         Set('Q', 100, q100);
         _stack[^1] = caller;
     }
+
+    /// <summary>Any letter-value pair after a call is an argument READ can take (F and M/G/T/D included).</summary>
+    private static (char Letter, Expr Value)? ArgumentOf(Stmt s) => s switch
+    {
+        WordStmt w => (w.Letter, w.Value),
+        ParamStmt { Kind: ParamKind.Feed } f => ('F', f.Value),
+        CodeCallStmt c => (c.Letter, c.Code),
+        _ => null,
+    };
 
     private void ExecuteMove()
     {
@@ -948,7 +970,8 @@ internal sealed class CoordinateSystem : IVariableAccess
         if (Math.Abs(OverrideCurrent - target) > 1e-9)
         {
             var rate = Math.Max(1e-6, _sim.Options.OverrideSlewPercentPerSecond);
-            return now + Math.Min(0.001, Math.Abs(target - OverrideCurrent) / rate);
+            var step = Math.Max(1e-6, Math.Min(0.001, Math.Abs(target - OverrideCurrent) / rate));
+            return now + step; // at least 1 us so that time always moves on while slewing
         }
 
         if (cur.Remaining <= Epsilon)

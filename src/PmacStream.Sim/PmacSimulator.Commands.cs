@@ -28,6 +28,14 @@ public sealed partial class PmacSimulator
                 error = e.Error;
                 _errors++;
             }
+            catch (Exception e) when (e is not OutOfMemoryException)
+            {
+                // A simulator bug must not take a server down: answer ERR003 and remember it for the tests.
+                error = 3;
+                _errors++;
+                InternalFaults++;
+                Log.Error(e, "simulator fault on {Port} for '{Line}'", port.Name, line);
+            }
 
             // Let the controller react at this instant (calculation after R, zero-time moves).
             Pump(_now, untilIdle: false, maxIterations: 1);
@@ -202,7 +210,7 @@ public sealed partial class PmacSimulator
                 case "%":
                     if (p.AtValue)
                     {
-                        cs.OverrideTarget = Math.Clamp(((ConstExpr)p.ParseValue()).Value, 0, 32767);
+                        cs.OverrideTarget = Math.Clamp(p.ParseValue().Eval(cs), 0, 32767);
                     }
                     else
                     {
@@ -514,7 +522,7 @@ public sealed partial class PmacSimulator
         var scaleValue = 1.0;
         if (p.Peek.Kind == TokenKind.Number || p.Peek.Is("-"))
         {
-            scaleValue = ((ConstExpr)p.ParseValue()).Value;
+            scaleValue = p.ParseValue().Eval(_cs[1]);
         }
 
         var letter = p.Next();

@@ -79,6 +79,19 @@ public sealed partial class PmacSimulator : IDisposable
         }
     }
 
+    /// <summary>
+    /// The executed moves from 0-based index <paramref name="fromIndex"/> on (Sequence = index + 1): for pollers that
+    /// should not copy the whole log each time.
+    /// </summary>
+    public IReadOnlyList<ExecutedMove> ExecutedMovesFrom(int fromIndex)
+    {
+        lock (_sync)
+        {
+            var start = Math.Clamp(fromIndex, 0, _executed.Count);
+            return _executed.GetRange(start, _executed.Count - start);
+        }
+    }
+
     /// <summary>A snapshot of the counters.</summary>
     public SimCounters Counters
     {
@@ -95,6 +108,9 @@ public sealed partial class PmacSimulator : IDisposable
     public bool ClockRunning => _clock is not null;
 
     internal SimMemory Memory { get; } = new();
+
+    /// <summary>Unexpected exceptions caught while executing commands (a simulator bug; tests assert 0).</summary>
+    internal long InternalFaults { get; private set; }
 
     /// <summary>Opens a new port (a serial line, a TCP connection, an in-process client).</summary>
     public SimPort OpenPort(string name)
@@ -302,7 +318,10 @@ public sealed partial class PmacSimulator : IDisposable
 
         StopClock();
         _disposed = true;
-        _wake.Dispose();
+        lock (_sync)
+        {
+            _wake.Dispose();
+        }
     }
 
     internal ProgramBuffer? FindProgram(int number) => _programs.GetValueOrDefault(number);
@@ -360,7 +379,22 @@ public sealed partial class PmacSimulator : IDisposable
         }
     }
 
-    internal void Wake() => _wake.Set();
+    internal void Wake()
+    {
+        if (_disposed || _clock is null)
+        {
+            return; // nobody waits; after Dispose the event is gone
+        }
+
+        try
+        {
+            _wake.Set();
+        }
+        catch (ObjectDisposedException)
+        {
+            // disposed concurrently: nothing to wake
+        }
+    }
 
     private static char NormalizeSpace(char space)
     {
@@ -428,9 +462,12 @@ public sealed partial class PmacSimulator : IDisposable
     private void Pump(double until, bool untilIdle, long maxIterations)
     {
         long iterations = 0;
+        var stalled = 0;
         var interval = Math.Max(1e-6, Options.PlcScanIntervalMs / 1000.0);
         while (true)
         {
+            var before = _now;
+            var movesBefore = _executed.Count;
             Settle();
             if (_now >= until)
             {
@@ -491,6 +528,14 @@ public sealed partial class PmacSimulator : IDisposable
 
             if (++iterations >= maxIterations)
             {
+                break;
+            }
+
+            // Guard against a clock that cannot move on (a bug must never hang a host or a test run).
+            stalled = _now > before || _executed.Count > movesBefore ? 0 : stalled + 1;
+            if (stalled > 10_000)
+            {
+                Log.Error("simulated clock stalled at {Time} s; giving up this advance", _now);
                 break;
             }
         }

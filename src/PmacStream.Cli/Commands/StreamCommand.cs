@@ -151,7 +151,20 @@ internal sealed class StreamTarget : IAsyncDisposable
         {
             var sim = new PmacSimulator(new SimOptions { Speed = speed });
             var conn = new InProcessConnection(sim.OpenPort("stream"), "sim");
-            await conn.DownloadAsync(SimLibrary.Lines, ct).ConfigureAwait(false);
+            // Line by line: a library routine the simulator cannot run (e.g. cutter compensation CC0/CC1) is left out
+            // with a warning instead of stopping the job; the other routines are stored.
+            foreach (var line in SimLibrary.Lines())
+            {
+                try
+                {
+                    await conn.GetResponseAsync(line, ct).ConfigureAwait(false);
+                }
+                catch (PmacErrorException e)
+                {
+                    Serilog.Log.Warning("simulator refused library line '{Line}' (ERR{Number:000}); that routine is left out", line, e.Number);
+                }
+            }
+
             // The tick loop steps the virtual clock itself (deterministic); "instant" means as fast as sensible.
             return new StreamTarget(spec, conn, sim, speed.IsInstant ? 1000 : speed.Multiplier);
         }
@@ -186,29 +199,14 @@ internal sealed class StreamTarget : IAsyncDisposable
     }
 }
 
-/// <summary>A minimal PROG 1000/1001 G-code library for the simulator (G00-G04, planes, G90/G91; M03/M05).</summary>
+/// <summary>The PROG 1000/1001 G and M code library the simulator needs (the splitter's generator, default profile).</summary>
 internal static class SimLibrary
 {
-    public static readonly string[] Lines =
-    [
-        "OPEN PROG 1000 CLEAR",
-        "N0 RAPID RET",
-        "N1000 LINEAR RET",
-        "N2000 CIRCLE1 RET",
-        "N3000 CIRCLE2 RET",
-        "N4000 READ(P) DWELL(Q116) RET",
-        "N17000 NORMAL K-1 RET",
-        "N18000 NORMAL J-1 RET",
-        "N19000 NORMAL I-1 RET",
-        "N90000 ABS RET",
-        "N91000 INC RET",
-        "CLOSE",
-        "OPEN PROG 1001 CLEAR",
-        "N3000 M1=1 RET",
-        "N4000 M1=1 RET",
-        "N5000 DWELL0 M1=0 RET",
-        "CLOSE",
-    ];
+    public static IReadOnlyList<string> Lines() =>
+        Prog1000Library.Generate(GCode.MachineProfile.Default, new Prog1000Options { Comments = false })
+            .Split('\n', StringSplitOptions.RemoveEmptyEntries | StringSplitOptions.TrimEntries)
+            .Where(l => l.Length > 0 && l[0] != ';')
+            .ToList();
 }
 
 /// <summary>What stream, resume and demo share: preparing the split, the tick loop, progress and the final count.</summary>
@@ -245,7 +243,7 @@ internal static class StreamRunner
             SimSpeed = new Option<string>("--sim-speed") { Description = "Simulator clock: realtime, Nx (e.g. 20x) or instant.", DefaultValueFactory = _ => forDemo ? "60x" : "20x" },
             BufferWords = new Option<int>("--buffer-words") { Description = "Rotary buffer size in words (the simulator's is defined to this).", DefaultValueFactory = _ => 16_000 },
             TickMs = new Option<int>("--tick-ms") { Description = "Timer period (the paper's timer1 interval), milliseconds.", DefaultValueFactory = _ => 50 },
-            SingleBlock = new Option<bool>("--single-block") { Description = "Single-block mode: run one block per start." },
+            SingleBlock = new Option<bool>("--single-block") { Description = "Single-block mode (HMI only: each block needs a start)." },
             SafeZ = new Option<double>("--safe-z") { Description = "Safe Z for the approach when starting from a line.", DefaultValueFactory = _ => 10.0 },
         };
         if (!forDemo)
@@ -256,7 +254,6 @@ internal static class StreamRunner
             cmd.Options.Add(o.Yes);
             cmd.Options.Add(o.JobDb);
             cmd.Options.Add(o.SafeZ);
-            cmd.Options.Add(o.SingleBlock);
         }
 
         cmd.Options.Add(o.SimSpeed);

@@ -46,6 +46,9 @@ public sealed class Checker
     }
 
     /// <summary>Checks a stream, calling <paramref name="onDiagnostic"/> in line order and <paramref name="onBlock"/> for each interpreted block.</summary>
+    // Hot loop of a million-line program: compile optimized at once instead of spending the first
+    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
     public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default)
     {
         var sw = Stopwatch.StartNew();

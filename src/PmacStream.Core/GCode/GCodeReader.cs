@@ -125,6 +125,9 @@ public sealed class GCodeReader : IDisposable
         return true;
     }
 
+    // Hot loop of a million-line program: compile optimized at once instead of spending the first
+    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
     private bool ReadLine()
     {
         var b = _block;
@@ -207,6 +210,9 @@ public sealed class GCodeReader : IDisposable
         b.Length += data.Length;
     }
 
+    // Hot loop of a million-line program: compile optimized at once instead of spending the first
+    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
     private static void Lex(GBlock b)
     {
         b.WordList.Clear();
@@ -355,6 +361,9 @@ public sealed class GCodeReader : IDisposable
         return $"0x{c:X2}";
     }
 
+    // Hot loop of a million-line program: compile optimized at once instead of spending the first
+    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
     private static double ParseNumber(ReadOnlySpan<byte> text)
     {
         // Fast path for the common case; falls back to the BCL for exotic lengths.

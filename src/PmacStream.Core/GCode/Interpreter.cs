@@ -131,6 +131,9 @@ public sealed class Interpreter
     };
 
     /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
+    // Hot loop of a million-line program: compile optimized at once instead of spending the first
+    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
     internal bool StepCore(GBlock block, List<Diagnostic>? diags)
     {
         var words = block.WordList;
@@ -191,9 +194,8 @@ public sealed class Interpreter
                 {
                     if (diags != null)
                     {
-                        var first = ModalState.Num(isG ? gIn[group] : mIn[group]);
                         var names = isG ? MachineProfile.GGroupNames : MachineProfile.MGroupNames;
-                        Add(diags, DiagnosticCodes.ModalGroupConflict, line, w.Column, w.Letter, first, Ascii(block.NumberText(w)), names[group]);
+                        Add(diags, DiagnosticCodes.ModalGroupConflict, line, w.Column, w.Letter, CodeText(isG ? gIn[group] : mIn[group]), CodeText(w.Value), names[group]);
                     }
 
                     continue;
@@ -694,6 +696,8 @@ public sealed class Interpreter
 
         return _snapshot;
     }
+
+    private static string CodeText(double code) => (code < 10 ? "0" : string.Empty) + ModalState.Num(code);
 
     private static string Ascii(ReadOnlySpan<byte> text) => Encoding.ASCII.GetString(text);
 

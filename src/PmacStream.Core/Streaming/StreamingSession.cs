@@ -60,6 +60,7 @@ public sealed class StreamingSession
     private int _lastDurableChunk;
     private bool _runSent;
     private long _ticks;
+    private bool _statusUnsupported;
 
     /// <summary>Creates a session on a PComm-style device facade; downloads go through its <c>Download</c>.</summary>
     public StreamingSession(IPmacDevices devices, ChunkedProgram program, StreamingOptions options, ICheckpointSink? checkpoints = null, IMoveTimes? moveTimes = null, TimeProvider? time = null, IStreamingStrategy? strategy = null)
@@ -563,7 +564,7 @@ public sealed class StreamingSession
             _next = new StreamPosition(p.Chunk + 1, 0);
             _nextExact = true;
             _chunksDownloaded++;
-            var at = $"{_track}={_tracked}, {ChunkFraction:P0} of chunk {_currentChunk}";
+            var at = _state == SessionState.Idle ? "the start" : $"{_track}={_tracked}, {ChunkFraction:P0} of chunk {_currentChunk}";
             Log.Information("{Kind} chunk {Chunk} ({Lines} lines) at {At}", late ? "late download of" : "downloaded", p.Chunk, body.Count, at);
             Raise(late ? StreamingEventKind.ChunkDownloadedLate : StreamingEventKind.ChunkDownloaded,
                 late ? $"chunk {p.Chunk} downloaded late (window missed) at {at}" : $"chunk {p.Chunk} downloaded at {at}", p.Chunk);
@@ -879,8 +880,11 @@ public sealed class StreamingSession
 
     private async Task DrainStepAsync(CancellationToken cancellationToken)
     {
+        // Drained means every line calculated (PR 0) and every calculated move done: with lookahead M0 still lags
+        // the calculated lines until motion stops, so the coordinate system status must say "not moving" as well.
         var pr = await ReadLinesAheadAsync(cancellationToken).ConfigureAwait(false);
-        if (pr == 0 && _tracked == _drainLastTracked)
+        var still = pr == 0 && await MotionStoppedAsync(cancellationToken).ConfigureAwait(false);
+        if (still && _tracked == _drainLastTracked)
         {
             _drainStableReads++;
         }
@@ -890,7 +894,7 @@ public sealed class StreamingSession
         }
 
         _drainLastTracked = _tracked;
-        if (_drainStableReads < 1)
+        if (_drainStableReads < (_statusUnsupported ? 5 : 1))
         {
             return;
         }
@@ -912,6 +916,30 @@ public sealed class StreamingSession
         _strategy.Reset();
         Note($"buffer drained at line {_tracked}; sending continues at {_next}");
         Raise(StreamingEventKind.Recovered, _message, _currentChunk);
+    }
+
+    /// <summary>
+    /// Reads the coordinate system status (<c>&amp;n??</c>): true when no move is executing or queued (second word:
+    /// bit 17 in position, bit 21 segments queued). A controller that does not answer it in that shape is treated as
+    /// stopped, and the drain then waits for several stable readings instead.
+    /// </summary>
+    private async Task<bool> MotionStoppedAsync(CancellationToken cancellationToken)
+    {
+        if (_statusUnsupported)
+        {
+            return true;
+        }
+
+        // An ERR reply here is a fault like any other (it must not be mistaken for "stopped").
+        var text = FirstValue(await OnlineAsync($"{_cs}??", cancellationToken).ConfigureAwait(false)).Replace(" ", string.Empty, StringComparison.Ordinal);
+        if (text.Length >= 12 && int.TryParse(text.AsSpan(6, 6), NumberStyles.HexNumber, CultureInfo.InvariantCulture, out var w2))
+        {
+            return (w2 & (1 << 17)) != 0 && (w2 & (1 << 21)) == 0;
+        }
+
+        Log.Warning("unexpected status reply '{Text}' to {Cs}??; the drain falls back to stable M0 readings", text, _cs);
+        _statusUnsupported = true;
+        return true;
     }
 
     private async Task CheckDryAndDoneAsync(CancellationToken cancellationToken)

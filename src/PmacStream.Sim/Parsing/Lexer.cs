@@ -28,7 +28,7 @@ internal static class Lexer
 {
     private static readonly string[] Keywords =
     [
-        "ABS", "ACOS", "AND", "ASIN", "ATAN", "ATAN2", "CALL", "CID", "CIRCLE", "CLEAR", "CLOSE", "COS", "DATE", "DEF",
+        "ABS", "ACOS", "AND", "ASIN", "ATAN", "ATAN2", "CALL", "CC", "CCR", "CID", "CIRCLE", "CLEAR", "CLOSE", "COS", "DATE", "DEF",
         "DEFINE", "DEL", "DELAY", "DELETE", "DIS", "DISABLE", "DWELL", "ELSE", "ENA", "ENABLE", "ENDI", "ENDIF", "ENDW",
         "ENDWHILE", "EXP", "GAT", "GATHER", "GOSUB", "GOTO", "IF", "INC", "INT", "LINEAR", "LIST", "LN", "NORMAL", "OPEN",
         "OR", "PLC", "PR", "PROG", "RAPID", "READ", "RET", "RETURN", "ROT", "SAVE", "SIN", "SQRT", "STOP", "TA", "TAN",
@@ -36,7 +36,10 @@ internal static class Lexer
     ];
 
     private static readonly HashSet<string> KeywordSet = new(Keywords, StringComparer.Ordinal);
+    private static readonly HashSet<string>.AlternateLookup<ReadOnlySpan<char>> KeywordLookup = KeywordSet.GetAlternateLookup<ReadOnlySpan<char>>();
     private static readonly int MaxKeyword = Keywords.Max(k => k.Length);
+
+    private static readonly string[] SingleLetters = Enumerable.Range('A', 26).Select(c => ((char)c).ToString()).ToArray();
 
     private static readonly string[] TwoCharSymbols = ["==", "!=", "<=", ">=", "!<", "!>", "->", ".."];
 
@@ -173,11 +176,11 @@ internal static class Lexer
         while (i < end)
         {
             var matched = 0;
+            string? keyword = null;
             for (var len = Math.Min(MaxKeyword, end - i); len >= 2; len--)
             {
-                if (KeywordSet.Contains(line.Substring(i, len)))
+                if (KeywordLookup.TryGetValue(line.AsSpan(i, len), out keyword))
                 {
-                    // "CIRCLE" is only the keyword when followed by its digit; everything else is whole.
                     matched = len;
                     break;
                 }
@@ -186,9 +189,10 @@ internal static class Lexer
             if (matched == 0)
             {
                 matched = 1;
+                keyword = SingleLetters[line[i] - 'A'];
             }
 
-            tokens.Add(new Token(TokenKind.Word, line.Substring(i, matched), 0, i, i + matched));
+            tokens.Add(new Token(TokenKind.Word, keyword!, 0, i, i + matched));
             i += matched;
         }
     }

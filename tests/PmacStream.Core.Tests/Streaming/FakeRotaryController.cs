@@ -123,6 +123,9 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
                 return Ok(_buffer.Count.ToString(CultureInfo.InvariantCulture));
             case "&1%":
                 return Ok(Override.ToString(CultureInfo.InvariantCulture));
+            case "&1??":
+                // Second word: bit 17 in position (not moving), bit 21 segments queued (none here: no lookahead).
+                return Ok($"{(Running ? 0xA80011 : 0xA80000):X6}{(_moveLeft > 0 ? 0 : 1 << 17):X6}000000");
             case "DELETEGATHER":
                 return Ok();
         }
