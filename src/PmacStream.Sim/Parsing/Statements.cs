@@ -328,6 +328,14 @@ internal static class ProgramParser
     public static List<Stmt> ParseRun(ExprParser p)
     {
         var list = new List<Stmt>();
+        ParseRun(p, list);
+        return list;
+    }
+
+    /// <summary>Parses a run of statements into <paramref name="list"/> (cleared first), so a caller can reuse one list.</summary>
+    public static void ParseRun(ExprParser p, List<Stmt> list)
+    {
+        list.Clear();
         while (TryParse(p) is { } s)
         {
             list.Add(s);
@@ -344,8 +352,6 @@ internal static class ProgramParser
                 w.SingleLine = true;
             }
         }
-
-        return list;
     }
 
     public static bool IsAxis(char letter) => AxisLetters.Contains(letter);
