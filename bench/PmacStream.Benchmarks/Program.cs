@@ -16,5 +16,10 @@ if (args.Length > 0 && args[0] == "gen-surfacing")
     return 0;
 }
 
+if (args.Length > 0 && args[0] == "stream-bench")
+{
+    return PmacStream.Benchmarks.Streaming.StreamBench.Run(args[1..]);
+}
+
 BenchmarkSwitcher.FromAssembly(typeof(SurfacingGenerator).Assembly).Run(args);
 return 0;

@@ -45,7 +45,8 @@ internal static class CliGlobals
                 return UsageOrIo;
             }
 
-            return await parse.InvokeAsync().ConfigureAwait(false);
+            // Our own handlers below turn CliException and I/O errors into one-line messages with exit code 2.
+            return await parse.InvokeAsync(new InvocationConfiguration { EnableDefaultExceptionHandler = false }).ConfigureAwait(false);
         }
         catch (CliException e)
         {
@@ -61,6 +62,18 @@ internal static class CliGlobals
         {
             await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
             return UsageOrIo;
+        }
+        catch (OperationCanceledException)
+        {
+            await Console.Error.WriteLineAsync("pmacstream: cancelled").ConfigureAwait(false);
+            return Failed;
+        }
+        catch (Exception e)
+        {
+            // A bug, not bad input: one line for the operator, the stack trace in the log file.
+            Log.Fatal(e, "unexpected error");
+            await Console.Error.WriteLineAsync($"pmacstream: unexpected error: {e.Message} (run with --log-file for details)").ConfigureAwait(false);
+            return Failed;
         }
         finally
         {

@@ -1,9 +1,180 @@
 using System.CommandLine;
+using System.Globalization;
+using PmacStream.GCode;
+using PmacStream.Preview;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream preview`.</summary>
+/// <summary>
+/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG]`: draws the
+/// toolpath (two streaming passes, bounded memory) and, with a simulator executed-move log, overlays what ran and
+/// lists the lines that ran zero or several times. Exit 0 when drawn (and, with a log, every move ran exactly once),
+/// 1 when the program had blocks that could not be drawn or the log shows gaps or repeats, 2 for usage and I/O errors.
+/// </summary>
 internal static class PreviewCommand
 {
-    public static Command Create() => Pending.Create("preview", "Draw the toolpath of a program to a PNG.", "issue 10");
+    private const int MaxListed = 20;
+
+    public static Command Create()
+    {
+        var file = new Argument<string>("file") { Description = "G-code program to draw." };
+        var png = new Option<string>("--png") { Description = "PNG file to write (replaced atomically).", Required = true, HelpName = "OUT.png" };
+        var size = new Option<string>("--size") { Description = "Image size WIDTHxHEIGHT, each 16..8192.", HelpName = "WxH", DefaultValueFactory = _ => "1200x900" };
+        var view = new Option<string>("--view") { Description = "View: xy, xz, yz or iso.", DefaultValueFactory = _ => "xy" };
+        view.AcceptOnlyFromAmong("xy", "xz", "yz", "iso");
+        var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV: sequence,line,start_s,end_s,x,y,z,kind) to overlay; lists lines run zero or several times.", HelpName = "LOG.csv" };
+
+        var cmd = new Command("preview", "Draw the toolpath of a program to a PNG (rapids dashed, feeds solid, arcs as arcs). Exit 1 when the program has errors or the executed log shows moves run zero or several times.");
+        cmd.Arguments.Add(file);
+        cmd.Options.Add(png);
+        cmd.Options.Add(size);
+        cmd.Options.Add(view);
+        cmd.Options.Add(executed);
+        cmd.SetAction(async (parse, ct) =>
+        {
+            // System.CommandLine's default handler would print a stack trace: report one line and the exit code here.
+            try
+            {
+                return await RunAsync(parse, file, png, size, view, executed, ct).ConfigureAwait(false);
+            }
+            catch (CliException e)
+            {
+                await Console.Error.WriteLineAsync($"pmacstream preview: {e.Message}").ConfigureAwait(false);
+                return e.ExitCode;
+            }
+            catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+            {
+                await Console.Error.WriteLineAsync($"pmacstream preview: {e.Message}").ConfigureAwait(false);
+                return CliGlobals.UsageOrIo;
+            }
+        });
+        return cmd;
+    }
+
+    private static async Task<int> RunAsync(
+        ParseResult parse, Argument<string> file, Option<string> png, Option<string> size, Option<string> view, Option<string?> executed, CancellationToken ct)
+    {
+        var path = parse.GetValue(file)!;
+        var output = parse.GetValue(png)!;
+        var (width, height) = ParseSize(parse.GetValue(size)!);
+        var log = parse.GetValue(executed);
+        if (!File.Exists(path))
+        {
+            throw new CliException($"{path}: no such file");
+        }
+
+        if (log is not null && !File.Exists(log))
+        {
+            throw new CliException($"{log}: no such file (--executed)");
+        }
+
+        var outDir = Path.GetDirectoryName(Path.GetFullPath(output));
+        if (outDir is not null && !Directory.Exists(outDir))
+        {
+            throw new CliException($"{output}: the folder {outDir} does not exist");
+        }
+
+        var source = new GCodeToolpathSource(path);
+        PreviewPicture picture;
+        try
+        {
+            picture = await CliProgress.RunAsync("preview", report => Task.Run(
+                () => PreviewRenderer.Render(
+                    source,
+                    new PreviewOptions { Width = width, Height = height, View = ParseView(parse.GetValue(view)!), Progress = (f, s) => report(f, s) },
+                    log,
+                    ct),
+                ct)).ConfigureAwait(false);
+        }
+        catch (InvalidDataException e)
+        {
+            throw new CliException(e.Message, CliGlobals.Failed);
+        }
+
+        PngEncoder.WriteFile(picture.Image, output);
+        var exit = CliGlobals.Ok;
+        var ci = CultureInfo.InvariantCulture;
+        var x = picture.Extents;
+        Console.Out.WriteLine($"wrote {output} ({width}x{height}, view {parse.GetValue(view)}): {x.Moves.ToString(ci)} moves ({x.Lines.ToString(ci)} linear, {x.Arcs.ToString(ci)} arc, {x.Rapids.ToString(ci)} rapid)");
+        if (x.IsEmpty)
+        {
+            Console.Error.WriteLine($"{path}: warning: no moves to draw");
+        }
+        else
+        {
+            Console.Out.WriteLine(string.Create(ci, $"extents (mm): X {x.Min.X:0.###} .. {x.Max.X:0.###}, Y {x.Min.Y:0.###} .. {x.Max.Y:0.###}, Z {x.Min.Z:0.###} .. {x.Max.Z:0.###}; program units {(picture.Units == LengthUnits.Inches ? "inch" : "mm")}"));
+        }
+
+        if (source.IssueCount > 0)
+        {
+            exit = CliGlobals.Failed;
+            foreach (var issue in source.Issues.Take(MaxListed))
+            {
+                Console.Error.WriteLine(issue.Format(path));
+            }
+
+            if (source.IssueCount > MaxListed)
+            {
+                Console.Error.WriteLine($"{path}: ... and {source.IssueCount - MaxListed} more errors ('pmacstream check' lists them all); blocks that cannot be interpreted are not drawn");
+            }
+        }
+
+        if (picture.Execution is { } report)
+        {
+            Console.Out.WriteLine($"executed log {log}: {report.LogRows.ToString(ci)} moves");
+            if (report.IsExact)
+            {
+                Console.Out.WriteLine("every drawn move was executed exactly once");
+            }
+            else
+            {
+                exit = CliGlobals.Failed;
+                Describe("never executed", report.MissingLines, report.Missing, r => string.Empty);
+                Describe("executed more than once", report.RepeatedLines, report.Repeated, r => r.Times == 255 ? " (255+ times)" : $" ({r.Times} times)");
+            }
+        }
+
+        return exit;
+    }
+
+    private static void Describe(string what, long lines, IReadOnlyList<LineRun> runs, Func<LineRun, string> suffix)
+    {
+        if (lines == 0)
+        {
+            return;
+        }
+
+        Console.Out.WriteLine($"{what}: {lines.ToString(CultureInfo.InvariantCulture)} lines");
+        foreach (var run in runs.Take(MaxListed))
+        {
+            Console.Out.WriteLine($"  {run}{suffix(run)}");
+        }
+
+        if (runs.Count > MaxListed)
+        {
+            Console.Out.WriteLine($"  ... ({runs.Count - MaxListed}{(runs.Count >= ExecutionReport.MaxRuns ? "+" : string.Empty)} more runs)");
+        }
+    }
+
+    internal static (int Width, int Height) ParseSize(string text)
+    {
+        var parts = text.Split('x', 'X');
+        if (parts.Length == 2
+            && int.TryParse(parts[0], NumberStyles.None, CultureInfo.InvariantCulture, out var w)
+            && int.TryParse(parts[1], NumberStyles.None, CultureInfo.InvariantCulture, out var h)
+            && w is >= 16 and <= 8192 && h is >= 16 and <= 8192)
+        {
+            return (w, h);
+        }
+
+        throw new CliException($"--size expects WIDTHxHEIGHT such as 1200x900, each 16..8192; got '{text}'");
+    }
+
+    private static PreviewView ParseView(string text) => text switch
+    {
+        "xz" => PreviewView.XZ,
+        "yz" => PreviewView.YZ,
+        "iso" => PreviewView.Iso,
+        _ => PreviewView.XY,
+    };
 }

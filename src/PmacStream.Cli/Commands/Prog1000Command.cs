@@ -1,9 +1,67 @@
 using System.CommandLine;
+using System.Text;
+using PmacStream.GCode;
+using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream prog1000`.</summary>
+/// <summary>`pmacstream prog1000 [--profile P] [--out FILE]`: the PROG 1000/1001 G and M code library (seed 003).</summary>
 internal static class Prog1000Command
 {
-    public static Command Create() => Pending.Create("prog1000", "Write the PROG 1000/1001 G and M code library.", "issue 4");
+    public static Command Create()
+    {
+        var profile = new Option<string?>("--profile") { Description = "Machine profile JSON (default: the built-in FANUC-style milling set)." };
+        var outFile = new Option<string?>("--out") { Description = "Write the library to this file (default: standard output)." };
+        var noComments = new Option<bool>("--no-comments") { Description = "Leave out the ; comment lines." };
+        var cmd = new Command("prog1000", "Write the PROG 1000/1001 G and M code library.");
+        cmd.Options.Add(profile);
+        cmd.Options.Add(outFile);
+        cmd.Options.Add(noComments);
+        cmd.SetAction((parse, _) => CommandGuard.RunAsync(() =>
+        {
+            var machine = LoadProfile(parse.GetValue(profile));
+            string text;
+            try
+            {
+                text = Prog1000Library.Generate(machine, new Prog1000Options { Comments = !parse.GetValue(noComments) });
+            }
+            catch (InvalidDataException e)
+            {
+                throw new CliException(e.Message, CliGlobals.Failed);
+            }
+
+            var path = parse.GetValue(outFile);
+            if (path == null)
+            {
+                Console.Out.Write(text);
+                return Task.FromResult(CliGlobals.Ok);
+            }
+
+            // Written beside the target and renamed, so a failed write leaves no half file.
+            var full = Path.GetFullPath(path);
+            var temp = full + ".tmp";
+            File.WriteAllText(temp, text, Encoding.ASCII);
+            File.Move(temp, full, overwrite: true);
+            var routines = Prog1000Library.Routines(machine);
+            Console.Out.WriteLine($"{routines.Count} routines ({routines.Count(r => !r.Converted)} without conversion) written to {full}");
+            return Task.FromResult(CliGlobals.Ok);
+        }));
+        return cmd;
+    }
+
+    internal static MachineProfile LoadProfile(string? path)
+    {
+        try
+        {
+            return path == null ? MachineProfile.Default : MachineProfile.Load(path);
+        }
+        catch (InvalidDataException e)
+        {
+            throw new CliException(e.Message, CliGlobals.UsageOrIo);
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            throw new CliException($"{path}: {e.Message}", CliGlobals.UsageOrIo);
+        }
+    }
 }

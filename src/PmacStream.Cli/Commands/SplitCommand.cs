@@ -1,9 +1,169 @@
 using System.CommandLine;
+using PmacStream.GCode;
+using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream split`.</summary>
+/// <summary>`pmacstream split`: seed 000's splitting step.</summary>
 internal static class SplitCommand
 {
-    public static Command Create() => Pending.Create("split", "Split a program into rotary-buffer chunk files with line tracking.", "issue 4");
+    private const int MaxListed = 50;
+
+    public static Command Create()
+    {
+        var file = new Argument<string>("file") { Description = "The G-code program to split." };
+        var outDir = new Option<string?>("--out") { Description = "Output folder (default: <name>_chunks beside the source). Replaced only if it holds a previous split." };
+        var lines = new Option<int>("--lines") { Description = "Most source blocks per chunk.", DefaultValueFactory = _ => 1000 };
+        var rotWords = new Option<int>("--rot-words") { Description = "DEFINE ROT size in words a chunk must fit (byte budget = words x --bytes-per-word).", DefaultValueFactory = _ => 6400 };
+        var wordsPerBlock = new Option<int>("--words-per-block") { Description = "Words charged at least per block (estimate).", DefaultValueFactory = _ => 6 };
+        var bytesPerWord = new Option<int>("--bytes-per-word") { Description = "Text bytes allowed per rotary word.", DefaultValueFactory = _ => 8 };
+        var trackVar = new Option<string>("--track-var") { Description = "M-variable receiving the executing source line.", DefaultValueFactory = _ => "M0" };
+        var tracking = new Option<string>("--tracking") { Description = "exact: M0==line before the move (M0 = executing line); paper: after it, as the paper does.", DefaultValueFactory = _ => "exact" };
+        tracking.AcceptOnlyFromAmong("exact", "paper");
+        var feed = new Option<string>("--feed") { Description = "paper: F(P500) on moves, programmed F carried into P500; override: keep F words.", DefaultValueFactory = _ => "paper" };
+        feed.AcceptOnlyFromAmong("paper", "override");
+        var feedVar = new Option<string>("--feed-var") { Description = "Variable the feed expression reads.", DefaultValueFactory = _ => "P500" };
+        var tail = new Option<string?>("--tail") { Description = "Program tail appended to the last chunk (default: the profile's, M05; the paper's machine: \"M03 M05\")." };
+        var profile = new Option<string?>("--profile") { Description = "Machine profile JSON the program is checked against (default: the built-in milling set)." };
+        var keepN = new Option<bool>("--keep-n") { Description = "Keep N numbers (a PMAC reads them as labels)." };
+        var noBlockDelete = new Option<bool>("--no-block-delete") { Description = "Block delete off: emit / blocks instead of skipping them." };
+        var force = new Option<bool>("--force") { Description = "Split even if the program has errors (what is not G-code is dropped)." };
+
+        var cmd = new Command("split", "Split a program into rotary-buffer chunk files with line tracking.");
+        cmd.Arguments.Add(file);
+        foreach (var o in new Option[] { outDir, lines, rotWords, wordsPerBlock, bytesPerWord, trackVar, tracking, feed, feedVar, tail, profile, keepN, noBlockDelete, force })
+        {
+            cmd.Options.Add(o);
+        }
+
+        cmd.SetAction((parse, ct) => CommandGuard.RunAsync(async () =>
+        {
+            var path = parse.GetValue(file)!;
+            var machine = Prog1000Command.LoadProfile(parse.GetValue(profile));
+            var options = new SplitOptions
+            {
+                OutDir = parse.GetValue(outDir),
+                LinesPerChunk = parse.GetValue(lines),
+                RotWords = parse.GetValue(rotWords),
+                WordsPerBlock = parse.GetValue(wordsPerBlock),
+                BytesPerWord = parse.GetValue(bytesPerWord),
+                TrackVariable = parse.GetValue(trackVar)!.ToUpperInvariant(),
+                Tracking = parse.GetValue(tracking) == "paper" ? TrackingPlacement.Paper : TrackingPlacement.Exact,
+                Feed = parse.GetValue(feed) == "override" ? FeedMode.Override : FeedMode.Paper,
+                FeedVariable = parse.GetValue(feedVar)!.ToUpperInvariant(),
+                ProgramTail = parse.GetValue(tail) ?? machine.ProgramTail,
+                KeepN = parse.GetValue(keepN),
+                BlockDelete = !parse.GetValue(noBlockDelete),
+                AllowErrors = parse.GetValue(force),
+            };
+            try
+            {
+                options.Validate();
+            }
+            catch (ArgumentException e)
+            {
+                throw new CliException(e.Message, CliGlobals.UsageOrIo);
+            }
+
+            if (!File.Exists(path))
+            {
+                throw new CliException($"{path}: no such file", CliGlobals.UsageOrIo);
+            }
+
+            if (!options.AllowErrors)
+            {
+                // The checker's full diagnostics decide; the splitter's own lexical check is then redundant.
+                var errors = new List<Diagnostic>();
+                var summary = await Task.Run(() => new Checker(machine).CheckFile(path, d =>
+                {
+                    if (d.Severity == Severity.Error && errors.Count < MaxListed)
+                    {
+                        errors.Add(d);
+                    }
+                }, null, ct), ct).ConfigureAwait(false);
+                if (summary.HasErrors)
+                {
+                    foreach (var d in errors)
+                    {
+                        await Console.Error.WriteLineAsync(d.Format(path)).ConfigureAwait(false);
+                    }
+
+                    if (summary.Errors > errors.Count)
+                    {
+                        await Console.Error.WriteLineAsync($"... and {summary.Errors - errors.Count} more").ConfigureAwait(false);
+                    }
+
+                    await Console.Error.WriteLineAsync($"pmacstream split: {path}: {summary.Errors} error(s); not split (--force splits anyway)").ConfigureAwait(false);
+                    return CliGlobals.Failed;
+                }
+
+                options = options with { AllowErrors = true };
+            }
+
+            SplitResult result;
+            try
+            {
+                result = await CliProgress.RunAsync("split", report => Task.Run(
+                    () => Splitter.Split(path, options, new SyncProgress<SplitProgress>(p =>
+                        report(p.Fraction, $"{p.Chunks} chunks, {p.Blocks} blocks")), ct), ct)).ConfigureAwait(false);
+            }
+            catch (SplitException e)
+            {
+                foreach (var d in e.Diagnostics)
+                {
+                    await Console.Error.WriteLineAsync(d.Format(path)).ConfigureAwait(false);
+                }
+
+                if (e.ErrorCount > e.Diagnostics.Count)
+                {
+                    await Console.Error.WriteLineAsync($"... and {e.ErrorCount - e.Diagnostics.Count} more").ConfigureAwait(false);
+                }
+
+                await Console.Error.WriteLineAsync($"pmacstream split: {e.Message}").ConfigureAwait(false);
+                return CliGlobals.Failed;
+            }
+
+            var m = result.Manifest;
+            Console.Out.WriteLine($"{m.Chunks.Count} chunks, {m.TotalBlocks} blocks, largest chunk {result.LargestChunkBytes} bytes");
+            Console.Out.WriteLine($"{m.TotalMotionBlocks} motion blocks; written to {result.OutputDirectory}");
+            if (result.Warnings > 0)
+            {
+                Console.Out.WriteLine($"{result.Warnings} warning(s); see pmacstream check");
+            }
+
+            return CliGlobals.Ok;
+        }));
+        return cmd;
+    }
+}
+
+/// <summary>Reports on the caller's thread (Progress&lt;T&gt; would post out of order to the pool).</summary>
+internal sealed class SyncProgress<T>(Action<T> report) : IProgress<T>
+{
+    public void Report(T value) => report(value);
+}
+
+/// <summary>
+/// Turns a <see cref="CliException"/> or I/O failure inside an action into its one-line message and exit code
+/// (System.CommandLine's default handler would print a stack trace and exit 1).
+/// </summary>
+internal static class CommandGuard
+{
+    public static async Task<int> RunAsync(Func<Task<int>> body)
+    {
+        try
+        {
+            return await body().ConfigureAwait(false);
+        }
+        catch (CliException e)
+        {
+            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            return e.ExitCode;
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            return CliGlobals.UsageOrIo;
+        }
+    }
 }

@@ -2,7 +2,7 @@ namespace PmacStream.Pmac;
 
 /// <summary>
 /// One open link to a Turbo PMAC (Ethernet, serial, PComm32 or in-process). Every transport frames and parses
-/// replies the same way: the returned text is the reply without its final ACK, with CR between values;
+/// replies the same way: the returned text is the reply without its final ACK, with a newline (LF) between values (see <see cref="ReplyParser.Parse"/>);
 /// <c>ERRnnn</c> replies throw <see cref="PmacErrorException"/>, link failures <see cref="PmacLinkException"/>.
 /// Calls are serialized by the implementation: one command is outstanding at a time, as on the wire.
 /// </summary>
@@ -11,7 +11,7 @@ public interface IPmacConnection : IAsyncDisposable
     /// <summary>A short description for logs ("tcp 127.0.0.1:1025", "serial /dev/ttyS0@38400").</summary>
     string Description { get; }
 
-    /// <summary>Sends one command line (no CR) and returns its reply text (values separated by CR, no ACK).</summary>
+    /// <summary>Sends one command line (no CR) and returns its reply text (values separated by LF, no ACK).</summary>
     Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default);
 
     /// <summary>

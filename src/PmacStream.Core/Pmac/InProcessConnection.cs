@@ -32,7 +32,10 @@ public sealed class InProcessConnection : IPmacConnection
         {
             var sw = Stopwatch.StartNew();
             var raw = _port.Execute(command);
-            Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, command, Visible(raw), sw.Elapsed.TotalMilliseconds);
+            if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
+            {
+                Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, command, Visible(raw), sw.Elapsed.TotalMilliseconds);
+            }
             return ReplyParser.Parse(raw, command);
         }
         finally
@@ -84,21 +87,5 @@ public sealed class InProcessConnection : IPmacConnection
     /// <inheritdoc />
     public ValueTask DisposeAsync() => ValueTask.CompletedTask;
 
-    internal static string Visible(ReadOnlySpan<byte> raw)
-    {
-        var sb = new StringBuilder(raw.Length + 8);
-        foreach (var b in raw)
-        {
-            _ = b switch
-            {
-                ReplyParser.Ack => sb.Append("<ACK>"),
-                ReplyParser.Bel => sb.Append("<BEL>"),
-                ReplyParser.Cr => sb.Append("<CR>"),
-                _ when b < 0x20 || b > 0x7E => sb.Append($"<{b:X2}>"),
-                _ => sb.Append((char)b),
-            };
-        }
-
-        return sb.ToString();
-    }
+    internal static string Visible(ReadOnlySpan<byte> raw) => ReplyParser.Visible(raw);
 }

@@ -62,4 +62,23 @@ public static class ReplyParser
 
         return Encoding.ASCII.GetString(bytes).Replace('\r', '\n');
     }
+
+    /// <summary>The bytes of a reply made readable for logs: <c>&lt;ACK&gt;</c>, <c>&lt;BEL&gt;</c>, <c>&lt;CR&gt;</c>, other controls as hex.</summary>
+    public static string Visible(ReadOnlySpan<byte> raw)
+    {
+        var sb = new StringBuilder(raw.Length + 8);
+        foreach (var b in raw)
+        {
+            _ = b switch
+            {
+                Ack => sb.Append("<ACK>"),
+                Bel => sb.Append("<BEL>"),
+                Cr => sb.Append("<CR>"),
+                _ when b < 0x20 || b > 0x7E => sb.Append($"<{b:X2}>"),
+                _ => sb.Append((char)b),
+            };
+        }
+
+        return sb.ToString();
+    }
 }

@@ -63,6 +63,24 @@ public sealed record ChunkManifest(
     /// <summary>The file name the splitter writes beside the chunks.</summary>
     public const string FileName = "manifest.json";
 
+    /// <summary>Most source blocks the splitter allowed per chunk (0 when unknown).</summary>
+    public int LinesPerChunk { get; init; }
+
+    /// <summary>The rotary buffer size in words the chunks were sized for (0 when unknown).</summary>
+    public int RotWords { get; init; }
+
+    /// <summary>The explicit words-per-block estimate used (0 when unknown).</summary>
+    public int WordsPerBlock { get; init; }
+
+    /// <summary>Byte budget of one chunk file (0 when unknown).</summary>
+    public long MaxChunkBytes { get; init; }
+
+    /// <summary>Lines appended to the last chunk after the last source block (null when unknown).</summary>
+    public string? ProgramTail { get; init; }
+
+    /// <summary>True when N numbers were kept in the chunks.</summary>
+    public bool KeepN { get; init; }
+
     private static readonly JsonSerializerOptions Json = new()
     {
         WriteIndented = true,

@@ -1,0 +1,250 @@
+using System.Globalization;
+
+namespace PmacStream.Hmi;
+
+/// <summary>The languages the HMI can show.</summary>
+public enum HmiLanguage
+{
+    /// <summary>English.</summary>
+    English,
+
+    /// <summary>Simplified Chinese (the paper's operators).</summary>
+    Chinese,
+}
+
+/// <summary>Every text the screen shows, by meaning; <see cref="HmiText"/> gives it in a language.</summary>
+public enum TextId
+{
+    /// <summary>Window title.</summary>
+    Title,
+    /// <summary>Connection group box.</summary>
+    ConnectionGroup,
+    /// <summary>Device type label.</summary>
+    DeviceType,
+    /// <summary>Device: built-in simulator.</summary>
+    DeviceSimulator,
+    /// <summary>Device: Ethernet.</summary>
+    DeviceEthernet,
+    /// <summary>Device: serial port.</summary>
+    DeviceSerial,
+    /// <summary>Device: PComm32 driver.</summary>
+    DevicePcomm,
+    /// <summary>IP address label.</summary>
+    IpAddress,
+    /// <summary>Serial port label.</summary>
+    SerialPort,
+    /// <summary>Baud label.</summary>
+    Baud,
+    /// <summary>PComm32 device number label.</summary>
+    DeviceNumber,
+    /// <summary>Connect button.</summary>
+    Connect,
+    /// <summary>Disconnect button.</summary>
+    Disconnect,
+    /// <summary>State: not connected.</summary>
+    StateDisconnected,
+    /// <summary>State: connecting.</summary>
+    StateConnecting,
+    /// <summary>State: connected to {0}.</summary>
+    StateConnected,
+    /// <summary>Program group box.</summary>
+    ProgramGroup,
+    /// <summary>Open button.</summary>
+    Open,
+    /// <summary>Check button.</summary>
+    Check,
+    /// <summary>Split button.</summary>
+    Split,
+    /// <summary>Lines per chunk label.</summary>
+    LinesPerChunk,
+    /// <summary>Strategy label.</summary>
+    Strategy,
+    /// <summary>Diagnostics list header.</summary>
+    Diagnostics,
+    /// <summary>ListBox1 header: chunk files.</summary>
+    ChunkFiles,
+    /// <summary>Chunk lines header: lines of the selected chunk file.</summary>
+    ChunkLines,
+    /// <summary>ListBox2 header: program lines.</summary>
+    ProgramLines,
+    /// <summary>Execute button (程序段执行).</summary>
+    Execute,
+    /// <summary>Hold button.</summary>
+    Hold,
+    /// <summary>Resume button.</summary>
+    Resume,
+    /// <summary>Abort button.</summary>
+    Abort,
+    /// <summary>Start from selected line button.</summary>
+    StartFromLine,
+    /// <summary>Resume after interruption button.</summary>
+    ResumeInterrupted,
+    /// <summary>Single block check box.</summary>
+    SingleBlock,
+    /// <summary>Feed label.</summary>
+    Feed,
+    /// <summary>Language selector label.</summary>
+    Language,
+    /// <summary>Status: total files.</summary>
+    TotalFiles,
+    /// <summary>Status: program lines.</summary>
+    TotalLines,
+    /// <summary>Status: current file.</summary>
+    CurrentFile,
+    /// <summary>Status: current line.</summary>
+    CurrentLine,
+    /// <summary>Status: progress.</summary>
+    Progress,
+    /// <summary>Status: elapsed.</summary>
+    Elapsed,
+    /// <summary>Status: time remaining.</summary>
+    Eta,
+    /// <summary>Status: job state.</summary>
+    JobState,
+    /// <summary>Log pane header.</summary>
+    Log,
+    /// <summary>Confirmation title for start from a line.</summary>
+    ConfirmStartTitle,
+    /// <summary>Confirmation text: start at line {0} after this preamble: {1}.</summary>
+    ConfirmStartText,
+    /// <summary>Confirmation title for resume after interruption.</summary>
+    ConfirmResumeTitle,
+    /// <summary>Confirmation text: resume job {0} at line {1} (chunk {2}) after this preamble: {3}.</summary>
+    ConfirmResumeText,
+    /// <summary>Indexing progress: {0} lines indexed.</summary>
+    Indexing,
+    /// <summary>Check summary: {0} errors, {1} warnings, {2} blocks.</summary>
+    CheckSummary,
+    /// <summary>Split summary: {0} chunks, {1} blocks.</summary>
+    SplitSummary,
+    /// <summary>A chunk row: {0} file, {1} first line, {2} last line, {3} blocks.</summary>
+    ChunkRow,
+    /// <summary>Job states.</summary>
+    StateIdle,
+    /// <summary>Running.</summary>
+    StateRunning,
+    /// <summary>Held.</summary>
+    StateHeld,
+    /// <summary>Completed.</summary>
+    StateCompleted,
+    /// <summary>Aborted.</summary>
+    StateAborted,
+    /// <summary>Failed.</summary>
+    StateFailed,
+    /// <summary>No interrupted job for this program.</summary>
+    NoInterruptedJob,
+    /// <summary>Start declined by the operator.</summary>
+    Declined,
+    /// <summary>Select a line first.</summary>
+    SelectLineFirst,
+    /// <summary>The program has errors: {0}.</summary>
+    ProgramHasErrors,
+    /// <summary>Closing while a job runs.</summary>
+    ConfirmCloseRunning,
+    /// <summary>Line number column header.</summary>
+    LineColumn,
+    /// <summary>Text column header.</summary>
+    TextColumn,
+}
+
+/// <summary>The HMI's string table: English and Simplified Chinese for every <see cref="TextId"/>.</summary>
+public static class HmiText
+{
+    private static readonly Dictionary<TextId, (string En, string Zh)> Table = new()
+    {
+        [TextId.Title] = ("PmacStream – continuous G-code download", "PmacStream – G代码连续下载"),
+        [TextId.ConnectionGroup] = ("Connection", "连接"),
+        [TextId.DeviceType] = ("Device", "设备"),
+        [TextId.DeviceSimulator] = ("Simulator", "仿真器"),
+        [TextId.DeviceEthernet] = ("Ethernet", "以太网"),
+        [TextId.DeviceSerial] = ("Serial (RS-232)", "串口 (RS-232)"),
+        [TextId.DevicePcomm] = ("PComm32", "PComm32"),
+        [TextId.IpAddress] = ("IP address", "IP 地址"),
+        [TextId.SerialPort] = ("Port", "端口"),
+        [TextId.Baud] = ("Baud", "波特率"),
+        [TextId.DeviceNumber] = ("Device no.", "设备号"),
+        [TextId.Connect] = ("Connect", "连接"),
+        [TextId.Disconnect] = ("Disconnect", "断开"),
+        [TextId.StateDisconnected] = ("Not connected", "未连接"),
+        [TextId.StateConnecting] = ("Connecting…", "正在连接…"),
+        [TextId.StateConnected] = ("Connected: {0}", "已连接：{0}"),
+        [TextId.ProgramGroup] = ("Program", "程序"),
+        [TextId.Open] = ("Open…", "打开…"),
+        [TextId.Check] = ("Check", "检查"),
+        [TextId.Split] = ("Split", "拆分"),
+        [TextId.LinesPerChunk] = ("Lines per file", "每文件行数"),
+        [TextId.Strategy] = ("Strategy", "下载策略"),
+        [TextId.Diagnostics] = ("Diagnostics", "诊断信息"),
+        [TextId.ChunkFiles] = ("Chunk files (ListBox1)", "拆分文件 (ListBox1)"),
+        [TextId.ChunkLines] = ("Lines of the selected file", "所选文件的指令行"),
+        [TextId.ProgramLines] = ("Program lines (ListBox2)", "程序行 (ListBox2)"),
+        [TextId.Execute] = ("Execute", "程序段执行"),
+        [TextId.Hold] = ("Hold", "暂停"),
+        [TextId.Resume] = ("Resume", "继续"),
+        [TextId.Abort] = ("Abort", "终止"),
+        [TextId.StartFromLine] = ("Start from selected line", "从所选行开始"),
+        [TextId.ResumeInterrupted] = ("Resume after interruption", "断点续加工"),
+        [TextId.SingleBlock] = ("Single block", "单段"),
+        [TextId.Feed] = ("Feed", "进给速度"),
+        [TextId.Language] = ("Language", "语言"),
+        [TextId.TotalFiles] = ("Files", "文件总数"),
+        [TextId.TotalLines] = ("Program lines", "程序行数"),
+        [TextId.CurrentFile] = ("Current file", "当前文件"),
+        [TextId.CurrentLine] = ("Current line", "当前行"),
+        [TextId.Progress] = ("Progress", "执行进度"),
+        [TextId.Elapsed] = ("Elapsed", "已用时间"),
+        [TextId.Eta] = ("Remaining", "剩余时间"),
+        [TextId.JobState] = ("State", "状态"),
+        [TextId.Log] = ("Log", "日志"),
+        [TextId.ConfirmStartTitle] = ("Start from line", "从指定行开始"),
+        [TextId.ConfirmStartText] = ("Start at line {0}. The controller first runs this preamble to restore the machine state:\n\n{1}\n\nStart?",
+            "从第 {0} 行开始。控制器先执行以下恢复程序以恢复机床状态：\n\n{1}\n\n是否开始？"),
+        [TextId.ConfirmResumeTitle] = ("Resume after interruption", "断点续加工"),
+        [TextId.ConfirmResumeText] = ("Resume job {0} at line {1} (file {2}). The controller first runs this preamble:\n\n{3}\n\nResume?",
+            "继续作业 {0}，从第 {1} 行（文件 {2}）开始。控制器先执行以下恢复程序：\n\n{3}\n\n是否继续？"),
+        [TextId.Indexing] = ("Indexing: {0:N0} lines", "正在建立索引：{0:N0} 行"),
+        [TextId.CheckSummary] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
+        [TextId.SplitSummary] = ("{0} files, {1} blocks", "{0} 个文件，{1} 个程序段"),
+        [TextId.ChunkRow] = ("{0}   lines {1}–{2}   ({3} blocks)", "{0}   第 {1}–{2} 行   （{3} 段）"),
+        [TextId.StateIdle] = ("Idle", "空闲"),
+        [TextId.StateRunning] = ("Running", "运行中"),
+        [TextId.StateHeld] = ("Held", "已暂停"),
+        [TextId.StateCompleted] = ("Completed", "已完成"),
+        [TextId.StateAborted] = ("Aborted", "已终止"),
+        [TextId.StateFailed] = ("Failed", "失败"),
+        [TextId.NoInterruptedJob] = ("No interrupted job recorded for this program.", "没有该程序的中断记录。"),
+        [TextId.Declined] = ("Not started: the operator declined.", "未开始：操作员取消。"),
+        [TextId.SelectLineFirst] = ("Select a program line first.", "请先选择程序行。"),
+        [TextId.ConfirmCloseRunning] = ("A job is running. If you close now the controller finishes the lines already downloaded and the job can be resumed later from its checkpoint. Close?",
+            "作业正在运行。现在关闭，控制器将执行完已下载的程序行，之后可从断点继续加工。是否关闭？"),
+        [TextId.LineColumn] = ("Line", "行号"),
+        [TextId.TextColumn] = ("Block", "程序段"),
+        [TextId.ProgramHasErrors] = ("The program has errors and cannot be split: {0}", "程序有错误，无法拆分：{0}"),
+    };
+
+    /// <summary>The text for an id in a language (English when a translation is missing).</summary>
+    public static string Get(TextId id, HmiLanguage language)
+    {
+        if (!Table.TryGetValue(id, out var t))
+        {
+            return id.ToString();
+        }
+
+        return language == HmiLanguage.Chinese && t.Zh.Length > 0 ? t.Zh : t.En;
+    }
+
+    /// <summary>True when the table has a text for the id (tests check that none is missing).</summary>
+    internal static bool IsDefined(TextId id) => Table.ContainsKey(id);
+
+    /// <summary>Formats the text for an id with arguments (invariant number formatting).</summary>
+    public static string Format(TextId id, HmiLanguage language, params object[] args) =>
+        string.Format(CultureInfo.InvariantCulture, Get(id, language), args);
+
+    /// <summary>Every id with its text in a language: what the view applies to its controls.</summary>
+    public static IReadOnlyDictionary<TextId, string> All(HmiLanguage language) =>
+        Enum.GetValues<TextId>().ToDictionary(id => id, id => Get(id, language));
+
+    /// <summary>The culture diagnostics should be written in for a language.</summary>
+    public static CultureInfo Culture(HmiLanguage language) =>
+        CultureInfo.GetCultureInfo(language == HmiLanguage.Chinese ? "zh-CN" : "en-US");
+}

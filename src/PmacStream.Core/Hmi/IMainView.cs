@@ -1,0 +1,206 @@
+namespace PmacStream.Hmi;
+
+/// <summary>A virtual list asks for one line's text: the presenter fills <see cref="Text"/>.</summary>
+public sealed class LineRequestEventArgs(int line) : EventArgs
+{
+    /// <summary>1-based line number asked for.</summary>
+    public int Line { get; } = line;
+
+    /// <summary>The text to show (empty when the line is not available).</summary>
+    public string Text { get; set; } = string.Empty;
+}
+
+/// <summary>Which commands the screen offers now (buttons enabled or disabled).</summary>
+public sealed record CommandStates(
+    bool Connect,
+    bool Disconnect,
+    bool Open,
+    bool Check,
+    bool Split,
+    bool Execute,
+    bool Hold,
+    bool Resume,
+    bool Abort,
+    bool StartFromLine,
+    bool ResumeInterrupted)
+{
+    /// <summary>Everything disabled (while an operation runs).</summary>
+    public static CommandStates None { get; } = new(false, false, false, false, false, false, false, false, false, false, false);
+}
+
+/// <summary>The feed control's scale: P500 in units/min in paper mode, percent in override mode.</summary>
+/// <param name="Minimum">Lowest value.</param>
+/// <param name="Maximum">Highest value.</param>
+/// <param name="Unit">Unit label shown beside the box (<c>P500</c> or <c>%</c>).</param>
+public sealed record FeedScale(double Minimum, double Maximum, string Unit)
+{
+    /// <summary>The paper's F(P500): feed in units per minute.</summary>
+    public static FeedScale Paper { get; } = new(1, 20000, "P500");
+
+    /// <summary>Feed override in percent.</summary>
+    public static FeedScale Override { get; } = new(0, 200, "%");
+
+    /// <summary>Clamps a value into the scale.</summary>
+    public double Clamp(double value) => Math.Clamp(value, Minimum, Maximum);
+}
+
+/// <summary>The status strip's texts, formatted by the presenter in the chosen language.</summary>
+public sealed record StatusDisplay(
+    string State,
+    string TotalFiles,
+    string ProgramLines,
+    string CurrentFile,
+    string CurrentLine,
+    int ProgressPercent,
+    string Progress,
+    string Feed,
+    string Elapsed,
+    string Eta);
+
+/// <summary>
+/// The HMI screen of the paper (Fig. 4) as a passive view: the form raises events and shows what the presenter
+/// sets; it holds no logic. Two lists are virtual: they raise <see cref="ProgramLineNeeded"/> and
+/// <see cref="ChunkLineNeeded"/> for the rows on screen, so a 10,000,000-line program is never loaded.
+/// Everything is called on the UI thread.
+/// </summary>
+public interface IMainView
+{
+    // ---- language
+
+    /// <summary>All control texts in the chosen language.</summary>
+    IReadOnlyDictionary<TextId, string> Texts { set; }
+
+    /// <summary>The language selector.</summary>
+    HmiLanguage Language { get; }
+
+    /// <summary>The operator picked another language.</summary>
+    event EventHandler? LanguageChanged;
+
+    // ---- connection panel
+
+    /// <summary>Device type, IP, serial port and baud, PComm32 device number as entered.</summary>
+    ConnectionSettings ConnectionSettings { get; }
+
+    /// <summary>Connection state text.</summary>
+    string ConnectionState { set; }
+
+    /// <summary>Connect clicked.</summary>
+    event EventHandler? ConnectRequested;
+
+    /// <summary>Disconnect clicked.</summary>
+    event EventHandler? DisconnectRequested;
+
+    // ---- program
+
+    /// <summary>A program file was chosen in the open dialog (the argument is its path).</summary>
+    event EventHandler<string>? OpenRequested;
+
+    /// <summary>The open program's path (title bar / label).</summary>
+    string ProgramPath { set; }
+
+    /// <summary>Check clicked.</summary>
+    event EventHandler? CheckRequested;
+
+    /// <summary>Diagnostics list rows.</summary>
+    IReadOnlyList<string> Diagnostics { set; }
+
+    /// <summary>A diagnostic row was double-clicked (its index).</summary>
+    event EventHandler<int>? DiagnosticActivated;
+
+    /// <summary>Blocks per chunk file (numeric box).</summary>
+    int LinesPerChunk { get; }
+
+    /// <summary>Split clicked.</summary>
+    event EventHandler? SplitRequested;
+
+    /// <summary>Strategy selector items.</summary>
+    IReadOnlyList<string> Strategies { set; }
+
+    /// <summary>The selected strategy.</summary>
+    string SelectedStrategy { get; }
+
+    // ---- ListBox1: chunk files and their lines
+
+    /// <summary>Chunk file rows (file name and source line range).</summary>
+    IReadOnlyList<string> ChunkFiles { set; }
+
+    /// <summary>A chunk file row was selected (its index, -1 for none).</summary>
+    event EventHandler<int>? ChunkSelected;
+
+    /// <summary>Lines of the selected chunk file (virtual list size).</summary>
+    int ChunkLineCount { set; }
+
+    /// <summary>The chunk-lines list needs a row's text.</summary>
+    event EventHandler<LineRequestEventArgs>? ChunkLineNeeded;
+
+    // ---- ListBox2: program lines
+
+    /// <summary>Program lines (virtual list size); grows while a large file is being indexed.</summary>
+    int ProgramLineCount { set; }
+
+    /// <summary>The program list needs a row's text.</summary>
+    event EventHandler<LineRequestEventArgs>? ProgramLineNeeded;
+
+    /// <summary>The executing line (from M0), highlighted and kept in view; 0 for none.</summary>
+    int ExecutingLine { set; }
+
+    /// <summary>Selects a line and scrolls it into view (diagnostic double-click, chunk selection).</summary>
+    int FocusedLine { set; }
+
+    /// <summary>The line the operator selected, 0 for none.</summary>
+    int SelectedLine { get; }
+
+    // ---- commands
+
+    /// <summary>Which buttons are enabled.</summary>
+    CommandStates Commands { set; }
+
+    /// <summary>Execute (程序段执行) clicked.</summary>
+    event EventHandler? ExecuteRequested;
+
+    /// <summary>Hold clicked.</summary>
+    event EventHandler? HoldRequested;
+
+    /// <summary>Resume clicked.</summary>
+    event EventHandler? ResumeRequested;
+
+    /// <summary>Abort clicked.</summary>
+    event EventHandler? AbortRequested;
+
+    /// <summary>Start from selected line clicked.</summary>
+    event EventHandler? StartFromLineRequested;
+
+    /// <summary>Resume after interruption clicked.</summary>
+    event EventHandler? ResumeInterruptedRequested;
+
+    /// <summary>Single-block check box state.</summary>
+    bool SingleBlock { get; }
+
+    /// <summary>Single-block check box changed.</summary>
+    event EventHandler? SingleBlockChanged;
+
+    // ---- feed
+
+    /// <summary>Feed slider and box range and unit.</summary>
+    FeedScale FeedScale { set; }
+
+    /// <summary>Feed value shown in the slider and box (setting it raises no <see cref="FeedChanged"/>).</summary>
+    double Feed { get; set; }
+
+    /// <summary>The operator changed the feed (slider or box).</summary>
+    event EventHandler? FeedChanged;
+
+    // ---- status, log, dialogs
+
+    /// <summary>Status strip texts and progress bar.</summary>
+    StatusDisplay Status { set; }
+
+    /// <summary>Appends lines to the live log pane.</summary>
+    void AppendLog(IReadOnlyList<string> lines);
+
+    /// <summary>Asks the operator (Yes/No); the presenter awaits the answer.</summary>
+    Task<bool> ConfirmAsync(string title, string text);
+
+    /// <summary>Shows an error the operator must read.</summary>
+    void ShowError(string message);
+}

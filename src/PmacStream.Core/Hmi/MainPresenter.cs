@@ -1,0 +1,707 @@
+using System.Globalization;
+using PmacStream.GCode;
+using PmacStream.Pmac;
+using PmacStream.Program;
+using Serilog;
+
+namespace PmacStream.Hmi;
+
+/// <summary>
+/// All the HMI's logic, driven by the view's events and by <see cref="TickAsync"/> (the form's <c>timer1_Tick</c>,
+/// as in the paper). It owns the open program's line index, the split result, the controller connection and the
+/// running job, and tells the passive <see cref="IMainView"/> what to show. Runs on the UI thread.
+/// </summary>
+public sealed class MainPresenter : IAsyncDisposable
+{
+    /// <summary>Lines indexed before a newly opened program is shown (more than any screen holds).</summary>
+    public const int FirstScreenLines = 256;
+
+
+    private readonly ILogger _log;
+    private readonly IMainView _view;
+    private readonly IHmiBackend _backend;
+    private readonly HmiLogSink? _logSink;
+    private readonly List<Task> _pending = [];
+    private readonly CancellationTokenSource _life = new();
+
+    private HmiLanguage _language;
+    private IPmacConnection? _connection;
+    private bool _connecting;
+    private int _busy;
+    private bool _ticking;
+    private ProgramLineSource? _program;
+    private int _shownLineCount;
+    private HmiCheckResult? _check;
+    private HmiSplitResult? _split;
+    private int _selectedChunk = -1;
+    private ProgramLineSource? _chunkLines;
+    private IHmiJob? _job;
+    private HmiJobStatus? _lastStatus;
+    private int _shownExecutingLine;
+    private double _feed;
+    private FeedScale _feedScale = FeedScale.Paper;
+
+    /// <summary>
+    /// Wires the presenter to a view and the core. <paramref name="logSink"/> feeds the log pane (the application
+    /// adds it to the global Serilog logger); <paramref name="logger"/> replaces the global logger for job events.
+    /// </summary>
+    public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null, ILogger? logger = null)
+    {
+        _log = logger ?? Serilog.Log.ForContext<MainPresenter>();
+        _view = view;
+        _backend = backend;
+        _logSink = logSink;
+        _language = view.Language;
+        _feed = 1000;
+
+        view.LanguageChanged += (_, _) => Run(ChangeLanguageAsync);
+        view.ConnectRequested += (_, _) => Run(ConnectAsync);
+        view.DisconnectRequested += (_, _) => Run(DisconnectAsync);
+        view.OpenRequested += (_, path) => Run(() => OpenAsync(path));
+        view.CheckRequested += (_, _) => Run(CheckAsync);
+        view.DiagnosticActivated += (_, index) => JumpToDiagnostic(index);
+        view.SplitRequested += (_, _) => Run(SplitAsync);
+        view.ChunkSelected += (_, index) => SelectChunk(index);
+        view.ChunkLineNeeded += (_, e) => e.Text = ChunkLine(e.Line);
+        view.ProgramLineNeeded += (_, e) => e.Text = ProgramLine(e.Line);
+        view.ExecuteRequested += (_, _) => Run(() => StartAsync(null));
+        view.StartFromLineRequested += (_, _) => Run(StartFromSelectedLineAsync);
+        view.ResumeInterruptedRequested += (_, _) => Run(ResumeInterruptedAsync);
+        view.HoldRequested += (_, _) => Run(() => JobCommandAsync(j => j.HoldAsync(_life.Token), "hold"));
+        view.ResumeRequested += (_, _) => Run(() => JobCommandAsync(j => j.ResumeAsync(_life.Token), "resume"));
+        view.AbortRequested += (_, _) => Run(() => JobCommandAsync(j => j.AbortAsync(_life.Token), "abort"));
+        view.SingleBlockChanged += (_, _) => Run(SingleBlockChangedAsync);
+        view.FeedChanged += (_, _) => Run(FeedChangedAsync);
+
+        view.Texts = HmiText.All(_language);
+        view.Strategies = backend.Strategies;
+        view.ConnectionState = T(TextId.StateDisconnected);
+        view.FeedScale = _feedScale;
+        view.Feed = _feed;
+        view.ProgramLineCount = 0;
+        view.ChunkLineCount = 0;
+        RefreshCommands();
+        RefreshStatus();
+    }
+
+    /// <summary>The open program's line index (null before a program is opened).</summary>
+    public ProgramLineSource? Program => _program;
+
+    /// <summary>The running or last job's status.</summary>
+    public HmiJobStatus? JobStatus => _lastStatus;
+
+    /// <summary>True while a job is running or held.</summary>
+    public bool JobActive => _job is not null;
+
+    /// <summary>Completes when every operation started by a view event has finished (tests await it).</summary>
+    public async Task WhenIdleAsync()
+    {
+        while (true)
+        {
+            Task[] pending;
+            lock (_pending)
+            {
+                _pending.RemoveAll(t => t.IsCompleted);
+                pending = [.. _pending];
+            }
+
+            if (pending.Length == 0)
+            {
+                return;
+            }
+
+            await Task.WhenAll(pending).ConfigureAwait(true);
+        }
+    }
+
+    /// <summary>
+    /// One timer period (the paper's <c>timer1_Tick</c>): moves log lines to the pane, shows indexing progress,
+    /// lets the job stream (read M0, download the next chunk once) and shows its line and status. A tick that
+    /// arrives while the previous one is still at work is skipped, so ticks never overlap.
+    /// </summary>
+    public async Task TickAsync()
+    {
+        if (_ticking)
+        {
+            return;
+        }
+
+        _ticking = true;
+        try
+        {
+            DrainLog();
+            RefreshProgramLineCount();
+            if (_job is { } job)
+            {
+                try
+                {
+                    await job.TickAsync(_life.Token).ConfigureAwait(true);
+                }
+                catch (Exception e) when (e is not OperationCanceledException)
+                {
+                    _log.Error(e, "Streaming stopped: {Message:l}. The job can be resumed after interruption", e.Message);
+                    _lastStatus = job.Status with { State = HmiJobState.Failed, Message = e.Message };
+                    await FinishJobAsync().ConfigureAwait(true);
+                    return;
+                }
+
+                _lastStatus = job.Status;
+                if (_lastStatus.IsFinished)
+                {
+                    await FinishJobAsync().ConfigureAwait(true);
+                }
+                else
+                {
+                    ShowJob();
+                }
+            }
+
+            DrainLog();
+        }
+        finally
+        {
+            _ticking = false;
+        }
+    }
+
+    /// <summary>Opens a program: indexes its lines in the background and shows the first screen at once.</summary>
+    public async Task OpenAsync(string path)
+    {
+        if (_job is not null)
+        {
+            throw new InvalidOperationException("A job is running: abort it before opening another program.");
+        }
+
+        if (!File.Exists(path))
+        {
+            throw new FileNotFoundException($"{path}: no such program file", path);
+        }
+
+        CloseProgram();
+        var source = ProgramLineSource.Open(path);
+        _program = source;
+        _view.ProgramPath = path;
+        await source.WaitForLinesAsync(FirstScreenLines, _life.Token).ConfigureAwait(true);
+        if (source.Completion.IsFaulted)
+        {
+            CloseProgram();
+            await source.Completion.ConfigureAwait(true);
+        }
+
+        RefreshProgramLineCount();
+        _log.Information("Opened {Path:l} ({Size:N0} bytes)", path, source.FileSize);
+        RefreshCommands();
+        RefreshStatus();
+    }
+
+    /// <summary>The text of program line <paramref name="line"/> for the virtual list.</summary>
+    public string ProgramLine(int line) =>
+        _program is { } p && line >= 1 && line <= p.IndexedLines ? p.GetLine(line) : string.Empty;
+
+    /// <summary>The text of line <paramref name="line"/> of the selected chunk file.</summary>
+    public string ChunkLine(int line) =>
+        _chunkLines is { } c && line >= 1 && line <= c.IndexedLines ? c.GetLine(line) : string.Empty;
+
+    /// <inheritdoc />
+    public async ValueTask DisposeAsync()
+    {
+        _life.Cancel();
+        try
+        {
+            await WhenIdleAsync().ConfigureAwait(false);
+        }
+        catch (Exception)
+        {
+            // Already reported when it happened.
+        }
+
+        if (_job is not null)
+        {
+            await _job.DisposeAsync().ConfigureAwait(false);
+            _job = null;
+        }
+
+        if (_connection is not null)
+        {
+            await _connection.DisposeAsync().ConfigureAwait(false);
+            _connection = null;
+        }
+
+        // No view calls here: the window may already be gone (the application disposes after the message loop).
+        _program?.Dispose();
+        _program = null;
+        _chunkLines?.Dispose();
+        _chunkLines = null;
+        _life.Dispose();
+    }
+
+    private string T(TextId id) => HmiText.Get(id, _language);
+
+    private string F(TextId id, params object[] args) => HmiText.Format(id, _language, args);
+
+    /// <summary>Runs an operation started by a view event: commands are disabled meanwhile, errors are shown.</summary>
+    private void Run(Func<Task> operation)
+    {
+        var task = RunGuarded(operation);
+        lock (_pending)
+        {
+            _pending.Add(task);
+        }
+    }
+
+    private async Task RunGuarded(Func<Task> operation)
+    {
+        _busy++;
+        RefreshCommands();
+        try
+        {
+            await operation().ConfigureAwait(true);
+        }
+        catch (OperationCanceledException) when (_life.IsCancellationRequested)
+        {
+        }
+        catch (Exception e)
+        {
+            _log.Error("{Message:l}", e.Message);
+            _view.ShowError(e.Message);
+        }
+        finally
+        {
+            _busy--;
+            DrainLog();
+            RefreshCommands();
+            RefreshStatus();
+        }
+    }
+
+    private Task ChangeLanguageAsync()
+    {
+        _language = _view.Language;
+        _view.Texts = HmiText.All(_language);
+        _view.ConnectionState = _connection is null ? T(TextId.StateDisconnected) : F(TextId.StateConnected, _connection.Description);
+        ShowChunkFiles();
+        return Task.CompletedTask;
+    }
+
+    private async Task ConnectAsync()
+    {
+        if (_connection is not null)
+        {
+            return;
+        }
+
+        var settings = _view.ConnectionSettings;
+        _connecting = true;
+        _view.ConnectionState = T(TextId.StateConnecting);
+        try
+        {
+            _connection = await _backend.ConnectAsync(settings, _life.Token).ConfigureAwait(true);
+            _view.ConnectionState = F(TextId.StateConnected, _connection.Description);
+            _log.Information("Connected to {Device:l}", _connection.Description);
+        }
+        catch
+        {
+            _view.ConnectionState = T(TextId.StateDisconnected);
+            throw;
+        }
+        finally
+        {
+            _connecting = false;
+        }
+    }
+
+    private async Task DisconnectAsync()
+    {
+        if (_job is not null)
+        {
+            throw new InvalidOperationException("A job is running: hold or abort it before disconnecting.");
+        }
+
+        if (_connection is { } c)
+        {
+            _connection = null;
+            await c.DisposeAsync().ConfigureAwait(true);
+            _log.Information("Disconnected from {Device:l}", c.Description);
+        }
+
+        _view.ConnectionState = T(TextId.StateDisconnected);
+    }
+
+    private async Task CheckAsync()
+    {
+        var program = _program ?? throw new InvalidOperationException("Open a program first.");
+        var result = await _backend.CheckAsync(program.Path, _language, _life.Token).ConfigureAwait(true);
+        _check = result;
+        _view.Diagnostics = result.Diagnostics
+            .Select(d => string.Create(CultureInfo.InvariantCulture, $"{d.Line}:{d.Column}  {(d.Severity == Severity.Error ? "E" : "W")}  {d.Code}  {d.Message}"))
+            .ToList();
+        _log.Information("Checked {Path:l}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
+    }
+
+    private void JumpToDiagnostic(int index)
+    {
+        if (_check is { } c && index >= 0 && index < c.Diagnostics.Count)
+        {
+            _view.FocusedLine = c.Diagnostics[index].Line;
+        }
+    }
+
+    private async Task SplitAsync()
+    {
+        var program = _program ?? throw new InvalidOperationException("Open a program first.");
+        if (_check is { Errors: > 0 } c)
+        {
+            var first = c.Diagnostics.First(d => d.Severity == Severity.Error);
+            throw new InvalidOperationException(F(TextId.ProgramHasErrors, first.Format(Path.GetFileName(program.Path))));
+        }
+
+        var linesPerChunk = Math.Max(1, _view.LinesPerChunk);
+        var split = await _backend.SplitAsync(new HmiSplitRequest(program.Path, linesPerChunk), _life.Token).ConfigureAwait(true);
+        SetSplit(split);
+        _log.Information("Split {Path:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
+            program.Path, split.Manifest.Chunks.Count, split.Manifest.TotalBlocks, split.Directory);
+    }
+
+    private void SetSplit(HmiSplitResult split)
+    {
+        _split = split;
+        _selectedChunk = -1;
+        _chunkLines?.Dispose();
+        _chunkLines = null;
+        _view.ChunkLineCount = 0;
+        ShowChunkFiles();
+        _feedScale = split.Manifest.Feed == FeedMode.Override ? FeedScale.Override : FeedScale.Paper;
+        if (split.Manifest.Feed == FeedMode.Override)
+        {
+            _feed = 100;
+        }
+
+        _feed = _feedScale.Clamp(_feed);
+        _view.FeedScale = _feedScale;
+        _view.Feed = _feed;
+    }
+
+    private void ShowChunkFiles()
+    {
+        _view.ChunkFiles = _split is null
+            ? []
+            : _split.Manifest.Chunks.Select(c => F(TextId.ChunkRow, c.FileName, c.FirstSourceLine, c.LastSourceLine, c.BlockCount)).ToList();
+    }
+
+    private void SelectChunk(int index)
+    {
+        _chunkLines?.Dispose();
+        _chunkLines = null;
+        _selectedChunk = -1;
+        if (_split is not { } split || index < 0 || index >= split.Manifest.Chunks.Count)
+        {
+            _view.ChunkLineCount = 0;
+            return;
+        }
+
+        var chunk = split.Manifest.Chunks[index];
+        _selectedChunk = index;
+        try
+        {
+            // Chunk files are small (the rotary-buffer budget), so waiting for the whole index is quick.
+            var lines = ProgramLineSource.Open(split.ChunkPath(chunk));
+            lines.Completion.Wait(TimeSpan.FromSeconds(5));
+            _chunkLines = lines;
+            _view.ChunkLineCount = lines.IndexedLines;
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException or AggregateException)
+        {
+            _view.ChunkLineCount = 0;
+            _view.ShowError($"{chunk.FileName}: {e.GetBaseException().Message}");
+        }
+
+        _view.FocusedLine = chunk.FirstSourceLine;
+    }
+
+    private async Task StartFromSelectedLineAsync()
+    {
+        var split = RequireReady();
+        var line = _view.SelectedLine;
+        if (line < 1)
+        {
+            throw new InvalidOperationException(T(TextId.SelectLineFirst));
+        }
+
+        var preamble = await _backend.BuildPreambleAsync(split, line, _life.Token).ConfigureAwait(true);
+        var ok = await _view.ConfirmAsync(T(TextId.ConfirmStartTitle), F(TextId.ConfirmStartText, line, string.Join(Environment.NewLine, preamble))).ConfigureAwait(true);
+        if (!ok)
+        {
+            _log.Information("Start from line {Line} declined by the operator", line);
+            return;
+        }
+
+        await StartAsync(line).ConfigureAwait(true);
+    }
+
+    private async Task StartAsync(int? fromLine)
+    {
+        var split = RequireReady();
+        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feed);
+        var job = await _backend.StartAsync(_connection!, request, _life.Token).ConfigureAwait(true);
+        BeginJob(job);
+        _log.Information("Job started{From:l} with strategy {Strategy:l}, feed {Feed} {Unit:l}",
+            fromLine is null ? string.Empty : $" from line {fromLine}", request.Strategy, _feed, _feedScale.Unit);
+    }
+
+    private async Task ResumeInterruptedAsync()
+    {
+        if (_job is not null)
+        {
+            throw new InvalidOperationException("A job is already running.");
+        }
+
+        var program = _program ?? throw new InvalidOperationException("Open a program first.");
+        var connection = _connection ?? throw new InvalidOperationException("Connect to a controller first.");
+        var interrupted = await _backend.FindInterruptedAsync(program.Path, _life.Token).ConfigureAwait(true)
+            ?? throw new InvalidOperationException(T(TextId.NoInterruptedJob));
+        var preamble = await _backend.BuildPreambleAsync(interrupted.Program, interrupted.ResumeLine, _life.Token).ConfigureAwait(true);
+        var text = F(TextId.ConfirmResumeText, interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk, string.Join(Environment.NewLine, preamble));
+        if (!await _view.ConfirmAsync(T(TextId.ConfirmResumeTitle), text).ConfigureAwait(true))
+        {
+            _log.Information("Resume of job {Job} declined by the operator", interrupted.JobId);
+            return;
+        }
+
+        if (_split is null || _split.Directory != interrupted.Program.Directory)
+        {
+            SetSplit(interrupted.Program);
+        }
+
+        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feed, _life.Token).ConfigureAwait(true);
+        BeginJob(job);
+        _log.Information("Job {Job} resumed at line {Line} (chunk {Chunk})", interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk);
+    }
+
+    private HmiSplitResult RequireReady()
+    {
+        if (_job is not null)
+        {
+            throw new InvalidOperationException("A job is already running.");
+        }
+
+        if (_connection is null)
+        {
+            throw new InvalidOperationException("Connect to a controller first.");
+        }
+
+        return _split ?? throw new InvalidOperationException("Split the program first.");
+    }
+
+    private void BeginJob(IHmiJob job)
+    {
+        _job = job;
+        _lastStatus = job.Status;
+        _shownExecutingLine = -1;
+        ShowJob();
+    }
+
+    private async Task FinishJobAsync()
+    {
+        var job = _job;
+        _job = null;
+        if (job is not null)
+        {
+            await job.DisposeAsync().ConfigureAwait(true);
+        }
+
+        var s = _lastStatus;
+        if (s is not null)
+        {
+            if (s.State == HmiJobState.Failed)
+            {
+                _view.ShowError(s.Message ?? T(TextId.StateFailed));
+            }
+
+            _log.Information("Job {State} at line {Line}, {Percent:0.0}%{Message:l}", s.State, s.CurrentLine, s.Percent,
+                s.Message is null ? string.Empty : ": " + s.Message);
+        }
+
+        ShowJob();
+        RefreshCommands();
+    }
+
+    private async Task JobCommandAsync(Func<IHmiJob, Task> command, string name)
+    {
+        var job = _job ?? throw new InvalidOperationException("No job is running.");
+        await command(job).ConfigureAwait(true);
+        _lastStatus = job.Status;
+        _log.Information("Operator {Command:l} at line {Line}", name, _lastStatus.CurrentLine);
+        if (_lastStatus.IsFinished)
+        {
+            await FinishJobAsync().ConfigureAwait(true);
+        }
+        else
+        {
+            ShowJob();
+        }
+    }
+
+    private async Task SingleBlockChangedAsync()
+    {
+        var on = _view.SingleBlock;
+        if (_job is { } job)
+        {
+            await job.SetSingleBlockAsync(on, _life.Token).ConfigureAwait(true);
+        }
+
+        _log.Information("Single block {State:l}", on ? "on" : "off");
+    }
+
+    private async Task FeedChangedAsync()
+    {
+        var value = _feedScale.Clamp(_view.Feed);
+        _feed = value;
+        if (_job is { } job)
+        {
+            await job.SetFeedAsync(value, _life.Token).ConfigureAwait(true);
+            _lastStatus = job.Status;
+        }
+
+        _log.Information("Feed set to {Feed} {Unit:l}", value, _feedScale.Unit);
+    }
+
+    private void ShowJob()
+    {
+        var line = _lastStatus?.CurrentLine ?? 0;
+        if (line != _shownExecutingLine)
+        {
+            _shownExecutingLine = line;
+            _view.ExecutingLine = line;
+        }
+
+        if (_lastStatus is { } s && Math.Abs(s.Feed - _feed) > 1e-9 && s.Feed > 0)
+        {
+            // The controller's feed is the truth (another port or the override knob may have changed it).
+            _feed = _feedScale.Clamp(s.Feed);
+            _view.Feed = _feed;
+        }
+
+        RefreshStatus();
+    }
+
+    private void DrainLog()
+    {
+        if (_logSink is null)
+        {
+            return;
+        }
+
+        var lines = _logSink.Drain();
+        if (lines.Count > 0)
+        {
+            _view.AppendLog(lines);
+        }
+    }
+
+    private void RefreshProgramLineCount()
+    {
+        if (_program is { } p && p.IndexedLines != _shownLineCount)
+        {
+            _shownLineCount = p.IndexedLines;
+            _view.ProgramLineCount = _shownLineCount;
+            RefreshStatus();
+        }
+    }
+
+    private void RefreshCommands()
+    {
+        if (_busy > 0 || _connecting)
+        {
+            // Hold and abort must stay reachable while a slow command runs.
+            _view.Commands = CommandStates.None with { Hold = _job is not null, Abort = _job is not null };
+            return;
+        }
+
+        var connected = _connection is not null;
+        var open = _program is not null;
+        var running = _job is not null;
+        var held = _lastStatus?.State == HmiJobState.Held;
+        var ready = connected && _split is not null && !running;
+        _view.Commands = new CommandStates(
+            Connect: !connected,
+            Disconnect: connected && !running,
+            Open: !running,
+            Check: open && !running,
+            Split: open && !running,
+            Execute: ready,
+            Hold: running && !held,
+            Resume: running,
+            Abort: running,
+            StartFromLine: ready,
+            ResumeInterrupted: connected && open && !running);
+    }
+
+    private void RefreshStatus()
+    {
+        var s = _lastStatus;
+        var manifest = _split?.Manifest;
+        string programLines;
+        if (_program is null)
+        {
+            programLines = "-";
+        }
+        else if (_program.IsComplete)
+        {
+            programLines = _program.IndexedLines.ToString("N0", CultureInfo.InvariantCulture);
+        }
+        else
+        {
+            programLines = F(TextId.Indexing, _program.IndexedLines);
+        }
+
+        var currentFile = "-";
+        if (s is not null && manifest is not null && s.CurrentChunk >= 1 && s.CurrentChunk <= manifest.Chunks.Count)
+        {
+            currentFile = $"{s.CurrentChunk}/{manifest.Chunks.Count}  {manifest.Chunks[s.CurrentChunk - 1].FileName}";
+        }
+
+        var state = s is null ? T(TextId.StateIdle) : T(s.State switch
+        {
+            HmiJobState.Running => TextId.StateRunning,
+            HmiJobState.Held => TextId.StateHeld,
+            HmiJobState.Completed => TextId.StateCompleted,
+            HmiJobState.Aborted => TextId.StateAborted,
+            HmiJobState.Failed => TextId.StateFailed,
+            _ => TextId.StateIdle,
+        });
+
+        var percent = s is null ? 0 : Math.Clamp(s.Percent, 0, 100);
+        _view.Status = new StatusDisplay(
+            State: state,
+            TotalFiles: manifest is null ? "-" : manifest.Chunks.Count.ToString(CultureInfo.InvariantCulture),
+            ProgramLines: programLines,
+            CurrentFile: currentFile,
+            CurrentLine: s is null || s.CurrentLine == 0 ? "-" : s.CurrentLine.ToString("N0", CultureInfo.InvariantCulture),
+            ProgressPercent: (int)Math.Round(percent),
+            Progress: percent.ToString("0.0", CultureInfo.InvariantCulture) + " %",
+            Feed: _feed.ToString("0.#", CultureInfo.InvariantCulture) + " " + _feedScale.Unit,
+            Elapsed: s is null ? "-" : Clock(s.Elapsed),
+            Eta: s?.Eta is { } eta ? Clock(eta) : "-");
+    }
+
+    private static string Clock(TimeSpan t) =>
+        t.TotalHours >= 1
+            ? string.Create(CultureInfo.InvariantCulture, $"{(int)t.TotalHours}:{t.Minutes:00}:{t.Seconds:00}")
+            : string.Create(CultureInfo.InvariantCulture, $"{t.Minutes:00}:{t.Seconds:00}");
+
+    private void CloseProgram()
+    {
+        _program?.Dispose();
+        _program = null;
+        _shownLineCount = 0;
+        _check = null;
+        _split = null;
+        _selectedChunk = -1;
+        _chunkLines?.Dispose();
+        _chunkLines = null;
+        _view.ProgramLineCount = 0;
+        _view.ChunkLineCount = 0;
+        _view.Diagnostics = [];
+        ShowChunkFiles();
+    }
+}

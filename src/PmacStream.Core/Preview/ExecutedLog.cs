@@ -1,0 +1,212 @@
+using System.Globalization;
+
+namespace PmacStream.Preview;
+
+/// <summary>One row of the simulator's executed-move log (<c>sequence,line,start_s,end_s,x,y,z,kind</c>).</summary>
+/// <param name="Sequence">Running number of the executed move.</param>
+/// <param name="Line">Source line the controller was tracking for the move.</param>
+/// <param name="StartSeconds">Virtual time the move started.</param>
+/// <param name="EndSeconds">Virtual time the move ended.</param>
+/// <param name="End">Where the move ended (mm).</param>
+/// <param name="Kind">Move kind as the simulator names it (rapid, linear, circle, dwell ...).</param>
+public readonly record struct ExecutedLogRow(long Sequence, long Line, double StartSeconds, double EndSeconds, Point3D End, string Kind);
+
+/// <summary>
+/// Streams an executed-move log CSV row by row (a log as long as the program never sits in memory). Bad input is
+/// reported as <see cref="InvalidDataException"/> naming the file, line and column.
+/// </summary>
+public static class ExecutedLogReader
+{
+    /// <summary>The header the simulator writes.</summary>
+    public const string Header = "sequence,line,start_s,end_s,x,y,z,kind";
+
+    private static readonly string[] Columns = Header.Split(',');
+
+    /// <summary>Reads every row of the log at <paramref name="path"/>.</summary>
+    public static IEnumerable<ExecutedLogRow> Read(string path, CancellationToken cancellationToken = default)
+    {
+        using var reader = new StreamReader(path, System.Text.Encoding.UTF8, true, 1 << 16);
+        var name = Path.GetFileName(path);
+        var header = reader.ReadLine();
+        if (header is null || !string.Equals(header.Trim().TrimStart('\uFEFF'), Header, StringComparison.OrdinalIgnoreCase))
+        {
+            throw new InvalidDataException($"{name}:1:1: expected the header '{Header}', found '{header ?? "<empty file>"}'");
+        }
+
+        var lineNo = 1L;
+        string? text;
+        while ((text = reader.ReadLine()) is not null)
+        {
+            lineNo++;
+            if ((lineNo & 0xFFF) == 0)
+            {
+                cancellationToken.ThrowIfCancellationRequested();
+            }
+
+            if (text.Length == 0)
+            {
+                continue;
+            }
+
+            yield return ParseRow(text, name, lineNo);
+        }
+    }
+
+    /// <summary>Parses one data row (exposed for tests).</summary>
+    internal static ExecutedLogRow ParseRow(string text, string name, long lineNo)
+    {
+        Span<Range> parts = stackalloc Range[9];
+        var span = text.AsSpan();
+        var n = span.Split(parts, ',');
+        if (n != 8)
+        {
+            throw new InvalidDataException($"{name}:{lineNo}:1: expected 8 comma-separated fields ({Header}), found {Math.Min(n, 9)}{(n > 8 ? " or more" : string.Empty)}");
+        }
+
+        return new ExecutedLogRow(
+            Int(text, parts, 0, name, lineNo, 0), Int(text, parts, 1, name, lineNo, long.MinValue), Num(text, parts, 2, name, lineNo), Num(text, parts, 3, name, lineNo),
+            new Point3D(Num(text, parts, 4, name, lineNo), Num(text, parts, 5, name, lineNo), Num(text, parts, 6, name, lineNo)),
+            span[parts[7]].Trim().ToString());
+    }
+
+    private static double Num(string text, ReadOnlySpan<Range> parts, int i, string name, long lineNo)
+    {
+        var field = text.AsSpan()[parts[i]].Trim();
+        if (!double.TryParse(field, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) || !double.IsFinite(v))
+        {
+            throw new InvalidDataException($"{name}:{lineNo}:{parts[i].Start.GetOffset(text.Length) + 1}: column '{Columns[i]}' expects a number, found '{field.ToString()}'");
+        }
+
+        return v;
+    }
+
+    private static long Int(string text, ReadOnlySpan<Range> parts, int i, string name, long lineNo, long min)
+    {
+        var field = text.AsSpan()[parts[i]].Trim();
+        if (!long.TryParse(field, NumberStyles.Integer, CultureInfo.InvariantCulture, out var v) || v < min)
+        {
+            var what = min == 0 ? "a whole number >= 0" : "a whole number";
+            throw new InvalidDataException($"{name}:{lineNo}:{parts[i].Start.GetOffset(text.Length) + 1}: column '{Columns[i]}' expects {what}, found '{field.ToString()}'");
+        }
+
+        return v;
+    }
+}
+
+/// <summary>
+/// How often each source line was executed (saturating at 255), one byte per line number. Consecutive log rows of
+/// the same line count as one execution: one block may become several controller moves; running it again after
+/// other lines is what counts twice. Lines of 0 or less (no tracking value yet) are not counted.
+/// </summary>
+public sealed class ExecutionCounts
+{
+    private byte[] _counts = new byte[1024];
+    private long _previous = long.MinValue;
+
+    /// <summary>Rows counted.</summary>
+    public long Rows { get; private set; }
+
+    /// <summary>Highest line number seen.</summary>
+    public long MaxLine { get; private set; }
+
+    /// <summary>Counts one log row of <paramref name="line"/>.</summary>
+    public void Add(long line)
+    {
+        Rows++;
+        var same = line == _previous;
+        _previous = line;
+        if (same || line <= 0 || line > int.MaxValue - 64)
+        {
+            return;
+        }
+
+        if (line >= _counts.Length)
+        {
+            var size = _counts.Length;
+            while (size <= line)
+            {
+                size = (int)Math.Min(int.MaxValue - 64L, size * 2L);
+            }
+
+            Array.Resize(ref _counts, size);
+        }
+
+        if (_counts[line] < 255)
+        {
+            _counts[line]++;
+        }
+
+        MaxLine = Math.Max(MaxLine, line);
+    }
+
+    /// <summary>Times <paramref name="line"/> was executed (255 means 255 or more).</summary>
+    public int this[long line] => line >= 0 && line < _counts.Length ? _counts[line] : 0;
+
+    /// <summary>The counts of a whole log.</summary>
+    public static ExecutionCounts FromLog(string path, CancellationToken cancellationToken = default)
+    {
+        var counts = new ExecutionCounts();
+        foreach (var row in ExecutedLogReader.Read(path, cancellationToken))
+        {
+            counts.Add(row.Line);
+        }
+
+        return counts;
+    }
+}
+
+/// <summary>A run of consecutive source lines (as listed in the report), with how often they ran.</summary>
+/// <param name="First">First line of the run.</param>
+/// <param name="Last">Last line of the run.</param>
+/// <param name="Times">Executions of each line in the run (0 for a gap).</param>
+public readonly record struct LineRun(long First, long Last, int Times)
+{
+    /// <inheritdoc />
+    public override string ToString() => First == Last ? $"line {First}" : $"lines {First}-{Last}";
+}
+
+/// <summary>What the executed log says about the program: motion lines never executed, and lines executed twice or more.</summary>
+public sealed class ExecutionReport
+{
+    /// <summary>At most this many runs are listed per kind (the rest are only counted).</summary>
+    public const int MaxRuns = 200;
+
+    internal readonly List<LineRun> MissingList = new();
+    internal readonly List<LineRun> RepeatedList = new();
+
+    /// <summary>Rows in the log.</summary>
+    public long LogRows { get; internal set; }
+
+    /// <summary>Drawn motion lines of the program that the log never executed.</summary>
+    public long MissingLines { get; internal set; }
+
+    /// <summary>Lines the log executed more than once.</summary>
+    public long RepeatedLines { get; internal set; }
+
+    /// <summary>The never-executed lines as runs of consecutive motion lines (first <see cref="MaxRuns"/>).</summary>
+    public IReadOnlyList<LineRun> Missing => MissingList;
+
+    /// <summary>The repeated lines as runs of consecutive lines with equal counts (first <see cref="MaxRuns"/>).</summary>
+    public IReadOnlyList<LineRun> Repeated => RepeatedList;
+
+    /// <summary>True when every drawn motion line ran exactly once.</summary>
+    public bool IsExact => MissingLines == 0 && RepeatedLines == 0;
+
+    internal static void AddRun(List<LineRun> list, long line, int times, long previousLine)
+    {
+        if (list.Count > 0)
+        {
+            var last = list[^1];
+            if (last.Times == times && last.Last == previousLine)
+            {
+                list[^1] = last with { Last = line };
+                return;
+            }
+        }
+
+        if (list.Count < MaxRuns)
+        {
+            list.Add(new LineRun(line, line, times));
+        }
+    }
+}

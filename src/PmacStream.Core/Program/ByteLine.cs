@@ -1,0 +1,81 @@
+using System.Buffers.Text;
+
+namespace PmacStream.Program;
+
+/// <summary>A growable ASCII byte buffer for building chunk text without allocating per block.</summary>
+internal sealed class ByteLine
+{
+    private byte[] _buffer;
+
+    public ByteLine(int capacity) => _buffer = new byte[Math.Max(16, capacity)];
+
+    public int Length { get; private set; }
+
+    public ReadOnlySpan<byte> Span => _buffer.AsSpan(0, Length);
+
+    public void Clear() => Length = 0;
+
+    public void Append(byte b)
+    {
+        Ensure(1);
+        _buffer[Length++] = b;
+    }
+
+    public void Append(ReadOnlySpan<byte> bytes)
+    {
+        Ensure(bytes.Length);
+        bytes.CopyTo(_buffer.AsSpan(Length));
+        Length += bytes.Length;
+    }
+
+    public void Append(int value)
+    {
+        Ensure(11);
+        Utf8Formatter.TryFormat(value, _buffer.AsSpan(Length), out var written);
+        Length += written;
+    }
+
+    /// <summary>A number as written in the source, minus a leading <c>+</c> (the PMAC reads it as an operator).</summary>
+    public void AppendNumber(ReadOnlySpan<byte> text)
+    {
+        if (text.Length > 1 && text[0] == (byte)'+')
+        {
+            text = text[1..];
+        }
+
+        Append(text);
+    }
+
+    /// <summary>Makes room for <paramref name="count"/> bytes and returns the free space after the content.</summary>
+    public Span<byte> Reserve(int count)
+    {
+        Ensure(count);
+        return _buffer.AsSpan(Length);
+    }
+
+    /// <summary>Takes what was written into the span <see cref="Reserve"/> returned, given what is left of it.</summary>
+    public void Commit(Span<byte> rest) => Length = _buffer.Length - rest.Length;
+
+    public void Insert(int at, ReadOnlySpan<byte> bytes)
+    {
+        Ensure(bytes.Length);
+        _buffer.AsSpan(at, Length - at).CopyTo(_buffer.AsSpan(at + bytes.Length));
+        bytes.CopyTo(_buffer.AsSpan(at));
+        Length += bytes.Length;
+    }
+
+    public void AppendCrLf()
+    {
+        Ensure(2);
+        _buffer[Length++] = (byte)'\r';
+        _buffer[Length++] = (byte)'\n';
+    }
+
+    private void Ensure(int extra)
+    {
+        if (Length + extra > _buffer.Length)
+        {
+            Array.Resize(ref _buffer, Math.Max(Length + extra, _buffer.Length * 2));
+        }
+    }
+}

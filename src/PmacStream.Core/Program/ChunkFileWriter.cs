@@ -1,0 +1,113 @@
+using System.Buffers;
+using System.Collections.Concurrent;
+using System.Runtime.ExceptionServices;
+using System.Security.Cryptography;
+
+namespace PmacStream.Program;
+
+/// <summary>
+/// Writes chunk files and hashes them on a background thread, so file creation (slow on some file systems) and
+/// SHA-256 overlap with reading the source. At most <see cref="Depth"/> chunks wait, so memory stays bounded.
+/// A failure on the writer thread surfaces on the splitter's thread at its next hand-over or at <see cref="Complete"/>.
+/// </summary>
+internal sealed class ChunkFileWriter : IDisposable
+{
+    private const int Depth = 4;
+
+    private readonly BlockingCollection<(int Index, string Path, byte[] Data, int Length)> _queue = new(Depth);
+    private readonly ChunkTable _table;
+    private readonly Action<int>? _afterWritten;
+    private readonly CancellationToken _ct;
+    private readonly Task _task;
+    private volatile Exception? _failure;
+
+    public ChunkFileWriter(ChunkTable table, Action<int>? afterWritten, CancellationToken ct)
+    {
+        _table = table;
+        _afterWritten = afterWritten;
+        _ct = ct;
+        _task = Task.Factory.StartNew(Run, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
+    }
+
+    /// <summary>Queues a copy of <paramref name="data"/> to be written to <paramref name="path"/>.</summary>
+    public void Enqueue(int index, string path, ReadOnlySpan<byte> data)
+    {
+        var copy = ArrayPool<byte>.Shared.Rent(data.Length);
+        data.CopyTo(copy);
+        try
+        {
+            _queue.Add((index, path, copy, data.Length), _ct);
+        }
+        catch (InvalidOperationException) when (_failure != null)
+        {
+            ArrayPool<byte>.Shared.Return(copy);
+            ExceptionDispatchInfo.Throw(_failure);
+        }
+        catch
+        {
+            ArrayPool<byte>.Shared.Return(copy);
+            throw;
+        }
+    }
+
+    /// <summary>Waits for every queued chunk (their hashes are then in the table). Rethrows a writer failure.</summary>
+    public void Complete()
+    {
+        _queue.CompleteAdding();
+        _task.GetAwaiter().GetResult();
+    }
+
+    public void Dispose()
+    {
+        if (!_queue.IsAddingCompleted)
+        {
+            _queue.CompleteAdding();
+        }
+
+        try
+        {
+            _task.Wait();
+        }
+        catch (AggregateException)
+        {
+            // Already reported through Enqueue/Complete, or the split failed for another reason.
+        }
+
+        _queue.Dispose();
+    }
+
+    private void Run()
+    {
+        Span<byte> hash = stackalloc byte[32];
+        try
+        {
+            foreach (var (index, path, data, length) in _queue.GetConsumingEnumerable())
+            {
+                try
+                {
+                    _ct.ThrowIfCancellationRequested();
+                    var span = data.AsSpan(0, length);
+                    using (var fs = new FileStream(path, FileMode.CreateNew, FileAccess.Write, FileShare.None, 1))
+                    {
+                        fs.Write(span);
+                    }
+
+                    SHA256.HashData(span, hash);
+                    _table.SetHash(index, hash);
+                }
+                finally
+                {
+                    ArrayPool<byte>.Shared.Return(data);
+                }
+
+                _afterWritten?.Invoke(index);
+            }
+        }
+        catch (Exception e)
+        {
+            _failure = e;
+            _queue.CompleteAdding();
+            throw;
+        }
+    }
+}

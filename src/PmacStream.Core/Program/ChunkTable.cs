@@ -1,0 +1,96 @@
+using System.Collections;
+using System.Runtime.CompilerServices;
+
+namespace PmacStream.Program;
+
+/// <summary>
+/// The manifest's chunk list kept compact (about 60 bytes a chunk, hash as bytes, file name derived), so splitting a
+/// gigabyte program (tens of thousands of chunks) stays within the memory goal. <see cref="ChunkInfo"/> records are
+/// made on demand. Add and SetHash may run on different threads (splitter and background writer).
+/// </summary>
+internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
+{
+    private readonly object _gate = new();
+    private Entry[] _entries = new Entry[64];
+    private int _count;
+
+    public int Count
+    {
+        get
+        {
+            lock (_gate)
+            {
+                return _count;
+            }
+        }
+    }
+
+    public ChunkInfo this[int index]
+    {
+        get
+        {
+            Entry e;
+            lock (_gate)
+            {
+                ArgumentOutOfRangeException.ThrowIfGreaterThanOrEqual((uint)index, (uint)_count, nameof(index));
+                e = _entries[index];
+            }
+
+            return new ChunkInfo(index + 1, FileName(index + 1), e.First, e.Last, e.Blocks, e.Motion, e.Bytes, e.Words,
+                Convert.ToHexStringLower(e.Sha));
+        }
+    }
+
+    public string FileName(int chunkIndex) => $"{name}_{chunkIndex:D4}{Splitter.ChunkExtension}";
+
+    /// <summary>Adds the next chunk; returns its 1-based index. The hash comes later through <see cref="SetHash"/>.</summary>
+    public int Add(int first, int last, int blocks, int motion, long bytes, int words)
+    {
+        lock (_gate)
+        {
+            if (_count == _entries.Length)
+            {
+                Array.Resize(ref _entries, _entries.Length * 2);
+            }
+
+            _entries[_count] = new Entry { First = first, Last = last, Blocks = blocks, Motion = motion, Bytes = bytes, Words = words };
+            return ++_count;
+        }
+    }
+
+    public void SetHash(int chunkIndex, ReadOnlySpan<byte> sha256)
+    {
+        lock (_gate)
+        {
+            sha256.CopyTo(_entries[chunkIndex - 1].Sha);
+        }
+    }
+
+    public IEnumerator<ChunkInfo> GetEnumerator()
+    {
+        var n = Count;
+        for (var i = 0; i < n; i++)
+        {
+            yield return this[i];
+        }
+    }
+
+    IEnumerator IEnumerable.GetEnumerator() => GetEnumerator();
+
+    private struct Entry
+    {
+        public int First;
+        public int Last;
+        public int Blocks;
+        public int Motion;
+        public int Words;
+        public long Bytes;
+        public Sha256Bytes Sha;
+    }
+
+    [InlineArray(32)]
+    private struct Sha256Bytes
+    {
+        private byte _b;
+    }
+}

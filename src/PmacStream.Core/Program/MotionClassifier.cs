@@ -1,0 +1,75 @@
+using PmacStream.GCode;
+
+namespace PmacStream.Program;
+
+/// <summary>What a block does on the controller, as far as tracking and the executed-move count care.</summary>
+internal enum BlockMotion
+{
+    /// <summary>No move and no dwell (modes, M/T codes, data settings).</summary>
+    None,
+
+    /// <summary>Axis words that move the machine: one executed move.</summary>
+    Move,
+
+    /// <summary><c>G04</c>: a dwell, logged as one executed move by the simulator.</summary>
+    Dwell,
+}
+
+/// <summary>
+/// Decides which blocks execute a move or a dwell. Kept small and separate so it can be swapped for the gcode
+/// helper's interpreter. Rule: G04 is a dwell; otherwise a block with an X Y Z A B C word moves, unless a G code on
+/// the same block takes the axis words as data (G10, G52, G92: on a PMAC their subroutines READ them, nothing moves).
+/// PMAC starts in LINEAR mode, so axis words move even before any G00/G01. Stateless, so blocks are classified
+/// alone (the splitter never looks back).
+/// </summary>
+internal static class MotionClassifier
+{
+    /// <summary>Classifies one block from its words; <paramref name="endsProgram"/> tells whether it carries M02/M30.</summary>
+    public static BlockMotion Classify(ReadOnlySpan<GWord> words, out bool endsProgram)
+    {
+        var hasAxis = false;
+        var dataOnly = false;
+        var dwell = false;
+        endsProgram = false;
+        foreach (ref readonly var w in words)
+        {
+            switch (w.Letter)
+            {
+                case 'G':
+                    switch (w.CodeTimesTen)
+                    {
+                        case 40:
+                            dwell = true;
+                            break;
+                        case 100:
+                        case 520:
+                        case 920:
+                        case 921:
+                        case 922:
+                        case 923:
+                            dataOnly = true;
+                            break;
+                    }
+
+                    break;
+                case 'M':
+                    if (w.CodeTimesTen is 20 or 300)
+                    {
+                        endsProgram = true;
+                    }
+
+                    break;
+                case 'X':
+                case 'Y':
+                case 'Z':
+                case 'A':
+                case 'B':
+                case 'C':
+                    hasAxis = true;
+                    break;
+            }
+        }
+
+        return dwell ? BlockMotion.Dwell : hasAxis && !dataOnly ? BlockMotion.Move : BlockMotion.None;
+    }
+}

@@ -1,0 +1,556 @@
+using System.Buffers.Text;
+using System.Runtime.InteropServices;
+using System.Security.Cryptography;
+using System.Text;
+using PmacStream.GCode;
+using Serilog;
+
+namespace PmacStream.Program;
+
+/// <summary>
+/// Seed 000's first step: cuts a G-code program into rotary-buffer chunk files a Turbo PMAC accepts, streaming the
+/// source (memory does not grow with its size). Each chunk is <c>CLOSE</c>, <c>OPEN ROT</c>, one line per source
+/// block (plus a <c>P500=</c> line where the program sets F), and <c>CLOSE</c>; the last one carries the program
+/// tail. Lines are ASCII with CR LF ends. Output goes to a temporary folder renamed into place at the end, so a
+/// failure leaves no half-written set.
+/// </summary>
+public static class Splitter
+{
+    /// <summary>Chunk files' extension.</summary>
+    public const string ChunkExtension = ".pmc";
+
+    /// <summary>First lines of every chunk: close whatever buffer is open, open the rotary buffer (the paper's header).</summary>
+    public static readonly string Header = "CLOSE\r\nOPEN ROT\r\n";
+
+    /// <summary>Last line of every chunk, so online commands (M0 reads, P500 writes) never land in an open buffer.</summary>
+    public static readonly string Footer = "CLOSE\r\n";
+
+    private static readonly ILogger Logger = Log.ForContext(typeof(Splitter));
+
+    /// <summary>The default output folder: <c>&lt;source dir&gt;/&lt;name&gt;_chunks</c>.</summary>
+    public static string DefaultOutDir(string sourcePath)
+    {
+        var full = Path.GetFullPath(sourcePath);
+        return Path.Combine(Path.GetDirectoryName(full)!, Path.GetFileNameWithoutExtension(full) + "_chunks");
+    }
+
+    /// <summary>Splits asynchronously on the thread pool (see <see cref="Split"/>).</summary>
+    public static Task<SplitResult> SplitAsync(string sourcePath, SplitOptions? options = null,
+        IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default) =>
+        Task.Run(() => Split(sourcePath, options, progress, cancellationToken), cancellationToken);
+
+    /// <summary>
+    /// Splits <paramref name="sourcePath"/> into chunk files plus <c>manifest.json</c>.
+    /// </summary>
+    /// <exception cref="SplitException">The program has errors (and <see cref="SplitOptions.AllowErrors"/> is off),
+    /// a block cannot fit one chunk, or it holds no blocks. Nothing is written.</exception>
+    /// <exception cref="IOException">The source cannot be read or the output folder cannot be written.</exception>
+    /// <exception cref="ArgumentException">An option is invalid.</exception>
+    /// <exception cref="OperationCanceledException">Cancelled; nothing is written.</exception>
+    public static SplitResult Split(string sourcePath, SplitOptions? options = null,
+        IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default)
+    {
+        options ??= new SplitOptions();
+        options.Validate();
+        var source = Path.GetFullPath(sourcePath);
+        if (!File.Exists(source))
+        {
+            throw new FileNotFoundException($"{sourcePath}: no such file", sourcePath);
+        }
+
+        var outDir = Path.GetFullPath(options.OutDir ?? DefaultOutDir(source));
+        EnsureReplaceable(outDir);
+        var parent = Path.GetDirectoryName(outDir) ?? throw new IOException($"{outDir}: cannot write to a root folder");
+        Directory.CreateDirectory(parent);
+        var temp = Path.Combine(parent, $".{Path.GetFileName(outDir)}.tmp-{Guid.NewGuid():N}");
+        Directory.CreateDirectory(temp);
+        Logger.Information("Splitting {Source} into {OutDir} ({Lines} blocks, {Words} words, {Bytes} bytes per chunk)",
+            source, outDir, options.LinesPerChunk, options.RotWords, options.MaxChunkBytes);
+        try
+        {
+            var run = new SplitRun(source, temp, options, progress, cancellationToken);
+            var (manifest, warnings) = run.Execute();
+            manifest.Save(Path.Combine(temp, ChunkManifest.FileName));
+            Publish(temp, outDir);
+            Logger.Information("Split {Source}: {Chunks} chunks, {Blocks} blocks ({Motion} motion)",
+                source, manifest.Chunks.Count, manifest.TotalBlocks, manifest.TotalMotionBlocks);
+            return new SplitResult(manifest, outDir, warnings);
+        }
+        catch
+        {
+            TryDelete(temp);
+            throw;
+        }
+    }
+
+    /// <summary>An existing output folder is replaced only when it is empty or holds a previous split.</summary>
+    private static void EnsureReplaceable(string outDir)
+    {
+        if (File.Exists(outDir))
+        {
+            throw new IOException($"{outDir}: exists and is a file, not a folder");
+        }
+
+        if (!Directory.Exists(outDir))
+        {
+            return;
+        }
+
+        foreach (var f in Directory.EnumerateFileSystemEntries(outDir))
+        {
+            var name = Path.GetFileName(f);
+            if (!(name == ChunkManifest.FileName || name.EndsWith(ChunkExtension, StringComparison.OrdinalIgnoreCase)) || Directory.Exists(f))
+            {
+                throw new IOException($"{outDir}: folder exists and holds other files ({name}); choose another --out");
+            }
+        }
+    }
+
+    private static void Publish(string temp, string outDir)
+    {
+        if (!Directory.Exists(outDir))
+        {
+            Directory.Move(temp, outDir);
+            return;
+        }
+
+        // Swap: old set aside, new in place, old deleted; on failure the old set comes back.
+        var old = temp + ".old";
+        Directory.Move(outDir, old);
+        try
+        {
+            Directory.Move(temp, outDir);
+        }
+        catch
+        {
+            Directory.Move(old, outDir);
+            throw;
+        }
+
+        TryDelete(old);
+    }
+
+    private static void TryDelete(string folder)
+    {
+        try
+        {
+            if (Directory.Exists(folder))
+            {
+                Directory.Delete(folder, recursive: true);
+            }
+        }
+        catch (IOException e)
+        {
+            Logger.Warning(e, "Could not delete {Folder}", folder);
+        }
+        catch (UnauthorizedAccessException e)
+        {
+            Logger.Warning(e, "Could not delete {Folder}", folder);
+        }
+    }
+
+    /// <summary>One split in progress: reader, current chunk buffer, counters.</summary>
+    private sealed class SplitRun
+    {
+        private static readonly byte[] HeaderBytes = Encoding.ASCII.GetBytes(Header);
+        private static readonly byte[] FooterBytes = Encoding.ASCII.GetBytes(Footer);
+
+        private readonly string _source;
+        private readonly string _folder;
+        private readonly string _name;
+        private readonly SplitOptions _o;
+        private readonly IProgress<SplitProgress>? _progress;
+        private readonly CancellationToken _ct;
+        private readonly byte[] _track;
+        private readonly byte[] _feedVar;
+        private readonly byte[] _tail;
+        private readonly int _tailWords;
+        private readonly ByteLine _block = new(256);
+        private readonly ByteLine _chunk;
+        private readonly ChunkTable _chunks;
+        private readonly List<Diagnostic> _errors = [];
+        private int _errorCount;
+        private int _warnings;
+        private long _totalBytes;
+        private GCodeReader? _reader;
+        private ChunkFileWriter? _writer;
+
+        // Current chunk.
+        private int _chunkBlocks;
+        private int _chunkMotion;
+        private int _chunkWords;
+        private int _chunkFirst;
+        private int _chunkLast;
+        private int _totalBlocks;
+        private int _totalMotion;
+        private int _lastBlockStart;
+        private bool _lastBlockEndsProgram;
+
+        public SplitRun(string source, string folder, SplitOptions options, IProgress<SplitProgress>? progress, CancellationToken ct)
+        {
+            _source = source;
+            _folder = folder;
+            _name = Path.GetFileNameWithoutExtension(source);
+            _chunks = new ChunkTable(_name);
+            _o = options;
+            _progress = progress;
+            _ct = ct;
+            _track = Encoding.ASCII.GetBytes(options.TrackVariable);
+            _feedVar = Encoding.ASCII.GetBytes(options.FeedVariable);
+            var tail = new StringBuilder();
+            foreach (var line in options.ProgramTail.Split('\n'))
+            {
+                var t = line.Trim();
+                if (t.Length > 0)
+                {
+                    tail.Append(t).Append("\r\n");
+                    _tailWords += Math.Max(1, t.Split(' ', StringSplitOptions.RemoveEmptyEntries).Length);
+                }
+            }
+
+            _tail = Encoding.ASCII.GetBytes(tail.ToString());
+            _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
+            _chunk.Append(HeaderBytes);
+        }
+
+        public (ChunkManifest Manifest, int Warnings) Execute()
+        {
+            long size;
+            // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
+            var sourceHash = Task.Run(() => HashFile(_source), _ct);
+            using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct))
+            {
+                _writer = writer;
+                using (var reader = new GCodeReader(
+                    new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan),
+                    leaveOpen: false, bufferSize: 1 << 18))
+                {
+                    _totalBytes = new FileInfo(_source).Length;
+                    _reader = reader;
+                    var n = 0;
+                    while (reader.Read())
+                    {
+                        if ((++n & 0x3FFF) == 0)
+                        {
+                            _ct.ThrowIfCancellationRequested();
+                        }
+
+                        var b = reader.Current;
+                        if (b.LexicalDiagnostics.Count > 0)
+                        {
+                            Collect(b);
+                        }
+
+                        if (_errorCount > 0 && !_o.AllowErrors)
+                        {
+                            continue; // keep reading to list every error; nothing is written anyway
+                        }
+
+                        if (b.IsTapeMark || (b.BlockDelete && _o.BlockDelete))
+                        {
+                            continue;
+                        }
+
+                        Emit(b);
+                    }
+
+                    size = reader.Position;
+                }
+
+                Finish();
+                writer.Complete();
+            }
+
+            var (sha, hashedSize) = sourceHash.GetAwaiter().GetResult();
+            if (hashedSize != size)
+            {
+                throw new IOException($"{_source}: changed while it was being split ({size} bytes read, {hashedSize} hashed)");
+            }
+
+            var manifest = new ChunkManifest(_source, size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
+                _o.Tracking, _o.Feed, _o.FeedVariable, _chunks)
+            {
+                LinesPerChunk = _o.LinesPerChunk,
+                RotWords = _o.RotWords,
+                WordsPerBlock = _o.WordsPerBlock,
+                MaxChunkBytes = _o.MaxChunkBytes,
+                ProgramTail = _o.ProgramTail,
+                KeepN = _o.KeepN,
+            };
+            return (manifest, _warnings);
+        }
+
+        private void Finish()
+        {
+            if (_errorCount > 0 && !_o.AllowErrors)
+            {
+                throw new SplitException(
+                    $"{_source}: {_errorCount} error(s); not split (force splits anyway, dropping what is not G-code)",
+                    _errors, _errorCount);
+            }
+
+            if (_chunkBlocks == 0)
+            {
+                throw new SplitException($"{_source}: no program blocks to split", [], 1);
+            }
+
+            Flush(last: true);
+        }
+
+        private static (string Sha, long Size) HashFile(string path)
+        {
+            using var fs = new FileStream(path, FileMode.Open, FileAccess.Read, FileShare.Read, 1 << 20, FileOptions.SequentialScan);
+            var sha = Convert.ToHexStringLower(SHA256.HashData(fs));
+            return (sha, fs.Length);
+        }
+
+        private void Collect(GBlock b)
+        {
+            foreach (var d in b.LexicalDiagnostics)
+            {
+                if (d.Severity == Severity.Error)
+                {
+                    _errorCount++;
+                    if (_errors.Count < _o.MaxReportedErrors)
+                    {
+                        _errors.Add(d);
+                    }
+                }
+                else
+                {
+                    _warnings++;
+                }
+            }
+        }
+
+        private void Emit(GBlock b)
+        {
+            // Hot path: spans over the reader's own word list and line bytes, no allocation per block.
+            var words = CollectionsMarshal.AsSpan(b.WordList);
+            var src = b.Buffer;
+            var paperFeed = _o.Feed == FeedMode.Paper;
+            var feedIndex = -1;
+            var nIndex = -1;
+            var any = false;
+            for (var i = 0; i < words.Length; i++)
+            {
+                switch (words[i].Letter)
+                {
+                    case 'N':
+                        nIndex = nIndex < 0 ? i : nIndex;
+                        break;
+                    case 'O':
+                        break;
+                    case 'F' when paperFeed:
+                        feedIndex = i;
+                        break;
+                    default:
+                        any = true;
+                        break;
+                }
+            }
+
+            if (!any && feedIndex < 0)
+            {
+                return; // empty, comment-only, N-only or O-only: nothing for the controller
+            }
+
+            var endsProgram = false;
+            var motion = any ? MotionClassifier.Classify(words, out endsProgram) : BlockMotion.None;
+            endsProgram &= motion == BlockMotion.None;
+            var line = _block;
+            line.Clear();
+            // Upper bound: every word's text plus a separator, the source line once more (for P500=F), markers.
+            var o = line.Reserve((2 * b.Length) + (2 * words.Length) + 64 + (2 * (_track.Length + _feedVar.Length)));
+            var values = 0;
+            if (feedIndex >= 0)
+            {
+                // Where the program sets F, the value goes into the feed variable so F(P500) keeps it.
+                o = Put(o, _feedVar);
+                o[0] = (byte)'=';
+                o = Number(o[1..], src, words[feedIndex]);
+                o[0] = (byte)'\r';
+                o[1] = (byte)'\n';
+                o = o[2..];
+                values++;
+            }
+
+            if (any)
+            {
+                var sep = false;
+                if (_o.KeepN && nIndex >= 0)
+                {
+                    o[0] = (byte)'N';
+                    o = Number(o[1..], src, words[nIndex]);
+                    sep = true;
+                    values++;
+                }
+
+                var tracked = motion != BlockMotion.None;
+                if (tracked && _o.Tracking == TrackingPlacement.Exact)
+                {
+                    if (sep)
+                    {
+                        o[0] = (byte)' ';
+                        o = o[1..];
+                    }
+
+                    o = Track(o, b.LineNumber);
+                    sep = true;
+                    values++;
+                }
+
+                foreach (ref readonly var w in words)
+                {
+                    if (w.Letter is 'N' or 'O' || (w.Letter == 'F' && paperFeed))
+                    {
+                        continue;
+                    }
+
+                    if (sep)
+                    {
+                        o[0] = (byte)' ';
+                        o = o[1..];
+                    }
+
+                    o[0] = (byte)w.Letter;
+                    o = Number(o[1..], src, w);
+                    sep = true;
+                    values++;
+                }
+
+                if (motion == BlockMotion.Move && paperFeed)
+                {
+                    o[0] = (byte)' ';
+                    o[1] = (byte)'F';
+                    o[2] = (byte)'(';
+                    o = Put(o[3..], _feedVar);
+                    o[0] = (byte)')';
+                    o = o[1..];
+                    values++;
+                }
+
+                if (tracked && _o.Tracking == TrackingPlacement.Paper)
+                {
+                    o[0] = (byte)' ';
+                    o = Track(o[1..], b.LineNumber);
+                    values++;
+                }
+
+                o[0] = (byte)'\r';
+                o[1] = (byte)'\n';
+                o = o[2..];
+            }
+
+            line.Commit(o);
+            Add(b.LineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
+        }
+
+        private static Span<byte> Put(Span<byte> o, byte[] bytes)
+        {
+            bytes.CopyTo(o);
+            return o[bytes.Length..];
+        }
+
+        /// <summary>A number as written in the source, minus a leading <c>+</c> (the PMAC reads it as an operator).</summary>
+        private static Span<byte> Number(Span<byte> o, byte[] src, in GWord w)
+        {
+            var text = src.AsSpan(w.NumberStart, w.NumberLength);
+            if (text.Length > 1 && text[0] == (byte)'+')
+            {
+                text = text[1..];
+            }
+
+            text.CopyTo(o);
+            return o[text.Length..];
+        }
+
+        private Span<byte> Track(Span<byte> o, int sourceLine)
+        {
+            o = Put(o, _track);
+            o[0] = (byte)'=';
+            o[1] = (byte)'=';
+            Utf8Formatter.TryFormat(sourceLine, o[2..], out var written);
+            return o[(2 + written)..];
+        }
+
+        private void Add(int sourceLine, bool motion, bool endsProgram, int words)
+        {
+            var bytes = _block.Length;
+            var reserve = _tail.Length + FooterBytes.Length;
+            if (_chunkBlocks > 0 &&
+                (_chunkBlocks >= _o.LinesPerChunk ||
+                 _chunk.Length + bytes + reserve > _o.MaxChunkBytes ||
+                 _chunkWords + words + _tailWords > _o.RotWords))
+            {
+                Flush(last: false);
+            }
+
+            if (_chunkBlocks == 0 &&
+                (HeaderBytes.Length + bytes + reserve > _o.MaxChunkBytes || words + _tailWords > _o.RotWords))
+            {
+                var message = $"block of {bytes} bytes, ~{words} words does not fit one chunk " +
+                              $"({_o.MaxChunkBytes} bytes, {_o.RotWords} words, {HeaderBytes.Length + reserve} bytes and {_tailWords} words taken by header and tail); raise --rot-words";
+                var d = new Diagnostic(Severity.Error, SplitDiagnosticCodes.BlockTooBig, sourceLine, 1, message);
+                throw new SplitException($"{_source}:{sourceLine}: {message}", [d], 1);
+            }
+
+            if (_chunkBlocks == 0)
+            {
+                _chunkFirst = sourceLine;
+            }
+
+            _lastBlockStart = _chunk.Length;
+            _lastBlockEndsProgram = endsProgram;
+            _chunk.Append(_block.Span);
+            _chunkBlocks++;
+            _chunkWords += words;
+            _chunkLast = sourceLine;
+            _totalBlocks++;
+            if (motion)
+            {
+                _chunkMotion++;
+                _totalMotion++;
+            }
+        }
+
+        private void Flush(bool last)
+        {
+            _ct.ThrowIfCancellationRequested();
+            var words = _chunkWords;
+            if (last)
+            {
+                // The tail goes before the program's own end code (M02/M30) when that is the last block, so the
+                // end code still ends the program; otherwise after the last block.
+                if (_lastBlockEndsProgram)
+                {
+                    _chunk.Insert(_lastBlockStart, _tail);
+                }
+                else
+                {
+                    _chunk.Append(_tail);
+                }
+
+                words += _tailWords;
+            }
+
+            _chunk.Append(FooterBytes);
+            var data = _chunk.Span;
+            var index = _chunks.Add(_chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, data.Length, words);
+            _writer!.Enqueue(index, Path.Combine(_folder, _chunks.FileName(index)), data);
+            _chunk.Clear();
+            _chunk.Append(HeaderBytes);
+            _chunkBlocks = 0;
+            _chunkMotion = 0;
+            _chunkWords = 0;
+            _progress?.Report(new SplitProgress(_reader?.Position ?? _totalBytes, _totalBytes, _chunks.Count, _totalBlocks));
+        }
+    }
+}
+
+/// <summary>Codes of the splitter's own findings (the G-code checker owns the E1xx/E2xx codes).</summary>
+public static class SplitDiagnosticCodes
+{
+    /// <summary>A single block larger than a whole chunk's budget.</summary>
+    public const string BlockTooBig = "S001";
+}

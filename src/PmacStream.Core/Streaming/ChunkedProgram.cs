@@ -1,0 +1,337 @@
+using System.Text.RegularExpressions;
+using PmacStream.Program;
+
+namespace PmacStream.Streaming;
+
+/// <summary>Where the next program line to send lies: chunk (1-based) and 0-based line within the chunk's body.</summary>
+/// <param name="Chunk">1-based chunk index; <c>TotalChunks + 1</c> means everything was sent.</param>
+/// <param name="Line">0-based index into the chunk's body lines (the lines between <c>OPEN ROT</c> and <c>CLOSE</c>).</param>
+public readonly record struct StreamPosition(int Chunk, int Line)
+{
+    /// <inheritdoc />
+    public override string ToString() => $"chunk {Chunk} line {Line}";
+}
+
+/// <summary>One rotary-buffer program line of a chunk body.</summary>
+/// <param name="Text">The line as it is sent.</param>
+/// <param name="TrackedLine">The source line of its <c>M0==n</c> marker, 0 when it carries none.</param>
+/// <param name="IsMotion">True when the line commands a move or dwell.</param>
+/// <param name="Words">Estimated rotary-buffer words the line takes.</param>
+/// <param name="FileLine">1-based line number in the chunk file.</param>
+public readonly record struct ProgramLine(string Text, int TrackedLine, bool IsMotion, int Words, int FileLine);
+
+/// <summary>
+/// A split program as the streamer sees it: the manifest and its chunk files, read lazily (a chunk at a time, the
+/// last few cached) so a program of any size streams in bounded memory.
+/// </summary>
+public sealed class ChunkedProgram
+{
+    private static readonly Regex MotionWords = new(
+        @"(?<![A-Z])(?:[XYZABCUVWIJK]\s*[-+]?[\d.(]|DWELL|DELAY|G0?4(?!\d))",
+        RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
+
+    private static readonly Regex Values = new(@"[A-Z]+\s*(?:==|=)?\s*[-+]?[\d.(]", RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
+
+    private readonly Regex _marker;
+    private readonly Regex _feedExpression;
+    private readonly Dictionary<int, IReadOnlyList<ProgramLine>> _cache = new();
+    private readonly Queue<int> _cacheOrder = new();
+    private int _finalTrackedLine = -1;
+
+    private ChunkedProgram(ChunkManifest manifest, string folder)
+    {
+        Manifest = manifest;
+        Folder = folder;
+        var v = Regex.Escape(string.IsNullOrWhiteSpace(manifest.TrackVariable) ? "M0" : manifest.TrackVariable.Trim());
+        _marker = new Regex($@"(?<![A-Z0-9]){v}\s*==\s*(\d+)", RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
+        var f = Regex.Escape(string.IsNullOrWhiteSpace(manifest.FeedVariable) ? "P500" : manifest.FeedVariable.Trim());
+        _feedExpression = new Regex($@"F\s*\(\s*{f}\s*\)", RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
+    }
+
+    /// <summary>The manifest.</summary>
+    public ChunkManifest Manifest { get; }
+
+    /// <summary>The folder holding the manifest and chunk files.</summary>
+    public string Folder { get; }
+
+    /// <summary>Number of chunks.</summary>
+    public int TotalChunks => Manifest.Chunks.Count;
+
+    /// <summary>Opens a split program from its <c>manifest.json</c> (or the folder holding it).</summary>
+    public static ChunkedProgram Open(string manifestPathOrFolder)
+    {
+        var path = Directory.Exists(manifestPathOrFolder) ? Path.Combine(manifestPathOrFolder, ChunkManifest.FileName) : manifestPathOrFolder;
+        if (!File.Exists(path))
+        {
+            throw new FileNotFoundException($"{path}: no chunk manifest (split the program first)", path);
+        }
+
+        var manifest = ChunkManifest.Load(path);
+        if (manifest.Chunks.Count == 0)
+        {
+            throw new InvalidDataException($"{path}: the manifest lists no chunks");
+        }
+
+        return new ChunkedProgram(manifest, Path.GetDirectoryName(Path.GetFullPath(path))!);
+    }
+
+    /// <summary>Wraps a manifest already in memory whose chunk files lie in <paramref name="folder"/>.</summary>
+    public static ChunkedProgram FromManifest(ChunkManifest manifest, string folder) => new(manifest, folder);
+
+    /// <summary>The chunk's info (1-based index).</summary>
+    public ChunkInfo Chunk(int index) => Manifest.Chunks[index - 1];
+
+    /// <summary>Full path of a chunk file (1-based index).</summary>
+    public string ChunkPath(int index) => Path.Combine(Folder, Chunk(index).FileName);
+
+    /// <summary>
+    /// The body lines of a chunk: everything except <c>CLOSE</c>, <c>OPEN ROT</c>, blank and comment-only lines.
+    /// The last four chunks read stay cached.
+    /// </summary>
+    public IReadOnlyList<ProgramLine> Body(int index)
+    {
+        lock (_cache)
+        {
+            if (_cache.TryGetValue(index, out var cached))
+            {
+                return cached;
+            }
+        }
+
+        var path = ChunkPath(index);
+        var list = new List<ProgramLine>(Math.Max(16, Chunk(index).BlockCount + 8));
+        var fileLine = 0;
+        foreach (var raw in File.ReadLines(path))
+        {
+            fileLine++;
+            var t = raw.Trim();
+            if (t.Length == 0 || t[0] == ';' || IsFraming(t))
+            {
+                continue;
+            }
+
+            list.Add(Classify(t, fileLine));
+        }
+
+        lock (_cache)
+        {
+            _cache[index] = list;
+            _cacheOrder.Enqueue(index);
+            while (_cacheOrder.Count > 4)
+            {
+                _cache.Remove(_cacheOrder.Dequeue());
+            }
+        }
+
+        return list;
+    }
+
+    /// <summary>Classifies one program line (marker, motion, words).</summary>
+    public ProgramLine Classify(string text, int fileLine = 0)
+    {
+        var m = _marker.Match(text);
+        var tracked = m.Success && int.TryParse(m.Groups[1].ValueSpan, out var n) ? n : 0;
+        var rest = _feedExpression.Replace(m.Success ? _marker.Replace(text, " ") : text, " ");
+        return new ProgramLine(text, tracked, MotionWords.IsMatch(rest), Math.Max(1, Values.Count(text)), fileLine);
+    }
+
+    /// <summary>True for the lines that frame a chunk (<c>CLOSE</c>, <c>OPEN ROT</c>); they are not buffer content.</summary>
+    public static bool IsFraming(string trimmed) =>
+        trimmed.Equals("CLOSE", StringComparison.OrdinalIgnoreCase)
+        || Regex.IsMatch(trimmed, @"^OPEN\s+ROT(ARY)?$", RegexOptions.IgnoreCase | RegexOptions.CultureInvariant)
+        || Regex.IsMatch(trimmed, @"^CLOSE\s+OPEN\s+ROT(ARY)?$", RegexOptions.IgnoreCase | RegexOptions.CultureInvariant);
+
+    /// <summary>The tracked source lines of the whole program in order (reads every chunk once; for checks).</summary>
+    public IEnumerable<int> TrackedLines()
+    {
+        for (var c = 1; c <= TotalChunks; c++)
+        {
+            foreach (var l in Body(c))
+            {
+                if (l.TrackedLine > 0)
+                {
+                    yield return l.TrackedLine;
+                }
+            }
+        }
+    }
+
+    /// <summary>The last tracked source line of the program (the block whose execution ends the job).</summary>
+    public int FinalTrackedLine
+    {
+        get
+        {
+            if (_finalTrackedLine < 0)
+            {
+                var last = 0;
+                for (var c = TotalChunks; c >= 1 && last == 0; c--)
+                {
+                    foreach (var l in Body(c))
+                    {
+                        if (l.TrackedLine > 0)
+                        {
+                            last = l.TrackedLine;
+                        }
+                    }
+                }
+
+                _finalTrackedLine = last;
+            }
+
+            return _finalTrackedLine;
+        }
+    }
+
+    /// <summary>The chunk executing when the tracking variable reads <paramref name="trackedLine"/> (0: before the first).</summary>
+    public int ChunkOfTracked(int trackedLine)
+    {
+        if (trackedLine <= 0)
+        {
+            return 1;
+        }
+
+        var c = Manifest.ChunkOfLine(trackedLine);
+        if (c is not null)
+        {
+            return c.Index;
+        }
+
+        // In a gap or past the end: the last chunk that starts at or before the line.
+        var best = 1;
+        foreach (var ci in Manifest.Chunks)
+        {
+            if (ci.FirstSourceLine <= trackedLine)
+            {
+                best = ci.Index;
+            }
+        }
+
+        return best;
+    }
+
+    /// <summary>
+    /// The position just after the block of tracked line <paramref name="trackedLine"/> (its marker line and, when the
+    /// marker stands alone, the move that follows it): where sending resumes once that block is known executed.
+    /// Returns the start when the line is 0; null when the line is not a tracked line of this program.
+    /// </summary>
+    public StreamPosition? PositionAfterBlock(int trackedLine)
+    {
+        if (trackedLine <= 0)
+        {
+            return new StreamPosition(1, 0);
+        }
+
+        var chunk = ChunkOfTracked(trackedLine);
+        for (var c = chunk; c <= TotalChunks && c <= chunk + 1; c++)
+        {
+            var body = Body(c);
+            for (var i = 0; i < body.Count; i++)
+            {
+                if (body[i].TrackedLine != trackedLine)
+                {
+                    continue;
+                }
+
+                var j = i;
+                if (!body[i].IsMotion)
+                {
+                    // Marker alone on its line: the block's move is the next motion line before another marker.
+                    for (var k = i + 1; k < body.Count && body[k].TrackedLine == 0; k++)
+                    {
+                        if (body[k].IsMotion)
+                        {
+                            j = k;
+                            break;
+                        }
+                    }
+                }
+
+                return Normalize(new StreamPosition(c, j + 1));
+            }
+        }
+
+        return null;
+    }
+
+    /// <summary>The position of the first program line of the block that tracks source line <paramref name="sourceLine"/>
+    /// or, when that line carries no move, of the first tracked block after it; null past the end.</summary>
+    public StreamPosition? PositionOfBlock(int sourceLine)
+    {
+        for (var c = ChunkOfTracked(sourceLine); c <= TotalChunks; c++)
+        {
+            var body = Body(c);
+            for (var i = 0; i < body.Count; i++)
+            {
+                if (body[i].TrackedLine >= sourceLine)
+                {
+                    return new StreamPosition(c, i);
+                }
+            }
+        }
+
+        return null;
+    }
+
+    /// <summary>
+    /// Motion blocks executed when the tracking variable reads <paramref name="trackedLine"/>: the blocks of earlier
+    /// chunks (the manifest's counts) plus the tracked lines up to it in its own chunk.
+    /// </summary>
+    public int BlocksThrough(int trackedLine)
+    {
+        if (trackedLine <= 0)
+        {
+            return 0;
+        }
+
+        var c = ChunkOfTracked(trackedLine);
+        var n = 0;
+        for (var i = 1; i < c; i++)
+        {
+            n += Chunk(i).MotionBlockCount;
+        }
+
+        foreach (var l in Body(c))
+        {
+            if (l.TrackedLine > 0 && l.TrackedLine <= trackedLine)
+            {
+                n++;
+            }
+        }
+
+        return n;
+    }
+
+    /// <summary>The tracked line of the last marker before <paramref name="position"/> (0 when none).</summary>
+    public int LastTrackedBefore(StreamPosition position)
+    {
+        var c = Math.Min(position.Chunk, TotalChunks);
+        var line = position.Chunk > TotalChunks ? int.MaxValue : position.Line;
+        for (; c >= 1; c--, line = int.MaxValue)
+        {
+            var body = Body(c);
+            for (var i = Math.Min(line, body.Count) - 1; i >= 0; i--)
+            {
+                if (body[i].TrackedLine > 0)
+                {
+                    return body[i].TrackedLine;
+                }
+            }
+        }
+
+        return 0;
+    }
+
+    /// <summary>Moves a position that lies at the end of a chunk to the start of the next one.</summary>
+    public StreamPosition Normalize(StreamPosition p)
+    {
+        while (p.Chunk <= TotalChunks && p.Line >= Body(p.Chunk).Count)
+        {
+            p = new StreamPosition(p.Chunk + 1, 0);
+        }
+
+        return p;
+    }
+
+    /// <summary>True when the position lies past the last line.</summary>
+    public bool IsEnd(StreamPosition p) => Normalize(p).Chunk > TotalChunks;
+}

@@ -1,0 +1,252 @@
+using System.Globalization;
+using Microsoft.Data.Sqlite;
+using Serilog;
+
+namespace PmacStream.Streaming;
+
+/// <summary>A streaming job as recorded for crash-safe resume.</summary>
+/// <param name="Id">Job id.</param>
+/// <param name="ProgramPath">The G-code source.</param>
+/// <param name="ProgramSha256">SHA-256 of the source when the job started (resume refuses a changed file).</param>
+/// <param name="ManifestPath">The split's manifest.json.</param>
+/// <param name="Strategy">Strategy used.</param>
+/// <param name="Connection">Connection spec (<c>sim</c>, <c>tcp://host:port</c>, <c>serial:dev@baud</c>).</param>
+/// <param name="FromLine">Start line when the job started from a block, else null.</param>
+/// <param name="Message">Last notable message (fault text).</param>
+/// <param name="Checkpoint">Last checkpoint, null before the first.</param>
+/// <param name="Created">When the job was created.</param>
+public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created)
+{
+    /// <summary>True when the job has not completed (it can be resumed).</summary>
+    public bool Unfinished => Checkpoint?.State is not SessionState.Completed;
+}
+
+/// <summary>
+/// Jobs and their checkpoints in SQLite (WAL). A checkpoint is written every tick with <c>synchronous=NORMAL</c>
+/// (survives a host process crash) and with <c>synchronous=FULL</c> at chunk boundaries, faults and the end
+/// (survives a power loss).
+/// </summary>
+public sealed class JobStore : IDisposable
+{
+    private const string Schema = """
+        CREATE TABLE IF NOT EXISTS jobs (
+          id INTEGER PRIMARY KEY AUTOINCREMENT,
+          created TEXT NOT NULL,
+          program_path TEXT NOT NULL,
+          program_sha256 TEXT NOT NULL,
+          manifest_path TEXT NOT NULL,
+          strategy TEXT NOT NULL,
+          connection TEXT NOT NULL,
+          from_line INTEGER,
+          message TEXT NOT NULL DEFAULT '',
+          cp_time TEXT,
+          cp_state TEXT,
+          cp_last_line INTEGER,
+          cp_chunk INTEGER,
+          cp_next_chunk INTEGER,
+          cp_next_line INTEGER,
+          cp_next_exact INTEGER,
+          cp_chunks_downloaded INTEGER,
+          cp_started INTEGER
+        );
+        """;
+
+    private static readonly ILogger Logger = Log.ForContext<JobStore>();
+    private readonly SqliteConnection _db;
+    private readonly object _lock = new();
+    private SqliteCommand? _update;
+    private bool _full;
+
+    private JobStore(SqliteConnection db, string path)
+    {
+        _db = db;
+        Path = path;
+    }
+
+    /// <summary>The database file.</summary>
+    public string Path { get; }
+
+    /// <summary>Checkpoints written (for tests and benchmarks).</summary>
+    public long CheckpointWrites { get; private set; }
+
+    /// <summary>The default database: <c>$PMACSTREAM_JOB_DB</c>, else <c>~/.pmacstream/jobs.db</c>.</summary>
+    public static string DefaultPath =>
+        Environment.GetEnvironmentVariable("PMACSTREAM_JOB_DB") is { Length: > 0 } env
+            ? env
+            : System.IO.Path.Combine(Environment.GetFolderPath(Environment.SpecialFolder.UserProfile), ".pmacstream", "jobs.db");
+
+    /// <summary>Opens (creating when needed) a job database in WAL mode.</summary>
+    public static JobStore Open(string path)
+    {
+        var full = System.IO.Path.GetFullPath(path);
+        Directory.CreateDirectory(System.IO.Path.GetDirectoryName(full)!);
+        var db = new SqliteConnection(new SqliteConnectionStringBuilder { DataSource = full, Pooling = false }.ToString());
+        db.Open();
+        using (var cmd = db.CreateCommand())
+        {
+            cmd.CommandText = "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;" + Schema;
+            cmd.ExecuteNonQuery();
+        }
+
+        return new JobStore(db, full);
+    }
+
+    /// <summary>Records a new job and returns its id.</summary>
+    public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine)
+    {
+        lock (_lock)
+        {
+            using var cmd = _db.CreateCommand();
+            cmd.CommandText = """
+                INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line)
+                VALUES ($c, $p, $h, $m, $s, $conn, $f); SELECT last_insert_rowid();
+                """;
+            cmd.Parameters.AddWithValue("$c", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
+            cmd.Parameters.AddWithValue("$p", System.IO.Path.GetFullPath(programPath));
+            cmd.Parameters.AddWithValue("$h", programSha256);
+            cmd.Parameters.AddWithValue("$m", System.IO.Path.GetFullPath(manifestPath));
+            cmd.Parameters.AddWithValue("$s", strategy.ToString().ToLowerInvariant());
+            cmd.Parameters.AddWithValue("$conn", connection);
+            cmd.Parameters.AddWithValue("$f", fromLine is { } f ? f : DBNull.Value);
+            var id = (long)cmd.ExecuteScalar()!;
+            Logger.Information("job {Job} created for {Program} ({Strategy}, {Connection})", id, programPath, strategy, connection);
+            return id;
+        }
+    }
+
+    /// <summary>Writes a job's checkpoint; durable ones are committed with <c>synchronous=FULL</c>.</summary>
+    public void SaveCheckpoint(long jobId, Checkpoint cp, bool durable)
+    {
+        lock (_lock)
+        {
+            SetSynchronous(durable);
+            _update ??= Prepare();
+            var p = _update.Parameters;
+            p["$id"].Value = jobId;
+            p["$t"].Value = cp.TimeUtc.ToString("O", CultureInfo.InvariantCulture);
+            p["$st"].Value = cp.State.ToString();
+            p["$l"].Value = cp.LastExecutedLine;
+            p["$c"].Value = cp.CurrentChunk;
+            p["$nc"].Value = cp.Next.Chunk;
+            p["$nl"].Value = cp.Next.Line;
+            p["$ne"].Value = cp.NextExact ? 1 : 0;
+            p["$cd"].Value = cp.ChunksDownloaded;
+            p["$sd"].Value = cp.Started ? 1 : 0;
+            _update.ExecuteNonQuery();
+            CheckpointWrites++;
+            if (durable)
+            {
+                SetSynchronous(false);
+            }
+        }
+    }
+
+    /// <summary>Sets the job's message (fault text, completion).</summary>
+    public void SetMessage(long jobId, string message)
+    {
+        lock (_lock)
+        {
+            using var cmd = _db.CreateCommand();
+            cmd.CommandText = "UPDATE jobs SET message=$m WHERE id=$id";
+            cmd.Parameters.AddWithValue("$m", message);
+            cmd.Parameters.AddWithValue("$id", jobId);
+            cmd.ExecuteNonQuery();
+        }
+    }
+
+    /// <summary>A sink that writes one job's checkpoints.</summary>
+    public ICheckpointSink SinkFor(long jobId) => new Sink(this, jobId);
+
+    /// <summary>A job by id, or null.</summary>
+    public JobRecord? Get(long id) => Query("WHERE id=$id", ("$id", id)).FirstOrDefault();
+
+    /// <summary>The most recent job that has not completed, or null.</summary>
+    public JobRecord? LatestUnfinished() =>
+        Query("WHERE cp_state IS NULL OR cp_state <> 'Completed' ORDER BY id DESC LIMIT 1").FirstOrDefault();
+
+    /// <summary>All jobs, newest first.</summary>
+    public IReadOnlyList<JobRecord> List() => Query("ORDER BY id DESC").ToList();
+
+    /// <inheritdoc />
+    public void Dispose()
+    {
+        _update?.Dispose();
+        _db.Dispose();
+    }
+
+    private void SetSynchronous(bool full)
+    {
+        if (full == _full)
+        {
+            return;
+        }
+
+        using var cmd = _db.CreateCommand();
+        cmd.CommandText = full ? "PRAGMA synchronous=FULL" : "PRAGMA synchronous=NORMAL";
+        cmd.ExecuteNonQuery();
+        _full = full;
+    }
+
+    private SqliteCommand Prepare()
+    {
+        var cmd = _db.CreateCommand();
+        cmd.CommandText = """
+            UPDATE jobs SET cp_time=$t, cp_state=$st, cp_last_line=$l, cp_chunk=$c, cp_next_chunk=$nc, cp_next_line=$nl,
+              cp_next_exact=$ne, cp_chunks_downloaded=$cd, cp_started=$sd WHERE id=$id
+            """;
+        foreach (var n in new[] { "$id", "$t", "$st", "$l", "$c", "$nc", "$nl", "$ne", "$cd", "$sd" })
+        {
+            cmd.Parameters.Add(new SqliteParameter(n, null));
+        }
+
+        cmd.Prepare();
+        return cmd;
+    }
+
+    private IEnumerable<JobRecord> Query(string where, params (string Name, object Value)[] args)
+    {
+        var list = new List<JobRecord>();
+        lock (_lock)
+        {
+            using var cmd = _db.CreateCommand();
+            cmd.CommandText = "SELECT id, created, program_path, program_sha256, manifest_path, strategy, connection, from_line, message, "
+                + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started FROM jobs " + where;
+            foreach (var (n, v) in args)
+            {
+                cmd.Parameters.AddWithValue(n, v);
+            }
+
+            using var r = cmd.ExecuteReader();
+            while (r.Read())
+            {
+                Checkpoint? cp = r.IsDBNull(9) ? null : new Checkpoint(
+                    r.GetInt32(11),
+                    r.GetInt32(12),
+                    new StreamPosition(r.GetInt32(13), r.GetInt32(14)),
+                    r.GetInt32(15) != 0,
+                    r.GetInt32(16),
+                    Enum.Parse<SessionState>(r.GetString(10)),
+                    DateTimeOffset.Parse(r.GetString(9), CultureInfo.InvariantCulture),
+                    r.GetInt32(17) != 0);
+                list.Add(new JobRecord(
+                    r.GetInt64(0),
+                    r.GetString(2),
+                    r.GetString(3),
+                    r.GetString(4),
+                    StreamingStrategies.Parse(r.GetString(5)),
+                    r.GetString(6),
+                    r.IsDBNull(7) ? null : r.GetInt32(7),
+                    r.GetString(8),
+                    cp,
+                    DateTimeOffset.Parse(r.GetString(1), CultureInfo.InvariantCulture)));
+            }
+        }
+
+        return list;
+    }
+
+    private sealed class Sink(JobStore store, long jobId) : ICheckpointSink
+    {
+        public void Save(Checkpoint checkpoint, bool durable) => store.SaveCheckpoint(jobId, checkpoint, durable);
+    }
+}

@@ -1,0 +1,65 @@
+using PmacStream.Program;
+
+namespace PmacStream.Streaming;
+
+/// <summary>The ways of feeding the rotary buffer.</summary>
+public enum StrategyKind
+{
+    /// <summary>The paper's method: whole chunk files, the next one downloaded once when M0 enters the download window.</summary>
+    Chunk,
+
+    /// <summary>The traditional method the paper compares against: poll <c>PR</c> and top the buffer up line by line.</summary>
+    Pr,
+
+    /// <summary>Keep a time-based lead (seconds of motion ahead) from move times and the measured round trip, bounded by buffer words.</summary>
+    Adaptive,
+}
+
+/// <summary>Settings of a streaming session.</summary>
+public sealed record StreamingOptions
+{
+    /// <summary>The PComm device number used for <c>Download</c>.</summary>
+    public int PmacNumber { get; init; }
+
+    /// <summary>Coordinate system that runs the rotary buffer.</summary>
+    public int CoordinateSystem { get; init; } = 1;
+
+    /// <summary>Which strategy feeds the buffer.</summary>
+    public StrategyKind Strategy { get; init; } = StrategyKind.Chunk;
+
+    /// <summary>Timer period the host calls <see cref="StreamingSession.TickAsync"/> with (the paper's timer1 interval).</summary>
+    public TimeSpan TickPeriod { get; init; } = TimeSpan.FromMilliseconds(50);
+
+    /// <summary>Start of the download window as a fraction of the current chunk (paper: line 600 of 1000).</summary>
+    public double WindowStart { get; init; } = 0.6;
+
+    /// <summary>End of the download window as a fraction of the current chunk (paper: line 700 of 1000).</summary>
+    public double WindowEnd { get; init; } = 0.7;
+
+    /// <summary>Rotary buffer size in words (what <c>&amp;n DEFINE ROT</c> gave it).</summary>
+    public int BufferWords { get; init; } = 30_000;
+
+    /// <summary>When set, the session defines the rotary buffer with this many words before starting (<c>DEL GAT</c>, <c>DEF ROT</c>).</summary>
+    public bool DefineBuffer { get; init; }
+
+    /// <summary>Words kept free as a margin against the splitter's estimate.</summary>
+    public int SafetyWords { get; init; } = 64;
+
+    /// <summary><c>pr</c> strategy: lines kept ahead in the buffer.</summary>
+    public int PrTargetLines { get; init; } = 200;
+
+    /// <summary><c>adaptive</c> strategy: least lead in seconds of motion kept in the buffer.</summary>
+    public double AdaptiveMinLeadSeconds { get; init; } = 0.5;
+
+    /// <summary><c>adaptive</c> strategy: most program lines sent in one batch.</summary>
+    public int AdaptiveMaxBatchLines { get; init; } = 400;
+
+    /// <summary>Feed control: <c>P500</c> (paper) or the <c>%</c> override; defaults to the manifest's mode.</summary>
+    public FeedMode? Feed { get; init; }
+
+    /// <summary>Single-block mode: each start (<c>&amp;n S</c>) runs one block.</summary>
+    public bool SingleBlock { get; init; }
+
+    /// <summary>Set the tracking variable to 0 before starting, so a stale value from an earlier job is not read as progress.</summary>
+    public bool ResetTrackVariable { get; init; } = true;
+}

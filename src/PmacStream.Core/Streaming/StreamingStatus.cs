@@ -1,0 +1,117 @@
+namespace PmacStream.Streaming;
+
+/// <summary>Where a session is.</summary>
+public enum SessionState
+{
+    /// <summary>Created, nothing sent yet.</summary>
+    Idle,
+
+    /// <summary>Running: the timer feeds the buffer.</summary>
+    Running,
+
+    /// <summary>Held by the operator (<c>H</c>); feeding continues, motion stands.</summary>
+    Held,
+
+    /// <summary>Every block executed.</summary>
+    Completed,
+
+    /// <summary>Stopped by a controller error or a lost link; resumable.</summary>
+    Faulted,
+
+    /// <summary>Aborted by the operator (<c>A</c>); resumable from the last executed line with a preamble.</summary>
+    Aborted,
+}
+
+/// <summary>What the HMI and CLI show about a session (the paper's status panel).</summary>
+/// <param name="State">Session state.</param>
+/// <param name="TotalChunks">Chunks in the program.</param>
+/// <param name="TotalBlocks">Motion blocks in the program.</param>
+/// <param name="CurrentChunk">Chunk executing now (1-based).</param>
+/// <param name="CurrentLine">Source line executing now (the tracking variable; 0 before the first block).</param>
+/// <param name="ExecutedBlocks">Motion blocks executed so far (from the tracking variable).</param>
+/// <param name="Percent">Progress in percent of motion blocks.</param>
+/// <param name="Feed">Feed set (P500 value in paper mode, % in override mode); null when unknown.</param>
+/// <param name="Elapsed">Time since start.</param>
+/// <param name="Eta">Estimated time to finish, null when unknown.</param>
+/// <param name="ChunksDownloaded">Chunks completely sent.</param>
+/// <param name="LinesSent">Program lines sent.</param>
+/// <param name="Underruns">Times the host saw the buffer run dry before the end.</param>
+/// <param name="Message">The last notable event, for a status bar (fault text with what to do).</param>
+public sealed record StreamingStatus(
+    SessionState State,
+    int TotalChunks,
+    int TotalBlocks,
+    int CurrentChunk,
+    int CurrentLine,
+    int ExecutedBlocks,
+    double Percent,
+    double? Feed,
+    TimeSpan Elapsed,
+    TimeSpan? Eta,
+    int ChunksDownloaded,
+    long LinesSent,
+    int Underruns,
+    string Message);
+
+/// <summary>Kinds of session events (job log).</summary>
+public enum StreamingEventKind
+{
+    /// <summary>Session set-up done and execution started.</summary>
+    Started,
+
+    /// <summary>A chunk was downloaded (inside its window).</summary>
+    ChunkDownloaded,
+
+    /// <summary>A chunk was downloaded after its window had passed.</summary>
+    ChunkDownloadedLate,
+
+    /// <summary>Execution entered the next chunk.</summary>
+    ChunkEntered,
+
+    /// <summary>The buffer ran dry before the end.</summary>
+    Underrun,
+
+    /// <summary>An operator command was sent (hold, resume, abort, feed, single block).</summary>
+    Command,
+
+    /// <summary>A controller error or lost link stopped the session.</summary>
+    Fault,
+
+    /// <summary>The session recovered from a fault and continues.</summary>
+    Recovered,
+
+    /// <summary>Every block executed.</summary>
+    Completed,
+}
+
+/// <summary>One event of a session.</summary>
+/// <param name="Kind">What happened.</param>
+/// <param name="Message">Human-readable text.</param>
+/// <param name="Chunk">The chunk concerned, 0 when none.</param>
+/// <param name="TrackedLine">The tracking variable when it happened.</param>
+public sealed record StreamingEvent(StreamingEventKind Kind, string Message, int Chunk, int TrackedLine);
+
+/// <summary>A crash-safe checkpoint: what was executed and what was sent, written every tick.</summary>
+/// <param name="LastExecutedLine">Tracking variable (source line) read last.</param>
+/// <param name="CurrentChunk">Chunk executing.</param>
+/// <param name="Next">Next program line to send.</param>
+/// <param name="NextExact">False when a download broke off and how much arrived is not known.</param>
+/// <param name="ChunksDownloaded">Chunks completely sent.</param>
+/// <param name="State">Session state.</param>
+/// <param name="TimeUtc">When it was taken.</param>
+/// <param name="Started">True once the run command (<c>&amp;n R</c>) was given.</param>
+public sealed record Checkpoint(int LastExecutedLine, int CurrentChunk, StreamPosition Next, bool NextExact, int ChunksDownloaded, SessionState State, DateTimeOffset TimeUtc, bool Started = true);
+
+/// <summary>Where checkpoints go (the job store; tests use memory).</summary>
+public interface ICheckpointSink
+{
+    /// <summary>Records a checkpoint; <paramref name="durable"/> asks for a synchronous commit (chunk boundaries, faults, end).</summary>
+    void Save(Checkpoint checkpoint, bool durable);
+}
+
+/// <summary>Move times by source line, for ETA and the adaptive lead.</summary>
+public interface IMoveTimes
+{
+    /// <summary>Seconds of motion (at programmed feed) of the tracked blocks after <paramref name="afterLine"/> up to and including <paramref name="throughLine"/>.</summary>
+    double SecondsBetween(int afterLine, int throughLine);
+}

@@ -1,0 +1,201 @@
+using System.Globalization;
+
+namespace PmacStream.Sim.Parsing;
+
+internal enum TokenKind
+{
+    End,
+    Number,
+    Word,
+    Symbol,
+    Text,
+}
+
+/// <summary>One lexical token of a command line. <see cref="Start"/>/<see cref="End"/> index the (upper-cased) line.</summary>
+internal readonly record struct Token(TokenKind Kind, string Text, double Value, int Start, int End)
+{
+    public bool Is(string text) => (Kind == TokenKind.Word || Kind == TokenKind.Symbol) && Text == text;
+
+    public bool IsLetter => Kind == TokenKind.Word && Text.Length == 1;
+}
+
+/// <summary>
+/// Splits a PMAC command line into tokens. PMAC runs words together (<c>&amp;1B0R</c>, <c>X10Y20</c>,
+/// <c>F(P500)M0==12</c>) so letter runs are split greedily into the longest known keyword, else single letters.
+/// A semicolon starts a comment.
+/// </summary>
+internal static class Lexer
+{
+    private static readonly string[] Keywords =
+    [
+        "ABS", "ACOS", "AND", "ASIN", "ATAN", "ATAN2", "CALL", "CID", "CIRCLE", "CLEAR", "CLOSE", "COS", "DATE", "DEF",
+        "DEFINE", "DEL", "DELAY", "DELETE", "DIS", "DISABLE", "DWELL", "ELSE", "ENA", "ENABLE", "ENDI", "ENDIF", "ENDW",
+        "ENDWHILE", "EXP", "GAT", "GATHER", "GOSUB", "GOTO", "IF", "INC", "INT", "LINEAR", "LIST", "LN", "NORMAL", "OPEN",
+        "OR", "PLC", "PR", "PROG", "RAPID", "READ", "RET", "RETURN", "ROT", "SAVE", "SIN", "SQRT", "STOP", "TA", "TAN",
+        "TM", "TS", "TYPE", "VER", "VERSION", "WHILE", "CMD", "SEND", "ROTARY", "PROGRAM", "CTRL",
+    ];
+
+    private static readonly HashSet<string> KeywordSet = new(Keywords, StringComparer.Ordinal);
+    private static readonly int MaxKeyword = Keywords.Max(k => k.Length);
+
+    private static readonly string[] TwoCharSymbols = ["==", "!=", "<=", ">=", "!<", "!>", "->", ".."];
+
+    /// <summary>Tokenizes <paramref name="line"/>, which must already be upper-cased. Throws <see cref="SimSyntaxException"/>.</summary>
+    public static List<Token> Tokenize(string line)
+    {
+        var tokens = new List<Token>(16);
+        var i = 0;
+        while (i < line.Length)
+        {
+            var c = line[i];
+            if (c == ' ' || c == '\t' || c == '\r' || c == '\n')
+            {
+                i++;
+                continue;
+            }
+
+            if (c == ';')
+            {
+                break;
+            }
+
+            if (c > 127)
+            {
+                throw new SimSyntaxException(4);
+            }
+
+            if (char.IsAsciiDigit(c) || (c == '.' && i + 1 < line.Length && char.IsAsciiDigit(line[i + 1])))
+            {
+                var start = i;
+                while (i < line.Length && char.IsAsciiDigit(line[i]))
+                {
+                    i++;
+                }
+
+                if (i < line.Length && line[i] == '.' && !(i + 1 < line.Length && line[i + 1] == '.'))
+                {
+                    i++;
+                    while (i < line.Length && char.IsAsciiDigit(line[i]))
+                    {
+                        i++;
+                    }
+                }
+
+                var text = line[start..i];
+                tokens.Add(new Token(TokenKind.Number, text, double.Parse(text, NumberStyles.AllowDecimalPoint, CultureInfo.InvariantCulture), start, i));
+                continue;
+            }
+
+            if (c == '$')
+            {
+                var start = i;
+                if (line.AsSpan(i).StartsWith("$$$"))
+                {
+                    i += 3;
+                    if (line.AsSpan(i).StartsWith("***"))
+                    {
+                        i += 3;
+                    }
+
+                    tokens.Add(new Token(TokenKind.Symbol, line[start..i], 0, start, i));
+                    continue;
+                }
+
+                i++;
+                while (i < line.Length && char.IsAsciiHexDigit(line[i]))
+                {
+                    i++;
+                }
+
+                if (i == start + 1)
+                {
+                    throw new SimSyntaxException(3);
+                }
+
+                var hex = line[(start + 1)..i];
+                tokens.Add(new Token(TokenKind.Number, line[start..i], long.Parse(hex, NumberStyles.HexNumber, CultureInfo.InvariantCulture), start, i));
+                continue;
+            }
+
+            if (c == '"')
+            {
+                var start = i++;
+                while (i < line.Length && line[i] != '"')
+                {
+                    i++;
+                }
+
+                tokens.Add(new Token(TokenKind.Text, line[(start + 1)..Math.Min(i, line.Length)], 0, start, Math.Min(i + 1, line.Length)));
+                i = Math.Min(i + 1, line.Length);
+                continue;
+            }
+
+            if (char.IsAsciiLetterUpper(c))
+            {
+                var start = i;
+                while (i < line.Length && char.IsAsciiLetterUpper(line[i]))
+                {
+                    i++;
+                }
+
+                SplitLetters(line, start, i, tokens);
+                continue;
+            }
+
+            if (i + 1 < line.Length)
+            {
+                var two = line.Substring(i, 2);
+                if (Array.IndexOf(TwoCharSymbols, two) >= 0)
+                {
+                    tokens.Add(new Token(TokenKind.Symbol, two, 0, i, i + 2));
+                    i += 2;
+                    continue;
+                }
+            }
+
+            if ("&#%()+-*/=<>!^|,:~?.".Contains(c))
+            {
+                tokens.Add(new Token(TokenKind.Symbol, c.ToString(), 0, i, i + 1));
+                i++;
+                continue;
+            }
+
+            throw new SimSyntaxException(c < 32 ? 4 : 3);
+        }
+
+        tokens.Add(new Token(TokenKind.End, string.Empty, 0, line.Length, line.Length));
+        return tokens;
+    }
+
+    private static void SplitLetters(string line, int start, int end, List<Token> tokens)
+    {
+        var i = start;
+        while (i < end)
+        {
+            var matched = 0;
+            for (var len = Math.Min(MaxKeyword, end - i); len >= 2; len--)
+            {
+                if (KeywordSet.Contains(line.Substring(i, len)))
+                {
+                    // "CIRCLE" is only the keyword when followed by its digit; everything else is whole.
+                    matched = len;
+                    break;
+                }
+            }
+
+            if (matched == 0)
+            {
+                matched = 1;
+            }
+
+            tokens.Add(new Token(TokenKind.Word, line.Substring(i, matched), 0, i, i + matched));
+            i += matched;
+        }
+    }
+}
+
+/// <summary>A command line the controller cannot accept; carries the ERR number to answer.</summary>
+internal sealed class SimSyntaxException(int error) : Exception($"ERR{error:000}")
+{
+    public int Error { get; } = error;
+}

@@ -1,0 +1,367 @@
+namespace PmacStream.Sim.Parsing;
+
+/// <summary>One compiled motion/PLC program statement.</summary>
+internal abstract class Stmt
+{
+    /// <summary>Rotary-buffer words this statement costs (about one per value, as the manual describes).</summary>
+    public virtual int Words => 1;
+}
+
+/// <summary>A letter with a value: an axis (X..W), a circle vector (I J K), a radius (R), or an argument for READ.</summary>
+internal sealed class WordStmt(char letter, Expr value) : Stmt
+{
+    public char Letter { get; } = letter;
+
+    public Expr Value { get; } = value;
+
+    public override int Words => Value.Words;
+}
+
+/// <summary><c>Gnn</c>, <c>Mnn</c>, <c>Tnn</c>, <c>Dnn</c>: a call into PROG 1000..1003 at label N(nn*1000).</summary>
+internal sealed class CodeCallStmt(char letter, Expr code) : Stmt
+{
+    public char Letter { get; } = letter;
+
+    public Expr Code { get; } = code;
+}
+
+/// <summary><c>P1=expr</c>, <c>M0==expr</c> (synchronous: written at the start of the next move).</summary>
+internal sealed class AssignStmt(char kind, int index, Expr value, bool synchronous) : Stmt
+{
+    public char Kind { get; } = kind;
+
+    public int Index { get; } = index;
+
+    public Expr Value { get; } = value;
+
+    public bool Synchronous { get; } = synchronous;
+
+    public override int Words => 1 + Value.Words;
+}
+
+internal enum MotionMode
+{
+    Rapid,
+    Linear,
+    Circle1,
+    Circle2,
+}
+
+internal sealed class ModeStmt(MotionMode mode) : Stmt
+{
+    public MotionMode Mode { get; } = mode;
+}
+
+/// <summary><c>ABS</c>/<c>INC</c>, optionally for listed axes; <c>R</c> in the list sets the arc-centre vector mode.</summary>
+internal sealed class AbsIncStmt(bool incremental, string axes) : Stmt
+{
+    public bool Incremental { get; } = incremental;
+
+    /// <summary>Axes the mode applies to; empty for all axes.</summary>
+    public string Axes { get; } = axes;
+}
+
+internal enum ParamKind
+{
+    Feed,
+    Ta,
+    Ts,
+    Tm,
+}
+
+internal sealed class ParamStmt(ParamKind kind, Expr value) : Stmt
+{
+    public ParamKind Kind { get; } = kind;
+
+    public Expr Value { get; } = value;
+
+    public override int Words => 1 + Value.Words;
+}
+
+/// <summary><c>NORMAL K-1</c>: the arc plane is perpendicular to the vector.</summary>
+internal sealed class NormalStmt(double i, double j, double k) : Stmt
+{
+    public double I { get; } = i;
+
+    public double J { get; } = j;
+
+    public double K { get; } = k;
+}
+
+/// <summary><c>DWELL t</c> (stops lookahead) or <c>DELAY t</c> (does not), t in milliseconds.</summary>
+internal sealed class DwellStmt(Expr ms, bool delay) : Stmt
+{
+    public Expr Milliseconds { get; } = ms;
+
+    public bool Delay { get; } = delay;
+
+    public override int Words => 1 + Milliseconds.Words;
+}
+
+internal enum JumpKind
+{
+    Call,
+    Gosub,
+    Goto,
+}
+
+/// <summary><c>CALL n[.label]</c>, <c>GOSUB label</c>, <c>GOTO label</c>.</summary>
+internal sealed class JumpStmt(JumpKind kind, Expr target) : Stmt
+{
+    public JumpKind Kind { get; } = kind;
+
+    public Expr Target { get; } = target;
+}
+
+internal sealed class ReturnStmt : Stmt;
+
+internal sealed class StopStmt : Stmt;
+
+/// <summary><c>READ(X,Y,...)</c>: copies the caller's following letter values into Q(100+n).</summary>
+internal sealed class ReadStmt(string letters) : Stmt
+{
+    public string Letters { get; } = letters;
+}
+
+internal sealed class LabelStmt(int label) : Stmt
+{
+    public int Label { get; } = label;
+}
+
+/// <summary><c>IF (cond)</c>: block form, or one-line form when statements follow on the same line.</summary>
+internal sealed class IfStmt(Expr condition) : Stmt
+{
+    public Expr Condition { get; } = condition;
+
+    public bool SingleLine { get; set; }
+}
+
+internal sealed class ElseStmt : Stmt;
+
+internal sealed class EndIfStmt : Stmt;
+
+internal sealed class WhileStmt(Expr condition) : Stmt
+{
+    public Expr Condition { get; } = condition;
+
+    public bool SingleLine { get; set; }
+}
+
+internal sealed class EndWhileStmt : Stmt;
+
+/// <summary><c>CMD"..."</c>/<c>SEND"..."</c>: accepted and ignored by the simulator.</summary>
+internal sealed class NoOpStmt : Stmt;
+
+/// <summary>Parses program statements (what may be stored in a buffer) from a token stream.</summary>
+internal static class ProgramParser
+{
+    private const string AxisLetters = "XYZABCUVW";
+
+    /// <summary>
+    /// Parses the statement at the cursor, or returns null (cursor unchanged) when the next tokens are not a program
+    /// statement (an online-only command, or the end of the line).
+    /// </summary>
+    public static Stmt? TryParse(ExprParser p)
+    {
+        var t = p.Peek;
+        if (t.Kind != TokenKind.Word)
+        {
+            return null;
+        }
+
+        var save = p.Pos;
+        if (t.IsLetter)
+        {
+            var letter = t.Text[0];
+            var next = p.PeekAt(1);
+            if (letter is 'I' or 'P' or 'Q' or 'M' && next.Kind == TokenKind.Number)
+            {
+                var after = p.PeekAt(2);
+                if (after.Is("=") || (letter == 'M' && after.Is("==")))
+                {
+                    p.Pos += 3;
+                    var index = ExprParser.VariableIndex(next);
+                    return new AssignStmt(letter, index, p.ParseExpression(), after.Text == "==");
+                }
+
+                if (after.Is("->") || after.Is(".."))
+                {
+                    return null;
+                }
+
+                if (letter == 'M')
+                {
+                    p.Pos++;
+                    return new CodeCallStmt('M', p.ParseValue());
+                }
+            }
+
+            p.Pos++;
+            if (!p.AtValue)
+            {
+                p.Pos = save;
+                return null;
+            }
+
+            return letter switch
+            {
+                'G' or 'M' or 'T' or 'D' => new CodeCallStmt(letter, p.ParseValue()),
+                'F' => new ParamStmt(ParamKind.Feed, p.ParseValue()),
+                'N' or 'O' => new LabelStmt(LabelNumber(p)),
+                _ => new WordStmt(letter, p.ParseValue()),
+            };
+        }
+
+        p.Pos++;
+        switch (t.Text)
+        {
+            case "RAPID":
+                return new ModeStmt(MotionMode.Rapid);
+            case "LINEAR":
+                return new ModeStmt(MotionMode.Linear);
+            case "CIRCLE":
+                {
+                    var n = p.Next();
+                    return n.Kind == TokenKind.Number && n.Value is 1 or 2
+                        ? new ModeStmt(n.Value == 1 ? MotionMode.Circle1 : MotionMode.Circle2)
+                        : throw new SimSyntaxException(3);
+                }
+
+            case "ABS":
+            case "INC":
+                return new AbsIncStmt(t.Text == "INC", p.Peek.Is("(") ? AxisList(p) : string.Empty);
+            case "NORMAL":
+                {
+                    double i = 0, j = 0, k = 0;
+                    var any = false;
+                    while (p.Peek.IsLetter && p.Peek.Text is "I" or "J" or "K")
+                    {
+                        var axis = p.Next().Text[0];
+                        var value = p.ParseValue() is ConstExpr c ? c.Value : throw new SimSyntaxException(3);
+                        _ = axis == 'I' ? i = value : axis == 'J' ? j = value : k = value;
+                        any = true;
+                    }
+
+                    return any ? new NormalStmt(i, j, k) : throw new SimSyntaxException(3);
+                }
+
+            case "DWELL":
+            case "DELAY":
+                return new DwellStmt(p.ParseValue(), t.Text == "DELAY");
+            case "TA":
+                return new ParamStmt(ParamKind.Ta, p.ParseValue());
+            case "TS":
+                return new ParamStmt(ParamKind.Ts, p.ParseValue());
+            case "TM":
+                return new ParamStmt(ParamKind.Tm, p.ParseValue());
+            case "CALL":
+                return new JumpStmt(JumpKind.Call, p.ParseValue());
+            case "GOSUB":
+                return new JumpStmt(JumpKind.Gosub, p.ParseValue());
+            case "GOTO":
+                return new JumpStmt(JumpKind.Goto, p.ParseValue());
+            case "RET":
+            case "RETURN":
+                return new ReturnStmt();
+            case "STOP":
+                return new StopStmt();
+            case "READ":
+                {
+                    var list = AxisList(p);
+                    return list.Length > 0 ? new ReadStmt(list) : throw new SimSyntaxException(3);
+                }
+
+            case "IF":
+            case "WHILE":
+                {
+                    p.Expect("(");
+                    var cond = p.ParseExpression(condition: true);
+                    p.Expect(")");
+                    // Turbo PMAC also accepts "(a) AND (b)" outside one pair of parentheses.
+                    while (p.Peek.Is("AND") || p.Peek.Is("OR"))
+                    {
+                        var op = p.Next().Text;
+                        p.Expect("(");
+                        var more = p.ParseExpression(condition: true);
+                        p.Expect(")");
+                        cond = new BinaryExpr(op, cond, more);
+                    }
+
+                    return t.Text == "IF" ? new IfStmt(cond) : new WhileStmt(cond);
+                }
+
+            case "ELSE":
+                return new ElseStmt();
+            case "ENDIF":
+            case "ENDI":
+                return new EndIfStmt();
+            case "ENDWHILE":
+            case "ENDW":
+                return new EndWhileStmt();
+            case "CMD":
+            case "SEND":
+                if (p.Peek.Kind == TokenKind.Text)
+                {
+                    p.Pos++;
+                    return new NoOpStmt();
+                }
+
+                throw new SimSyntaxException(3);
+            default:
+                p.Pos = save;
+                return null;
+        }
+    }
+
+    /// <summary>Parses a run of statements; the one-line IF/WHILE forms are marked here.</summary>
+    public static List<Stmt> ParseRun(ExprParser p)
+    {
+        var list = new List<Stmt>();
+        while (TryParse(p) is { } s)
+        {
+            list.Add(s);
+        }
+
+        for (var i = 0; i < list.Count - 1; i++)
+        {
+            if (list[i] is IfStmt f && list[i + 1] is not EndIfStmt)
+            {
+                f.SingleLine = true;
+            }
+            else if (list[i] is WhileStmt w && list[i + 1] is not EndWhileStmt)
+            {
+                w.SingleLine = true;
+            }
+        }
+
+        return list;
+    }
+
+    public static bool IsAxis(char letter) => AxisLetters.Contains(letter);
+
+    private static int LabelNumber(ExprParser p)
+    {
+        var v = p.ParseValue();
+        return v is ConstExpr c && c.Value >= 0 ? (int)c.Value : throw new SimSyntaxException(3);
+    }
+
+    private static string AxisList(ExprParser p)
+    {
+        p.Expect("(");
+        var sb = new System.Text.StringBuilder();
+        while (!p.Peek.Is(")"))
+        {
+            var w = p.Next();
+            if (!w.IsLetter)
+            {
+                throw new SimSyntaxException(3);
+            }
+
+            sb.Append(w.Text);
+            p.Accept(",");
+        }
+
+        p.Expect(")");
+        return sb.ToString();
+    }
+}

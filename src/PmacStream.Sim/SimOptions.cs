@@ -1,0 +1,132 @@
+namespace PmacStream.Sim;
+
+/// <summary>How fast the simulator's virtual clock runs when started with <see cref="PmacSimulator.StartClock"/>.</summary>
+public readonly record struct SimSpeed
+{
+    private SimSpeed(double factor) => Multiplier = factor;
+
+    /// <summary>Virtual seconds per real second; <see cref="double.PositiveInfinity"/> for instant.</summary>
+    public double Multiplier { get; }
+
+    /// <summary>True when moves execute as fast as lines arrive.</summary>
+    public bool IsInstant => double.IsPositiveInfinity(Multiplier);
+
+    /// <summary>One virtual second per real second.</summary>
+    public static SimSpeed Realtime { get; } = new(1.0);
+
+    /// <summary>Moves execute as fast as the host feeds lines; virtual time still advances by each move's duration.</summary>
+    public static SimSpeed Instant { get; } = new(double.PositiveInfinity);
+
+    /// <summary><paramref name="factor"/> virtual seconds per real second.</summary>
+    public static SimSpeed Factor(double factor) =>
+        factor > 0 ? new SimSpeed(factor) : throw new ArgumentOutOfRangeException(nameof(factor), "speed factor must be positive");
+
+    /// <summary>Parses <c>realtime</c>, <c>instant</c> or <c>Nx</c> (e.g. <c>50x</c>).</summary>
+    public static SimSpeed Parse(string text)
+    {
+        var t = text.Trim().ToLowerInvariant();
+        if (t is "realtime" or "1x")
+        {
+            return Realtime;
+        }
+
+        if (t == "instant")
+        {
+            return Instant;
+        }
+
+        if (t.EndsWith('x') && double.TryParse(t[..^1], System.Globalization.NumberStyles.Float, System.Globalization.CultureInfo.InvariantCulture, out var f) && f > 0)
+        {
+            return Factor(f);
+        }
+
+        throw new FormatException($"speed '{text}': expected realtime, instant or Nx (e.g. 50x)");
+    }
+
+    /// <inheritdoc />
+    public override string ToString() => IsInstant ? "instant" : Multiplier == 1.0 ? "realtime" : string.Create(System.Globalization.CultureInfo.InvariantCulture, $"{Multiplier:0.###}x");
+}
+
+/// <summary>What a rotary program does when execution catches up with the last line written (*assumed* behaviour).</summary>
+public enum RotaryEndBehaviour
+{
+    /// <summary>Wait for more lines (a rotary buffer has no end); counts an underrun. The default (*assumed*).</summary>
+    Wait,
+
+    /// <summary>End the program when the buffer is closed and empty; waits (with underrun) only while it is open.</summary>
+    EndWhenClosed,
+}
+
+/// <summary>Configuration of the simulated Turbo PMAC. Items marked *assumed* are not confirmed by a source (pmac-facts.md).</summary>
+public sealed class SimOptions
+{
+    /// <summary>Moves calculated ahead of the executing move (PMAC lookahead). Default 2.</summary>
+    public int LookaheadMoves { get; set; } = 2;
+
+    /// <summary>ERR number answered when a rotary line does not fit. Default 6 (*assumed*).</summary>
+    public int RotaryFullErrorCode { get; set; } = 6;
+
+    /// <summary>
+    /// When true, lines are also refused (with <see cref="RotaryFullErrorCode"/>) while the rotary-full bit is set
+    /// (I17 lines ahead), not only when the words do not fit. Default false: the manual says the host normally stops
+    /// at the full point "although this is not required" (*assumed*).
+    /// </summary>
+    public bool RefuseWhileFullBitSet { get; set; }
+
+    /// <summary>I16 power-on value: the full bit clears below this many lines ahead. Default 5 (*assumed*).</summary>
+    public int I16 { get; set; } = 5;
+
+    /// <summary>I17 power-on value: the full bit sets at this many lines ahead. Default 10 (manual).</summary>
+    public int I17 { get; set; } = 10;
+
+    /// <summary>I3 of every new port (2: <c>DATA&lt;CR&gt;...&lt;ACK&gt;</c>).</summary>
+    public int I3 { get; set; } = 2;
+
+    /// <summary>I6 of every new port (1: errors as <c>&lt;BEL&gt;ERRnnn&lt;CR&gt;</c>).</summary>
+    public int I6 { get; set; } = 1;
+
+    /// <summary>I5 power-on value: PLC enable control (bit 0 PLC 0, bit 1 PLC 1..31). Default 3.</summary>
+    public int I5 { get; set; } = 3;
+
+    /// <summary>
+    /// Rotary buffer size in words that coordinate system 1 has at power-on and after <c>$$$</c> (as if a start-up
+    /// PLC defined it); 0 models a bare controller where the host must <c>DEFINE ROT</c>. Default 65536.
+    /// </summary>
+    public int DefaultRotWords { get; set; } = 65536;
+
+    /// <summary>Feed time unit in milliseconds (Isx90): F is in user units per this time. Default 60000 (per minute, G-code).</summary>
+    public double FeedTimeUnitMs { get; set; } = 60000;
+
+    /// <summary>Speed of RAPID moves in user units per feed time unit. Default 5000 (*assumed*).</summary>
+    public double RapidFeed { get; set; } = 5000;
+
+    /// <summary>Feed used before any F is programmed, units per feed time unit. Default 1000 (*assumed*).</summary>
+    public double DefaultFeed { get; set; } = 1000;
+
+    /// <summary>Feed-override slew rate in percent per second (Isx94/Isx95 analogue). Default 50 (*assumed*).</summary>
+    public double OverrideSlewPercentPerSecond { get; set; } = 50;
+
+    /// <summary>Virtual time between PLC scans, milliseconds. Default 1 (*assumed*).</summary>
+    public double PlcScanIntervalMs { get; set; } = 1.0;
+
+    /// <summary>Clock speed used by <see cref="PmacSimulator.StartClock"/>.</summary>
+    public SimSpeed Speed { get; set; } = SimSpeed.Realtime;
+
+    /// <summary>What a rotary program does when it runs out of lines. Default <see cref="RotaryEndBehaviour.Wait"/> (*assumed*).</summary>
+    public RotaryEndBehaviour RotaryEndBehaviour { get; set; } = RotaryEndBehaviour.Wait;
+
+    /// <summary>M-variable whose value is logged as each move's source line. Default 0 (M0).</summary>
+    public int TrackingVariable { get; set; }
+
+    /// <summary>Firmware version answered to <c>VERSION</c>.</summary>
+    public string Version { get; set; } = SimInfo.Version;
+
+    /// <summary>Answer to <c>CID</c> (card id). Default 602413.</summary>
+    public int CardId { get; set; } = 602413;
+
+    /// <summary>Answer to <c>TYPE</c>.</summary>
+    public string TypeText { get; set; } = "TURBO2";
+
+    /// <summary>Statements a program may run without producing a move before the calculation yields (runaway-loop guard).</summary>
+    public int MaxStatementsPerCalculation { get; set; } = 100_000;
+}

@@ -1,0 +1,728 @@
+using System.Globalization;
+using PmacStream.Hmi;
+
+namespace PmacStream.WinForms;
+
+/// <summary>
+/// The paper's screen (Fig. 4) as a passive view: it builds its controls from <see cref="HmiLayout"/>, raises
+/// <see cref="IMainView"/> events and shows what the <see cref="MainPresenter"/> sets. No logic lives here; the
+/// only code is wiring, and <c>timer1_Tick</c> calling the presenter's tick as in the paper.
+/// </summary>
+internal sealed class MainForm : Form, IMainView
+{
+    private static readonly Color ExecutingBack = Color.Gold;
+
+    // The paper's timer: it drives streaming (read M0, download the next chunk once) and the display.
+    private readonly System.Windows.Forms.Timer timer1 = new() { Interval = 50 };
+
+    private readonly GroupBox grpConnection = new();
+    private readonly Label lblDevice = new();
+    private readonly ComboBox cboDevice = new() { DropDownStyle = ComboBoxStyle.DropDownList };
+    private readonly Label lblIp = new();
+    private readonly TextBox txtIp = new() { Text = "192.168.0.200" };
+    private readonly Label lblPort = new();
+    private readonly ComboBox cboPort = new() { DropDownStyle = ComboBoxStyle.DropDown };
+    private readonly Label lblBaud = new();
+    private readonly ComboBox cboBaud = new() { DropDownStyle = ComboBoxStyle.DropDownList };
+    private readonly Label lblDeviceNumber = new();
+    private readonly NumericUpDown numDeviceNumber = new() { Minimum = 0, Maximum = 15 };
+    private readonly Button btnConnect = new();
+    private readonly Button btnDisconnect = new();
+    private readonly Label lblConnectionState = new();
+
+    private readonly GroupBox grpProgram = new();
+    private readonly Button btnOpen = new();
+    private readonly Label lblPath = new() { AutoEllipsis = true };
+    private readonly Button btnCheck = new();
+    private readonly Button btnSplit = new();
+    private readonly Label lblLinesPerChunk = new();
+    private readonly NumericUpDown numLinesPerChunk = new() { Minimum = 1, Maximum = 100000, Value = 1000 };
+    private readonly Label lblStrategy = new();
+    private readonly ComboBox cboStrategy = new() { DropDownStyle = ComboBoxStyle.DropDownList };
+    private readonly Label lblLanguage = new();
+    private readonly ComboBox cboLanguage = new() { DropDownStyle = ComboBoxStyle.DropDownList };
+
+    private readonly GroupBox grpFeed = new();
+    private readonly Label lblFeed = new();
+    private readonly TrackBar trkFeed = new() { TickStyle = TickStyle.BottomRight };
+    private readonly NumericUpDown numFeed = new() { DecimalPlaces = 0 };
+    private readonly Label lblFeedUnit = new();
+    private readonly CheckBox chkSingleBlock = new();
+
+    private readonly Label lblChunkFiles = new();
+    private readonly ListBox listBox1 = new() { IntegralHeight = false };
+    private readonly Label lblChunkLines = new();
+    private readonly ListView lvChunkLines = NewVirtualList();
+    private readonly Label lblProgramLines = new();
+    private readonly ListView listBox2 = NewVirtualList();
+
+    private readonly Button btnExecute = new() { Font = new Font(SystemFonts.DefaultFont.FontFamily, 11f, FontStyle.Bold) };
+    private readonly Button btnHold = new();
+    private readonly Button btnResume = new();
+    private readonly Button btnAbort = new();
+    private readonly Button btnStartFromLine = new();
+    private readonly Button btnResumeInterrupted = new();
+
+    private readonly GroupBox grpStatus = new();
+    private readonly Label[] lblStatusCaptions = new Label[HmiLayout.StatusRows.Count];
+    private readonly Label[] lblStatusValues = new Label[HmiLayout.StatusRows.Count];
+    private readonly ProgressBar progressBar = new() { Minimum = 0, Maximum = 100 };
+
+    private readonly Label lblDiagnostics = new();
+    private readonly ListBox lstDiagnostics = new() { IntegralHeight = false, HorizontalScrollbar = true };
+    private readonly Label lblLog = new();
+    private readonly TextBox txtLog = new() { Multiline = true, ReadOnly = true, ScrollBars = ScrollBars.Both, WordWrap = false, Font = new Font(FontFamily.GenericMonospace, 8.5f) };
+
+    private readonly StatusStrip statusStrip = new();
+    private readonly ToolStripStatusLabel stsConnection = new() { Spring = false };
+    private readonly ToolStripStatusLabel stsState = new() { Spring = true, TextAlign = ContentAlignment.MiddleLeft };
+
+    private IReadOnlyDictionary<TextId, string> _texts = HmiText.All(HmiLanguage.English);
+    private MainPresenter? _presenter;
+    private bool _updating;
+    private int _executingLine;
+    private int _programLineCount;
+    private string _programFile = string.Empty;
+    private Font? _executingFont;
+
+    public MainForm()
+    {
+        SuspendLayout();
+        AutoScaleMode = AutoScaleMode.Dpi;
+        AutoScaleDimensions = new SizeF(96f, 96f);
+        ClientSize = new Size(HmiLayout.ClientWidth, HmiLayout.ClientHeight + HmiLayout.StatusStripHeight);
+        MinimumSize = Size;
+        StartPosition = FormStartPosition.CenterScreen;
+
+        Place(grpConnection, HmiLayout.ConnectionGroup, this);
+        Place(lblDevice, HmiLayout.DeviceLabel, grpConnection);
+        Place(cboDevice, HmiLayout.DeviceCombo, grpConnection);
+        Place(lblIp, HmiLayout.IpLabel, grpConnection);
+        Place(txtIp, HmiLayout.IpText, grpConnection);
+        Place(lblPort, HmiLayout.PortLabel, grpConnection);
+        Place(cboPort, HmiLayout.PortCombo, grpConnection);
+        Place(lblBaud, HmiLayout.BaudLabel, grpConnection);
+        Place(cboBaud, HmiLayout.BaudCombo, grpConnection);
+        Place(lblDeviceNumber, HmiLayout.DeviceNumberLabel, grpConnection);
+        Place(numDeviceNumber, HmiLayout.DeviceNumberBox, grpConnection);
+        Place(btnConnect, HmiLayout.ConnectButton, grpConnection);
+        Place(btnDisconnect, HmiLayout.DisconnectButton, grpConnection);
+        Place(lblConnectionState, HmiLayout.ConnectionStateLabel, grpConnection);
+
+        Place(grpProgram, HmiLayout.ProgramGroup, this);
+        Place(btnOpen, HmiLayout.OpenButton, grpProgram);
+        Place(lblPath, HmiLayout.PathLabel, grpProgram);
+        Place(btnCheck, HmiLayout.CheckButton, grpProgram);
+        Place(btnSplit, HmiLayout.SplitButton, grpProgram);
+        Place(lblLinesPerChunk, HmiLayout.LinesPerChunkLabel, grpProgram);
+        Place(numLinesPerChunk, HmiLayout.LinesPerChunkBox, grpProgram);
+        Place(lblStrategy, HmiLayout.StrategyLabel, grpProgram);
+        Place(cboStrategy, HmiLayout.StrategyCombo, grpProgram);
+        Place(lblLanguage, HmiLayout.LanguageLabel, grpProgram);
+        Place(cboLanguage, HmiLayout.LanguageCombo, grpProgram);
+
+        Place(grpFeed, HmiLayout.FeedGroup, this);
+        Place(lblFeed, HmiLayout.FeedLabel, grpFeed);
+        Place(trkFeed, HmiLayout.FeedTrackBar, grpFeed);
+        Place(numFeed, HmiLayout.FeedBox, grpFeed);
+        Place(lblFeedUnit, HmiLayout.FeedUnitLabel, grpFeed);
+        Place(chkSingleBlock, HmiLayout.SingleBlockCheck, grpFeed);
+
+        Place(lblChunkFiles, HmiLayout.ChunkFilesLabel, this);
+        Place(listBox1, HmiLayout.ChunkFilesList, this);
+        Place(lblChunkLines, HmiLayout.ChunkLinesLabel, this);
+        Place(lvChunkLines, HmiLayout.ChunkLinesList, this);
+        Place(lblProgramLines, HmiLayout.ProgramLinesLabel, this);
+        Place(listBox2, HmiLayout.ProgramLinesList, this);
+
+        Place(btnExecute, HmiLayout.ExecuteButton, this);
+        Place(btnHold, HmiLayout.HoldButton, this);
+        Place(btnResume, HmiLayout.ResumeButton, this);
+        Place(btnAbort, HmiLayout.AbortButton, this);
+        Place(btnStartFromLine, HmiLayout.StartFromLineButton, this);
+        Place(btnResumeInterrupted, HmiLayout.ResumeInterruptedButton, this);
+
+        Place(grpStatus, HmiLayout.StatusGroup, this);
+        for (var row = 0; row < HmiLayout.StatusRows.Count; row++)
+        {
+            lblStatusCaptions[row] = new Label();
+            lblStatusValues[row] = new Label { Font = new Font(SystemFonts.DefaultFont, FontStyle.Bold), AutoEllipsis = true };
+            Place(lblStatusCaptions[row], HmiLayout.StatusCaption(row), grpStatus);
+            Place(lblStatusValues[row], HmiLayout.StatusValue(row), grpStatus);
+        }
+
+        Place(progressBar, HmiLayout.ProgressBar, grpStatus);
+
+        Place(lblDiagnostics, HmiLayout.DiagnosticsLabel, this);
+        Place(lstDiagnostics, HmiLayout.DiagnosticsList, this);
+        Place(lblLog, HmiLayout.LogLabel, this);
+        Place(txtLog, HmiLayout.LogText, this);
+
+        statusStrip.Items.AddRange(new ToolStripItem[] { stsState, stsConnection });
+        Controls.Add(statusStrip);
+
+        // Growing the window grows the lists and the log, not the buttons.
+        listBox2.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
+        lvChunkLines.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left;
+        foreach (Control c in new Control[] { btnExecute, btnHold, btnResume, btnAbort, btnStartFromLine, btnResumeInterrupted, grpStatus, grpFeed })
+        {
+            c.Anchor = AnchorStyles.Top | AnchorStyles.Right;
+        }
+
+        foreach (Control c in new Control[] { lblDiagnostics, lstDiagnostics })
+        {
+            c.Anchor = AnchorStyles.Bottom | AnchorStyles.Left;
+        }
+
+        lblLog.Anchor = AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
+        txtLog.Anchor = AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
+
+        cboPort.Items.AddRange(new object[] { "COM1", "COM2", "COM3", "COM4", "COM5", "COM6", "COM7", "COM8" });
+        cboPort.SelectedIndex = 0;
+        cboBaud.Items.AddRange(new object[] { "9600", "19200", "38400", "57600", "115200" });
+        cboBaud.SelectedIndex = 2;
+        cboLanguage.Items.AddRange(new object[] { "English", "简体中文" });
+        cboLanguage.SelectedIndex = CultureInfo.CurrentUICulture.Name.StartsWith("zh", StringComparison.OrdinalIgnoreCase) ? 1 : 0;
+        ApplyTexts();
+        cboDevice.SelectedIndex = 0;
+
+        WireEvents();
+        ResumeLayout(performLayout: true);
+    }
+
+    /// <summary>Attaches the presenter whose tick the timer drives; the timer starts when the window shows.</summary>
+    public void Attach(MainPresenter presenter) => _presenter = presenter;
+
+    // ------------------------------------------------------------------ IMainView
+
+    public event EventHandler? LanguageChanged;
+    public event EventHandler? ConnectRequested;
+    public event EventHandler? DisconnectRequested;
+    public event EventHandler<string>? OpenRequested;
+    public event EventHandler? CheckRequested;
+    public event EventHandler<int>? DiagnosticActivated;
+    public event EventHandler? SplitRequested;
+    public event EventHandler<int>? ChunkSelected;
+    public event EventHandler<LineRequestEventArgs>? ChunkLineNeeded;
+    public event EventHandler<LineRequestEventArgs>? ProgramLineNeeded;
+    public event EventHandler? ExecuteRequested;
+    public event EventHandler? HoldRequested;
+    public event EventHandler? ResumeRequested;
+    public event EventHandler? AbortRequested;
+    public event EventHandler? StartFromLineRequested;
+    public event EventHandler? ResumeInterruptedRequested;
+    public event EventHandler? SingleBlockChanged;
+    public event EventHandler? FeedChanged;
+
+    IReadOnlyDictionary<TextId, string> IMainView.Texts
+    {
+        set
+        {
+            _texts = value;
+            ApplyTexts();
+        }
+    }
+
+    public HmiLanguage Language => cboLanguage.SelectedIndex == 1 ? HmiLanguage.Chinese : HmiLanguage.English;
+
+    public ConnectionSettings ConnectionSettings => new(
+        (DeviceKind)Math.Max(0, cboDevice.SelectedIndex),
+        txtIp.Text.Trim(),
+        cboPort.Text.Trim(),
+        int.TryParse(cboBaud.Text, NumberStyles.Integer, CultureInfo.InvariantCulture, out var baud) ? baud : 38400,
+        (int)numDeviceNumber.Value);
+
+    string IMainView.ConnectionState
+    {
+        set
+        {
+            lblConnectionState.Text = value;
+            stsConnection.Text = value;
+        }
+    }
+
+    string IMainView.ProgramPath
+    {
+        set
+        {
+            _programFile = Path.GetFileName(value);
+            lblPath.Text = _programFile;
+            ApplyTitle();
+        }
+    }
+
+    IReadOnlyList<string> IMainView.Diagnostics
+    {
+        set
+        {
+            lstDiagnostics.BeginUpdate();
+            lstDiagnostics.Items.Clear();
+            foreach (var d in value)
+            {
+                lstDiagnostics.Items.Add(d);
+            }
+
+            lstDiagnostics.EndUpdate();
+        }
+    }
+
+    public int LinesPerChunk => (int)numLinesPerChunk.Value;
+
+    IReadOnlyList<string> IMainView.Strategies
+    {
+        set
+        {
+            cboStrategy.Items.Clear();
+            foreach (var s in value)
+            {
+                cboStrategy.Items.Add(s);
+            }
+
+            if (cboStrategy.Items.Count > 0)
+            {
+                cboStrategy.SelectedIndex = 0;
+            }
+        }
+    }
+
+    public string SelectedStrategy => cboStrategy.SelectedItem as string ?? string.Empty;
+
+    IReadOnlyList<string> IMainView.ChunkFiles
+    {
+        set
+        {
+            // Re-filling (a language change) keeps the selection and must not look like the operator's click.
+            _updating = true;
+            try
+            {
+                var selected = listBox1.SelectedIndex;
+                listBox1.BeginUpdate();
+                listBox1.Items.Clear();
+                foreach (var row in value)
+                {
+                    listBox1.Items.Add(row);
+                }
+
+                listBox1.EndUpdate();
+                if (selected >= 0 && selected < listBox1.Items.Count)
+                {
+                    listBox1.SelectedIndex = selected;
+                }
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
+
+    int IMainView.ChunkLineCount
+    {
+        set
+        {
+            lvChunkLines.VirtualListSize = Math.Max(0, value);
+            lvChunkLines.Invalidate();
+        }
+    }
+
+    int IMainView.ProgramLineCount
+    {
+        set
+        {
+            _programLineCount = Math.Max(0, value);
+            listBox2.VirtualListSize = _programLineCount;
+            listBox2.Invalidate();
+        }
+    }
+
+    int IMainView.ExecutingLine
+    {
+        set
+        {
+            var old = _executingLine;
+            _executingLine = value;
+            RedrawLine(old);
+            if (value >= 1 && value <= _programLineCount)
+            {
+                // Kept in view as in the paper (ListBox2's index follows M0).
+                listBox2.EnsureVisible(value - 1);
+                RedrawLine(value);
+            }
+        }
+    }
+
+    int IMainView.FocusedLine
+    {
+        set
+        {
+            if (value < 1 || value > _programLineCount)
+            {
+                return;
+            }
+
+            listBox2.SelectedIndices.Clear();
+            listBox2.SelectedIndices.Add(value - 1);
+            listBox2.EnsureVisible(value - 1);
+            listBox2.Focus();
+        }
+    }
+
+    public int SelectedLine => listBox2.SelectedIndices.Count > 0 ? listBox2.SelectedIndices[0] + 1 : 0;
+
+    CommandStates IMainView.Commands
+    {
+        set
+        {
+            btnConnect.Enabled = value.Connect;
+            cboDevice.Enabled = txtIp.Enabled = cboPort.Enabled = cboBaud.Enabled = numDeviceNumber.Enabled = value.Connect;
+            btnDisconnect.Enabled = value.Disconnect;
+            btnOpen.Enabled = value.Open;
+            btnCheck.Enabled = value.Check;
+            btnSplit.Enabled = value.Split;
+            numLinesPerChunk.Enabled = value.Split;
+            btnExecute.Enabled = value.Execute;
+            cboStrategy.Enabled = value.Execute;
+            btnHold.Enabled = value.Hold;
+            btnResume.Enabled = value.Resume;
+            btnAbort.Enabled = value.Abort;
+            btnStartFromLine.Enabled = value.StartFromLine;
+            btnResumeInterrupted.Enabled = value.ResumeInterrupted;
+        }
+    }
+
+    public bool SingleBlock => chkSingleBlock.Checked;
+
+    FeedScale IMainView.FeedScale
+    {
+        set
+        {
+            _updating = true;
+            try
+            {
+                // Widen first so no intermediate range is empty, then narrow; both controls clamp their value.
+                trkFeed.Minimum = Math.Min(trkFeed.Minimum, (int)value.Minimum);
+                trkFeed.Maximum = Math.Max(trkFeed.Maximum, (int)value.Maximum);
+                trkFeed.Minimum = (int)value.Minimum;
+                trkFeed.Maximum = (int)value.Maximum;
+                trkFeed.TickFrequency = Math.Max(1, (int)((value.Maximum - value.Minimum) / 20));
+                trkFeed.LargeChange = Math.Max(1, (int)((value.Maximum - value.Minimum) / 10));
+                trkFeed.SmallChange = Math.Max(1, (int)((value.Maximum - value.Minimum) / 100));
+                numFeed.Minimum = Math.Min(numFeed.Minimum, (decimal)value.Minimum);
+                numFeed.Maximum = Math.Max(numFeed.Maximum, (decimal)value.Maximum);
+                numFeed.Minimum = (decimal)value.Minimum;
+                numFeed.Maximum = (decimal)value.Maximum;
+                numFeed.Increment = value.Unit == "%" ? 5 : 50;
+                lblFeedUnit.Text = value.Unit;
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
+
+    double IMainView.Feed
+    {
+        get => (double)numFeed.Value;
+        set
+        {
+            _updating = true;
+            try
+            {
+                var v = Math.Clamp((decimal)value, numFeed.Minimum, numFeed.Maximum);
+                numFeed.Value = v;
+                trkFeed.Value = Math.Clamp((int)Math.Round(v), trkFeed.Minimum, trkFeed.Maximum);
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
+
+    StatusDisplay IMainView.Status
+    {
+        set
+        {
+            string[] values = [value.State, value.TotalFiles, value.ProgramLines, value.CurrentFile, value.CurrentLine, value.Progress, value.Feed, value.Elapsed, value.Eta];
+            for (var row = 0; row < lblStatusValues.Length && row < values.Length; row++)
+            {
+                lblStatusValues[row].Text = values[row];
+            }
+
+            progressBar.Value = Math.Clamp(value.ProgressPercent, progressBar.Minimum, progressBar.Maximum);
+            stsState.Text = $"{value.State}   {value.CurrentLine}   {value.Progress}";
+        }
+    }
+
+    public void AppendLog(IReadOnlyList<string> lines)
+    {
+        if (lines.Count == 0)
+        {
+            return;
+        }
+
+        // The pane keeps the recent past only; the full log is Serilog's business.
+        if (txtLog.TextLength > 200_000)
+        {
+            txtLog.Text = txtLog.Text[^100_000..];
+        }
+
+        txtLog.AppendText(string.Join(Environment.NewLine, lines) + Environment.NewLine);
+    }
+
+    public Task<bool> ConfirmAsync(string title, string text) =>
+        Task.FromResult(MessageBox.Show(this, text, title, MessageBoxButtons.YesNo, MessageBoxIcon.Question, MessageBoxDefaultButton.Button2) == DialogResult.Yes);
+
+    public void ShowError(string message) =>
+        MessageBox.Show(this, message, _texts[TextId.Title], MessageBoxButtons.OK, MessageBoxIcon.Error);
+
+    // ------------------------------------------------------------------ the paper's timer
+
+    private async void timer1_Tick(object? sender, EventArgs e)
+    {
+        if (_presenter is null)
+        {
+            return;
+        }
+
+        try
+        {
+            await _presenter.TickAsync();
+        }
+        catch (Exception ex)
+        {
+            // An async void handler must not throw into the message loop; the presenter already logged it.
+            stsState.Text = ex.Message;
+        }
+    }
+
+    protected override void OnShown(EventArgs e)
+    {
+        base.OnShown(e);
+        timer1.Start();
+    }
+
+    protected override void OnFormClosing(FormClosingEventArgs e)
+    {
+        if (_presenter is { JobActive: true } &&
+            MessageBox.Show(this, _texts[TextId.ConfirmCloseRunning], _texts[TextId.Title], MessageBoxButtons.YesNo, MessageBoxIcon.Warning, MessageBoxDefaultButton.Button2) != DialogResult.Yes)
+        {
+            e.Cancel = true;
+            return;
+        }
+
+        timer1.Stop();
+        base.OnFormClosing(e);
+    }
+
+    protected override void Dispose(bool disposing)
+    {
+        if (disposing)
+        {
+            timer1.Dispose();
+            _executingFont?.Dispose();
+        }
+
+        base.Dispose(disposing);
+    }
+
+    // ------------------------------------------------------------------ wiring
+
+    private void WireEvents()
+    {
+        timer1.Tick += timer1_Tick;
+
+        cboLanguage.SelectedIndexChanged += (_, _) => LanguageChanged?.Invoke(this, EventArgs.Empty);
+        btnConnect.Click += (_, _) => ConnectRequested?.Invoke(this, EventArgs.Empty);
+        btnDisconnect.Click += (_, _) => DisconnectRequested?.Invoke(this, EventArgs.Empty);
+        btnOpen.Click += (_, _) => ChooseProgram();
+        btnCheck.Click += (_, _) => CheckRequested?.Invoke(this, EventArgs.Empty);
+        btnSplit.Click += (_, _) => SplitRequested?.Invoke(this, EventArgs.Empty);
+        lstDiagnostics.DoubleClick += (_, _) =>
+        {
+            if (lstDiagnostics.SelectedIndex >= 0)
+            {
+                DiagnosticActivated?.Invoke(this, lstDiagnostics.SelectedIndex);
+            }
+        };
+        listBox1.SelectedIndexChanged += (_, _) =>
+        {
+            if (!_updating)
+            {
+                ChunkSelected?.Invoke(this, listBox1.SelectedIndex);
+            }
+        };
+
+        lvChunkLines.RetrieveVirtualItem += (_, e) => e.Item = LineItem(e.ItemIndex, ChunkLineNeeded, executing: false);
+        listBox2.RetrieveVirtualItem += (_, e) => e.Item = LineItem(e.ItemIndex, ProgramLineNeeded, executing: e.ItemIndex + 1 == _executingLine);
+
+        btnExecute.Click += (_, _) => ExecuteRequested?.Invoke(this, EventArgs.Empty);
+        btnHold.Click += (_, _) => HoldRequested?.Invoke(this, EventArgs.Empty);
+        btnResume.Click += (_, _) => ResumeRequested?.Invoke(this, EventArgs.Empty);
+        btnAbort.Click += (_, _) => AbortRequested?.Invoke(this, EventArgs.Empty);
+        btnStartFromLine.Click += (_, _) => StartFromLineRequested?.Invoke(this, EventArgs.Empty);
+        btnResumeInterrupted.Click += (_, _) => ResumeInterruptedRequested?.Invoke(this, EventArgs.Empty);
+        chkSingleBlock.CheckedChanged += (_, _) => SingleBlockChanged?.Invoke(this, EventArgs.Empty);
+
+        // The slider moves the box as it is dragged; the feed is sent once the operator lets go.
+        trkFeed.ValueChanged += (_, _) =>
+        {
+            if (_updating)
+            {
+                return;
+            }
+
+            _updating = true;
+            try
+            {
+                numFeed.Value = Math.Clamp(trkFeed.Value, numFeed.Minimum, numFeed.Maximum);
+            }
+            finally
+            {
+                _updating = false;
+            }
+        };
+        trkFeed.MouseUp += (_, _) => FeedChanged?.Invoke(this, EventArgs.Empty);
+        trkFeed.KeyUp += (_, _) => FeedChanged?.Invoke(this, EventArgs.Empty);
+        numFeed.ValueChanged += (_, _) =>
+        {
+            if (_updating)
+            {
+                return;
+            }
+
+            _updating = true;
+            try
+            {
+                trkFeed.Value = Math.Clamp((int)Math.Round(numFeed.Value), trkFeed.Minimum, trkFeed.Maximum);
+            }
+            finally
+            {
+                _updating = false;
+            }
+
+            FeedChanged?.Invoke(this, EventArgs.Empty);
+        };
+    }
+
+    private void ChooseProgram()
+    {
+        using var dialog = new OpenFileDialog
+        {
+            Filter = "G-code (*.nc;*.ngc;*.gcode;*.tap;*.cnc;*.txt)|*.nc;*.ngc;*.gcode;*.tap;*.cnc;*.txt|All files (*.*)|*.*",
+            CheckFileExists = true,
+        };
+        if (dialog.ShowDialog(this) == DialogResult.OK)
+        {
+            OpenRequested?.Invoke(this, dialog.FileName);
+        }
+    }
+
+    private ListViewItem LineItem(int index, EventHandler<LineRequestEventArgs>? source, bool executing)
+    {
+        var request = new LineRequestEventArgs(index + 1);
+        source?.Invoke(this, request);
+        var item = new ListViewItem((index + 1).ToString(CultureInfo.InvariantCulture));
+        item.SubItems.Add(request.Text);
+        if (executing)
+        {
+            item.BackColor = ExecutingBack;
+            item.Font = _executingFont ??= new Font(listBox2.Font, FontStyle.Bold);
+        }
+
+        return item;
+    }
+
+    private void RedrawLine(int line)
+    {
+        if (line >= 1 && line <= _programLineCount)
+        {
+            listBox2.RedrawItems(line - 1, line - 1, invalidateOnly: true);
+        }
+    }
+
+    private void ApplyTexts()
+    {
+        var t = _texts;
+        grpConnection.Text = t[TextId.ConnectionGroup];
+        lblDevice.Text = t[TextId.DeviceType];
+        lblIp.Text = t[TextId.IpAddress];
+        lblPort.Text = t[TextId.SerialPort];
+        lblBaud.Text = t[TextId.Baud];
+        lblDeviceNumber.Text = t[TextId.DeviceNumber];
+        btnConnect.Text = t[TextId.Connect];
+        btnDisconnect.Text = t[TextId.Disconnect];
+
+        var device = cboDevice.SelectedIndex;
+        cboDevice.Items.Clear();
+        cboDevice.Items.AddRange(new object[] { t[TextId.DeviceSimulator], t[TextId.DeviceEthernet], t[TextId.DeviceSerial], t[TextId.DevicePcomm] });
+        cboDevice.SelectedIndex = device >= 0 ? device : 0;
+
+        grpProgram.Text = t[TextId.ProgramGroup];
+        btnOpen.Text = t[TextId.Open];
+        btnCheck.Text = t[TextId.Check];
+        btnSplit.Text = t[TextId.Split];
+        lblLinesPerChunk.Text = t[TextId.LinesPerChunk];
+        lblStrategy.Text = t[TextId.Strategy];
+        lblLanguage.Text = t[TextId.Language];
+
+        grpFeed.Text = t[TextId.Feed];
+        lblFeed.Text = t[TextId.Feed];
+        chkSingleBlock.Text = t[TextId.SingleBlock];
+
+        lblChunkFiles.Text = t[TextId.ChunkFiles];
+        lblChunkLines.Text = t[TextId.ChunkLines];
+        lblProgramLines.Text = t[TextId.ProgramLines];
+        foreach (var list in new[] { lvChunkLines, listBox2 })
+        {
+            list.Columns[0].Text = t[TextId.LineColumn];
+            list.Columns[1].Text = t[TextId.TextColumn];
+        }
+
+        btnExecute.Text = t[TextId.Execute];
+        btnHold.Text = t[TextId.Hold];
+        btnResume.Text = t[TextId.Resume];
+        btnAbort.Text = t[TextId.Abort];
+        btnStartFromLine.Text = t[TextId.StartFromLine];
+        btnResumeInterrupted.Text = t[TextId.ResumeInterrupted];
+
+        grpStatus.Text = t[TextId.JobState];
+        for (var row = 0; row < lblStatusCaptions.Length; row++)
+        {
+            lblStatusCaptions[row].Text = t[HmiLayout.StatusRows[row]];
+        }
+
+        lblDiagnostics.Text = t[TextId.Diagnostics];
+        lblLog.Text = t[TextId.Log];
+        ApplyTitle();
+    }
+
+    private void ApplyTitle() =>
+        Text = _programFile.Length == 0 ? _texts[TextId.Title] : $"{_texts[TextId.Title]} – {_programFile}";
+
+    private static ListView NewVirtualList()
+    {
+        // ListBox has no virtual mode; a one-line-per-row ListView in VirtualMode asks only for the rows on screen.
+        var list = new ListView
+        {
+            View = View.Details,
+            VirtualMode = true,
+            VirtualListSize = 0,
+            FullRowSelect = true,
+            MultiSelect = false,
+            HideSelection = false,
+            HeaderStyle = ColumnHeaderStyle.Nonclickable,
+            Font = new Font(FontFamily.GenericMonospace, 9f),
+        };
+        list.Columns.Add("Line", HmiLayout.LineNumberColumnWidth, HorizontalAlignment.Right);
+        list.Columns.Add("Block", 2000);
+        return list;
+    }
+
+    private static void Place(Control control, LayoutBox box, Control parent)
+    {
+        control.Bounds = new Rectangle(box.X, box.Y, box.Width, box.Height);
+        parent.Controls.Add(control);
+    }
+}

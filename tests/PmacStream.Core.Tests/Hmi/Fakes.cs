@@ -1,0 +1,271 @@
+using System.Text;
+using PmacStream.GCode;
+using PmacStream.Hmi;
+using PmacStream.Pmac;
+using PmacStream.Program;
+
+namespace PmacStream.Core.Tests.Hmi;
+
+/// <summary>A view that records what the presenter shows and lets tests raise the form's events.</summary>
+internal sealed class FakeView : IMainView
+{
+    public IReadOnlyDictionary<TextId, string> Texts { get; set; } = new Dictionary<TextId, string>();
+    public HmiLanguage Language { get; set; }
+    public ConnectionSettings ConnectionSettings { get; set; } = new(DeviceKind.Simulator);
+    public string ConnectionState { get; set; } = string.Empty;
+    public string ProgramPath { get; set; } = string.Empty;
+    public IReadOnlyList<string> Diagnostics { get; set; } = [];
+    public int LinesPerChunk { get; set; } = 1000;
+    public IReadOnlyList<string> Strategies { get; set; } = [];
+    public string SelectedStrategy { get; set; } = "chunk";
+    public IReadOnlyList<string> ChunkFiles { get; set; } = [];
+    public int ChunkLineCount { get; set; }
+    public int ProgramLineCount { get; set; }
+    public List<int> ExecutingLines { get; } = [];
+    public int ExecutingLine { get => ExecutingLines.Count == 0 ? 0 : ExecutingLines[^1]; set => ExecutingLines.Add(value); }
+    public int FocusedLine { get; set; }
+    public int SelectedLine { get; set; }
+    public CommandStates Commands { get; set; } = CommandStates.None;
+    public bool SingleBlock { get; set; }
+    public FeedScale FeedScale { get; set; } = FeedScale.Paper;
+    public double Feed { get; set; }
+    public StatusDisplay Status { get; set; } = null!;
+    public List<string> Log { get; } = [];
+    public List<string> Errors { get; } = [];
+    public List<(string Title, string Text)> Confirmations { get; } = [];
+    public bool ConfirmAnswer { get; set; } = true;
+
+    public event EventHandler? LanguageChanged;
+    public event EventHandler? ConnectRequested;
+    public event EventHandler? DisconnectRequested;
+    public event EventHandler<string>? OpenRequested;
+    public event EventHandler? CheckRequested;
+    public event EventHandler<int>? DiagnosticActivated;
+    public event EventHandler? SplitRequested;
+    public event EventHandler<int>? ChunkSelected;
+    public event EventHandler<LineRequestEventArgs>? ChunkLineNeeded;
+    public event EventHandler<LineRequestEventArgs>? ProgramLineNeeded;
+    public event EventHandler? ExecuteRequested;
+    public event EventHandler? HoldRequested;
+    public event EventHandler? ResumeRequested;
+    public event EventHandler? AbortRequested;
+    public event EventHandler? StartFromLineRequested;
+    public event EventHandler? ResumeInterruptedRequested;
+    public event EventHandler? SingleBlockChanged;
+    public event EventHandler? FeedChanged;
+
+    public void AppendLog(IReadOnlyList<string> lines) => Log.AddRange(lines);
+
+    public Task<bool> ConfirmAsync(string title, string text)
+    {
+        Confirmations.Add((title, text));
+        return Task.FromResult(ConfirmAnswer);
+    }
+
+    public void ShowError(string message) => Errors.Add(message);
+
+    // What the form's controls do.
+    public void ChooseLanguage(HmiLanguage l) { Language = l; LanguageChanged?.Invoke(this, EventArgs.Empty); }
+    public void ClickConnect() => ConnectRequested?.Invoke(this, EventArgs.Empty);
+    public void ClickDisconnect() => DisconnectRequested?.Invoke(this, EventArgs.Empty);
+    public void ChooseFile(string path) => OpenRequested?.Invoke(this, path);
+    public void ClickCheck() => CheckRequested?.Invoke(this, EventArgs.Empty);
+    public void DoubleClickDiagnostic(int i) => DiagnosticActivated?.Invoke(this, i);
+    public void ClickSplit() => SplitRequested?.Invoke(this, EventArgs.Empty);
+    public void SelectChunk(int i) => ChunkSelected?.Invoke(this, i);
+    public void ClickExecute() => ExecuteRequested?.Invoke(this, EventArgs.Empty);
+    public void ClickHold() => HoldRequested?.Invoke(this, EventArgs.Empty);
+    public void ClickResume() => ResumeRequested?.Invoke(this, EventArgs.Empty);
+    public void ClickAbort() => AbortRequested?.Invoke(this, EventArgs.Empty);
+    public void ClickStartFromLine() => StartFromLineRequested?.Invoke(this, EventArgs.Empty);
+    public void ClickResumeInterrupted() => ResumeInterruptedRequested?.Invoke(this, EventArgs.Empty);
+    public void ToggleSingleBlock(bool on) { SingleBlock = on; SingleBlockChanged?.Invoke(this, EventArgs.Empty); }
+    public void MoveFeed(double v) { Feed = v; FeedChanged?.Invoke(this, EventArgs.Empty); }
+
+    public string ProgramRow(int line)
+    {
+        var e = new LineRequestEventArgs(line);
+        ProgramLineNeeded?.Invoke(this, e);
+        return e.Text;
+    }
+
+    public string ChunkRow(int line)
+    {
+        var e = new LineRequestEventArgs(line);
+        ChunkLineNeeded?.Invoke(this, e);
+        return e.Text;
+    }
+}
+
+internal sealed class FakeConnection : IPmacConnection
+{
+    public bool Disposed { get; private set; }
+    public string Description => "fake";
+    public Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
+    public Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default) => Task.CompletedTask;
+    public Task FlushAsync(CancellationToken cancellationToken = default) => Task.CompletedTask;
+    public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
+    public ValueTask DisposeAsync() { Disposed = true; return ValueTask.CompletedTask; }
+}
+
+/// <summary>
+/// Stands in for the checker, splitter and streaming session: a line with "BAD" is an error, every non-empty line
+/// is a block, chunk files really are written, and a job advances <see cref="LinesPerTick"/> lines a tick.
+/// </summary>
+internal sealed class FakeBackend : IHmiBackend
+{
+    public IReadOnlyList<string> Strategies { get; } = ["chunk", "pr", "adaptive"];
+    public int LinesPerTick { get; set; } = 7;
+    public FeedMode Feed { get; set; } = FeedMode.Paper;
+    public List<HmiJobRequest> Started { get; } = [];
+    public List<FakeJob> Jobs { get; } = [];
+    public HmiInterruptedJob? Interrupted { get; set; }
+    public FakeConnection? Connection { get; private set; }
+
+    public Task<IPmacConnection> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default)
+    {
+        if (settings.Device == DeviceKind.Ethernet && settings.EthernetAddress == "unreachable")
+        {
+            throw new PmacLinkException("ethernet unreachable:1025: connection refused");
+        }
+
+        Connection = new FakeConnection();
+        return Task.FromResult<IPmacConnection>(Connection);
+    }
+
+    public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default)
+    {
+        var diags = new List<Diagnostic>();
+        var blocks = 0;
+        var n = 0;
+        foreach (var line in File.ReadLines(path))
+        {
+            n++;
+            if (line.Trim().Length > 0)
+            {
+                blocks++;
+            }
+
+            var col = line.IndexOf("BAD", StringComparison.Ordinal);
+            if (col >= 0)
+            {
+                diags.Add(new Diagnostic(Severity.Error, "E101", n, col + 1, language == HmiLanguage.Chinese ? "非法字符 'B'" : "illegal character 'B'"));
+            }
+        }
+
+        return Task.FromResult(HmiCheckResult.FromList(diags, blocks));
+    }
+
+    public Task<HmiSplitResult> SplitAsync(HmiSplitRequest request, CancellationToken cancellationToken = default)
+    {
+        var lines = File.ReadAllLines(request.SourcePath);
+        var dir = Path.Combine(Path.GetDirectoryName(request.SourcePath)!, Path.GetFileNameWithoutExtension(request.SourcePath) + "_chunks");
+        Directory.CreateDirectory(dir);
+        var chunks = new List<ChunkInfo>();
+        for (int first = 1, index = 1; first <= lines.Length; first += request.LinesPerChunk, index++)
+        {
+            var last = Math.Min(lines.Length, first + request.LinesPerChunk - 1);
+            var name = $"{Path.GetFileNameWithoutExtension(request.SourcePath)}_{index:0000}.pmc";
+            var sb = new StringBuilder("CLOSE\nOPEN ROT\n");
+            for (var i = first; i <= last; i++)
+            {
+                sb.Append("M0==").Append(i).Append(' ').Append(lines[i - 1]).Append(" F(P500)\n");
+            }
+
+            sb.Append("CLOSE\n");
+            File.WriteAllText(Path.Combine(dir, name), sb.ToString());
+            chunks.Add(new ChunkInfo(index, name, first, last, last - first + 1, last - first + 1, sb.Length, 0, ""));
+        }
+
+        var manifest = new ChunkManifest(request.SourcePath, 0, "", lines.Length, lines.Length, "M0", TrackingPlacement.Exact, Feed, "P500", chunks);
+        return Task.FromResult(new HmiSplitResult(manifest, dir));
+    }
+
+    public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default) =>
+        Task.FromResult<IReadOnlyList<string>>(["G21 G17 G90 G54", $"RAPID Z50 (to line {line})"]);
+
+    public Task<IHmiJob> StartAsync(IPmacConnection connection, HmiJobRequest request, CancellationToken cancellationToken = default)
+    {
+        Started.Add(request);
+        var job = new FakeJob(request.Program.Manifest, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.Feed);
+        Jobs.Add(job);
+        return Task.FromResult<IHmiJob>(job);
+    }
+
+    public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
+        Task.FromResult(Interrupted is { } j && j.Program.Manifest.SourcePath == sourcePath ? j : null);
+
+    public Task<IHmiJob> ResumeInterruptedAsync(IPmacConnection connection, HmiInterruptedJob job, double feed, CancellationToken cancellationToken = default)
+    {
+        var j = new FakeJob(job.Program.Manifest, job.ResumeLine, LinesPerTick, false, feed);
+        Jobs.Add(j);
+        return Task.FromResult<IHmiJob>(j);
+    }
+}
+
+internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPerTick, bool singleBlock, double feed) : IHmiJob
+{
+    private int _line = firstLine - 1;
+    private HmiJobState _state = HmiJobState.Running;
+    private double _feed = feed;
+    private int _ticks;
+
+    public List<string> Commands { get; } = [];
+    public bool SingleBlock { get; private set; } = singleBlock;
+    public bool Disposed { get; private set; }
+    public Exception? FailOnTick { get; set; }
+
+    public HmiJobStatus Status => new(_state, manifest.ChunkOfLine(Math.Max(1, _line))?.Index ?? 0, _line,
+        100.0 * _line / manifest.TotalBlocks, _feed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line));
+
+    public TaskCompletionSource? TickGate { get; set; }
+    public int TickCalls { get; private set; }
+
+    public async Task TickAsync(CancellationToken cancellationToken = default)
+    {
+        TickCalls++;
+        if (TickGate is { } gate)
+        {
+            await gate.Task;
+        }
+
+        if (FailOnTick is { } e)
+        {
+            throw e;
+        }
+
+        _ticks++;
+        if (_state == HmiJobState.Running && !SingleBlock)
+        {
+            Advance(linesPerTick);
+        }
+    }
+
+    private void Advance(int n)
+    {
+        _line = Math.Min(manifest.TotalBlocks, _line + n);
+        if (_line == manifest.TotalBlocks)
+        {
+            _state = HmiJobState.Completed;
+        }
+    }
+
+    public Task HoldAsync(CancellationToken cancellationToken = default) { Commands.Add("H"); _state = HmiJobState.Held; return Task.CompletedTask; }
+
+    public Task ResumeAsync(CancellationToken cancellationToken = default)
+    {
+        Commands.Add("R");
+        _state = HmiJobState.Running;
+        if (SingleBlock)
+        {
+            Advance(1);
+        }
+
+        return Task.CompletedTask;
+    }
+
+    public Task AbortAsync(CancellationToken cancellationToken = default) { Commands.Add("A"); _state = HmiJobState.Aborted; return Task.CompletedTask; }
+    public Task SetFeedAsync(double value, CancellationToken cancellationToken = default) { Commands.Add($"P500={value}"); _feed = value; return Task.CompletedTask; }
+    public Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default) { Commands.Add($"single={on}"); SingleBlock = on; return Task.CompletedTask; }
+    public ValueTask DisposeAsync() { Disposed = true; return ValueTask.CompletedTask; }
+}

@@ -1,0 +1,274 @@
+using PmacStream.GCode;
+using PmacStream.Hmi;
+using PmacStream.Pmac;
+using PmacStream.Program;
+using PmacStream.Sim;
+using PmacStream.Streaming;
+
+namespace PmacStream.Core.Tests.Hmi;
+
+/// <summary>TimeProvider on the simulator's virtual clock (elapsed and ETA follow simulated time).</summary>
+internal sealed class SimClock(PmacSimulator sim) : TimeProvider
+{
+    public override long TimestampFrequency => 1_000_000;
+
+    public override long GetTimestamp() => (long)(sim.Now * 1_000_000);
+
+    public override DateTimeOffset GetUtcNow() => new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero).AddSeconds(sim.Now);
+}
+
+/// <summary>
+/// The presenter end to end: the real checker, splitter, streaming session and job journal, talking to the simulated
+/// Turbo PMAC in process. The test plays the form: it raises the view's events and calls the tick like timer1 does,
+/// advancing the simulator's virtual clock between ticks.
+/// </summary>
+public sealed class HmiSimulatorTests : IAsyncLifetime
+{
+    private const double SecondsPerTick = 1.0;
+    private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-sim-" + Guid.NewGuid().ToString("N"));
+    private readonly PmacSimulator _sim = new(new SimOptions());
+    private readonly List<MainPresenter> _presenters = [];
+    private string _source = string.Empty;
+
+    public Task InitializeAsync()
+    {
+        Directory.CreateDirectory(_dir);
+        var root = ScreenLayoutTests.RepoRoot() ?? throw new InvalidOperationException("repo root not found");
+        _source = Path.Combine(_dir, "demo.nc");
+        File.Copy(Path.Combine(root, "samples", "demo.nc"), _source);
+        return Task.CompletedTask;
+    }
+
+    public async Task DisposeAsync()
+    {
+        foreach (var p in _presenters)
+        {
+            await p.DisposeAsync();
+        }
+
+        _sim.Dispose();
+        Directory.Delete(_dir, recursive: true);
+    }
+
+    /// <summary>A fresh "process": backend, presenter and view, with the simulator as its controller.</summary>
+    private (MainPresenter P, FakeView V) NewHmi()
+    {
+        var library = ControllerSetup.Library();
+        var backend = new CoreHmiBackend(
+            simulator: async ct =>
+            {
+                var conn = new InProcessConnection(_sim.OpenPort("hmi"), "simulator (in-process)");
+                await ControllerSetup.DownloadTolerantAsync(conn, library, ct);
+                return conn;
+            },
+            time: new SimClock(_sim));
+        var view = new FakeView { LinesPerChunk = 1000 };
+        var sink = new HmiLogSink();
+        var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();
+        var p = new MainPresenter(view, backend, sink, log);
+        _presenters.Add(p);
+        return (p, view);
+    }
+
+    private static async Task Do(MainPresenter p, Action a)
+    {
+        a();
+        await p.WhenIdleAsync();
+    }
+
+    private async Task<(MainPresenter P, FakeView V)> ReadyAsync()
+    {
+        var (p, v) = NewHmi();
+        await Do(p, () => v.ChooseFile(_source));
+        await Do(p, v.ClickConnect);
+        await Do(p, v.ClickCheck);
+        await Do(p, v.ClickSplit);
+        v.Errors.Should().BeEmpty();
+        return (p, v);
+    }
+
+    /// <summary>timer1_Tick, then let the controller run for a tick's worth of virtual time.</summary>
+    private async Task Tick(MainPresenter p, int ticks = 1)
+    {
+        for (var i = 0; i < ticks; i++)
+        {
+            await p.TickAsync();
+            _sim.Advance(TimeSpan.FromSeconds(SecondsPerTick));
+            Ticks++;
+        }
+    }
+
+    private async Task RunToEnd(MainPresenter p, int maxTicks = 40_000)
+    {
+        for (var i = 0; i < maxTicks && p.JobActive; i++)
+        {
+            await Tick(p);
+        }
+
+        p.JobActive.Should().BeFalse("the job should have finished");
+
+        // The job is complete once M0 names the last block; let the controller finish that move.
+        _sim.RunUntilIdle(TimeSpan.FromHours(1));
+    }
+
+    private int Ticks { get; set; }
+
+    private List<int> TrackedLines() => ChunkedProgram.Open(Splitter.DefaultOutDir(_source)).TrackedLines().ToList();
+
+    /// <summary>Source lines of the executed moves, repeats of one block folded, preamble moves (line 0) left out.</summary>
+    private List<int> ExecutedLines()
+    {
+        var list = new List<int>();
+        foreach (var m in _sim.ExecutedMoves)
+        {
+            if (m.SourceLine > 0 && (list.Count == 0 || list[^1] != m.SourceLine))
+            {
+                list.Add(m.SourceLine);
+            }
+        }
+
+        return list;
+    }
+
+    [Fact]
+    public async Task Open_and_check_a_program_with_errors_lists_them_and_split_is_refused()
+    {
+        var bad = Path.Combine(_dir, "bad.nc");
+        File.WriteAllText(bad, "O1\nN10 G21 G90\nN20 G01 X10 Y10 F500\nN30 G01 X20 X30\nN40 G02 X40 Y10\nN50 M30\n");
+        var (p, v) = NewHmi();
+        await Do(p, () => v.ChooseFile(bad));
+        await Do(p, v.ClickCheck);
+
+        v.Diagnostics.Should().Contain(d => d.StartsWith("4:", StringComparison.Ordinal) && d.Contains("  E  "), "two X words in one block");
+        v.Diagnostics.Should().Contain(d => d.StartsWith("5:", StringComparison.Ordinal) && d.Contains("  E  "), "an arc without R or I/J");
+        var index = v.Diagnostics.ToList().FindIndex(d => d.StartsWith("5:", StringComparison.Ordinal));
+        await Do(p, () => v.DoubleClickDiagnostic(index));
+        v.FocusedLine.Should().Be(5);
+
+        await Do(p, v.ClickSplit);
+        v.Errors.Should().ContainSingle().Which.Should().Contain("bad.nc:4:");
+        Directory.Exists(Splitter.DefaultOutDir(bad)).Should().BeFalse("nothing is split");
+    }
+
+    [Fact]
+    public async Task Execute_runs_every_block_once_with_the_highlight_following_m0()
+    {
+        var (p, v) = await ReadyAsync();
+        v.ChunkFiles.Should().HaveCount(4);
+        await Do(p, v.ClickExecute);
+        v.Errors.Should().BeEmpty();
+        await RunToEnd(p);
+
+        v.Errors.Should().BeEmpty();
+        v.Status.State.Should().Be("Completed");
+        v.Status.ProgressPercent.Should().Be(100);
+        var expected = TrackedLines();
+        ExecutedLines().Should().Equal(expected, "every block executes exactly once, in order");
+        Ticks.Should().BeGreaterThan(100);
+        var highlighted = v.ExecutingLines.Where(l => l > 0).ToList();
+        highlighted.Should().BeInAscendingOrder("the highlight only moves forward with M0");
+        highlighted.Should().HaveCountGreaterThan(100, "the highlight followed the job, not only its end");
+        highlighted.Should().OnlyContain(l => expected.Contains(l), "M0 only ever names motion blocks");
+        highlighted[^1].Should().Be(expected[^1]);
+        v.Status.CurrentFile.Should().StartWith("4/4");
+        v.Log.Should().Contain(l => l.Contains("Job Completed"));
+    }
+
+    [Fact]
+    public async Task Hold_stops_motion_and_resume_continues_without_losing_a_block()
+    {
+        var (p, v) = await ReadyAsync();
+        await Do(p, v.ClickExecute);
+        await Tick(p, 200);
+        await Do(p, v.ClickHold);
+        v.Status.State.Should().Be("Held");
+        await Tick(p, 10);
+        var heldAt = v.ExecutingLine;
+        var moves = _sim.Counters;
+        await Tick(p, 40);
+
+        v.ExecutingLine.Should().Be(heldAt, "nothing moves while held");
+        _sim.Counters.MovesExecuted.Should().Be(moves.MovesExecuted);
+        await Do(p, v.ClickResume);
+        v.Status.State.Should().Be("Running");
+        await RunToEnd(p);
+
+        ExecutedLines().Should().Equal(TrackedLines());
+        v.Status.State.Should().Be("Completed");
+    }
+
+    [Fact]
+    public async Task Start_from_selected_line_shows_the_preamble_and_obeys_the_answer()
+    {
+        var (p, v) = await ReadyAsync();
+        var tracked = TrackedLines();
+        var from = tracked[1500];
+        v.SelectedLine = from;
+        var received = _sim.Counters.LinesReceived;
+
+        v.ConfirmAnswer = false;
+        await Do(p, v.ClickStartFromLine);
+        v.Confirmations.Should().ContainSingle();
+        var text = v.Confirmations[0].Text;
+        text.Should().Contain($"line {from}").And.Contain("G21 G17 G54").And.Contain("G90 G00 Z10").And.Contain("M03");
+        p.JobActive.Should().BeFalse();
+        _sim.Counters.LinesReceived.Should().Be(received, "a declined start sends nothing");
+
+        v.ConfirmAnswer = true;
+        await Do(p, v.ClickStartFromLine);
+        v.Errors.Should().BeEmpty();
+        await RunToEnd(p);
+
+        ExecutedLines().Should().Equal(tracked.SkipWhile(l => l < from), "from the chosen block to the end, each once");
+        _sim.ExecutedMoves.First().SourceLine.Should().Be(0, "the preamble's approach runs first");
+        v.Status.State.Should().Be("Completed");
+    }
+
+    [Fact]
+    public async Task Resume_after_a_host_crash_continues_from_the_journal_without_losing_or_repeating()
+    {
+        var (p, v) = await ReadyAsync();
+        await Do(p, v.ClickExecute);
+        while (v.ExecutingLine < 1500)
+        {
+            await Tick(p);
+        }
+
+        // The host dies: no abort, no goodbye. The controller runs on with what is in its rotary buffer.
+        _presenters.Remove(p);
+        _sim.Advance(TimeSpan.FromSeconds(20));
+        File.Exists(HmiJobJournal.PathFor(_source)).Should().BeTrue();
+
+        var (p2, v2) = NewHmi();
+        await Do(p2, () => v2.ChooseFile(_source));
+        await Do(p2, v2.ClickConnect);
+        v2.Commands.ResumeInterrupted.Should().BeTrue();
+        await Do(p2, v2.ClickResumeInterrupted);
+        v2.Errors.Should().BeEmpty();
+        v2.Confirmations.Single().Text.Should().Contain("Resume job").And.Contain("(file 2)");
+        v2.ChunkFiles.Should().HaveCount(4, "the job's chunk files are shown again");
+        await RunToEnd(p2);
+
+        ExecutedLines().Should().Equal(TrackedLines(), "no block lost or repeated across the crash");
+        v2.Status.State.Should().Be("Completed");
+        await Do(p2, v2.ClickResumeInterrupted);
+        v2.Errors.Should().ContainSingle().Which.Should().Be("No interrupted job recorded for this program.");
+    }
+
+    [Fact]
+    public async Task Feed_change_sets_p500_live_in_paper_mode()
+    {
+        var (p, v) = await ReadyAsync();
+        v.FeedScale.Unit.Should().Be("P500");
+        await Do(p, () => v.MoveFeed(800));
+        await Do(p, v.ClickExecute);
+        v.Status.Feed.Should().Be("800 P500", "the chosen feed was set before the first block (the program's own F words follow)");
+        await Tick(p, 50);
+
+        await Do(p, () => v.MoveFeed(2400));
+        _sim.ReadVariable('P', 500).Should().Be(2400);
+        v.Status.Feed.Should().Be("2400 P500");
+        await Do(p, v.ClickAbort);
+        v.Status.State.Should().Be("Aborted");
+    }
+}

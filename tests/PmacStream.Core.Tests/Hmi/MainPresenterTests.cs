@@ -1,0 +1,370 @@
+using System.Text;
+using PmacStream.Hmi;
+using PmacStream.Pmac;
+using PmacStream.Program;
+
+namespace PmacStream.Core.Tests.Hmi;
+
+/// <summary>The presenter's logic against a fake view and a fake core (the simulator tests are in HmiSimulatorTests).</summary>
+public sealed class MainPresenterTests : IAsyncLifetime
+{
+    private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-" + Guid.NewGuid().ToString("N"));
+    private readonly FakeView _view = new();
+    private readonly FakeBackend _backend = new();
+    private readonly HmiLogSink _sink = new();
+    private MainPresenter _p = null!;
+
+    public Task InitializeAsync()
+    {
+        Directory.CreateDirectory(_dir);
+        _p = new MainPresenter(_view, _backend, _sink, Logger());
+        return Task.CompletedTask;
+    }
+
+    public async Task DisposeAsync()
+    {
+        await _p.DisposeAsync();
+        Directory.Delete(_dir, recursive: true);
+    }
+
+    // The form configures the global logger with the sink; tests give the presenter its own so they stay independent.
+    private Serilog.ILogger Logger() => new Serilog.LoggerConfiguration().WriteTo.Hmi(_sink).CreateLogger().ForContext<MainPresenter>();
+
+    private string Program(int lines, Func<int, string>? text = null)
+    {
+        var sb = new StringBuilder();
+        for (var i = 1; i <= lines; i++)
+        {
+            sb.Append(text?.Invoke(i) ?? $"N{i} G1 X{i}.5 Y{i % 7}").Append('\n');
+        }
+
+        var path = Path.Combine(_dir, "part.nc");
+        File.WriteAllText(path, sb.ToString());
+        return path;
+    }
+
+    private async Task Do(Action action)
+    {
+        action();
+        await _p.WhenIdleAsync();
+    }
+
+    private async Task ReadyToRun(int lines = 100, int linesPerChunk = 30)
+    {
+        await Do(() => _view.ChooseFile(Program(lines)));
+        await Do(_view.ClickConnect);
+        _view.LinesPerChunk = linesPerChunk;
+        await Do(_view.ClickSplit);
+        _view.Errors.Should().BeEmpty();
+    }
+
+    private async Task TickUntilFinished(int maxTicks = 10_000)
+    {
+        for (var i = 0; i < maxTicks && _p.JobActive; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        _p.JobActive.Should().BeFalse("the job should have finished");
+    }
+
+    [Fact]
+    public void Starts_in_the_chosen_language_with_nothing_to_run()
+    {
+        _view.Texts[TextId.Execute].Should().Be("Execute");
+        _view.Strategies.Should().Equal("chunk", "pr", "adaptive");
+        _view.ConnectionState.Should().Be("Not connected");
+        _view.Commands.Should().Be(CommandStates.None with { Connect = true, Open = true });
+        _view.Status.TotalFiles.Should().Be("-");
+    }
+
+    [Fact]
+    public async Task Open_shows_the_lines_on_demand_and_the_count()
+    {
+        await Do(() => _view.ChooseFile(Program(500)));
+        await _p.Program!.Completion;
+        await _p.TickAsync();
+
+        _view.Errors.Should().BeEmpty();
+        _view.ProgramLineCount.Should().Be(500);
+        _view.ProgramRow(1).Should().Be("N1 G1 X1.5 Y1");
+        _view.ProgramRow(500).Should().Be("N500 G1 X500.5 Y3");
+        _view.ProgramRow(501).Should().BeEmpty();
+        _view.Status.ProgramLines.Should().Be("500");
+        _view.Commands.Check.Should().BeTrue();
+        _view.Commands.Execute.Should().BeFalse("not connected, not split");
+    }
+
+    [Fact]
+    public async Task Opening_a_missing_file_says_so()
+    {
+        await Do(() => _view.ChooseFile(Path.Combine(_dir, "nope.nc")));
+
+        _view.Errors.Should().ContainSingle().Which.Should().Contain("nope.nc").And.Contain("no such program file");
+    }
+
+    [Fact]
+    public async Task Check_lists_errors_double_click_jumps_and_split_is_refused()
+    {
+        await Do(() => _view.ChooseFile(Program(50, i => i is 12 or 40 ? $"G1 X1 BAD{i}" : $"G1 X{i}")));
+        await Do(_view.ClickCheck);
+
+        _view.Diagnostics.Should().Equal("12:7  E  E101  illegal character 'B'", "40:7  E  E101  illegal character 'B'");
+        await Do(() => _view.DoubleClickDiagnostic(1));
+        _view.FocusedLine.Should().Be(40);
+        _view.Log.Should().Contain(l => l.Contains("2 errors, 0 warnings, 50 blocks"));
+
+        await Do(_view.ClickSplit);
+        _view.Errors.Should().ContainSingle().Which.Should().Contain("part.nc:12:7: error E101");
+        _view.ChunkFiles.Should().BeEmpty();
+    }
+
+    [Fact]
+    public async Task Check_messages_follow_the_language()
+    {
+        await Do(() => _view.ChooseFile(Program(5, i => i == 3 ? "BAD" : "G0 X0")));
+        await Do(() => _view.ChooseLanguage(HmiLanguage.Chinese));
+        await Do(_view.ClickCheck);
+
+        _view.Texts[TextId.Execute].Should().Be("程序段执行");
+        _view.Diagnostics.Single().Should().EndWith("非法字符 'B'");
+    }
+
+    [Fact]
+    public async Task Split_fills_listbox1_and_selecting_a_chunk_shows_its_lines()
+    {
+        await ReadyToRun(lines: 100, linesPerChunk: 30);
+
+        _view.ChunkFiles.Should().Equal(
+            "part_0001.pmc   lines 1–30   (30 blocks)",
+            "part_0002.pmc   lines 31–60   (30 blocks)",
+            "part_0003.pmc   lines 61–90   (30 blocks)",
+            "part_0004.pmc   lines 91–100   (10 blocks)");
+        _view.Status.TotalFiles.Should().Be("4");
+
+        await Do(() => _view.SelectChunk(1));
+        _view.ChunkLineCount.Should().Be(33);
+        _view.ChunkRow(1).Should().Be("CLOSE");
+        _view.ChunkRow(3).Should().Be("M0==31 N31 G1 X31.5 Y3 F(P500)");
+        _view.FocusedLine.Should().Be(31, "the program list shows where the chunk starts");
+
+        await Do(() => _view.ChooseLanguage(HmiLanguage.Chinese));
+        _view.ChunkFiles[0].Should().Be("part_0001.pmc   第 1–30 行   （30 段）");
+    }
+
+    [Fact]
+    public async Task Execute_runs_to_completion_with_the_highlight_following_m0()
+    {
+        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        _view.Commands.Execute.Should().BeTrue();
+
+        await Do(_view.ClickExecute);
+        _view.Commands.Execute.Should().BeFalse();
+        _view.Commands.Hold.Should().BeTrue();
+        await TickUntilFinished();
+
+        _backend.Started.Single().Should().Match<HmiJobRequest>(r => r.FromLine == null && r.Strategy == "chunk" && r.Feed == 1000);
+        var highlighted = _view.ExecutingLines.Where(l => l > 0).ToList();
+        highlighted.Should().BeInAscendingOrder().And.OnlyHaveUniqueItems();
+        highlighted.Should().StartWith(7).And.EndWith(100);
+        highlighted.Should().HaveCount(15, "one highlight per tick that moved (7 lines a tick, 100 lines)");
+        _view.Status.State.Should().Be("Completed");
+        _view.Status.ProgressPercent.Should().Be(100);
+        _view.Status.CurrentFile.Should().Be("4/4  part_0004.pmc");
+        _view.Log.Should().Contain(l => l.Contains("Job Completed at line 100"));
+        _backend.Jobs.Single().Disposed.Should().BeTrue();
+        _view.Commands.Execute.Should().BeTrue("a finished job frees the machine");
+    }
+
+    [Fact]
+    public async Task Hold_stops_the_highlight_and_resume_continues()
+    {
+        await ReadyToRun();
+        await Do(_view.ClickExecute);
+        await _p.TickAsync();
+        await _p.TickAsync();
+        await Do(_view.ClickHold);
+        var heldAt = _view.ExecutingLine;
+        _view.Status.State.Should().Be("Held");
+        _view.Commands.Resume.Should().BeTrue();
+        _view.Commands.Hold.Should().BeFalse();
+
+        for (var i = 0; i < 5; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        _view.ExecutingLine.Should().Be(heldAt, "nothing moves while held");
+        await Do(_view.ClickResume);
+        await _p.TickAsync();
+        _view.ExecutingLine.Should().Be(heldAt + 7);
+        _backend.Jobs.Single().Commands.Should().Equal("H", "R");
+        await TickUntilFinished();
+    }
+
+    [Fact]
+    public async Task Abort_ends_the_job()
+    {
+        await ReadyToRun();
+        await Do(_view.ClickExecute);
+        await _p.TickAsync();
+        await Do(_view.ClickAbort);
+
+        _p.JobActive.Should().BeFalse();
+        _view.Status.State.Should().Be("Aborted");
+        _view.Commands.ResumeInterrupted.Should().BeTrue();
+    }
+
+    [Fact]
+    public async Task Start_from_selected_line_asks_with_the_preamble_and_respects_the_answer()
+    {
+        await ReadyToRun();
+        _view.SelectedLine = 0;
+        await Do(_view.ClickStartFromLine);
+        _view.Errors.Should().ContainSingle().Which.Should().Be("Select a program line first.");
+        _view.Errors.Clear();
+
+        _view.SelectedLine = 42;
+        _view.ConfirmAnswer = false;
+        await Do(_view.ClickStartFromLine);
+        _view.Confirmations.Should().ContainSingle();
+        _view.Confirmations[0].Text.Should().Contain("line 42").And.Contain("G21 G17 G90 G54").And.Contain("RAPID Z50 (to line 42)");
+        _backend.Started.Should().BeEmpty("the operator said no");
+        _p.JobActive.Should().BeFalse();
+        _view.Log.Should().Contain(l => l.Contains("declined"));
+
+        _view.ConfirmAnswer = true;
+        await Do(_view.ClickStartFromLine);
+        _backend.Started.Single().FromLine.Should().Be(42);
+        await _p.TickAsync();
+        _view.ExecutingLine.Should().Be(48);
+        await TickUntilFinished();
+        _view.ExecutingLines.Where(l => l > 0).Min().Should().BeGreaterThanOrEqualTo(41);
+    }
+
+    [Fact]
+    public async Task Resume_after_interruption_continues_from_the_recorded_line()
+    {
+        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        await Do(_view.ClickResumeInterrupted);
+        _view.Errors.Should().ContainSingle().Which.Should().Be("No interrupted job recorded for this program.");
+        _view.Errors.Clear();
+
+        // A job that lost its link at line 64: the tick failure leaves it for "resume after interruption".
+        await Do(_view.ClickExecute);
+        for (var i = 0; i < 9; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        _backend.Jobs[0].FailOnTick = new PmacLinkException("tcp 127.0.0.1:1025: connection reset");
+        await _p.TickAsync();
+        _p.JobActive.Should().BeFalse();
+        _view.Status.State.Should().Be("Failed");
+        _view.Errors.Should().ContainSingle().Which.Should().Contain("connection reset");
+        _view.Errors.Clear();
+
+        // The store recorded line 64 (chunk 3); the host restarts and the operator resumes.
+        var manifest = _backend.Jobs[0].Status;
+        manifest.CurrentLine.Should().Be(63);
+        var split = await _backend.SplitAsync(new HmiSplitRequest(Path.Combine(_dir, "part.nc"), 30));
+        _backend.Interrupted = new HmiInterruptedJob(7, split, 64, 3, "chunk", DateTimeOffset.UtcNow);
+        await _p.DisposeAsync();
+        var view2 = new FakeView();
+        _p = new MainPresenter(view2, _backend, _sink, Logger());
+        view2.ChooseFile(Path.Combine(_dir, "part.nc"));
+        await _p.WhenIdleAsync();
+        view2.ClickConnect();
+        await _p.WhenIdleAsync();
+        view2.ClickResumeInterrupted();
+        await _p.WhenIdleAsync();
+
+        view2.Errors.Should().BeEmpty();
+        view2.Confirmations.Single().Text.Should().Contain("Resume job 7 at line 64 (file 3)");
+        view2.ChunkFiles.Should().HaveCount(4, "the job's chunk files are listed again");
+        _backend.Jobs[1].Status.CurrentLine.Should().Be(63, "nothing after the checkpoint is skipped");
+        for (var i = 0; i < 100 && _p.JobActive; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        view2.ExecutingLines.Where(l => l > 0).Should().StartWith(new[] { 63, 70 }, "the last executed line, then onwards").And.EndWith(100);
+        view2.Status.State.Should().Be("Completed");
+    }
+
+    [Fact]
+    public async Task Feed_changes_go_to_the_job_and_follow_the_feed_mode()
+    {
+        await ReadyToRun();
+        _view.FeedScale.Should().Be(FeedScale.Paper);
+        await Do(() => _view.MoveFeed(2500));
+        await Do(_view.ClickExecute);
+        _backend.Started.Single().Feed.Should().Be(2500, "the feed chosen before the start is the first P500");
+
+        await Do(() => _view.MoveFeed(800));
+        await Do(() => _view.MoveFeed(99999));
+        _backend.Jobs[0].Commands.Should().Equal("P500=800", "P500=20000");
+        _view.Status.Feed.Should().Be("20000 P500");
+        await Do(_view.ClickAbort);
+
+        _backend.Feed = FeedMode.Override;
+        await Do(_view.ClickSplit);
+        _view.FeedScale.Should().Be(FeedScale.Override);
+        _view.Feed.Should().Be(100);
+        _view.Status.Feed.Should().Be("100 %");
+    }
+
+    [Fact]
+    public async Task Single_block_runs_one_line_per_resume()
+    {
+        await ReadyToRun();
+        await Do(() => _view.ToggleSingleBlock(true));
+        await Do(_view.ClickExecute);
+        _backend.Started.Single().SingleBlock.Should().BeTrue();
+        await _p.TickAsync();
+        _view.ExecutingLine.Should().Be(0);
+        _view.Commands.Resume.Should().BeTrue();
+
+        await Do(_view.ClickResume);
+        await Do(_view.ClickResume);
+        _view.ExecutingLine.Should().Be(2);
+        await Do(() => _view.ToggleSingleBlock(false));
+        _backend.Jobs[0].Commands.Should().Equal("R", "R", "single=False");
+        await _p.TickAsync();
+        _view.ExecutingLine.Should().Be(9);
+    }
+
+    [Fact]
+    public async Task Connection_failure_is_shown_and_nothing_runs()
+    {
+        _view.ConnectionSettings = new ConnectionSettings(DeviceKind.Ethernet, EthernetAddress: "unreachable");
+        await Do(_view.ClickConnect);
+
+        _view.Errors.Should().ContainSingle().Which.Should().Contain("connection refused");
+        _view.ConnectionState.Should().Be("Not connected");
+        _view.Commands.Connect.Should().BeTrue();
+
+        _view.ConnectionSettings = new ConnectionSettings(DeviceKind.Simulator);
+        await Do(_view.ClickConnect);
+        _view.ConnectionState.Should().Be("Connected: fake");
+        await Do(_view.ClickDisconnect);
+        _backend.Connection!.Disposed.Should().BeTrue();
+    }
+
+    [Fact]
+    public async Task Ticks_do_not_overlap()
+    {
+        await ReadyToRun();
+        await Do(_view.ClickExecute);
+        var gate = new TaskCompletionSource();
+        _backend.Jobs[0].TickGate = gate;
+        var t1 = _p.TickAsync();
+        var t2 = _p.TickAsync();
+
+        t2.IsCompleted.Should().BeTrue("a tick that finds the previous one still busy is skipped");
+        _backend.Jobs[0].TickCalls.Should().Be(1);
+        gate.SetResult();
+        await t1;
+        _view.ExecutingLine.Should().Be(7);
+    }
+}

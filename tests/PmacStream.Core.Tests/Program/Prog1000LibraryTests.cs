@@ -1,0 +1,83 @@
+using PmacStream.GCode;
+using PmacStream.Program;
+
+namespace PmacStream.Core.Tests.Program;
+
+public class Prog1000LibraryTests
+{
+    private static List<string> Lines(string text) => text.TrimEnd('\r', '\n').Split("\r\n").ToList();
+
+    [Fact]
+    public void Seed_table_1_conversions_are_generated_at_code_times_1000()
+    {
+        var text = Prog1000Library.Generate(MachineProfile.Default, new Prog1000Options { Comments = false });
+        var lines = Lines(text);
+        lines[0].Should().Be("CLOSE");
+        lines[1].Should().Be("OPEN PROG 1000 CLEAR");
+        lines.Should().Contain([
+            "N0 RAPID RET", "N1000 LINEAR RET", "N2000 CIRCLE1 RET", "N3000 CIRCLE2 RET", "N4000 READ(P) DWELL(Q116) RET",
+            "N9000 DWELL0 RET", "N17000 NORMAL K-1 RET", "N18000 NORMAL J-1 RET", "N19000 NORMAL I-1 RET",
+            "N90000 ABS RET", "N91000 INC RET",
+        ]);
+        var m = lines.IndexOf("OPEN PROG 1001 CLEAR");
+        m.Should().BeGreaterThan(1);
+        lines[m - 1].Should().Be("CLOSE");
+        lines[^1].Should().Be("CLOSE");
+        lines.Should().OnlyContain(l => l.All(c => c < 128));
+    }
+
+    [Fact]
+    public void Every_profile_code_gets_exactly_one_label_ending_in_ret()
+    {
+        var routines = Prog1000Library.Routines(MachineProfile.Default);
+        routines.Should().HaveCount(MachineProfile.Default.GCodes.Count + MachineProfile.Default.MCodes.Count);
+        var text = Prog1000Library.Generate(MachineProfile.Default, new Prog1000Options { Comments = false });
+        foreach (var r in routines)
+        {
+            var code = double.Parse(r.Code[1..], System.Globalization.CultureInfo.InvariantCulture);
+            r.Label.Should().Be((int)Math.Round(code * 1000));
+            r.Program.Should().Be(r.Code[0] == 'G' ? 1000 : 1001);
+        }
+
+        var labelLines = Lines(text).Where(l => l.StartsWith('N')).ToList();
+        labelLines.Should().HaveCount(routines.Count).And.OnlyContain(l => l.EndsWith(" RET"));
+    }
+
+    [Fact]
+    public void Spindle_and_coolant_stops_wait_for_lookahead_with_dwell0()
+    {
+        var routines = Prog1000Library.Routines(MachineProfile.Default, new Prog1000Options { SpindleOn = "M1", SpindleReverse = "M2", Coolant = "M3" })
+            .Where(r => r.Program == 1001).ToDictionary(r => r.Code);
+        routines["M05"].Body.Should().Be("DWELL0 M1=0");
+        routines["M30"].Body.Should().StartWith("DWELL0").And.Contain("M1=0").And.Contain("M3=0");
+        routines["M03"].Body.Should().EndWith("M2=0 M1=1");
+        routines["M04"].Body.Should().EndWith("M2=1 M1=1");
+        routines["M08"].Body.Should().Be("M3=1");
+        routines["M09"].Body.Should().StartWith("DWELL0");
+    }
+
+    [Fact]
+    public void Codes_from_100_go_to_prog_1010_and_unknown_codes_are_accepted_without_conversion()
+    {
+        var profile = MachineProfile.Parse("""
+            { "name": "t", "gCodes": [ { "code": "G01", "group": "GA", "description": "line" },
+                                       { "code": "G112", "group": "GB", "description": "polar" },
+                                       { "code": "G64.1", "group": "GC", "description": "odd" } ],
+              "mCodes": [ { "code": "M30", "group": "MA", "description": "end" } ] }
+            """);
+        var routines = Prog1000Library.Routines(profile);
+        routines.Single(r => r.Code == "G112").Should().Match<Prog1000Routine>(r => r.Program == 1010 && r.Label == 12000 && !r.Converted);
+        routines.Single(r => r.Code == "G64.1").Label.Should().Be(64100);
+        var lines = Lines(Prog1000Library.Generate(profile, new Prog1000Options { Comments = false }));
+        lines.Should().ContainInOrder("OPEN PROG 1000 CLEAR", "N1000 LINEAR RET", "N64100 RET", "CLOSE", "OPEN PROG 1001 CLEAR", "CLOSE", "OPEN PROG 1010 CLEAR", "N12000 RET", "CLOSE");
+    }
+
+    [Fact]
+    public void Dwell_in_seconds_profiles_scale_p_to_milliseconds()
+    {
+        var profile = MachineProfile.Parse("""
+            { "name": "s", "dwellPInMilliseconds": false, "gCodes": [ { "code": "G04", "group": "GG", "description": "dwell" } ], "mCodes": [] }
+            """);
+        Prog1000Library.Routines(profile).Single().Body.Should().Be("READ(P) DWELL(Q116*1000)");
+    }
+}

@@ -1,0 +1,138 @@
+using PmacStream.Pmac;
+using PmacStream.Program;
+using PmacStream.Streaming;
+using Xunit.Abstractions;
+
+namespace PmacStream.Core.Tests.Streaming;
+
+/// <summary>
+/// Seeded fault injection: link resets, lost replies, ERR replies, slow replies and host kills (the session object is
+/// dropped mid-call and a new one resumes from the last checkpoint). Whatever happens, the executed-move log must hold
+/// every block exactly once, in order.
+/// </summary>
+public class FaultHarnessTests(ITestOutputHelper output)
+{
+    public static IEnumerable<object[]> Batches() => Enumerable.Range(0, 8).Select(b => new object[] { b });
+
+    [Theory]
+    [MemberData(nameof(Batches))]
+    public async Task Faults_never_lose_repeat_or_reorder_a_block(int batch)
+    {
+        var stats = new int[4];
+        for (var run = 0; run < 30; run++)
+        {
+            var seed = (batch * 1000) + run;
+            var r = await RunOnce(seed);
+            stats[0] += r.Faults;
+            stats[1] += r.Kills;
+            stats[2] += r.Recoveries;
+            stats[3] += r.Injected;
+        }
+
+        output.WriteLine($"batch {batch}: 30 runs, {stats[3]} faults injected, {stats[0]} session faults, {stats[1]} host kills, {stats[2]} recoveries");
+        stats[3].Should().BeGreaterThan(30, "the harness must actually inject faults");
+        stats[1].Should().BeGreaterThan(0);
+    }
+
+    private static async Task<(int Faults, int Kills, int Recoveries, int Injected)> RunOnce(int seed)
+    {
+        var r = new Random(seed);
+        var strategy = (StrategyKind)(seed % 3);
+        var lines = 150 + r.Next(250);
+        var chunk = 25 + r.Next(120);
+        var folder = FakeSplit.TempFolder($"fault{seed}");
+        var program = FakeSplit.Write(folder, FakeSplit.Program(lines, seed), chunk);
+        var options = new StreamingOptions { Strategy = strategy, BufferWords = 6000, PrTargetLines = 20 + r.Next(60), AdaptiveMinLeadSeconds = 0.1 + (r.NextDouble() * 0.4) };
+        Rig? rig = null;
+        var faulty = new FaultyConnection(new FakeRotaryController(), r, dt => rig!.Advance(dt));
+        rig = new Rig(program, options, connection: null, moveSeconds: 0.002 + (r.NextDouble() * 0.02), capacityWords: 6000);
+        faulty = new FaultyConnection(rig.Controller, r, dt => rig.Advance(dt)) { FaultRate = 0.03, KillRate = 0.006 };
+        rig.Connection = faulty;
+        rig.Session = rig.NewSession();
+        rig.Controller.Override = r.Next(3) == 0 ? 50 + r.Next(100) : 100;
+
+        int faults = 0, kills = 0, recoveries = 0, faultedTicks = 0;
+        var started = false;
+        for (var tick = 0; tick < 50_000; tick++)
+        {
+            try
+            {
+                if (!started)
+                {
+                    if (rig.Sink.Last is { } cp)
+                    {
+                        await rig.Session.ResumeAsync(cp);
+                    }
+                    else
+                    {
+                        await rig.Session.StartAsync();
+                    }
+
+                    started = true;
+                }
+                else if (rig.Session.State == SessionState.Faulted)
+                {
+                    if (++faultedTicks >= 3)
+                    {
+                        faulty.Down = false;
+                        if (await rig.Session.RecoverAsync())
+                        {
+                            recoveries++;
+                            faultedTicks = 0;
+                        }
+                    }
+                }
+                else
+                {
+                    await rig.Session.TickAsync();
+                    if (rig.Session.State == SessionState.Faulted)
+                    {
+                        faults++;
+                    }
+                }
+            }
+            catch (HostKilledException)
+            {
+                kills++;
+                faulty.Down = false;
+                rig.Session = rig.NewSession();
+                started = false;
+            }
+            catch (Exception e) when (e is PmacLinkException or PmacErrorException)
+            {
+                // A start or resume that failed: link back after a while, then try again.
+                faulty.Down = false;
+                if (rig.Session.State == SessionState.Idle)
+                {
+                    rig.Session = rig.NewSession();
+                    started = false;
+                }
+                else
+                {
+                    started = true;
+                }
+            }
+
+            if (started && rig.Session.State == SessionState.Completed && !rig.Controller.InMove)
+            {
+                break;
+            }
+
+            rig.Advance(options.TickPeriod.TotalSeconds);
+        }
+
+        if (rig.Session.State != SessionState.Completed)
+        {
+            var c = rig.Controller;
+            throw new Xunit.Sdk.XunitException($"seed {seed}: stuck {rig.Session.State} '{rig.Session.Status.Message}' ctl running={c.Running} held={c.Held} open={c.Open} pr={c.LinesAhead} m0={c.M0} moves={c.Moves.Count}/{program.Manifest.TotalMotionBlocks} next={rig.Session.Next} last cmds: {string.Join(" | ", c.Log.TakeLast(12))}");
+        }
+
+        var executed = rig.Controller.Moves.Select(m => m.SourceLine).ToList();
+        var expected = program.TrackedLines().ToList();
+        rig.Session.State.Should().Be(SessionState.Completed, $"seed {seed} ({strategy}) must finish; {rig.Session.Status.Message}");
+        executed.Should().Equal(expected, $"seed {seed} ({strategy}, {lines} lines, chunks of {chunk}): 0 lost, 0 repeated, 0 reordered");
+        rig.Controller.Violations.Should().BeEmpty($"seed {seed}");
+        Directory.Delete(folder, true);
+        return (faults, kills, recoveries, faulty.Injected);
+    }
+}

@@ -1,0 +1,117 @@
+using Microsoft.Data.Sqlite;
+using PmacStream.GCode;
+using PmacStream.Program;
+using PmacStream.Streaming;
+
+namespace PmacStream.Core.Tests.Streaming;
+
+public class JobStoreTests
+{
+    [Fact]
+    public void Checkpoints_survive_reopening_and_the_latest_unfinished_job_is_found()
+    {
+        var db = Path.Combine(FakeSplit.TempFolder("jobs"), "jobs.db");
+        long first, second;
+        var cp = new Checkpoint(1234, 2, new StreamPosition(3, 17), false, 2, SessionState.Running, new DateTimeOffset(2026, 1, 2, 3, 4, 5, TimeSpan.Zero), Started: true);
+        using (var store = JobStore.Open(db))
+        {
+            first = store.CreateJob("a.nc", "aa", "m1/manifest.json", StrategyKind.Chunk, "sim", null);
+            second = store.CreateJob("b.nc", "bb", "m2/manifest.json", StrategyKind.Adaptive, "tcp://127.0.0.1:1025", 500);
+            store.SaveCheckpoint(first, cp with { State = SessionState.Completed }, durable: true);
+            store.SaveCheckpoint(second, cp, durable: false);
+            store.SetMessage(second, "link lost");
+            store.CheckpointWrites.Should().Be(2);
+        }
+
+        using (var store = JobStore.Open(db))
+        {
+            var job = store.LatestUnfinished()!;
+            job.Id.Should().Be(second);
+            job.Strategy.Should().Be(StrategyKind.Adaptive);
+            job.Connection.Should().Be("tcp://127.0.0.1:1025");
+            job.FromLine.Should().Be(500);
+            job.Message.Should().Be("link lost");
+            job.Checkpoint.Should().Be(cp);
+            store.Get(first)!.Unfinished.Should().BeFalse();
+            store.List().Select(j => j.Id).Should().Equal(second, first);
+        }
+
+        using var raw = new SqliteConnection($"Data Source={db}");
+        raw.Open();
+        using var cmd = raw.CreateCommand();
+        cmd.CommandText = "PRAGMA journal_mode";
+        ((string)cmd.ExecuteScalar()!).Should().Be("wal");
+    }
+
+    [Fact]
+    public async Task A_session_writes_a_checkpoint_every_tick_and_durable_ones_at_chunk_boundaries()
+    {
+        var program = FakeSplit.Write(FakeSplit.TempFolder("jobsink"), FakeSplit.Program(600, 3), 100);
+        var rig = new Rig(program, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
+        await rig.Session.StartAsync();
+        (await rig.RunAsync()).Should().BeTrue();
+        rig.Sink.Writes.Should().BeGreaterThan(50, "one per tick at least");
+        rig.Sink.Durable.Should().BeGreaterThanOrEqualTo(program.TotalChunks, "each chunk boundary is committed synchronously");
+        rig.Sink.Last!.State.Should().Be(SessionState.Completed);
+        rig.Sink.Last.LastExecutedLine.Should().Be(program.FinalTrackedLine);
+    }
+}
+
+public class StartFromLineTests
+{
+    private static string Demo()
+    {
+        var d = new DirectoryInfo(AppContext.BaseDirectory);
+        while (d is not null && !File.Exists(Path.Combine(d.FullName, "PmacStream.sln")))
+        {
+            d = d.Parent;
+        }
+
+        return Path.Combine(d!.FullName, "samples", "demo.nc");
+    }
+
+    [Fact]
+    public void The_plan_restores_modal_state_and_approaches_the_blocks_start_safely()
+    {
+        var src = Demo();
+        var plan = StartFromLine.Plan(src, 500, safeZ: 10);
+
+        // Independent replay: the state and position after the last block before the plan's line.
+        var interp = new Interpreter(MachineProfile.Default);
+        foreach (var b in GCodeReader.ReadAll(src))
+        {
+            if (b.LineNumber >= plan.Line)
+            {
+                break;
+            }
+
+            interp.Step(b);
+        }
+
+        plan.Line.Should().BeGreaterThanOrEqualTo(500);
+        plan.Start.Should().Be(interp.Position);
+        plan.State.Should().Be(interp.State);
+        plan.GCode.Should().Contain(l => l.StartsWith("G21 G17 G54", StringComparison.Ordinal));
+        plan.GCode.Should().Contain("M08").And.Contain(l => l.Contains("M03", StringComparison.Ordinal));
+        var z = plan.GCode.ToList().FindIndex(l => l.StartsWith("G90 G00 Z10", StringComparison.Ordinal));
+        var xy = plan.GCode.ToList().FindIndex(l => l.StartsWith("G00 X", StringComparison.Ordinal));
+        var down = plan.GCode.ToList().FindIndex(l => l.StartsWith("G01 Z", StringComparison.Ordinal));
+        z.Should().BeGreaterThan(0);
+        xy.Should().Be(z + 1, "retract first, then rapid in XY");
+        down.Should().Be(xy + 1, "then feed down");
+        plan.PmacLines.Should().Contain(l => l.StartsWith("P500=", StringComparison.Ordinal));
+        plan.PmacLines.Where(l => l.Contains('X') || l.Contains('Z')).Should().OnlyContain(l => l.EndsWith("F(P500)", StringComparison.Ordinal));
+        plan.PmacLines.Should().NotContain(l => System.Text.RegularExpressions.Regex.IsMatch(l, @"(?<![A-Z])F\d"));
+    }
+
+    [Fact]
+    public void Move_times_cover_every_motion_block()
+    {
+        var src = Demo();
+        var t = StartFromLine.MoveTimes(src)!;
+        t.Count.Should().BeGreaterThan(3000);
+        t.TotalSeconds.Should().BeGreaterThan(60);
+        t.SecondsBetween(0, int.MaxValue).Should().BeApproximately(t.TotalSeconds, 1e-6);
+        t.SecondsBetween(100, 50).Should().Be(0);
+    }
+}

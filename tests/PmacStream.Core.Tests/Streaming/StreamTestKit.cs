@@ -1,0 +1,320 @@
+using System.Security.Cryptography;
+using System.Text;
+using PmacStream.Pmac;
+using PmacStream.Program;
+using PmacStream.Streaming;
+
+namespace PmacStream.Core.Tests.Streaming;
+
+/// <summary>A TimeProvider the test moves by hand, so sessions see the fake controller's virtual time.</summary>
+public sealed class ManualTime : TimeProvider
+{
+    private long _ticks;
+
+    public override long TimestampFrequency => TimeSpan.TicksPerSecond;
+
+    public override long GetTimestamp() => _ticks;
+
+    public override DateTimeOffset GetUtcNow() => new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero).AddTicks(_ticks);
+
+    public void Advance(double seconds) => _ticks += (long)(seconds * TimeSpan.TicksPerSecond);
+}
+
+/// <summary>Checkpoints kept in memory (the last one, and how many durable writes).</summary>
+public sealed class MemorySink : ICheckpointSink
+{
+    public Checkpoint? Last { get; private set; }
+
+    public int Durable { get; private set; }
+
+    public int Writes { get; private set; }
+
+    public void Save(Checkpoint checkpoint, bool durable)
+    {
+        Last = checkpoint;
+        Writes++;
+        if (durable)
+        {
+            Durable++;
+        }
+    }
+}
+
+/// <summary>
+/// Writes a split program the way the splitter's contract says (chunk files <c>name_0001.pmc</c>: CLOSE, OPEN ROT,
+/// lines with M0==line before each motion block's words and F(P500), CLOSE; manifest.json), from synthetic G-code.
+/// Stands in for the real splitter in unit tests so they stay independent of its details.
+/// </summary>
+public static class FakeSplit
+{
+    public static string[] Program(int lines, int seed)
+    {
+        var r = new Random(seed);
+        var src = new string[lines];
+        for (var i = 0; i < lines; i++)
+        {
+            src[i] = r.Next(10) switch
+            {
+                0 => "(comment)",
+                1 => "M08",
+                2 => string.Empty,
+                _ => $"G01 X{r.Next(100)}.{r.Next(10)} Y{r.Next(100)} Z-{r.Next(3)}",
+            };
+        }
+
+        return src;
+    }
+
+    public static ChunkedProgram Write(string folder, string[] source, int linesPerChunk, TrackingPlacement placement = TrackingPlacement.Exact)
+    {
+        Directory.CreateDirectory(folder);
+        var chunks = new List<ChunkInfo>();
+        int total = 0, totalMotion = 0;
+        for (var start = 0; start < source.Length; start += linesPerChunk)
+        {
+            var index = chunks.Count + 1;
+            var name = $"prog_{index:0000}.pmc";
+            var sb = new StringBuilder("CLOSE\nOPEN ROT\n");
+            int blocks = 0, motion = 0, words = 0;
+            var end = Math.Min(source.Length, start + linesPerChunk);
+            for (var i = start; i < end; i++)
+            {
+                var t = source[i];
+                if (t.Length == 0 || t.StartsWith('('))
+                {
+                    continue;
+                }
+
+                var n = i + 1;
+                string line;
+                if (t.Contains('X'))
+                {
+                    line = placement == TrackingPlacement.Exact ? $"M0=={n} {t} F(P500)" : $"{t} F(P500) M0=={n}";
+                    motion++;
+                }
+                else
+                {
+                    line = t;
+                }
+
+                blocks++;
+                words += FakeRotaryController.WordsOf(line);
+                sb.Append(line).Append('\n');
+            }
+
+            sb.Append("CLOSE\n");
+            var path = Path.Combine(folder, name);
+            File.WriteAllText(path, sb.ToString());
+            var bytes = File.ReadAllBytes(path);
+            chunks.Add(new ChunkInfo(index, name, start + 1, end, blocks, motion, bytes.Length, words, Convert.ToHexString(SHA256.HashData(bytes))));
+            total += blocks;
+            totalMotion += motion;
+        }
+
+        var manifest = new ChunkManifest("prog.nc", 0, "00", total, totalMotion, "M0", placement, FeedMode.Paper, "P500", chunks);
+        manifest.Save(Path.Combine(folder, ChunkManifest.FileName));
+        return ChunkedProgram.Open(folder);
+    }
+
+    public static string TempFolder(string tag)
+    {
+        var d = Path.Combine(Path.GetTempPath(), "pmacstream-tests", $"{tag}-{Guid.NewGuid():N}");
+        Directory.CreateDirectory(d);
+        return d;
+    }
+}
+
+/// <summary>Thrown by the fault wrapper to model the host process dying mid-call.</summary>
+public sealed class HostKilledException : Exception
+{
+    public HostKilledException()
+        : base("host killed")
+    {
+    }
+}
+
+/// <summary>
+/// An in-process connection that injects seeded faults: link resets before a command, replies lost after it ran,
+/// ERR replies, slow replies (the virtual clock runs on while waiting) and host kills; downloads break off part-way.
+/// </summary>
+public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Action<double> slow) : IPmacConnection
+{
+    private readonly InProcessConnection _inner = new(port, "faulty");
+
+    public double FaultRate { get; set; }
+
+    public double KillRate { get; set; }
+
+    public bool Down { get; set; }
+
+    public int Injected { get; private set; }
+
+    public string Description => "faulty in-process";
+
+    public async Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default)
+    {
+        if (Down)
+        {
+            throw new PmacLinkException("link down");
+        }
+
+        switch (Pick())
+        {
+            case 1:
+                Down = true;
+                throw new PmacLinkException("link reset");
+            case 2:
+                await _inner.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
+                Down = true;
+                throw new PmacLinkException("reply lost");
+            case 3:
+                throw new PmacErrorException(3, command);
+            case 4:
+                slow(0.02 + (random.NextDouble() * 0.2));
+                break;
+            case 5:
+                if (random.Next(2) == 0)
+                {
+                    await _inner.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
+                }
+
+                throw new HostKilledException();
+        }
+
+        return await _inner.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
+    }
+
+    public async Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default)
+    {
+        if (Down)
+        {
+            throw new PmacLinkException("link down");
+        }
+
+        var fault = Pick();
+        if (fault is 0 or 4)
+        {
+            if (fault == 4)
+            {
+                slow(0.02 + (random.NextDouble() * 0.2));
+            }
+
+            await _inner.DownloadAsync(lines, cancellationToken).ConfigureAwait(false);
+            return;
+        }
+
+        var cut = random.Next(lines.Count + 1);
+        await _inner.DownloadAsync(lines.Take(cut).ToList(), cancellationToken).ConfigureAwait(false);
+        switch (fault)
+        {
+            case 1:
+            case 2:
+                Down = true;
+                throw new PmacLinkException("link reset during download");
+            case 3:
+                if (cut == lines.Count)
+                {
+                    return;
+                }
+
+                throw new PmacErrorException(6, lines[cut], cut);
+            default:
+                throw new HostKilledException();
+        }
+    }
+
+    public Task FlushAsync(CancellationToken cancellationToken = default) => _inner.FlushAsync(cancellationToken);
+
+    public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => _inner.ControlAsync(control, cancellationToken);
+
+    public ValueTask DisposeAsync() => ValueTask.CompletedTask;
+
+    private int Pick()
+    {
+        if (random.NextDouble() >= FaultRate + KillRate)
+        {
+            return 0;
+        }
+
+        Injected++;
+        if (random.NextDouble() < KillRate / (FaultRate + KillRate))
+        {
+            return 5;
+        }
+
+        return 1 + random.Next(4);
+    }
+}
+
+/// <summary>A fake controller, a session on it and a loop that ticks and advances virtual time together.</summary>
+public sealed class Rig
+{
+    public Rig(ChunkedProgram program, StreamingOptions options, IPmacConnection? connection = null, double moveSeconds = 0.01, int capacityWords = 4000)
+    {
+        Program = program;
+        Options = options;
+        Controller = new FakeRotaryController { MoveSeconds = moveSeconds, CapacityWords = capacityWords };
+        Connection = connection ?? new InProcessConnection(Controller);
+        Session = NewSession();
+    }
+
+    public ChunkedProgram Program { get; }
+
+    public StreamingOptions Options { get; }
+
+    public FakeRotaryController Controller { get; }
+
+    public IPmacConnection Connection { get; set; }
+
+    public ManualTime Time { get; } = new();
+
+    public MemorySink Sink { get; } = new();
+
+    public StreamingSession Session { get; set; }
+
+    public StreamingSession NewSession() => new(Connection, Program, Options, Sink, time: Time);
+
+    public void Advance(double seconds)
+    {
+        Controller.Advance(seconds);
+        Time.Advance(seconds);
+    }
+
+    /// <summary>Ticks until the session completes and the last move ends (or the tick budget runs out).</summary>
+    public async Task<bool> RunAsync(int maxTicks = 200_000, Func<int, Task>? everyTick = null)
+    {
+        var dt = Options.TickPeriod.TotalSeconds;
+        for (var i = 0; i < maxTicks; i++)
+        {
+            await Session.TickAsync();
+            if (everyTick is not null)
+            {
+                await everyTick(i);
+            }
+
+            if (Session.State == SessionState.Completed && !Controller.InMove)
+            {
+                return true;
+            }
+
+            Advance(dt);
+        }
+
+        return false;
+    }
+
+    /// <summary>Distinct source lines of the executed moves, in execution order (what the demo counts).</summary>
+    public List<int> ExecutedLines()
+    {
+        var list = new List<int>();
+        foreach (var m in Controller.Moves)
+        {
+            if (m.SourceLine > 0 && (list.Count == 0 || list[^1] != m.SourceLine))
+            {
+                list.Add(m.SourceLine);
+            }
+        }
+
+        return list;
+    }
+}

@@ -1,0 +1,116 @@
+using System.Diagnostics;
+using System.Text;
+using PmacStream.Program;
+
+namespace PmacStream.IntegrationTests.Split;
+
+/// <summary>The split and prog1000 commands run as the real process (pmacstream.dll beside the tests).</summary>
+public sealed class SplitCliTests : IDisposable
+{
+    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacsplit-cli-" + Guid.NewGuid().ToString("N"));
+
+    public SplitCliTests() => Directory.CreateDirectory(_folder);
+
+    public void Dispose()
+    {
+        try
+        {
+            Directory.Delete(_folder, true);
+        }
+        catch (IOException)
+        {
+        }
+    }
+
+    private static (int Code, string Out, string Err) Run(params string[] args)
+    {
+        var psi = new ProcessStartInfo("dotnet")
+        {
+            RedirectStandardOutput = true,
+            RedirectStandardError = true,
+            UseShellExecute = false,
+        };
+        psi.ArgumentList.Add(Path.Combine(AppContext.BaseDirectory, "pmacstream.dll"));
+        foreach (var a in args)
+        {
+            psi.ArgumentList.Add(a);
+        }
+
+        using var p = Process.Start(psi)!;
+        var stdout = p.StandardOutput.ReadToEndAsync();
+        var stderr = p.StandardError.ReadToEndAsync();
+        p.WaitForExit(120_000).Should().BeTrue("the command finishes");
+        return (p.ExitCode, stdout.Result, stderr.Result);
+    }
+
+    private string Write(string name, string text)
+    {
+        var path = Path.Combine(_folder, name);
+        File.WriteAllText(path, text, new UTF8Encoding(false));
+        return path;
+    }
+
+    [Fact]
+    public void Split_prints_the_summary_writes_chunks_and_exits_0()
+    {
+        var src = Write("part.nc", "%\nO1000 (零件)\nG21 G90 G17\n" + string.Concat(Enumerable.Range(1, 25).Select(i => $"N{i}0 G01 X{i}. Y{i}. F500.\n")) + "M30\n%\n");
+        var outDir = Path.Combine(_folder, "chunks");
+        var (code, stdout, stderr) = Run("split", src, "--out", outDir, "--lines", "10", "--tracking", "paper", "--tail", "M03 M05");
+        code.Should().Be(0, stderr);
+        stdout.Should().Contain("3 chunks, 27 blocks, largest chunk ");
+        var manifest = ChunkManifest.Load(Path.Combine(outDir, "manifest.json"));
+        manifest.Tracking.Should().Be(TrackingPlacement.Paper);
+        manifest.Chunks.Select(c => c.BlockCount).Should().Equal(10, 10, 7);
+        manifest.TotalMotionBlocks.Should().Be(25);
+        var last = File.ReadAllText(Path.Combine(outDir, "part_0003.pmc"));
+        last.Should().EndWith("M03 M05\r\nM30\r\nCLOSE\r\n");
+        File.ReadAllText(Path.Combine(outDir, "part_0001.pmc")).Should().Contain("G01 X1. Y1. F(P500) M0==4\r\n");
+    }
+
+    [Fact]
+    public void Split_refuses_a_program_with_errors_naming_them_and_exits_1_unless_forced()
+    {
+        var src = Write("bad.nc", "G21 G90\nG01 X1 F100\nG01 X#2\nG01 X3\nM30\n");
+        var outDir = Path.Combine(_folder, "bad_chunks");
+        var (code, _, stderr) = Run("split", src, "--out", outDir);
+        code.Should().Be(1);
+        stderr.Should().Contain("bad.nc:3:").And.Contain("not split");
+        Directory.Exists(outDir).Should().BeFalse();
+
+        var forced = Run("split", src, "--out", outDir, "--force");
+        forced.Code.Should().Be(0, forced.Err);
+        Directory.Exists(outDir).Should().BeTrue();
+    }
+
+    [Fact]
+    public void Split_usage_and_io_errors_exit_2()
+    {
+        Run("split", Path.Combine(_folder, "missing.nc")).Code.Should().Be(2);
+        var src = Write("ok.nc", "G01 X1\n");
+        Run("split", src, "--lines", "0").Code.Should().Be(2);
+        Run("split", src, "--tracking", "sideways").Code.Should().Be(2);
+        Run("split", src, "--track-var", "P7").Code.Should().Be(2);
+    }
+
+    [Fact]
+    public void Split_of_a_block_bigger_than_a_chunk_exits_1_naming_the_line()
+    {
+        var src = Write("big.nc", "G21 G90\nG01 X1.123456 Y2.123456 Z3.123456 F100\n");
+        var (code, _, stderr) = Run("split", src, "--rot-words", "6", "--words-per-block", "1", "--out", Path.Combine(_folder, "big_chunks"));
+        code.Should().Be(1);
+        stderr.Should().Contain("big.nc:2:").And.Contain("does not fit one chunk");
+        Directory.Exists(Path.Combine(_folder, "big_chunks")).Should().BeFalse();
+    }
+
+    [Fact]
+    public void Prog1000_writes_the_library_file()
+    {
+        var target = Path.Combine(_folder, "lib.pmc");
+        var (code, stdout, stderr) = Run("prog1000", "--out", target);
+        code.Should().Be(0, stderr);
+        stdout.Should().Contain("routines");
+        var text = File.ReadAllText(target);
+        text.Should().Contain("OPEN PROG 1000 CLEAR\r\n").And.Contain("OPEN PROG 1001 CLEAR\r\n").And.Contain("N1000 LINEAR RET\r\n");
+        Run("prog1000", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
+    }
+}

@@ -1,0 +1,144 @@
+using PmacStream.Pmac;
+using PmacStream.Sim.Servers;
+using Xunit.Abstractions;
+
+namespace PmacStream.IntegrationTests.Transports;
+
+/// <summary>SerialConnection (termios) against the simulator's serial server through a socat pty pair.</summary>
+public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifetime
+{
+    private readonly TestController _controller = new();
+    private SocatPair? _pair;
+    private PmacSerialServer? _server;
+    private SerialConnection? _connection;
+
+    public Task InitializeAsync()
+    {
+        _pair = SocatPair.TryStart(out var why);
+        if (_pair is null)
+        {
+            output.WriteLine($"SKIPPED: {why}");
+            return Task.CompletedTask;
+        }
+
+        _server = PmacSerialServer.OpenDevice(_controller.OpenPort, _pair.A);
+        _server.Start();
+        _connection = new SerialConnection(new SerialOptions { PortName = _pair.B, Settings = new SerialSettings(115200), Timeout = TimeSpan.FromSeconds(2) });
+        return Task.CompletedTask;
+    }
+
+    public async Task DisposeAsync()
+    {
+        if (_connection is not null)
+        {
+            await _connection.DisposeAsync();
+        }
+
+        _pair?.Kill();
+        if (_server is not null)
+        {
+            await _server.DisposeAsync();
+        }
+
+        _pair?.Dispose();
+    }
+
+    [Fact]
+    public async Task Replies_and_errors_over_the_pty()
+    {
+        if (_connection is null)
+        {
+            return;
+        }
+
+        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
+        (await _connection.GetResponseAsync("P500=80")).Should().BeEmpty();
+        (await _connection.GetResponseAsync("p500")).Should().Be("80");
+        var act = () => _connection.GetResponseAsync("BAD");
+        (await act.Should().ThrowAsync<PmacErrorException>()).Which.Number.Should().Be(3);
+        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
+    }
+
+    [Fact]
+    public async Task Long_reply_is_read_to_its_ack()
+    {
+        if (_connection is null)
+        {
+            return;
+        }
+
+        (await _connection.GetResponseAsync("LONG 6000")).Should().HaveLength(6000);
+    }
+
+    [Fact]
+    public async Task Download_error_in_the_middle_reports_the_line_and_sends_nothing_after_it()
+    {
+        if (_connection is null)
+        {
+            return;
+        }
+
+        var lines = Enumerable.Range(0, 300).Select(i => i == 123 ? "BAD" : $"X{i}").ToArray();
+        var act = () => _connection.DownloadAsync(lines);
+        (await act.Should().ThrowAsync<PmacErrorException>()).Which.LineInBatch.Should().Be(123);
+        _controller.Executed.Should().Equal(lines.Take(123));
+        await WaitUntil(() => _server!.CommandsServed >= 124);
+        await Task.Delay(100);
+        _server!.CommandsServed.Should().Be(124, "the refused line was the last one sent");
+    }
+
+    [Fact]
+    public async Task Flush_and_control_characters()
+    {
+        if (_connection is null)
+        {
+            return;
+        }
+
+        await _connection.FlushAsync();
+        await WaitUntil(() => _controller.Flushes == 1);
+        _controller.Flushes.Should().Be(1);
+        (await _connection.ControlAsync('\x02')).Should().Be("812000804001\r");
+    }
+
+    [Fact]
+    public async Task A_slow_controller_times_out_and_the_line_recovers()
+    {
+        if (_connection is null)
+        {
+            return;
+        }
+
+        await using var quick = new SerialConnection(SerialPorts.Open(_pair!.B, new SerialSettings(115200)), TimeSpan.FromMilliseconds(300));
+        await _connection.DisposeAsync();
+        var act = () => quick.GetResponseAsync("SLEEP 800");
+        (await act.Should().ThrowAsync<PmacLinkException>()).WithMessage("*no complete reply*");
+
+        // Let the late ACK arrive before the next command, so the test shows it is discarded (not a race).
+        await WaitUntil(() => _server!.CommandsServed >= 1);
+        await Task.Delay(300);
+        (await quick.GetResponseAsync("VER")).Should().Be("1.947", "the late ACK was discarded before the next command");
+    }
+
+    [Fact]
+    public async Task A_pulled_cable_is_a_link_error()
+    {
+        if (_connection is null)
+        {
+            return;
+        }
+
+        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
+        _pair!.Kill();
+        var act = () => _connection.GetResponseAsync("VER");
+        await act.Should().ThrowAsync<PmacLinkException>();
+    }
+
+    private static async Task WaitUntil(Func<bool> condition)
+    {
+        for (var i = 0; i < 1000 && !condition(); i++)
+        {
+            await Task.Delay(10);
+        }
+    }
+}

@@ -1,0 +1,89 @@
+using System.Collections.Concurrent;
+using System.Net;
+using System.Text;
+using PmacStream.Pmac;
+using PmacStream.Sim.Servers;
+
+namespace PmacStream.IntegrationTests.Transports;
+
+/// <summary>
+/// A scripted controller behind the real servers, for transport tests: P variables, VER, LONG n (an n-character
+/// reply), SLEEP n (answers after n ms: a slow controller), anything containing BAD refused with ERR003, every other
+/// line recorded as executed, in order, across ports (what the controller really ran: server-side evidence).
+/// </summary>
+internal sealed class TestController
+{
+    public ConcurrentQueue<string> Executed { get; } = new();
+
+    public ConcurrentDictionary<int, string> P { get; } = new();
+
+    public int Flushes;
+
+    public IPmacPortEndpoint OpenPort() => new Port(this);
+
+    public PmacTcpServer StartTcp(TimeSpan? responseDelay = null)
+    {
+        var server = new PmacTcpServer(OpenPort, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0), ResponseDelay = responseDelay ?? TimeSpan.Zero });
+        server.Start();
+        return server;
+    }
+
+    private sealed class Port(TestController c) : IPmacPortEndpoint
+    {
+        public byte[] Execute(string commandLine)
+        {
+            var cmd = commandLine.Trim();
+            var upper = cmd.ToUpperInvariant();
+            if (upper.Contains("BAD", StringComparison.Ordinal))
+            {
+                return Encoding.ASCII.GetBytes("\aERR003\r");
+            }
+
+            if (upper.Length == 0)
+            {
+                return [ReplyParser.Ack];
+            }
+
+            if (upper == "VER")
+            {
+                return Encoding.ASCII.GetBytes("1.947\r\x06");
+            }
+
+            if (upper.StartsWith("SLEEP ", StringComparison.Ordinal))
+            {
+                Thread.Sleep(int.Parse(upper.AsSpan(6)));
+                return [ReplyParser.Ack];
+            }
+
+            if (upper.StartsWith("LONG ", StringComparison.Ordinal))
+            {
+                var n = int.Parse(upper.AsSpan(5));
+                var sb = new StringBuilder(n + 2);
+                for (var i = 0; i < n; i++)
+                {
+                    sb.Append((char)('A' + (i % 26)));
+                }
+
+                return Encoding.ASCII.GetBytes(sb.Append("\r\x06").ToString());
+            }
+
+            if (upper.StartsWith('P') && int.TryParse(upper.AsSpan(1), out var read))
+            {
+                return Encoding.ASCII.GetBytes((c.P.TryGetValue(read, out var v) ? v : "0") + "\r\x06");
+            }
+
+            var eq = upper.IndexOf('=');
+            if (upper.StartsWith('P') && eq > 1 && int.TryParse(upper.AsSpan(1, eq - 1), out var write))
+            {
+                c.P[write] = upper[(eq + 1)..];
+            }
+
+            c.Executed.Enqueue(cmd);
+            return [ReplyParser.Ack];
+        }
+
+        public void Flush() => Interlocked.Increment(ref c.Flushes);
+
+        public byte[] Control(char control) => control == '\x02' ? Encoding.ASCII.GetBytes("812000804001\r") : [];
+    }
+}
