@@ -121,6 +121,12 @@ internal sealed class CoordinateSystem : IVariableAccess
 
     private double Tm { get; set; }
 
+    /// <summary>Cutter radius compensation mode: 0 off (CC0), 1 left (CC1), 2 right (CC2).</summary>
+    public int CutterComp { get; private set; }
+
+    /// <summary>Cutter radius (CCR).</summary>
+    public double CutterRadius { get; private set; }
+
     private bool IncrementalRadius { get; set; }
 
     private (double I, double J, double K) Normal { get; set; }
@@ -461,6 +467,13 @@ internal sealed class CoordinateSystem : IVariableAccess
                         case ParamKind.Tm:
                             Tm = v;
                             TimeMode = true;
+                            break;
+                        case ParamKind.CutterComp:
+                            // Accepted and remembered; the simulated path stays the programmed (uncompensated) one.
+                            CutterComp = (int)v;
+                            break;
+                        case ParamKind.CutterRadius:
+                            CutterRadius = v;
                             break;
                     }
 

@@ -14,11 +14,13 @@ public sealed partial class PmacSimulator
 
     internal byte[] ExecuteLine(SimPort port, string line)
     {
-        var outputs = new List<string>(2);
         int error = 0;
-        int i3, i6;
+        byte[] reply;
+        bool wake, events;
         lock (_sync)
         {
+            var outputs = _outputs;
+            outputs.Clear();
             try
             {
                 ProcessLine(port, line, outputs);
@@ -39,13 +41,26 @@ public sealed partial class PmacSimulator
 
             // Let the controller react at this instant (calculation after R, zero-time moves).
             Pump(_now, untilIdle: false, maxIterations: 1);
-            i3 = port.I3;
-            i6 = port.I6;
+            reply = Frame(outputs, error, port.I3, port.I6);
+            outputs.Clear();
+
+            // Waking the clock thread costs a futex call and lock contention per line. It only matters while a
+            // coordinate system has motion to run or a PLC scans; otherwise the clock's own 1 ms tick does the same.
+            wake = AnyRunningOrMoving() || AnyPlcEnabled();
+            events = _pendingEvents.Count > 0;
         }
 
-        Wake();
-        RaiseEvents();
-        return Frame(outputs, error, i3, i6);
+        if (wake)
+        {
+            Wake();
+        }
+
+        if (events)
+        {
+            RaiseEvents();
+        }
+
+        return reply;
     }
 
     internal byte[] ExecuteControl(SimPort port, char control)
@@ -85,6 +100,17 @@ public sealed partial class PmacSimulator
 
     private static byte[] Frame(List<string> outputs, int error, int i3, int i6)
     {
+        if (outputs.Count == 0 && error == 0)
+        {
+            // The common case (a stored program line, a setting): just the handshake.
+            return i3 switch
+            {
+                2 or 3 => [Ack],
+                1 => [Lf],
+                _ => [],
+            };
+        }
+
         var bytes = new List<byte>(16);
         foreach (var o in outputs)
         {
@@ -120,25 +146,57 @@ public sealed partial class PmacSimulator
 
     private void ProcessLine(SimPort port, string line, List<string> outputs)
     {
-        var upper = line.ToUpperInvariant();
-        var tokens = Lexer.Tokenize(upper);
-        var p = new ExprParser(tokens);
-        while (p.Peek.Kind != TokenKind.End)
+        var upper = line.ToUpperInvariant(); // returns the same string when it is upper case already
+        var reuse = !_lineBusy;
+        var tokens = reuse ? _tokens : new List<Token>(16);
+        var stmts = reuse ? _stmts : new List<Stmt>();
+        _lineBusy = true;
+        try
         {
-            if (_openOwner == port)
+            Lexer.Tokenize(upper, tokens);
+            var p = reuse ? _parser : new ExprParser(tokens);
+            p.Reset(tokens);
+            while (p.Peek.Kind != TokenKind.End)
             {
-                var start = p.Pos;
-                var stmts = ProgramParser.ParseRun(p);
-                if (stmts.Count > 0)
+                if (_openOwner == port)
                 {
-                    var text = upper[tokens[start].Start..tokens[p.Pos - 1].End];
-                    StoreLine(port, CollapseSpaces(text), [.. stmts]);
-                    continue;
+                    var start = p.Pos;
+                    ProgramParser.ParseRun(p, stmts);
+                    if (stmts.Count > 0)
+                    {
+                        var text = StoredText(upper, tokens[start].Start, tokens[p.Pos - 1].End);
+                        StoreLine(port, text, [.. stmts]);
+                        continue;
+                    }
                 }
-            }
 
-            ExecuteOnline(port, p, outputs);
+                ExecuteOnline(port, p, outputs);
+            }
         }
+        finally
+        {
+            if (reuse)
+            {
+                _lineBusy = false;
+                tokens.Clear();
+                stmts.Clear();
+            }
+        }
+    }
+
+    /// <summary>
+    /// The text LIST shows for <c>upper[start..end]</c>: trimmed, with blank runs collapsed to one space. Without
+    /// anything to collapse it is a plain slice, or the line itself when the statements span all of it.
+    /// </summary>
+    private static string StoredText(string upper, int start, int end)
+    {
+        var span = upper.AsSpan(start, end - start);
+        if (span.IsEmpty || char.IsWhiteSpace(span[0]) || char.IsWhiteSpace(span[^1]) || span.Contains('\t') || span.Contains("  ", StringComparison.Ordinal))
+        {
+            return CollapseSpaces(upper[start..end]);
+        }
+
+        return start == 0 && end == upper.Length ? upper : upper[start..end];
     }
 
     private static string CollapseSpaces(string text)

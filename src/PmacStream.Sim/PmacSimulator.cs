@@ -25,6 +25,13 @@ public sealed partial class PmacSimulator : IDisposable
     private readonly (int Cs, int Axis, double Scale)[] _motors = new (int, int, double)[33];
     private readonly double[] _scratch = new double[CoordinateSystem.AxisCount];
     private readonly AutoResetEvent _wake = new(false);
+
+    // Per-line scratch for ExecuteLine, reused under _sync so that storing a line allocates only what is kept.
+    private readonly List<string> _outputs = new(2);
+    private readonly List<Token> _tokens = new(32);
+    private readonly List<Stmt> _stmts = new(8);
+    private readonly ExprParser _parser = new([]);
+    private bool _lineBusy;
     private SimPort? _openOwner;
     private BufferKind _openKind;
     private ProgramBuffer? _openBuffer;
@@ -717,6 +724,19 @@ public sealed partial class PmacSimulator : IDisposable
         }
 
         return true;
+    }
+
+    private bool AnyRunningOrMoving()
+    {
+        for (var i = 1; i < _cs.Length; i++)
+        {
+            if (_cs[i].Running || _cs[i].IsMoving)
+            {
+                return true;
+            }
+        }
+
+        return false;
     }
 
     private bool AnyMotion()

@@ -16,7 +16,18 @@ internal sealed class ProgramLine(string text, Stmt[] statements)
 
     public Stmt[] Statements { get; } = statements;
 
-    public int Words { get; } = Math.Max(1, statements.Sum(s => s.Words));
+    public int Words { get; } = CountWords(statements);
+
+    private static int CountWords(Stmt[] statements)
+    {
+        var words = 0;
+        foreach (var s in statements)
+        {
+            words += s.Words;
+        }
+
+        return Math.Max(1, words);
+    }
 }
 
 /// <summary>

@@ -103,9 +103,20 @@ internal static class SplitCommand
             SplitResult result;
             try
             {
-                result = await CliProgress.RunAsync("split", report => Task.Run(
-                    () => Splitter.Split(path, options, new SyncProgress<SplitProgress>(p =>
-                        report(p.Fraction, $"{p.Chunks} chunks, {p.Blocks} blocks")), ct), ct)).ConfigureAwait(false);
+                result = await CliProgress.RunAsync("split", report =>
+                {
+                    // One report per 0.1 %: a gigabyte program has ~30,000 chunks, and each report builds a string.
+                    var last = -1;
+                    return Task.Run(() => Splitter.Split(path, options, new SyncProgress<SplitProgress>(p =>
+                    {
+                        var permille = (int)(p.Fraction * 1000);
+                        if (permille != last)
+                        {
+                            last = permille;
+                            report(p.Fraction, $"{p.Chunks} chunks, {p.Blocks} blocks");
+                        }
+                    }), ct), ct);
+                }).ConfigureAwait(false);
             }
             catch (SplitException e)
             {

@@ -294,14 +294,28 @@ public sealed class GCodeReader : IDisposable
                     j++;
                 }
 
+                // Scan and convert in one pass: mantissa as an integer, scaled once by a power of ten, which is
+                // exact (correctly rounded) for up to 15 significant digits; longer numbers go to the BCL.
+                var negative = j > numStart && line[numStart] == (byte)'-';
                 var digits = 0;
                 var points = 0;
+                var scale = 0;
+                var significant = 0;
+                long mantissa = 0;
                 while (j < line.Length)
                 {
                     var d = line[j];
-                    if (d is >= (byte)'0' and <= (byte)'9')
+                    var digit = (uint)(d - (byte)'0');
+                    if (digit <= 9)
                     {
                         digits++;
+                        if (mantissa != 0 || digit != 0)
+                        {
+                            significant++;
+                        }
+
+                        mantissa = (mantissa * 10) + digit;
+                        scale += points;
                     }
                     else if (d == (byte)'.')
                     {
@@ -322,8 +336,27 @@ public sealed class GCodeReader : IDisposable
                     continue;
                 }
 
-                var text = line[numStart..j];
-                var value = ParseNumber(text);
+                double value;
+                if (significant <= 15 && scale < Pow10.Length)
+                {
+                    value = scale == 0 ? mantissa : mantissa / Pow10[scale];
+                    if (negative)
+                    {
+                        value = -value;
+                    }
+                }
+                else
+                {
+                    value = ParseNumber(line[numStart..j]);
+                    if (!double.IsFinite(value) || Math.Abs(value) > 1e15)
+                    {
+                        // Hundreds of digits: no controller register holds that; report instead of computing with infinity.
+                        Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, (char)c);
+                        i = j;
+                        continue;
+                    }
+                }
+
                 b.WordList.Add(new GWord(letter, value, column, numStart, j - numStart, isLower));
                 i = j;
                 continue;
@@ -361,58 +394,8 @@ public sealed class GCodeReader : IDisposable
         return $"0x{c:X2}";
     }
 
-    // Hot loop of a million-line program: compile optimized at once instead of spending the first
-    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    private static double ParseNumber(ReadOnlySpan<byte> text)
-    {
-        // Fast path for the common case; falls back to the BCL for exotic lengths.
-        long mantissa = 0;
-        var scale = 0;
-        var negative = false;
-        var afterPoint = false;
-        var i = 0;
-        if (text[0] == (byte)'-' || text[0] == (byte)'+')
-        {
-            negative = text[0] == (byte)'-';
-            i = 1;
-        }
-
-        var significant = 0;
-        for (; i < text.Length; i++)
-        {
-            var c = text[i];
-            if (c == (byte)'.')
-            {
-                afterPoint = true;
-                continue;
-            }
-
-            if (significant >= 17)
-            {
-                return double.Parse(System.Text.Encoding.ASCII.GetString(text), NumberStyles.Float, CultureInfo.InvariantCulture);
-            }
-
-            mantissa = (mantissa * 10) + (c - (byte)'0');
-            if (mantissa != 0)
-            {
-                significant++;
-            }
-
-            if (afterPoint)
-            {
-                scale++;
-            }
-        }
-
-        double v = mantissa;
-        if (scale > 0)
-        {
-            v /= Pow10[Math.Min(scale, Pow10.Length - 1)];
-        }
-
-        return negative ? -v : v;
-    }
+    private static double ParseNumber(ReadOnlySpan<byte> text) =>
+        double.TryParse(text, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) ? v : double.NaN;
 
     private static readonly double[] Pow10 =
     [

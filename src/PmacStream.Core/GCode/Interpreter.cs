@@ -134,6 +134,7 @@ public sealed class Interpreter
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
+    [System.Runtime.CompilerServices.SkipLocalsInit]
     internal bool StepCore(GBlock block, List<Diagnostic>? diags)
     {
         var words = block.WordList;
@@ -149,11 +150,15 @@ public sealed class Interpreter
         Span<int> gCol = stackalloc int[GroupCount];
         Span<double> mIn = stackalloc double[MGroupCount];
         Span<int> mCol = stackalloc int[MGroupCount];
+        col.Clear();                                   // SkipLocalsInit: only the "seen" markers need zeroing
+        gCol.Clear();
+        mCol.Clear();
         var onlyO = true;
         var effective = false;
-        for (var i = 0; i < words.Count; i++)
+        var wordSpan = System.Runtime.InteropServices.CollectionsMarshal.AsSpan(words);
+        for (var i = 0; i < wordSpan.Length; i++)
         {
-            var w = words[i];
+            ref readonly var w = ref wordSpan[i];
             var li = w.Letter - 'A';
             if (w.Letter != 'O')
             {
@@ -456,20 +461,31 @@ public sealed class Interpreter
         }
 
         _pos = end;
-        _last = new LastBlock
-        {
-            Line = line,
-            ByteOffset = block.ByteOffset,
-            N = Word('N', col, val),
-            BlockDelete = block.BlockDelete,
-            X = x, Y = y, Z = z, I = i0, J = j0, K = k0, R = r, F = f, S = s, T = t, H = h, D = d, P = p,
-            Motion = kind,
-            Start = start,
-            End = end,
-            Center = center,
-            Length = length,
-            DurationSeconds = seconds,
-        };
+        // Filled in place: the record is large and this runs once per block.
+        ref var last = ref _last;
+        last.Line = line;
+        last.ByteOffset = block.ByteOffset;
+        last.N = Word('N', col, val);
+        last.BlockDelete = block.BlockDelete;
+        last.X = x;
+        last.Y = y;
+        last.Z = z;
+        last.I = i0;
+        last.J = j0;
+        last.K = k0;
+        last.R = r;
+        last.F = f;
+        last.S = s;
+        last.T = t;
+        last.H = h;
+        last.D = d;
+        last.P = p;
+        last.Motion = kind;
+        last.Start = start;
+        last.End = end;
+        last.Center = center;
+        last.Length = length;
+        last.DurationSeconds = seconds;
         return true;
     }
 

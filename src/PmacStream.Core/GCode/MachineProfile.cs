@@ -1,6 +1,5 @@
 using System.Globalization;
 using System.Text.Json;
-using System.Text.Json.Serialization;
 
 namespace PmacStream.GCode;
 
@@ -129,28 +128,118 @@ public sealed class MachineProfile
     /// <summary>Parses profile JSON. Throws <see cref="InvalidDataException"/> with the reason when it is not valid.</summary>
     public static MachineProfile Parse(string json, string source = "profile")
     {
-        Dto? dto;
+        // JsonDocument and a hand mapping rather than the reflection serializer: the profile is read at every
+        // start of the CLI, and warming up the serializer cost more than checking a 3,000-line program.
+        Dto dto;
         try
         {
-            dto = JsonSerializer.Deserialize<Dto>(json, JsonOptions);
+            using var doc = JsonDocument.Parse(json, new JsonDocumentOptions { CommentHandling = JsonCommentHandling.Skip, AllowTrailingCommas = true });
+            if (doc.RootElement.ValueKind != JsonValueKind.Object)
+            {
+                throw Bad(source, "expected a JSON object");
+            }
+
+            dto = ReadDto(doc.RootElement, source);
         }
         catch (JsonException e)
         {
             throw Bad(source, $"not valid JSON at line {(e.LineNumber ?? 0) + 1}: {e.Message}");
         }
 
-        return new MachineProfile(dto ?? throw Bad(source, "empty document"), source);
+        return new MachineProfile(dto, source);
     }
 
     /// <summary>The profile as JSON (the same shape <see cref="Parse"/> reads).</summary>
-    public string ToJson() => JsonSerializer.Serialize(
-        new Dto
+    public string ToJson()
+    {
+        using var ms = new MemoryStream();
+        using (var w = new Utf8JsonWriter(ms, new JsonWriterOptions { Indented = true, Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
         {
-            Name = Name, Description = Description, ToolCount = ToolCount, RapidRate = RapidRate, ArcTolerance = ArcTolerance,
-            DwellPInMilliseconds = DwellPInMilliseconds, ProgramTail = ProgramTail, Startup = Startup, Letters = Letters,
-            WorkOffsets = WorkOffsets.ToDictionary(kv => kv.Key, kv => kv.Value), GCodes = GCodes.ToList(), MCodes = MCodes.ToList(),
-        },
-        JsonOptions);
+            w.WriteStartObject();
+            w.WriteString("name", Name);
+            w.WriteString("description", Description);
+            w.WriteNumber("toolCount", ToolCount);
+            w.WriteNumber("rapidRate", RapidRate);
+            w.WriteNumber("arcTolerance", ArcTolerance);
+            w.WriteBoolean("dwellPInMilliseconds", DwellPInMilliseconds);
+            w.WriteString("programTail", ProgramTail);
+            w.WriteString("startup", Startup);
+            w.WriteString("letters", Letters);
+            w.WriteStartObject("workOffsets");
+            foreach (var (key, v) in WorkOffsets)
+            {
+                w.WriteStartArray(key);
+                foreach (var x in v)
+                {
+                    w.WriteNumberValue(x);
+                }
+
+                w.WriteEndArray();
+            }
+
+            w.WriteEndObject();
+            foreach (var (name, list) in new[] { ("gCodes", GCodes), ("mCodes", MCodes) })
+            {
+                w.WriteStartArray(name);
+                foreach (var c in list)
+                {
+                    w.WriteStartObject();
+                    w.WriteString("code", c.Code);
+                    w.WriteString("group", c.Group);
+                    w.WriteString("description", c.Description);
+                    w.WriteEndObject();
+                }
+
+                w.WriteEndArray();
+            }
+
+            w.WriteEndObject();
+        }
+
+        return System.Text.Encoding.UTF8.GetString(ms.ToArray());
+    }
+
+    private static Dto ReadDto(JsonElement root, string source)
+    {
+        var dto = new Dto();
+        foreach (var prop in root.EnumerateObject())
+        {
+            var v = prop.Value;
+            try
+            {
+                switch (prop.Name.ToLowerInvariant())
+                {
+                    case "name": dto.Name = v.GetString(); break;
+                    case "description": dto.Description = v.GetString(); break;
+                    case "toolcount": dto.ToolCount = v.GetInt32(); break;
+                    case "rapidrate": dto.RapidRate = v.GetDouble(); break;
+                    case "arctolerance": dto.ArcTolerance = v.GetDouble(); break;
+                    case "dwellpinmilliseconds": dto.DwellPInMilliseconds = v.GetBoolean(); break;
+                    case "programtail": dto.ProgramTail = v.GetString(); break;
+                    case "startup": dto.Startup = v.GetString(); break;
+                    case "letters": dto.Letters = v.GetString(); break;
+                    case "workoffsets":
+                        dto.WorkOffsets = v.EnumerateObject().ToDictionary(o => o.Name, o => o.Value.EnumerateArray().Select(x => x.GetDouble()).ToArray());
+                        break;
+                    case "gcodes": dto.GCodes = ReadCodes(v); break;
+                    case "mcodes": dto.MCodes = ReadCodes(v); break;
+                    default: throw Bad(source, $"unknown setting '{prop.Name}'");
+                }
+            }
+            catch (Exception e) when (e is InvalidOperationException or FormatException)
+            {
+                throw Bad(source, $"'{prop.Name}' has the wrong type: {e.Message}");
+            }
+        }
+
+        return dto;
+    }
+
+    private static List<CodeDefinition> ReadCodes(JsonElement array) =>
+        array.EnumerateArray().Select(e => new CodeDefinition(
+            e.TryGetProperty("code", out var c) ? c.GetString() ?? string.Empty : string.Empty,
+            e.TryGetProperty("group", out var g) ? g.GetString() ?? string.Empty : string.Empty,
+            e.TryGetProperty("description", out var d) ? d.GetString() ?? string.Empty : string.Empty)).ToList();
 
     /// <summary>Looks up a G code by its number (1, 64.1). Returns the group index 0..8 (GA..GI) or -1 when unknown.</summary>
     public int GGroupOf(double number) => _g.TryGetValue(Key(number), out var e) ? e.Group : -1;
@@ -225,16 +314,6 @@ public sealed class MachineProfile
     }
 
     private static InvalidDataException Bad(string source, string why) => new($"{source}: invalid machine profile: {why}");
-
-    private static readonly JsonSerializerOptions JsonOptions = new()
-    {
-        PropertyNamingPolicy = JsonNamingPolicy.CamelCase,
-        PropertyNameCaseInsensitive = true,
-        ReadCommentHandling = JsonCommentHandling.Skip,
-        AllowTrailingCommas = true,
-        WriteIndented = true,
-        DefaultIgnoreCondition = JsonIgnoreCondition.WhenWritingNull,
-    };
 
     private sealed class Dto
     {

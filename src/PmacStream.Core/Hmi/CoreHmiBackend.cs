@@ -1,4 +1,5 @@
 using System.Globalization;
+using System.Runtime.CompilerServices;
 using System.Security.Cryptography;
 using PmacStream.GCode;
 using PmacStream.Pmac;
@@ -10,8 +11,9 @@ namespace PmacStream.Hmi;
 
 /// <summary>
 /// The real <see cref="IHmiBackend"/>: the one-pass <see cref="Checker"/>, the <see cref="Splitter"/>, a
-/// <see cref="StreamingSession"/> per job with its checkpoints in an <see cref="HmiJobJournal"/>, the restore
-/// preamble from the interpreter's modal state, and the transports of <see cref="PmacConnections"/>.
+/// <see cref="StreamingSession"/> per job with its job record and checkpoints in the SQLite <see cref="JobStore"/>
+/// the CLI uses (so a job started here can be resumed by <c>pmacstream resume</c> and the other way round), the
+/// restore preamble from the interpreter's modal state, and the transports of <see cref="PmacConnections"/>.
 /// </summary>
 public sealed class CoreHmiBackend : IHmiBackend
 {
@@ -29,21 +31,30 @@ public sealed class CoreHmiBackend : IHmiBackend
     private readonly TimeProvider _time;
     private readonly Dictionary<string, MoveTimeTable> _moveTimes = new(StringComparer.Ordinal);
 
+    // The connection spec each link was opened with, recorded in the job so `pmacstream resume` can reopen it.
+    private readonly ConditionalWeakTable<IPmacConnection, string> _specs = [];
+
     /// <summary>
     /// Creates the backend. <paramref name="simulator"/> opens a connection to a built-in simulated controller (the
     /// WinForms app supplies one; without it the Simulator device type reports that it is not available).
+    /// <paramref name="jobDatabase"/> is the job store; null means the CLI's default (<see cref="JobStore.DefaultPath"/>).
     /// </summary>
     public CoreHmiBackend(
         Func<CancellationToken, Task<IPmacConnection>>? simulator = null,
         MachineProfile? profile = null,
         StreamingOptions? streaming = null,
-        TimeProvider? time = null)
+        TimeProvider? time = null,
+        string? jobDatabase = null)
     {
+        JobDatabase = Path.GetFullPath(jobDatabase ?? JobStore.DefaultPath);
         _simulator = simulator;
         _profile = profile ?? MachineProfile.Default;
         _options = streaming ?? new StreamingOptions();
         _time = time ?? TimeProvider.System;
     }
+
+    /// <summary>The SQLite job store the HMI records its jobs and checkpoints in (the CLI's <c>--job-db</c>).</summary>
+    public string JobDatabase { get; }
 
     /// <inheritdoc />
     public IReadOnlyList<string> Strategies { get; } = ["chunk", "pr", "adaptive"];
@@ -56,11 +67,7 @@ public sealed class CoreHmiBackend : IHmiBackend
             DeviceKind.Simulator => _simulator is null
                 ? throw new NotSupportedException("no built-in simulator in this build: run `pmacstream sim` and connect over Ethernet to 127.0.0.1:1025")
                 : await _simulator(cancellationToken).ConfigureAwait(false),
-            DeviceKind.Ethernet => PmacConnections.Create(settings.EthernetAddress.Contains("://", StringComparison.Ordinal)
-                ? settings.EthernetAddress.Trim()
-                : "tcp://" + settings.EthernetAddress.Trim()),
-            DeviceKind.Serial => PmacConnections.Create(string.Create(CultureInfo.InvariantCulture, $"serial:{settings.SerialPort.Trim()}@{settings.Baud}")),
-            DeviceKind.Pcomm32 => PmacConnections.Create(string.Create(CultureInfo.InvariantCulture, $"pcomm32:{settings.PcommDevice}")),
+            DeviceKind.Ethernet or DeviceKind.Serial or DeviceKind.Pcomm32 => PmacConnections.Create(ConnectionSpec(settings)),
             _ => throw new ArgumentOutOfRangeException(nameof(settings), settings.Device, "unknown device type"),
         };
 
@@ -78,6 +85,7 @@ public sealed class CoreHmiBackend : IHmiBackend
             }
 
             Log.Information("Connected to {Device:l} ({Settings}), firmware {Version:l}", connection.Description, settings, version);
+            _specs.AddOrUpdate(connection, ConnectionSpec(settings));
             return connection;
         }
         catch
@@ -161,69 +169,125 @@ public sealed class CoreHmiBackend : IHmiBackend
     public async Task<IHmiJob> StartAsync(IPmacConnection connection, HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         var split = request.Program;
+        var strategy = ParseStrategy(request.Strategy);
         var preamble = request.FromLine is { } from ? await BuildPreambleAsync(split, from, cancellationToken).ConfigureAwait(false) : null;
-        var jobId = _time.GetUtcNow().ToUnixTimeMilliseconds();
-        var journal = new HmiJobJournal(jobId, split.Manifest.SourcePath, split.Manifest.SourceSha256, split.Directory, request.Strategy);
-        var session = NewSession(connection, split, request.Strategy, request.SingleBlock, journal);
-        await SetFeedBeforeStartAsync(connection, split.Manifest, request.Feed, cancellationToken).ConfigureAwait(false);
-        await session.StartAsync(request.FromLine, preamble, cancellationToken).ConfigureAwait(false);
-        Log.Information("Job {Job} started on {Device:l}: {Chunks} chunks, strategy {Strategy:l}{From:l}", jobId, connection.Description,
-            split.Manifest.Chunks.Count, request.Strategy, request.FromLine is { } f ? $", from line {f}" : string.Empty);
-        return new SessionJob(session, request.Feed);
+        var store = JobStore.Open(JobDatabase);
+        try
+        {
+            var spec = _specs.TryGetValue(connection, out var known) ? known : connection.Description;
+            var jobId = store.CreateJob(split.Manifest.SourcePath, split.Manifest.SourceSha256, Path.Combine(split.Directory, ChunkManifest.FileName),
+                strategy, spec, request.FromLine);
+            var session = NewSession(connection, split, strategy, request.SingleBlock, store.SinkFor(jobId));
+            try
+            {
+                await SetFeedBeforeStartAsync(connection, split.Manifest, request.Feed, cancellationToken).ConfigureAwait(false);
+                await session.StartAsync(request.FromLine, preamble, cancellationToken).ConfigureAwait(false);
+            }
+            catch (Exception e) when (e is PmacLinkException or PmacErrorException or InvalidOperationException)
+            {
+                store.SetMessage(jobId, e.Message);
+                throw;
+            }
+
+            Log.Information("Job {Job} started on {Device:l}: {Chunks} chunks, strategy {Strategy:l}{From:l} (job store {Store:l})", jobId, connection.Description,
+                split.Manifest.Chunks.Count, request.Strategy, request.FromLine is { } f ? $", from line {f}" : string.Empty, store.Path);
+            return new SessionJob(session, request.Feed, store, jobId);
+        }
+        catch
+        {
+            store.Dispose();
+            throw;
+        }
     }
 
     /// <inheritdoc />
+    /// <remarks>
+    /// The newest job of the program in the job store, whoever started it (HMI or CLI); null when that job completed
+    /// (an older interrupted one was superseded by it).
+    /// </remarks>
     public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
         Task.Run(() =>
         {
-            var record = HmiJobJournal.Read(sourcePath);
-            if (record is null || record.Checkpoint.State == SessionState.Completed)
+            JobRecord? record;
+            using (var store = JobStore.Open(JobDatabase))
+            {
+                var full = Path.GetFullPath(sourcePath);
+                var comparison = OperatingSystem.IsWindows() ? StringComparison.OrdinalIgnoreCase : StringComparison.Ordinal;
+                record = store.List().FirstOrDefault(j => string.Equals(j.ProgramPath, full, comparison));
+            }
+
+            if (record is null || !record.Unfinished)
             {
                 return null;
             }
 
-            var program = ChunkedProgram.Open(record.ChunkFolder);
             var now = Sha256Hex(sourcePath, cancellationToken);
-            if (!string.Equals(now, record.SourceSha256, StringComparison.OrdinalIgnoreCase))
+            if (!string.Equals(now, record.ProgramSha256, StringComparison.OrdinalIgnoreCase))
             {
                 throw new InvalidOperationException(
-                    $"{sourcePath} changed since job {record.JobId} was split (SHA-256 differs): split it again and start from a line instead");
+                    $"{sourcePath} changed since job {record.Id} started (SHA-256 differs): split it again and start from a line instead");
             }
 
-            var line = record.Checkpoint.LastExecutedLine > 0 ? record.Checkpoint.LastExecutedLine : program.Manifest.Chunks[0].FirstSourceLine;
-            return (HmiInterruptedJob?)new HmiInterruptedJob(record.JobId, new HmiSplitResult(program.Manifest, program.Folder), line,
-                record.Checkpoint.CurrentChunk, record.Strategy, record.Checkpoint.TimeUtc, record);
+            ChunkedProgram program;
+            try
+            {
+                program = ChunkedProgram.Open(record.ManifestPath);
+            }
+            catch (Exception e) when (e is IOException or System.Text.Json.JsonException)
+            {
+                throw new InvalidOperationException($"job {record.Id}: its split ({record.ManifestPath}) cannot be read ({e.Message}): split the program again and start from a line", e);
+            }
+
+            if (!string.Equals(program.Manifest.SourceSha256, record.ProgramSha256, StringComparison.OrdinalIgnoreCase))
+            {
+                throw new InvalidOperationException($"job {record.Id}: the split in {program.Folder} no longer matches the program: start from a line instead");
+            }
+
+            var cp = record.Checkpoint;
+            var line = cp is { LastExecutedLine: > 0 } ? cp.LastExecutedLine : record.FromLine ?? program.Manifest.Chunks[0].FirstSourceLine;
+            var chunk = cp?.CurrentChunk ?? program.PositionOfBlock(line)?.Chunk ?? 1;
+            return (HmiInterruptedJob?)new HmiInterruptedJob(record.Id, new HmiSplitResult(program.Manifest, program.Folder), line,
+                chunk, StrategyName(record.Strategy), cp?.TimeUtc ?? record.Created, record);
         }, cancellationToken);
 
     /// <inheritdoc />
     public async Task<IHmiJob> ResumeInterruptedAsync(IPmacConnection connection, HmiInterruptedJob job, double feed, CancellationToken cancellationToken = default)
     {
-        var record = job.Record as HmiJobRecord ?? throw new ArgumentException("not a job recorded by this backend", nameof(job));
+        var record = job.Record as JobRecord ?? throw new ArgumentException("not a job recorded in the job store", nameof(job));
         var split = job.Program;
-        var journal = new HmiJobJournal(record.JobId, record.SourcePath, record.SourceSha256, record.ChunkFolder, record.Strategy);
-        if (record.Checkpoint.State != SessionState.Aborted)
+        var store = JobStore.Open(JobDatabase);
+        try
         {
-            var session = NewSession(connection, split, record.Strategy, singleBlock: false, journal);
-            try
+            var sink = store.SinkFor(record.Id);
+            if (record.Checkpoint is { State: not SessionState.Aborted } cp)
             {
-                // The controller may still hold (or be running) the buffered lines: continue sending where the job stopped.
-                await session.ResumeAsync(record.Checkpoint, cancellationToken).ConfigureAwait(false);
-                Log.Information("Job {Job} resumed from its checkpoint at line {Line}", record.JobId, record.Checkpoint.LastExecutedLine);
-                return new SessionJob(session, feed);
+                var session = NewSession(connection, split, record.Strategy, singleBlock: false, sink);
+                try
+                {
+                    // The controller may still hold (or be running) the buffered lines: continue sending where the job stopped.
+                    await session.ResumeAsync(cp, cancellationToken).ConfigureAwait(false);
+                    Log.Information("Job {Job} resumed from its checkpoint at line {Line}", record.Id, cp.LastExecutedLine);
+                    return new SessionJob(session, feed, store, record.Id);
+                }
+                catch (InvalidOperationException e)
+                {
+                    Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.Id, e.Message, job.ResumeLine);
+                }
             }
-            catch (InvalidOperationException e)
-            {
-                Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.JobId, e.Message, job.ResumeLine);
-            }
-        }
 
-        // The controller lost the job (reset, abort): start again at the interrupted line behind the preamble.
-        var restart = NewSession(connection, split, record.Strategy, singleBlock: false, journal);
-        var preamble = await BuildPreambleAsync(split, job.ResumeLine, cancellationToken).ConfigureAwait(false);
-        await SetFeedBeforeStartAsync(connection, split.Manifest, feed, cancellationToken).ConfigureAwait(false);
-        await restart.StartAsync(job.ResumeLine, preamble, cancellationToken).ConfigureAwait(false);
-        Log.Information("Job {Job} restarted at line {Line}", record.JobId, job.ResumeLine);
-        return new SessionJob(restart, feed);
+            // The controller lost the job (reset, abort) or it never started: start again at the interrupted line behind the preamble.
+            var restart = NewSession(connection, split, record.Strategy, singleBlock: false, sink);
+            var preamble = await BuildPreambleAsync(split, job.ResumeLine, cancellationToken).ConfigureAwait(false);
+            await SetFeedBeforeStartAsync(connection, split.Manifest, feed, cancellationToken).ConfigureAwait(false);
+            await restart.StartAsync(job.ResumeLine, preamble, cancellationToken).ConfigureAwait(false);
+            Log.Information("Job {Job} restarted at line {Line}", record.Id, job.ResumeLine);
+            return new SessionJob(restart, feed, store, record.Id);
+        }
+        catch
+        {
+            store.Dispose();
+            throw;
+        }
     }
 
     /// <summary>
@@ -272,17 +336,17 @@ public sealed class CoreHmiBackend : IHmiBackend
         return lines;
     }
 
-    private StreamingSession NewSession(IPmacConnection connection, HmiSplitResult split, string strategy, bool singleBlock, HmiJobJournal journal)
+    private StreamingSession NewSession(IPmacConnection connection, HmiSplitResult split, StrategyKind strategy, bool singleBlock, ICheckpointSink checkpoints)
     {
         var program = ChunkedProgram.FromManifest(split.Manifest, split.Directory);
-        var options = _options with { Strategy = ParseStrategy(strategy), SingleBlock = singleBlock };
+        var options = _options with { Strategy = strategy, SingleBlock = singleBlock };
         MoveTimeTable? times;
         lock (_moveTimes)
         {
             _moveTimes.TryGetValue(Path.GetFullPath(split.Manifest.SourcePath), out times);
         }
 
-        return new StreamingSession(connection, program, options, journal, times, _time);
+        return new StreamingSession(connection, program, options, checkpoints, times, _time);
     }
 
     /// <summary>The operator's feed is in force before the first block is calculated (no buffer is open then).</summary>
@@ -305,6 +369,19 @@ public sealed class CoreHmiBackend : IHmiBackend
         _ => throw new ArgumentException($"unknown strategy '{name}': expected chunk, pr or adaptive", nameof(name)),
     };
 
+    private static string StrategyName(StrategyKind kind) => kind.ToString().ToLowerInvariant();
+
+    /// <summary>The CLI's spelling of a link (<c>sim</c>, <c>tcp://host:port</c>, <c>serial:dev@baud</c>, <c>pcomm32:n</c>).</summary>
+    internal static string ConnectionSpec(ConnectionSettings settings) => settings.Device switch
+    {
+        DeviceKind.Ethernet => settings.EthernetAddress.Contains("://", StringComparison.Ordinal)
+            ? settings.EthernetAddress.Trim()
+            : "tcp://" + settings.EthernetAddress.Trim(),
+        DeviceKind.Serial => string.Create(CultureInfo.InvariantCulture, $"serial:{settings.SerialPort.Trim()}@{settings.Baud}"),
+        DeviceKind.Pcomm32 => string.Create(CultureInfo.InvariantCulture, $"pcomm32:{settings.PcommDevice}"),
+        _ => "sim",
+    };
+
     private static string Sha256Hex(string path, CancellationToken cancellationToken)
     {
         using var s = new FileStream(path, FileMode.Open, FileAccess.Read, FileShare.Read, 1 << 16, FileOptions.SequentialScan);
@@ -321,7 +398,7 @@ public sealed class CoreHmiBackend : IHmiBackend
     }
 
     /// <summary>A streaming session as the presenter drives it.</summary>
-    private sealed class SessionJob(StreamingSession session, double feed) : IHmiJob
+    private sealed class SessionJob(StreamingSession session, double feed, JobStore store, long jobId) : IHmiJob
     {
         public HmiJobStatus Status
         {
@@ -359,6 +436,16 @@ public sealed class CoreHmiBackend : IHmiBackend
             return Task.CompletedTask;
         }
 
-        public ValueTask DisposeAsync() => ValueTask.CompletedTask;
+        public ValueTask DisposeAsync()
+        {
+            // The reason a job stopped stays with its record, as the CLI leaves it.
+            if (session.Status.Message is { Length: > 0 } message)
+            {
+                store.SetMessage(jobId, message);
+            }
+
+            store.Dispose();
+            return ValueTask.CompletedTask;
+        }
     }
 }

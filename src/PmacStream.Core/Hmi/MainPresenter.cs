@@ -679,10 +679,16 @@ public sealed class MainPresenter : IAsyncDisposable
             CurrentLine: s is null || s.CurrentLine == 0 ? "-" : s.CurrentLine.ToString("N0", CultureInfo.InvariantCulture),
             ProgressPercent: (int)Math.Round(percent),
             Progress: percent.ToString("0.0", CultureInfo.InvariantCulture) + " %",
-            Feed: _feed.ToString("0.#", CultureInfo.InvariantCulture) + " " + _feedScale.Unit,
+            Feed: ShownFeed(s).ToString("0.#", CultureInfo.InvariantCulture) + " " + _feedScale.Unit,
             Elapsed: s is null ? "-" : Clock(s.Elapsed),
             Eta: s?.Eta is { } eta ? Clock(eta) : "-");
     }
+
+    /// <summary>
+    /// The feed in force: the job's status carries what the controller holds (P500 as the program's F values set it,
+    /// or the override), unclamped by the slider's range; the panel's value when no job runs or it is unknown.
+    /// </summary>
+    private double ShownFeed(HmiJobStatus? s) => _job is not null && s is { Feed: > 0 } ? s.Feed : _feed;
 
     private static string Clock(TimeSpan t) =>
         t.TotalHours >= 1

@@ -108,8 +108,8 @@ public sealed class GCodeToolpathSource : IToolpathSource
 }
 
 /// <summary>
-/// Turns interpreter records into drawable segments: converts to mm, and withholds moves that start where an
-/// axis has not been set yet.
+/// Turns interpreter records into drawable segments: converts to mm, and withholds moves along an axis whose
+/// position has not been set yet.
 /// </summary>
 public sealed class DecodedBlockAdapter
 {
@@ -125,7 +125,7 @@ public sealed class DecodedBlockAdapter
     /// <summary>True when later blocks used other units than the first.</summary>
     public bool MixedUnits { get; private set; }
 
-    /// <summary>A segment for a move from a fully known position; false for non-moves and the first positioning.</summary>
+    /// <summary>A segment for a move whose moving axes start from known positions; false for non-moves and first positionings.</summary>
     public bool TryConvert(DecodedBlock block, out PathSegment segment)
     {
         segment = default;
@@ -140,7 +140,9 @@ public sealed class DecodedBlockAdapter
             MixedUnits = true;
         }
 
-        var known = _x && _y && _z;
+        // A move is drawn when every axis it moves started from a known position. An axis the program never sets
+        // (Z in a 2D program) does not move, so it does not withhold the moves of the others.
+        var known = (!block.X.HasValue || _x) && (!block.Y.HasValue || _y) && (!block.Z.HasValue || _z);
         if (block.Modal.Absolute)
         {
             _x |= block.X.HasValue;

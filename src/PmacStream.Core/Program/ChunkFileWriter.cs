@@ -87,9 +87,10 @@ internal sealed class ChunkFileWriter : IDisposable
                 {
                     _ct.ThrowIfCancellationRequested();
                     var span = data.AsSpan(0, length);
-                    using (var fs = new FileStream(path, FileMode.CreateNew, FileAccess.Write, FileShare.None, 1))
+                    // A bare handle: no FileStream and buffering strategy objects per chunk.
+                    using (var handle = File.OpenHandle(path, FileMode.CreateNew, FileAccess.Write, FileShare.None))
                     {
-                        fs.Write(span);
+                        RandomAccess.Write(handle, span, 0);
                     }
 
                     SHA256.HashData(span, hash);

@@ -114,6 +114,15 @@ internal sealed class ExprParser(List<Token> tokens)
     private static readonly HashSet<string> Functions = ["SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "ATAN2", "LN", "EXP", "SQRT", "ABS", "INT"];
     private static readonly HashSet<string> Comparisons = ["=", "!=", "<", ">", "<=", ">=", "!<", "!>", "~"];
 
+    private List<Token> tokens = tokens;
+
+    /// <summary>Starts over on a new token list (one parser reused per simulator: no allocation per line).</summary>
+    public void Reset(List<Token> newTokens)
+    {
+        tokens = newTokens;
+        Pos = 0;
+    }
+
     public int Pos { get; set; }
 
     public Token Peek => tokens[Pos];

@@ -11,7 +11,11 @@ internal enum TokenKind
     Text,
 }
 
-/// <summary>One lexical token of a command line. <see cref="Start"/>/<see cref="End"/> index the (upper-cased) line.</summary>
+/// <summary>
+/// One lexical token of a command line. <see cref="Start"/>/<see cref="End"/> index the (upper-cased) line. Number
+/// tokens carry their <see cref="Value"/>; their <see cref="Text"/> is the source text only for <c>$</c> hex numbers
+/// and empty otherwise (nothing reads it, and a substring per number was the lexer's main cost).
+/// </summary>
 internal readonly record struct Token(TokenKind Kind, string Text, double Value, int Start, int End)
 {
     public bool Is(string text) => (Kind == TokenKind.Word || Kind == TokenKind.Symbol) && Text == text;
@@ -28,7 +32,7 @@ internal static class Lexer
 {
     private static readonly string[] Keywords =
     [
-        "ABS", "ACOS", "AND", "ASIN", "ATAN", "ATAN2", "CALL", "CID", "CIRCLE", "CLEAR", "CLOSE", "COS", "DATE", "DEF",
+        "ABS", "ACOS", "AND", "ASIN", "ATAN", "ATAN2", "CALL", "CC", "CCR", "CID", "CIRCLE", "CLEAR", "CLOSE", "COS", "DATE", "DEF",
         "DEFINE", "DEL", "DELAY", "DELETE", "DIS", "DISABLE", "DWELL", "ELSE", "ENA", "ENABLE", "ENDI", "ENDIF", "ENDW",
         "ENDWHILE", "EXP", "GAT", "GATHER", "GOSUB", "GOTO", "IF", "INC", "INT", "LINEAR", "LIST", "LN", "NORMAL", "OPEN",
         "OR", "PLC", "PR", "PROG", "RAPID", "READ", "RET", "RETURN", "ROT", "SAVE", "SIN", "SQRT", "STOP", "TA", "TAN",
@@ -41,12 +45,23 @@ internal static class Lexer
 
     private static readonly string[] SingleLetters = Enumerable.Range('A', 26).Select(c => ((char)c).ToString()).ToArray();
 
-    private static readonly string[] TwoCharSymbols = ["==", "!=", "<=", ">=", "!<", "!>", "->", ".."];
+    private const string SingleSymbols = "&#%()+-*/=<>!^|,:~?.";
+
+    // Symbol texts are shared strings: no allocation per symbol token.
+    private static readonly string[] SingleSymbolTexts = SingleSymbols.Select(c => c.ToString()).ToArray();
 
     /// <summary>Tokenizes <paramref name="line"/>, which must already be upper-cased. Throws <see cref="SimSyntaxException"/>.</summary>
     public static List<Token> Tokenize(string line)
     {
         var tokens = new List<Token>(16);
+        Tokenize(line, tokens);
+        return tokens;
+    }
+
+    /// <summary>Tokenizes <paramref name="line"/> into <paramref name="tokens"/> (cleared first), so a caller can reuse one list.</summary>
+    public static void Tokenize(string line, List<Token> tokens)
+    {
+        tokens.Clear();
         var i = 0;
         while (i < line.Length)
         {
@@ -84,8 +99,8 @@ internal static class Lexer
                     }
                 }
 
-                var text = line[start..i];
-                tokens.Add(new Token(TokenKind.Number, text, double.Parse(text, NumberStyles.AllowDecimalPoint, CultureInfo.InvariantCulture), start, i));
+                var value = double.Parse(line.AsSpan(start, i - start), NumberStyles.AllowDecimalPoint, CultureInfo.InvariantCulture);
+                tokens.Add(new Token(TokenKind.Number, string.Empty, value, start, i));
                 continue;
             }
 
@@ -145,20 +160,17 @@ internal static class Lexer
                 continue;
             }
 
-            if (i + 1 < line.Length)
+            if (i + 1 < line.Length && TwoCharSymbol(c, line[i + 1]) is { } two)
             {
-                var two = line.Substring(i, 2);
-                if (Array.IndexOf(TwoCharSymbols, two) >= 0)
-                {
-                    tokens.Add(new Token(TokenKind.Symbol, two, 0, i, i + 2));
-                    i += 2;
-                    continue;
-                }
+                tokens.Add(new Token(TokenKind.Symbol, two, 0, i, i + 2));
+                i += 2;
+                continue;
             }
 
-            if ("&#%()+-*/=<>!^|,:~?.".Contains(c))
+            var symbol = SingleSymbols.IndexOf(c);
+            if (symbol >= 0)
             {
-                tokens.Add(new Token(TokenKind.Symbol, c.ToString(), 0, i, i + 1));
+                tokens.Add(new Token(TokenKind.Symbol, SingleSymbolTexts[symbol], 0, i, i + 1));
                 i++;
                 continue;
             }
@@ -167,8 +179,21 @@ internal static class Lexer
         }
 
         tokens.Add(new Token(TokenKind.End, string.Empty, 0, line.Length, line.Length));
-        return tokens;
     }
+
+    /// <summary>The two-character symbols: <c>== != &lt;= &gt;= !&lt; !&gt; -&gt; ..</c>.</summary>
+    private static string? TwoCharSymbol(char a, char b) => (a, b) switch
+    {
+        ('=', '=') => "==",
+        ('!', '=') => "!=",
+        ('<', '=') => "<=",
+        ('>', '=') => ">=",
+        ('!', '<') => "!<",
+        ('!', '>') => "!>",
+        ('-', '>') => "->",
+        ('.', '.') => "..",
+        _ => null,
+    };
 
     private static void SplitLetters(string line, int start, int end, List<Token> tokens)
     {

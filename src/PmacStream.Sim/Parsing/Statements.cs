@@ -67,6 +67,8 @@ internal enum ParamKind
     Ta,
     Ts,
     Tm,
+    CutterComp,
+    CutterRadius,
 }
 
 internal sealed class ParamStmt(ParamKind kind, Expr value) : Stmt
@@ -254,6 +256,15 @@ internal static class ProgramParser
                 return new ParamStmt(ParamKind.Ts, p.ParseValue());
             case "TM":
                 return new ParamStmt(ParamKind.Tm, p.ParseValue());
+            case "CC":
+                {
+                    // CC0 off, CC1 left, CC2 right (what PROG 1000 runs for G40/G41/G42).
+                    var mode = p.ParseValue();
+                    return mode is ConstExpr { Value: 0 or 1 or 2 } ? new ParamStmt(ParamKind.CutterComp, mode) : throw new SimSyntaxException(3);
+                }
+
+            case "CCR":
+                return new ParamStmt(ParamKind.CutterRadius, p.ParseValue());
             case "CALL":
                 return new JumpStmt(JumpKind.Call, p.ParseValue());
             case "GOSUB":
@@ -317,6 +328,14 @@ internal static class ProgramParser
     public static List<Stmt> ParseRun(ExprParser p)
     {
         var list = new List<Stmt>();
+        ParseRun(p, list);
+        return list;
+    }
+
+    /// <summary>Parses a run of statements into <paramref name="list"/> (cleared first), so a caller can reuse one list.</summary>
+    public static void ParseRun(ExprParser p, List<Stmt> list)
+    {
+        list.Clear();
         while (TryParse(p) is { } s)
         {
             list.Add(s);
@@ -333,8 +352,6 @@ internal static class ProgramParser
                 w.SingleLine = true;
             }
         }
-
-        return list;
     }
 
     public static bool IsAxis(char letter) => AxisLetters.Contains(letter);

@@ -215,8 +215,11 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
     public bool Disposed { get; private set; }
     public Exception? FailOnTick { get; set; }
 
+    /// <summary>What the controller's P500 holds when the program's own F values changed it (null: the panel's feed).</summary>
+    public double? ControllerFeed { get; set; }
+
     public HmiJobStatus Status => new(_state, manifest.ChunkOfLine(Math.Max(1, _line))?.Index ?? 0, _line,
-        100.0 * _line / manifest.TotalBlocks, _feed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line));
+        100.0 * _line / manifest.TotalBlocks, ControllerFeed ?? _feed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line));
 
     public TaskCompletionSource? TickGate { get; set; }
     public int TickCalls { get; private set; }

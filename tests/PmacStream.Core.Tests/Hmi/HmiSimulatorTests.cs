@@ -18,7 +18,7 @@ internal sealed class SimClock(PmacSimulator sim) : TimeProvider
 }
 
 /// <summary>
-/// The presenter end to end: the real checker, splitter, streaming session and job journal, talking to the simulated
+/// The presenter end to end: the real checker, splitter, streaming session and SQLite job store, talking to the simulated
 /// Turbo PMAC in process. The test plays the form: it raises the view's events and calls the tick like timer1 does,
 /// advancing the simulator's virtual clock between ticks.
 /// </summary>
@@ -29,6 +29,9 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     private readonly PmacSimulator _sim = new(new SimOptions());
     private readonly List<MainPresenter> _presenters = [];
     private string _source = string.Empty;
+
+    /// <summary>This test's job store (never the user's ~/.pmacstream/jobs.db).</summary>
+    private string JobDb => Path.Combine(_dir, "jobs.db");
 
     public Task InitializeAsync()
     {
@@ -61,7 +64,8 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
                 await ControllerSetup.DownloadTolerantAsync(conn, library, ct);
                 return conn;
             },
-            time: new SimClock(_sim));
+            time: new SimClock(_sim),
+            jobDatabase: JobDb);
         var view = new FakeView { LinesPerChunk = 1000 };
         var sink = new HmiLogSink();
         var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();
@@ -225,7 +229,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     }
 
     [Fact]
-    public async Task Resume_after_a_host_crash_continues_from_the_journal_without_losing_or_repeating()
+    public async Task Resume_after_a_host_crash_continues_from_the_job_store_without_losing_or_repeating()
     {
         var (p, v) = await ReadyAsync();
         await Do(p, v.ClickExecute);
@@ -237,7 +241,18 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         // The host dies: no abort, no goodbye. The controller runs on with what is in its rotary buffer.
         _presenters.Remove(p);
         _sim.Advance(TimeSpan.FromSeconds(20));
-        File.Exists(HmiJobJournal.PathFor(_source)).Should().BeTrue();
+        using (var store = JobStore.Open(JobDb))
+        {
+            // The record `pmacstream resume --job-db` reads: program, split, strategy, connection and the last checkpoint.
+            var job = store.LatestUnfinished();
+            job.Should().NotBeNull();
+            job!.ProgramPath.Should().Be(_source);
+            job.ManifestPath.Should().Be(Path.Combine(Splitter.DefaultOutDir(_source), ChunkManifest.FileName));
+            job.Strategy.Should().Be(StrategyKind.Chunk);
+            job.Connection.Should().Be("sim");
+            job.Checkpoint!.LastExecutedLine.Should().BeGreaterThanOrEqualTo(1500);
+            job.Checkpoint.State.Should().Be(SessionState.Running);
+        }
 
         var (p2, v2) = NewHmi();
         await Do(p2, () => v2.ChooseFile(_source));
@@ -270,5 +285,74 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         v.Status.Feed.Should().Be("2400 P500");
         await Do(p, v.ClickAbort);
         v.Status.State.Should().Be("Aborted");
+    }
+
+    [Fact]
+    public async Task Status_feed_shows_the_programmed_f_values_carried_into_p500()
+    {
+        var (p, v) = await ReadyAsync();
+        await Do(p, () => v.MoveFeed(800));
+        await Do(p, v.ClickExecute);
+        var shown = new HashSet<string>();
+        for (var i = 0; i < 3000 && p.JobActive && !(shown.Contains("1200 P500") && shown.Contains("900 P500")); i++)
+        {
+            await Tick(p);
+            shown.Add(v.Status.Feed);
+        }
+
+        shown.Should().Contain(["1200 P500", "900 P500"], "demo.nc programs F1200 and F900; the splitter carries them into P500");
+        shown.Should().BeSubsetOf(new[] { 800, 300, 400, 900, 1200, 1500 }.Select(f => $"{f} P500"), "only the operator's and the program's feeds");
+        await Do(p, v.ClickAbort);
+    }
+
+    [Fact]
+    public async Task Resume_refuses_a_program_changed_since_the_job_started()
+    {
+        var (p, v) = await ReadyAsync();
+        await Do(p, v.ClickExecute);
+        await Tick(p, 50);
+        _presenters.Remove(p);
+        File.AppendAllText(_source, "N99999 G00 Z50.\n");
+
+        var (p2, v2) = NewHmi();
+        await Do(p2, () => v2.ChooseFile(_source));
+        await Do(p2, v2.ClickConnect);
+        var received = _sim.Counters.LinesReceived;
+        await Do(p2, v2.ClickResumeInterrupted);
+
+        v2.Errors.Should().ContainSingle().Which.Should().Contain("SHA-256");
+        v2.Confirmations.Should().BeEmpty();
+        p2.JobActive.Should().BeFalse();
+        _sim.Counters.LinesReceived.Should().Be(received, "nothing is sent for a refused resume");
+    }
+
+    [Fact]
+    public async Task A_job_recorded_by_the_cli_is_found_and_resumed_by_the_hmi()
+    {
+        var (p, v) = await ReadyAsync();
+        var program = ChunkedProgram.Open(Splitter.DefaultOutDir(_source));
+        var tracked = TrackedLines();
+        var line = tracked[1200];
+        long id;
+        using (var store = JobStore.Open(JobDb))
+        {
+            // What `pmacstream stream --job-db` writes, with the controller since reset (it no longer holds the job).
+            id = store.CreateJob(_source, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName), StrategyKind.Pr, "sim", null);
+            var chunk = program.ChunkOfTracked(line);
+            store.SaveCheckpoint(id, new Checkpoint(line, chunk, new StreamPosition(chunk + 1, 1), true, chunk, SessionState.Running, DateTimeOffset.UtcNow), durable: true);
+        }
+
+        await Do(p, v.ClickResumeInterrupted);
+        v.Errors.Should().BeEmpty();
+        v.Confirmations.Single().Text.Should().Contain($"job {id} at line {line}");
+        await RunToEnd(p);
+
+        ExecutedLines().Should().Equal(tracked.SkipWhile(l => l < line), "from the checkpoint's block to the end, each once");
+        v.Status.State.Should().Be("Completed");
+        using (var store = JobStore.Open(JobDb))
+        {
+            store.Get(id)!.Checkpoint!.State.Should().Be(SessionState.Completed, "the HMI wrote its checkpoints to the CLI's job record");
+            store.LatestUnfinished().Should().BeNull();
+        }
     }
 }

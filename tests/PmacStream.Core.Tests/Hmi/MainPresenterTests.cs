@@ -315,6 +315,27 @@ public sealed class MainPresenterTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task Status_feed_is_the_controllers_feed_in_force_even_beyond_the_slider_range()
+    {
+        await ReadyToRun();
+        await Do(() => _view.MoveFeed(800));
+        await Do(_view.ClickExecute);
+        _view.Status.Feed.Should().Be("800 P500");
+
+        // The program's F word, carried into P500 by the splitter, is what the machine runs at.
+        _backend.Jobs[0].ControllerFeed = 1200;
+        await _p.TickAsync();
+        _view.Status.Feed.Should().Be("1200 P500");
+        _view.Feed.Should().Be(1200, "the slider follows the controller");
+
+        _backend.Jobs[0].ControllerFeed = 30000;
+        await _p.TickAsync();
+        _view.Status.Feed.Should().Be("30000 P500", "the status shows the feed in force, not the slider's clamped value");
+        _view.Feed.Should().Be(20000, "the slider stops at its maximum");
+        _backend.Jobs[0].Commands.Should().BeEmpty("following the controller sends nothing back");
+    }
+
+    [Fact]
     public async Task Single_block_runs_one_line_per_resume()
     {
         await ReadyToRun();

@@ -114,7 +114,8 @@ public sealed class ScreenSketchTests : IAsyncLifetime
                 await ControllerSetup.DownloadTolerantAsync(conn, ControllerSetup.Library(), ct);
                 return conn;
             },
-            time: new SimClock(sim));
+            time: new SimClock(sim),
+            jobDatabase: Path.Combine(_dir, "jobs.db"));
         var view = new FakeView { Language = language, LinesPerChunk = 1000 };
         var sink = new HmiLogSink();
         var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();

@@ -52,7 +52,10 @@ public sealed class CheckCommandTests : IDisposable
         CheckCommand.OutputOverride = output;
         try
         {
-            var code = CliGlobals.RunAsync(root, ["check", .. args]).GetAwaiter().GetResult();
+            // Same convention as CliGlobals.RunAsync (parse errors exit 2) without touching the process-wide logger,
+            // which other test classes running in parallel use.
+            var parse = root.Parse(["check", .. args]);
+            var code = parse.Errors.Count > 0 ? CliGlobals.UsageOrIo : parse.Invoke();
             return (code, output.ToString());
         }
         finally

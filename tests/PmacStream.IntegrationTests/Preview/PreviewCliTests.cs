@@ -1,0 +1,58 @@
+using System.Buffers.Binary;
+using PmacStream.IntegrationTests.Streaming;
+
+namespace PmacStream.IntegrationTests.Preview;
+
+/// <summary>`pmacstream preview` as a process: the picture it writes, its exit codes, and the executed-log report.</summary>
+public sealed class PreviewCliTests : IDisposable
+{
+    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-preview-cli-").FullName;
+
+    public void Dispose() => Directory.Delete(_dir, recursive: true);
+
+    private string Program(string text)
+    {
+        var path = Path.Combine(_dir, "part.nc");
+        File.WriteAllText(path, text);
+        return path;
+    }
+
+    private const string Square = "G21 G17 G90\nG00 X0 Y0\nG01 X10 F300\nY10\nX0\nY0\nM30\n";
+
+    [Fact]
+    public void Writes_a_png_of_the_requested_size()
+    {
+        var png = Path.Combine(_dir, "out.png");
+        var (code, stdout, stderr) = CliProcess.Run("preview", Program(Square), "--png", png, "--size", "320x200");
+
+        code.Should().Be(0, stderr);
+        var bytes = File.ReadAllBytes(png);
+        bytes.Take(8).Should().Equal(new byte[] { 0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A });
+        BinaryPrimitives.ReadInt32BigEndian(bytes.AsSpan(16)).Should().Be(320, "IHDR width");
+        BinaryPrimitives.ReadInt32BigEndian(bytes.AsSpan(20)).Should().Be(200, "IHDR height");
+        stdout.Should().Contain("X 0 .. 10");
+    }
+
+    [Fact]
+    public void Missing_program_is_a_usage_error_and_writes_nothing()
+    {
+        var png = Path.Combine(_dir, "none.png");
+        var (code, _, stderr) = CliProcess.Run("preview", Path.Combine(_dir, "missing.nc"), "--png", png);
+
+        code.Should().Be(2);
+        stderr.Should().Contain("missing.nc");
+        File.Exists(png).Should().BeFalse();
+    }
+
+    [Fact]
+    public void Executed_log_with_a_skipped_line_is_reported_and_fails()
+    {
+        var log = Path.Combine(_dir, "executed.csv");
+        // Lines 2..6 move; line 4 never ran.
+        File.WriteAllText(log, "sequence,line,start_s,end_s,x,y,z,kind\n1,2,0,1,0,0,0,Rapid\n2,3,1,2,10,0,0,Linear\n3,5,2,3,0,10,0,Linear\n4,6,3,4,0,0,0,Linear\n");
+        var (code, stdout, stderr) = CliProcess.Run("preview", Program(Square), "--png", Path.Combine(_dir, "x.png"), "--executed", log);
+
+        code.Should().Be(1, stdout + stderr);
+        (stdout + stderr).Should().MatchRegex("(?s)never.*\\b4\\b");
+    }
+}
