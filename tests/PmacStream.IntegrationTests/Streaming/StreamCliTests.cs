@@ -10,6 +10,12 @@ using PmacStream.Streaming;
 
 namespace PmacStream.IntegrationTests.Streaming;
 
+[CollectionDefinition("stream-cli", DisableParallelization = true)]
+public sealed class StreamCliCollection
+{
+}
+
+[Collection("stream-cli")]
 public sealed class StreamCliTests : IDisposable
 {
     private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-cli-" + Guid.NewGuid().ToString("N"));
