@@ -632,9 +632,25 @@ public sealed partial class PmacSimulator : IDisposable
         }
 
         var handler = MoveExecuted;
+        if (handler is null)
+        {
+            return;
+        }
+
         foreach (var e in events)
         {
-            handler?.Invoke(e);
+            foreach (var subscriber in handler.GetInvocationList())
+            {
+                try
+                {
+                    ((Action<ExecutedMove>)subscriber)(e);
+                }
+                catch (Exception ex)
+                {
+                    // A subscriber's bug must not stop the clock or lose the other subscribers' events.
+                    Log.Error(ex, "MoveExecuted subscriber failed for move {Sequence}", e.Sequence);
+                }
+            }
         }
     }
 
@@ -672,6 +688,29 @@ public sealed partial class PmacSimulator : IDisposable
     }
 
     private void ClockLoop()
+    {
+        // An exception on this thread would take the whole host process down (a server, a test run), so a fault
+        // is logged and counted like a command fault, and the clock goes on.
+        while (!_clockStop)
+        {
+            try
+            {
+                RunClock();
+            }
+            catch (Exception e)
+            {
+                lock (_sync)
+                {
+                    InternalFaults++;
+                }
+
+                Log.Error(e, "simulator clock fault");
+                Thread.Sleep(1);
+            }
+        }
+    }
+
+    private void RunClock()
     {
         var sw = Stopwatch.StartNew();
         var last = sw.Elapsed.TotalSeconds;

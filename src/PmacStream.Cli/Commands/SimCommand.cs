@@ -54,7 +54,6 @@ internal static class SimCommand
             var logPath = parse.GetValue(executedLog);
             using var sim = new PmacSimulator(options);
             var engineLock = new object();
-            var clients = 0;
             PmacTcpServer? tcpServer = null;
             PmacSerialServer? serialServer = null;
 
@@ -75,8 +74,11 @@ internal static class SimCommand
                 sim.StartClock();
                 if (endPoint is not null)
                 {
+                    // A Turbo PMAC's Ethernet interface is one communication port shared by every connection,
+                    // so a host that reconnects (or a new host after a crash) can CLOSE the buffer the old one opened.
+                    var ethernet = sim.OpenPort("ethernet");
                     tcpServer = new PmacTcpServer(
-                        () => sim.OpenPort($"tcp{Interlocked.Increment(ref clients)}"),
+                        () => ethernet,
                         new PmacTcpServerOptions { EndPoint = endPoint, EngineLock = engineLock });
                     try
                     {
