@@ -34,50 +34,58 @@ internal static class CliGlobals
         ConfigureLogging(parse.GetValue(Verbose), parse.GetValue(LogFile));
         try
         {
-            if (parse.Errors.Count > 0)
-            {
-                foreach (var e in parse.Errors)
-                {
-                    await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
-                }
+            return await InvokeAsync(parse).ConfigureAwait(false);
+        }
+        finally
+        {
+            await Log.CloseAndFlushAsync().ConfigureAwait(false);
+        }
+    }
 
-                await Console.Error.WriteLineAsync("Try 'pmacstream --help'.").ConfigureAwait(false);
-                return UsageOrIo;
+    /// <summary>
+    /// Runs a parsed command line with the exit-code convention: every command's one-line errors, I/O errors and
+    /// bugs are turned into a message and a code here, once. Leaves logging alone, so tests can call it in process.
+    /// </summary>
+    public static async Task<int> InvokeAsync(ParseResult parse)
+    {
+        var prefix = parse.CommandResult.Command is RootCommand ? "pmacstream" : $"pmacstream {parse.CommandResult.Command.Name}";
+        if (parse.Errors.Count > 0)
+        {
+            foreach (var e in parse.Errors)
+            {
+                await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             }
 
-            // Our own handlers below turn CliException and I/O errors into one-line messages with exit code 2.
+            await Console.Error.WriteLineAsync("Try 'pmacstream --help'.").ConfigureAwait(false);
+            return UsageOrIo;
+        }
+
+        try
+        {
+            // System.CommandLine's own handler would print a stack trace and exit 1 for these.
             return await parse.InvokeAsync(new InvocationConfiguration { EnableDefaultExceptionHandler = false }).ConfigureAwait(false);
         }
         catch (CliException e)
         {
-            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return e.ExitCode;
         }
-        catch (IOException e)
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException or Microsoft.Data.Sqlite.SqliteException)
         {
-            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
-            return UsageOrIo;
-        }
-        catch (UnauthorizedAccessException e)
-        {
-            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
+            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return UsageOrIo;
         }
         catch (OperationCanceledException)
         {
-            await Console.Error.WriteLineAsync("pmacstream: cancelled").ConfigureAwait(false);
+            await Console.Error.WriteLineAsync($"{prefix}: cancelled").ConfigureAwait(false);
             return Failed;
         }
         catch (Exception e)
         {
             // A bug, not bad input: one line for the operator, the stack trace in the log file.
             Log.Fatal(e, "unexpected error");
-            await Console.Error.WriteLineAsync($"pmacstream: unexpected error: {e.Message} (run with --log-file for details)").ConfigureAwait(false);
+            await Console.Error.WriteLineAsync($"{prefix}: unexpected error: {e.Message} (run with --log-file for details)").ConfigureAwait(false);
             return Failed;
-        }
-        finally
-        {
-            await Log.CloseAndFlushAsync().ConfigureAwait(false);
         }
     }
 

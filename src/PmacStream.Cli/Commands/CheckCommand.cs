@@ -34,23 +34,7 @@ internal static class CheckCommand
         cmd.Options.Add(db);
         cmd.Options.Add(lang);
         cmd.SetAction((parse, ct) =>
-        {
-            try
-            {
-                return Task.FromResult(Run(parse.GetValue(file)!, parse.GetValue(profile), parse.GetValue(json), parse.GetValue(db), parse.GetValue(lang), ct));
-            }
-            catch (CliException e)
-            {
-                // System.CommandLine's default handler would turn this into "Unhandled exception" and exit 1.
-                Console.Error.WriteLine($"pmacstream: {e.Message}");
-                return Task.FromResult(e.ExitCode);
-            }
-            catch (Exception e) when (e is IOException or UnauthorizedAccessException)
-            {
-                Console.Error.WriteLine($"pmacstream: {e.Message}");
-                return Task.FromResult(CliGlobals.UsageOrIo);
-            }
-        });
+            Task.FromResult(Run(parse.GetValue(file)!, parse.GetValue(profile), parse.GetValue(json), parse.GetValue(db), parse.GetValue(lang), ct)));
         return cmd;
     }
 

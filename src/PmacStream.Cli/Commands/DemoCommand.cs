@@ -14,7 +14,7 @@ internal static class DemoCommand
     {
         var cmd = new Command("demo", "Stream the sample program into the built-in simulator, with progress.");
         var common = StreamRunner.AddCommonOptions(cmd, forDemo: true);
-        cmd.SetAction((parse, ct) => StreamRunner.Guarded(async () =>
+        cmd.SetAction(async (parse, ct) =>
         {
             var settings = common.Settings(parse);
             var source = FindDemo() ?? throw new CliException("samples/demo.nc not found beside the executable or in the repository");
@@ -45,7 +45,7 @@ internal static class DemoCommand
                 {
                 }
             }
-        }));
+        });
         return cmd;
     }
 

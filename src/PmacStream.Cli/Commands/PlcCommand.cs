@@ -21,16 +21,7 @@ internal static class PlcCommand
             var path = parseResult.GetValue(file)!;
             var plcNumber = parseResult.GetValue(plc);
             var outPath = parseResult.GetValue(output);
-            try
-            {
-                return await RunAsync(path, plcNumber, outPath, Console.Out, Console.Error, ct).ConfigureAwait(false);
-            }
-            catch (CliException e)
-            {
-                // Handled here: System.CommandLine's default handler would print a stack trace and exit 1.
-                await Console.Error.WriteLineAsync($"pmacstream plc: {e.Message}").ConfigureAwait(false);
-                return e.ExitCode;
-            }
+            return await RunAsync(path, plcNumber, outPath, Console.Out, Console.Error, ct).ConfigureAwait(false);
         });
         return cmd;
     }

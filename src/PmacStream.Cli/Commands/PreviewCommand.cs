@@ -30,24 +30,7 @@ internal static class PreviewCommand
         cmd.Options.Add(size);
         cmd.Options.Add(view);
         cmd.Options.Add(executed);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            // System.CommandLine's default handler would print a stack trace: report one line and the exit code here.
-            try
-            {
-                return await RunAsync(parse, file, png, size, view, executed, ct).ConfigureAwait(false);
-            }
-            catch (CliException e)
-            {
-                await Console.Error.WriteLineAsync($"pmacstream preview: {e.Message}").ConfigureAwait(false);
-                return e.ExitCode;
-            }
-            catch (Exception e) when (e is IOException or UnauthorizedAccessException)
-            {
-                await Console.Error.WriteLineAsync($"pmacstream preview: {e.Message}").ConfigureAwait(false);
-                return CliGlobals.UsageOrIo;
-            }
-        });
+        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, ct));
         return cmd;
     }
 

@@ -17,7 +17,7 @@ internal static class Prog1000Command
         cmd.Options.Add(profile);
         cmd.Options.Add(outFile);
         cmd.Options.Add(noComments);
-        cmd.SetAction((parse, _) => CommandGuard.RunAsync(() =>
+        cmd.SetAction((parse, _) =>
         {
             var machine = LoadProfile(parse.GetValue(profile));
             string text;
@@ -45,7 +45,7 @@ internal static class Prog1000Command
             var routines = Prog1000Library.Routines(machine);
             Console.Out.WriteLine($"{routines.Count} routines ({routines.Count(r => !r.Converted)} without conversion) written to {full}");
             return Task.FromResult(CliGlobals.Ok);
-        }));
+        });
         return cmd;
     }
 

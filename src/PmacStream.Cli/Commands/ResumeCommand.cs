@@ -14,7 +14,7 @@ internal static class ResumeCommand
         var cmd = new Command("resume", "Continue an interrupted job from its checkpoint without losing or repeating a block.");
         cmd.Options.Add(job);
         var common = StreamRunner.AddCommonOptions(cmd);
-        cmd.SetAction((parse, ct) => StreamRunner.Guarded(async () =>
+        cmd.SetAction(async (parse, ct) =>
         {
             var settings = common.Settings(parse);
             using var jobs = JobStore.Open(settings.JobDb ?? JobStore.DefaultPath);
@@ -88,7 +88,7 @@ internal static class ResumeCommand
             }
 
             return await StreamRunner.RunAsync(session, target, jobs, record.Id, plan?.Line, s => s.StartAsync(plan?.Line, plan?.PmacLines, ct), ct, "resume").ConfigureAwait(false);
-        }));
+        });
         return cmd;
     }
 }

@@ -26,7 +26,7 @@ internal static class SimCommand
             cmd.Options.Add(o);
         }
 
-        cmd.SetAction((parse, ct) => CommandGuard.RunAsync(async () =>
+        cmd.SetAction(async (parse, ct) =>
         {
             var options = new SimOptions();
             try
@@ -138,7 +138,7 @@ internal static class SimCommand
             }
 
             return CliGlobals.Ok;
-        }));
+        });
         return cmd;
     }
 

@@ -36,7 +36,7 @@ internal static class SplitCommand
             cmd.Options.Add(o);
         }
 
-        cmd.SetAction((parse, ct) => CommandGuard.RunAsync(async () =>
+        cmd.SetAction(async (parse, ct) =>
         {
             var path = parse.GetValue(file)!;
             var machine = Prog1000Command.LoadProfile(parse.GetValue(profile));
@@ -143,7 +143,7 @@ internal static class SplitCommand
             }
 
             return CliGlobals.Ok;
-        }));
+        });
         return cmd;
     }
 }
@@ -152,29 +152,4 @@ internal static class SplitCommand
 internal sealed class SyncProgress<T>(Action<T> report) : IProgress<T>
 {
     public void Report(T value) => report(value);
-}
-
-/// <summary>
-/// Turns a <see cref="CliException"/> or I/O failure inside an action into its one-line message and exit code
-/// (System.CommandLine's default handler would print a stack trace and exit 1).
-/// </summary>
-internal static class CommandGuard
-{
-    public static async Task<int> RunAsync(Func<Task<int>> body)
-    {
-        try
-        {
-            return await body().ConfigureAwait(false);
-        }
-        catch (CliException e)
-        {
-            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
-            return e.ExitCode;
-        }
-        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
-        {
-            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
-            return CliGlobals.UsageOrIo;
-        }
-    }
 }

@@ -23,7 +23,7 @@ internal static class StreamCommand
         cmd.Options.Add(fromLine);
         cmd.Options.Add(chunkLines);
         var common = StreamRunner.AddCommonOptions(cmd);
-        cmd.SetAction((parse, ct) => StreamRunner.Guarded(async () =>
+        cmd.SetAction(async (parse, ct) =>
         {
             var target = common.Target(parse) ?? throw new CliException("say where to stream: --sim, --tcp HOST[:PORT] or --serial DEV[,BAUD]");
             StrategyKind kind;
@@ -44,7 +44,7 @@ internal static class StreamCommand
                 parse.GetValue(chunkLines),
                 common.Settings(parse),
                 ct).ConfigureAwait(false);
-        }));
+        });
         return cmd;
     }
 }
@@ -212,25 +212,6 @@ internal static class SimLibrary
 /// <summary>What stream, resume and demo share: preparing the split, the tick loop, progress and the final count.</summary>
 internal static class StreamRunner
 {
-    /// <summary>Runs a command body, turning one-line errors into their message and exit code (whatever the parser's own handler does).</summary>
-    public static async Task<int> Guarded(Func<Task<int>> body)
-    {
-        try
-        {
-            return await body().ConfigureAwait(false);
-        }
-        catch (CliException e)
-        {
-            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
-            return e.ExitCode;
-        }
-        catch (Exception e) when (e is IOException or UnauthorizedAccessException or Microsoft.Data.Sqlite.SqliteException)
-        {
-            await Console.Error.WriteLineAsync($"pmacstream: {e.Message}").ConfigureAwait(false);
-            return CliGlobals.UsageOrIo;
-        }
-    }
-
     public static CommonStreamOptions AddCommonOptions(Command cmd, bool forDemo = false)
     {
         var o = new CommonStreamOptions

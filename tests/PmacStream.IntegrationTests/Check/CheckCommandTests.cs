@@ -52,10 +52,8 @@ public sealed class CheckCommandTests : IDisposable
         CheckCommand.OutputOverride = output;
         try
         {
-            // Same convention as CliGlobals.RunAsync (parse errors exit 2) without touching the process-wide logger,
-            // which other test classes running in parallel use.
-            var parse = root.Parse(["check", .. args]);
-            var code = parse.Errors.Count > 0 ? CliGlobals.UsageOrIo : parse.Invoke();
+            // The CLI's own exit-code handling, without RunAsync's set-up of the process-wide logger.
+            var code = CliGlobals.InvokeAsync(root.Parse(["check", .. args])).GetAwaiter().GetResult();
             return (code, output.ToString());
         }
         finally

@@ -78,7 +78,7 @@ public sealed class PlcCliTests : IDisposable
     [Fact]
     public async Task Command_line_errors_exit_2_without_a_stack_trace()
     {
-        var code = await PlcCommand.Create().Parse(["plc", Path.Combine(_dir, "nope.ladder")]).InvokeAsync();
+        var code = await CliGlobals.InvokeAsync(PlcCommand.Create().Parse(["plc", Path.Combine(_dir, "nope.ladder")]));
         code.Should().Be(CliGlobals.UsageOrIo);
     }
 
