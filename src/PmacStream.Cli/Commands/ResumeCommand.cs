@@ -17,7 +17,14 @@ internal static class ResumeCommand
         cmd.SetAction(async (parse, ct) =>
         {
             var settings = common.Settings(parse);
-            using var jobs = JobStore.Open(settings.JobDb ?? JobStore.DefaultPath);
+            var jobDb = settings.JobDb ?? JobStore.DefaultPath;
+            if (!File.Exists(jobDb))
+            {
+                // Resume only reads jobs: do not leave an empty database (and its folders) behind a mistyped path.
+                throw new CliException($"{jobDb}: no job database there; jobs are recorded by 'pmacstream stream'");
+            }
+
+            using var jobs = JobStore.Open(jobDb);
             var record = parse.GetValue(job) is { } id
                 ? jobs.Get(id) ?? throw new CliException($"no job {id} in {jobs.Path}")
                 : jobs.LatestUnfinished() ?? throw new CliException($"no unfinished job in {jobs.Path}");

@@ -1,0 +1,17 @@
+namespace PmacStream.IntegrationTests.Streaming;
+
+public class ResumeMissingDbTests
+{
+    [Fact]
+    public void Resume_with_a_missing_job_database_says_so_and_creates_nothing()
+    {
+        var dir = Path.Combine(Path.GetTempPath(), "pmacstream-resume-" + Guid.NewGuid().ToString("N"));
+        var db = Path.Combine(dir, "sub", "jobs.db");
+
+        var (code, _, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes");
+
+        code.Should().Be(2);
+        stderr.Should().Contain(db).And.Contain("no job database");
+        Directory.Exists(dir).Should().BeFalse("resume only reads jobs");
+    }
+}
