@@ -70,35 +70,9 @@ internal static class SplitCommand
                 throw new CliException($"{path}: no such file", CliGlobals.UsageOrIo);
             }
 
-            if (!options.AllowErrors)
-            {
-                // The checker's full diagnostics decide; the splitter's own lexical check is then redundant.
-                var errors = new List<Diagnostic>();
-                var summary = await Task.Run(() => new Checker(machine).CheckFile(path, d =>
-                {
-                    if (d.Severity == Severity.Error && errors.Count < MaxListed)
-                    {
-                        errors.Add(d);
-                    }
-                }, null, ct), ct).ConfigureAwait(false);
-                if (summary.HasErrors)
-                {
-                    foreach (var d in errors)
-                    {
-                        await Console.Error.WriteLineAsync(d.Format(path)).ConfigureAwait(false);
-                    }
-
-                    if (summary.Errors > errors.Count)
-                    {
-                        await Console.Error.WriteLineAsync($"... and {summary.Errors - errors.Count} more").ConfigureAwait(false);
-                    }
-
-                    await Console.Error.WriteLineAsync($"pmacstream split: {path}: {summary.Errors} error(s); not split (--force splits anyway)").ConfigureAwait(false);
-                    return CliGlobals.Failed;
-                }
-
-                options = options with { AllowErrors = true };
-            }
+            // Without --force the checker runs in the splitter's own pass (one read of the program): any error
+            // refuses the split and the half-made chunk set is deleted.
+            options = options with { CheckProfile = machine, MaxReportedErrors = MaxListed };
 
             SplitResult result;
             try
@@ -130,7 +104,9 @@ internal static class SplitCommand
                     await Console.Error.WriteLineAsync($"... and {e.ErrorCount - e.Diagnostics.Count} more").ConfigureAwait(false);
                 }
 
-                await Console.Error.WriteLineAsync($"pmacstream split: {e.Message}").ConfigureAwait(false);
+                await Console.Error.WriteLineAsync(e.FromChecker
+                    ? $"pmacstream split: {path}: {e.ErrorCount} error(s); not split (--force splits anyway)"
+                    : $"pmacstream split: {e.Message}").ConfigureAwait(false);
                 return CliGlobals.Failed;
             }
 

@@ -49,7 +49,12 @@ public sealed class Checker
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default)
+    public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default) =>
+        Check(stream, fileName, onDiagnostic, onBlock, null, cancellationToken);
+
+    /// <summary>As above; <paramref name="onLine"/> sees every line's lexed block after the checker took it (the splitter's single pass).</summary>
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
+    internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock, Action<GBlock>? onLine, CancellationToken cancellationToken)
     {
         var sw = Stopwatch.StartNew();
         var errors = 0;
@@ -191,6 +196,8 @@ public sealed class Checker
             {
                 onBlock(interp.Materialize());
             }
+
+            onLine?.Invoke(block);
         }
 
         if (!sawSequence)

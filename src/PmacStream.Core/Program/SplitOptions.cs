@@ -1,3 +1,5 @@
+using PmacStream.GCode;
+
 namespace PmacStream.Program;
 
 /// <summary>
@@ -54,6 +56,14 @@ public sealed record SplitOptions
 
     /// <summary>Split even when the program has errors (<c>--force</c>); erroneous words are dropped, not emitted.</summary>
     public bool AllowErrors { get; init; }
+
+    /// <summary>
+    /// When set (and <see cref="AllowErrors"/> is off), seed 002's checker runs against this machine profile in the
+    /// same streamed pass, on the same lexed blocks the splitter consumes; any error it finds refuses the split
+    /// (<see cref="SplitException.FromChecker"/>), listing the errors, and nothing is written. When null only the
+    /// lexical errors refuse.
+    /// </summary>
+    public MachineProfile? CheckProfile { get; init; }
 
     /// <summary>How many errors a refusal lists (the total is always counted).</summary>
     public int MaxReportedErrors { get; init; } = 50;

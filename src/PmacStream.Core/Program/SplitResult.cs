@@ -48,4 +48,7 @@ public sealed class SplitException : Exception
 
     /// <summary>Total number of errors found.</summary>
     public int ErrorCount { get; }
+
+    /// <summary>True when the checker (<see cref="SplitOptions.CheckProfile"/>) found the errors in the same pass.</summary>
+    public bool FromChecker { get; init; }
 }

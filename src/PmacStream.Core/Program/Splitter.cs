@@ -1,5 +1,5 @@
 using System.Buffers.Text;
-using System.Runtime.InteropServices;
+using System.Collections.Concurrent;
 using System.Security.Cryptography;
 using System.Text;
 using PmacStream.GCode;
@@ -149,9 +149,16 @@ public static class Splitter
         }
     }
 
-    /// <summary>One split in progress: reader, current chunk buffer, counters.</summary>
+    /// <summary>
+    /// One split in progress. Two threads share the work: the reading thread lexes the source (and runs the
+    /// checker on the same blocks when <see cref="SplitOptions.CheckProfile"/> is set) and hands batches of lines
+    /// over a bounded queue, in order, to the calling thread, which builds the chunks; a third writes and hashes
+    /// the chunk files (<see cref="ChunkFileWriter"/>) and a fourth hashes the source.
+    /// </summary>
     private sealed class SplitRun
     {
+        private const int QueueDepth = 2;
+
         private static readonly byte[] HeaderBytes = Encoding.ASCII.GetBytes(Header);
         private static readonly byte[] FooterBytes = Encoding.ASCII.GetBytes(Footer);
 
@@ -168,14 +175,22 @@ public static class Splitter
         private readonly ByteLine _block = new(256);
         private readonly ByteLine _chunk;
         private readonly ChunkTable _chunks;
-        private readonly List<Diagnostic> _errors = [];
-        private int _errorCount;
-        private int _warnings;
         private long _totalBytes;
-        private GCodeReader? _reader;
+        private long _position;
         private ChunkFileWriter? _writer;
 
-        // Current chunk.
+        // Reading thread only (read by the splitting thread after it finished).
+        private readonly List<Diagnostic> _errors = [];
+        private readonly List<Diagnostic> _checkErrors = [];
+        private int _errorCount;
+        private int _checkErrorCount;
+        private int _warnings;
+        private LineBatch? _batch;
+        private BlockingCollection<LineBatch>? _full;
+        private BlockingCollection<LineBatch>? _free;
+        private CancellationToken _stop;
+
+        // Current chunk (splitting thread).
         private int _chunkBlocks;
         private int _chunkMotion;
         private int _chunkWords;
@@ -213,48 +228,58 @@ public static class Splitter
             _chunk.Append(HeaderBytes);
         }
 
+        /// <summary>The checker runs in this pass: it decides refusal (force skips it, as before).</summary>
+        private bool Checking => _o.CheckProfile != null && !_o.AllowErrors;
+
+        /// <summary>Errors were found and the split will be refused: stop handing lines over, keep reading to list them.</summary>
+        private bool Refusing => !_o.AllowErrors && (_errorCount > 0 || _checkErrorCount > 0);
+
         public (ChunkManifest Manifest, int Warnings) Execute()
         {
             long size;
+            _totalBytes = new FileInfo(_source).Length;
             // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
             var sourceHash = Task.Run(() => HashFile(_source), _ct);
+            using var stop = CancellationTokenSource.CreateLinkedTokenSource(_ct);
+            using var full = new BlockingCollection<LineBatch>(QueueDepth);
+            using var free = new BlockingCollection<LineBatch>();
+            for (var i = 0; i < QueueDepth + 2; i++)
+            {
+                free.Add(new LineBatch());
+            }
+
+            _full = full;
+            _free = free;
+            _stop = stop.Token;
             using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct))
             {
                 _writer = writer;
-                using (var reader = new GCodeReader(
-                    new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan),
-                    leaveOpen: false, bufferSize: 1 << 18))
+                var reading = Task.Factory.StartNew(Produce, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
+                try
                 {
-                    _totalBytes = new FileInfo(_source).Length;
-                    _reader = reader;
-                    var n = 0;
-                    while (reader.Read())
+                    // Batches arrive in source order (one producer, one FIFO queue), so chunks keep the source order.
+                    foreach (var batch in full.GetConsumingEnumerable(stop.Token))
                     {
-                        if ((++n & 0x3FFF) == 0)
-                        {
-                            _ct.ThrowIfCancellationRequested();
-                        }
-
-                        var b = reader.Current;
-                        if (b.LexicalDiagnostics.Count > 0)
-                        {
-                            Collect(b);
-                        }
-
-                        if (_errorCount > 0 && !_o.AllowErrors)
-                        {
-                            continue; // keep reading to list every error; nothing is written anyway
-                        }
-
-                        if (b.IsTapeMark || (b.BlockDelete && _o.BlockDelete))
-                        {
-                            continue;
-                        }
-
-                        Emit(b);
+                        Consume(batch);
+                        batch.Clear();
+                        free.Add(batch, stop.Token);
                     }
 
-                    size = reader.Position;
+                    size = reading.GetAwaiter().GetResult(); // rethrows what stopped the reading thread
+                }
+                catch
+                {
+                    stop.Cancel();
+                    try
+                    {
+                        reading.Wait(CancellationToken.None);
+                    }
+                    catch (AggregateException)
+                    {
+                        // The splitting thread's own failure is the one reported.
+                    }
+
+                    throw;
                 }
 
                 Finish();
@@ -280,9 +305,114 @@ public static class Splitter
             return (manifest, _warnings);
         }
 
+        /// <summary>The reading thread: lexes (and checks) the source, hands lines over; returns the bytes read.</summary>
+        private long Produce()
+        {
+            try
+            {
+                _batch = _free!.Take(_stop);
+                long size;
+                using (var stream = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan))
+                {
+                    if (Checking)
+                    {
+                        size = new Checker(_o.CheckProfile!).Check(stream, _source, OnCheckDiagnostic, null, Take, _stop).Bytes;
+                    }
+                    else
+                    {
+                        using var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16);
+                        while (reader.Read())
+                        {
+                            Take(reader.Current);
+                        }
+
+                        size = reader.Position;
+                    }
+                }
+
+                _batch.EndPosition = size;
+                _full!.Add(_batch, _stop);
+                _batch = null;
+                return size;
+            }
+            finally
+            {
+                _full!.CompleteAdding();
+            }
+        }
+
+        private void OnCheckDiagnostic(Diagnostic d)
+        {
+            if (d.Severity == Severity.Error)
+            {
+                _checkErrorCount++;
+                if (_checkErrors.Count < _o.MaxReportedErrors)
+                {
+                    _checkErrors.Add(d);
+                }
+            }
+        }
+
+        /// <summary>One lexed line on the reading thread.</summary>
+        private void Take(GBlock b)
+        {
+            if ((b.LineNumber & 0x3FFF) == 0)
+            {
+                _stop.ThrowIfCancellationRequested();
+            }
+
+            if (b.DiagnosticList.Count > 0)
+            {
+                Collect(b);
+            }
+
+            // Nothing for the controller in tape marks, skipped blocks and lines without words (Emit drops them too).
+            if (Refusing || b.IsTapeMark || (b.BlockDelete && _o.BlockDelete) || b.WordList.Count == 0)
+            {
+                return;
+            }
+
+            var batch = _batch!;
+            batch.Add(b);
+            if (batch.IsFull)
+            {
+                batch.EndPosition = b.ByteOffset + b.Length;
+                _full!.Add(batch, _stop);
+                batch = _free!.Take(_stop);
+                _batch = batch;
+            }
+        }
+
+        /// <summary>The splitting thread's work on one batch.</summary>
+        private void Consume(LineBatch batch)
+        {
+            var text = batch.Text;
+            var n = 0;
+            foreach (ref readonly var line in batch.Lines)
+            {
+                if ((++n & 0x3FF) == 0)
+                {
+                    _ct.ThrowIfCancellationRequested();
+                }
+
+                Emit(text.AsSpan(line.TextStart, line.TextLength), batch.WordsOf(line), line.LineNumber);
+            }
+
+            _position = batch.EndPosition;
+        }
+
         private void Finish()
         {
-            if (_errorCount > 0 && !_o.AllowErrors)
+            if (Checking && _checkErrorCount > 0)
+            {
+                throw new SplitException(
+                    $"{_source}: {_checkErrorCount} error(s); not split (force splits anyway)", _checkErrors, _checkErrorCount)
+                {
+                    FromChecker = true,
+                };
+            }
+
+            if (!Checking && _errorCount > 0 && !_o.AllowErrors)
             {
                 throw new SplitException(
                     $"{_source}: {_errorCount} error(s); not split (force splits anyway, dropping what is not G-code)",
@@ -306,7 +436,7 @@ public static class Splitter
 
         private void Collect(GBlock b)
         {
-            foreach (var d in b.LexicalDiagnostics)
+            foreach (var d in b.DiagnosticList)
             {
                 if (d.Severity == Severity.Error)
                 {
@@ -323,11 +453,9 @@ public static class Splitter
             }
         }
 
-        private void Emit(GBlock b)
+        private void Emit(ReadOnlySpan<byte> src, ReadOnlySpan<GWord> words, int lineNumber)
         {
-            // Hot path: spans over the reader's own word list and line bytes, no allocation per block.
-            var words = CollectionsMarshal.AsSpan(b.WordList);
-            var src = b.Buffer;
+            // Hot path: spans over the batch's word list and line bytes, no allocation per block.
             var paperFeed = _o.Feed == FeedMode.Paper;
             var feedIndex = -1;
             var nIndex = -1;
@@ -361,7 +489,7 @@ public static class Splitter
             var line = _block;
             line.Clear();
             // Upper bound: every word's text plus a separator, the source line once more (for P500=F), markers.
-            var o = line.Reserve((2 * b.Length) + (2 * words.Length) + 64 + (2 * (_track.Length + _feedVar.Length)));
+            var o = line.Reserve((2 * src.Length) + (2 * words.Length) + 64 + (2 * (_track.Length + _feedVar.Length)));
             var values = 0;
             if (feedIndex >= 0)
             {
@@ -395,7 +523,7 @@ public static class Splitter
                         o = o[1..];
                     }
 
-                    o = Track(o, b.LineNumber);
+                    o = Track(o, lineNumber);
                     sep = true;
                     values++;
                 }
@@ -433,7 +561,7 @@ public static class Splitter
                 if (tracked && _o.Tracking == TrackingPlacement.Paper)
                 {
                     o[0] = (byte)' ';
-                    o = Track(o[1..], b.LineNumber);
+                    o = Track(o[1..], lineNumber);
                     values++;
                 }
 
@@ -443,7 +571,7 @@ public static class Splitter
             }
 
             line.Commit(o);
-            Add(b.LineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
+            Add(lineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
         }
 
         private static Span<byte> Put(Span<byte> o, byte[] bytes)
@@ -453,9 +581,9 @@ public static class Splitter
         }
 
         /// <summary>A number as written in the source, minus a leading <c>+</c> (the PMAC reads it as an operator).</summary>
-        private static Span<byte> Number(Span<byte> o, byte[] src, in GWord w)
+        private static Span<byte> Number(Span<byte> o, ReadOnlySpan<byte> src, in GWord w)
         {
-            var text = src.AsSpan(w.NumberStart, w.NumberLength);
+            var text = src.Slice(w.NumberStart, w.NumberLength);
             if (text.Length > 1 && text[0] == (byte)'+')
             {
                 text = text[1..];
@@ -543,7 +671,7 @@ public static class Splitter
             _chunkBlocks = 0;
             _chunkMotion = 0;
             _chunkWords = 0;
-            _progress?.Report(new SplitProgress(_reader?.Position ?? _totalBytes, _totalBytes, _chunks.Count, _totalBlocks));
+            _progress?.Report(new SplitProgress(_position, _totalBytes, _chunks.Count, _totalBlocks));
         }
     }
 }
