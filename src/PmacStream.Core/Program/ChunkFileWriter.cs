@@ -1,5 +1,4 @@
 using System.Buffers;
-using System.Collections.Concurrent;
 using System.Runtime.ExceptionServices;
 using System.Security.Cryptography;
 
@@ -14,7 +13,7 @@ internal sealed class ChunkFileWriter : IDisposable
 {
     private const int Depth = 4;
 
-    private readonly BlockingCollection<(int Index, string Path, byte[] Data, int Length)> _queue = new(Depth);
+    private readonly HandOff<(int Index, string Path, byte[] Data, int Length)> _queue;
     private readonly ChunkTable _table;
     private readonly Action<int>? _afterWritten;
     private readonly CancellationToken _ct;
@@ -26,6 +25,7 @@ internal sealed class ChunkFileWriter : IDisposable
         _table = table;
         _afterWritten = afterWritten;
         _ct = ct;
+        _queue = new(Depth, ct);
         _task = Task.Factory.StartNew(Run, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
     }
 
@@ -36,7 +36,7 @@ internal sealed class ChunkFileWriter : IDisposable
         data.CopyTo(copy);
         try
         {
-            _queue.Add((index, path, copy, data.Length), _ct);
+            _queue.Add((index, path, copy, data.Length));
         }
         catch (InvalidOperationException) when (_failure != null)
         {
@@ -53,16 +53,13 @@ internal sealed class ChunkFileWriter : IDisposable
     /// <summary>Waits for every queued chunk (their hashes are then in the table). Rethrows a writer failure.</summary>
     public void Complete()
     {
-        _queue.CompleteAdding();
+        _queue.Complete();
         _task.GetAwaiter().GetResult();
     }
 
     public void Dispose()
     {
-        if (!_queue.IsAddingCompleted)
-        {
-            _queue.CompleteAdding();
-        }
+        _queue.Complete();
 
         try
         {
@@ -81,8 +78,9 @@ internal sealed class ChunkFileWriter : IDisposable
         Span<byte> hash = stackalloc byte[32];
         try
         {
-            foreach (var (index, path, data, length) in _queue.GetConsumingEnumerable())
+            while (_queue.TryTake(out var item))
             {
+                var (index, path, data, length) = item;
                 try
                 {
                     _ct.ThrowIfCancellationRequested();
@@ -107,7 +105,7 @@ internal sealed class ChunkFileWriter : IDisposable
         catch (Exception e)
         {
             _failure = e;
-            _queue.CompleteAdding();
+            _queue.Complete();
             throw;
         }
     }

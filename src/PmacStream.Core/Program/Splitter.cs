@@ -1,5 +1,4 @@
 using System.Buffers.Text;
-using System.Collections.Concurrent;
 using System.Security.Cryptography;
 using System.Text;
 using PmacStream.GCode;
@@ -186,8 +185,8 @@ public static class Splitter
         private int _checkErrorCount;
         private int _warnings;
         private LineBatch? _batch;
-        private BlockingCollection<LineBatch>? _full;
-        private BlockingCollection<LineBatch>? _free;
+        private HandOff<LineBatch>? _full;
+        private HandOff<LineBatch>? _free;
         private CancellationToken _stop;
 
         // Current chunk (splitting thread).
@@ -241,8 +240,8 @@ public static class Splitter
             // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
             var sourceHash = Task.Run(() => HashFile(_source), _ct);
             using var stop = CancellationTokenSource.CreateLinkedTokenSource(_ct);
-            using var full = new BlockingCollection<LineBatch>(QueueDepth);
-            using var free = new BlockingCollection<LineBatch>();
+            using var full = new HandOff<LineBatch>(QueueDepth, stop.Token);
+            using var free = new HandOff<LineBatch>(QueueDepth + 2, stop.Token);
             for (var i = 0; i < QueueDepth + 2; i++)
             {
                 free.Add(new LineBatch());
@@ -258,11 +257,11 @@ public static class Splitter
                 try
                 {
                     // Batches arrive in source order (one producer, one FIFO queue), so chunks keep the source order.
-                    foreach (var batch in full.GetConsumingEnumerable(stop.Token))
+                    while (full.TryTake(out var batch))
                     {
                         Consume(batch);
                         batch.Clear();
-                        free.Add(batch, stop.Token);
+                        free.Add(batch);
                     }
 
                     size = reading.GetAwaiter().GetResult(); // rethrows what stopped the reading thread
@@ -310,7 +309,7 @@ public static class Splitter
         {
             try
             {
-                _batch = _free!.Take(_stop);
+                _batch = TakeFree();
                 long size;
                 using (var stream = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan))
                 {
@@ -331,15 +330,18 @@ public static class Splitter
                 }
 
                 _batch.EndPosition = size;
-                _full!.Add(_batch, _stop);
+                _full!.Add(_batch);
                 _batch = null;
                 return size;
             }
             finally
             {
-                _full!.CompleteAdding();
+                _full!.Complete();
             }
         }
+
+        private LineBatch TakeFree() =>
+            _free!.TryTake(out var batch) ? batch : throw new InvalidOperationException("batch pool closed");
 
         private void OnCheckDiagnostic(Diagnostic d)
         {
@@ -377,8 +379,8 @@ public static class Splitter
             if (batch.IsFull)
             {
                 batch.EndPosition = b.ByteOffset + b.Length;
-                _full!.Add(batch, _stop);
-                batch = _free!.Take(_stop);
+                _full!.Add(batch);
+                batch = TakeFree();
                 _batch = batch;
             }
         }
