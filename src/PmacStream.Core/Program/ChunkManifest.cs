@@ -98,8 +98,74 @@ public sealed record ChunkManifest(
     /// <summary>Writes the manifest as indented JSON.</summary>
     public void Save(string path)
     {
-        using var s = File.Create(path);
-        JsonSerializer.Serialize(s, this, Json);
+        using var s = new FileStream(path, FileMode.Create, FileAccess.Write, FileShare.None, 1 << 16);
+        WriteTo(s);
+    }
+
+    /// <summary>
+    /// The same JSON the serializer writes (same names, order and layout; <see cref="Load"/> reads it back), written
+    /// field by field so that tens of thousands of chunks are not turned into records and strings first: a
+    /// gigabyte program's manifest then costs no memory beyond the writer's buffer.
+    /// </summary>
+    internal void WriteTo(Stream stream)
+    {
+        using var w = new Utf8JsonWriter(stream, new JsonWriterOptions { Indented = true });
+        w.WriteStartObject();
+        w.WriteString("sourcePath", SourcePath);
+        w.WriteNumber("sourceSize", SourceSize);
+        w.WriteString("sourceSha256", SourceSha256);
+        w.WriteNumber("totalBlocks", TotalBlocks);
+        w.WriteNumber("totalMotionBlocks", TotalMotionBlocks);
+        w.WriteString("trackVariable", TrackVariable);
+        w.WriteString("tracking", Tracking == TrackingPlacement.Exact ? "exact" : "paper");
+        w.WriteString("feed", Feed == FeedMode.Paper ? "paper" : "override");
+        w.WriteString("feedVariable", FeedVariable);
+        w.WriteStartArray("chunks");
+        if (Chunks is ChunkTable table)
+        {
+            table.WriteTo(w);
+        }
+        else
+        {
+            foreach (var c in Chunks)
+            {
+                WriteChunk(w, c.Index, c.FileName, c.FirstSourceLine, c.LastSourceLine, c.BlockCount, c.MotionBlockCount,
+                    c.ByteSize, c.EstimatedWords, c.Sha256);
+            }
+        }
+
+        w.WriteEndArray();
+        w.WriteNumber("linesPerChunk", LinesPerChunk);
+        w.WriteNumber("rotWords", RotWords);
+        w.WriteNumber("wordsPerBlock", WordsPerBlock);
+        w.WriteNumber("maxChunkBytes", MaxChunkBytes);
+        if (ProgramTail == null)
+        {
+            w.WriteNull("programTail");
+        }
+        else
+        {
+            w.WriteString("programTail", ProgramTail);
+        }
+
+        w.WriteBoolean("keepN", KeepN);
+        w.WriteEndObject();
+    }
+
+    internal static void WriteChunk(Utf8JsonWriter w, int index, ReadOnlySpan<char> fileName, int first, int last, int blocks,
+        int motion, long bytes, int words, ReadOnlySpan<char> sha256)
+    {
+        w.WriteStartObject();
+        w.WriteNumber("index", index);
+        w.WriteString("fileName", fileName);
+        w.WriteNumber("firstSourceLine", first);
+        w.WriteNumber("lastSourceLine", last);
+        w.WriteNumber("blockCount", blocks);
+        w.WriteNumber("motionBlockCount", motion);
+        w.WriteNumber("byteSize", bytes);
+        w.WriteNumber("estimatedWords", words);
+        w.WriteString("sha256", sha256);
+        w.WriteEndObject();
     }
 
     /// <summary>The chunk that carries a source line, or null when the line lies outside every chunk.</summary>

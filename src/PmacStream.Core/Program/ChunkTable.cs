@@ -43,6 +43,10 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
 
     public string FileName(int chunkIndex) => $"{name}_{chunkIndex:D4}{Splitter.ChunkExtension}";
 
+    /// <summary>The chunk file's full path in <paramref name="folder"/>, built as one string (one allocation per chunk).</summary>
+    public string FilePath(string folder, int chunkIndex) =>
+        string.Create(System.Globalization.CultureInfo.InvariantCulture, $"{folder}{Path.DirectorySeparatorChar}{name}_{chunkIndex:D4}{Splitter.ChunkExtension}");
+
     /// <summary>Adds the next chunk; returns its 1-based index. The hash comes later through <see cref="SetHash"/>.</summary>
     public int Add(int first, int last, int blocks, int motion, long bytes, int words)
     {
@@ -63,6 +67,31 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
         lock (_gate)
         {
             sha256.CopyTo(_entries[chunkIndex - 1].Sha);
+        }
+    }
+
+    /// <summary>Writes every chunk as a manifest JSON object without allocating per chunk.</summary>
+    public void WriteTo(System.Text.Json.Utf8JsonWriter w)
+    {
+        Span<char> file = stackalloc char[name.Length + 32];
+        Span<char> sha = stackalloc char[64];
+        name.CopyTo(file);
+        file[name.Length] = '_';
+        var n = Count;
+        for (var i = 0; i < n; i++)
+        {
+            Entry e;
+            lock (_gate)
+            {
+                e = _entries[i];
+            }
+
+            (i + 1).TryFormat(file[(name.Length + 1)..], out var digits, "D4", System.Globalization.CultureInfo.InvariantCulture);
+            var length = name.Length + 1 + digits;
+            Splitter.ChunkExtension.CopyTo(file[length..]);
+            length += Splitter.ChunkExtension.Length;
+            Convert.TryToHexStringLower(e.Sha, sha, out _);
+            ChunkManifest.WriteChunk(w, i + 1, file[..length], e.First, e.Last, e.Blocks, e.Motion, e.Bytes, e.Words, sha);
         }
     }
 

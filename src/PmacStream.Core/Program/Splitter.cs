@@ -667,7 +667,7 @@ public static class Splitter
             _chunk.Append(FooterBytes);
             var data = _chunk.Span;
             var index = _chunks.Add(_chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, data.Length, words);
-            _writer!.Enqueue(index, Path.Combine(_folder, _chunks.FileName(index)), data);
+            _writer!.Enqueue(index, _chunks.FilePath(_folder, index), data);
             _chunk.Clear();
             _chunk.Append(HeaderBytes);
             _chunkBlocks = 0;
