@@ -294,41 +294,42 @@ public sealed class GCodeReader : IDisposable
                     j++;
                 }
 
-                // Scan and convert in one pass: mantissa as an integer, scaled once by a power of ten, which is
-                // exact (correctly rounded) for up to 15 significant digits; longer numbers go to the BCL.
+                // Scan and convert in one pass: integer digits, then fraction digits, as one integer mantissa scaled
+                // once by a power of ten. With at most 15 digits the mantissa and the power are exact doubles, so the
+                // one division is correctly rounded: the same value the BCL parser gives, which longer numbers use.
                 var negative = j > numStart && line[numStart] == (byte)'-';
-                var digits = 0;
-                var points = 0;
-                var scale = 0;
-                var significant = 0;
+                var digitStart = j;
                 long mantissa = 0;
-                while (j < line.Length)
+                uint digit;
+                while (j < line.Length && (digit = (uint)(line[j] - (byte)'0')) <= 9)
                 {
-                    var d = line[j];
-                    var digit = (uint)(d - (byte)'0');
-                    if (digit <= 9)
-                    {
-                        digits++;
-                        if (mantissa != 0 || digit != 0)
-                        {
-                            significant++;
-                        }
-
-                        mantissa = (mantissa * 10) + digit;
-                        scale += points;
-                    }
-                    else if (d == (byte)'.')
-                    {
-                        points++;
-                    }
-                    else
-                    {
-                        break;
-                    }
-
+                    mantissa = (mantissa * 10) + digit;
                     j++;
                 }
 
+                var scale = 0;
+                var points = 0;
+                if (j < line.Length && line[j] == (byte)'.')
+                {
+                    points = 1;
+                    j++;
+                    var fractionStart = j;
+                    while (j < line.Length && (digit = (uint)(line[j] - (byte)'0')) <= 9)
+                    {
+                        mantissa = (mantissa * 10) + digit;
+                        j++;
+                    }
+
+                    scale = j - fractionStart;
+                    // A second point makes it malformed; the whole run of digits and points is one bad token.
+                    while (j < line.Length && (line[j] == (byte)'.' || (uint)(line[j] - (byte)'0') <= 9))
+                    {
+                        points += line[j] == (byte)'.' ? 1 : 0;
+                        j++;
+                    }
+                }
+
+                var digits = j - digitStart - points;
                 if (digits == 0 || points > 1)
                 {
                     Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, (char)c);
@@ -337,7 +338,7 @@ public sealed class GCodeReader : IDisposable
                 }
 
                 double value;
-                if (significant <= 15 && scale < Pow10.Length)
+                if (digits <= 15)
                 {
                     value = scale == 0 ? mantissa : mantissa / Pow10[scale];
                     if (negative)
@@ -402,6 +403,7 @@ public sealed class GCodeReader : IDisposable
         1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
     ];
 
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
     private static int SkipBlanks(ReadOnlySpan<byte> line, int i)
     {
         while (i < line.Length && (line[i] == (byte)' ' || line[i] == (byte)'\t' || line[i] == 0x0B || line[i] == 0x0C))
