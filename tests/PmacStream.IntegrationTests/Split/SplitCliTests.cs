@@ -83,6 +83,25 @@ public sealed class SplitCliTests : IDisposable
     }
 
     [Fact]
+    public void Split_checks_in_its_own_pass_refusing_checker_errors_with_line_and_column_and_leaving_nothing()
+    {
+        // Lexically fine, so chunks get written before the checker's errors (an unknown G code, a letter the
+        // profile does not use) are known: the hidden folder must go too, and the messages are the checker's.
+        var body = string.Concat(Enumerable.Range(2, 3000).Select(i => $"N{i} G01 X{i}.5 F100\n"));
+        var src = Write("late.nc", "O1\n" + body + "N3002 G05 X2\nN3003 G00 X1 Q5\nM30\n");
+        var outDir = Path.Combine(_folder, "late_chunks");
+        var (code, _, stderr) = Run("split", src, "--out", outDir, "--lines", "100");
+        code.Should().Be(1, stderr);
+        stderr.Should().Contain("late.nc:3002:7").And.Contain("E104").And.Contain("late.nc:3003:14").And.Contain("E118")
+            .And.Contain("2 error(s); not split (--force splits anyway)");
+        Directory.GetFileSystemEntries(_folder).Should().Equal(src);
+
+        var forced = Run("split", src, "--out", outDir, "--lines", "100", "--force");
+        forced.Code.Should().Be(0, forced.Err);
+        forced.Out.Should().Contain("31 chunks, 3003 blocks");
+    }
+
+    [Fact]
     public void Split_usage_and_io_errors_exit_2()
     {
         Run("split", Path.Combine(_folder, "missing.nc")).Code.Should().Be(2);
