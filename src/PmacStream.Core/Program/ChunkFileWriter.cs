@@ -1,4 +1,3 @@
-using System.Buffers;
 using System.Runtime.ExceptionServices;
 using System.Security.Cryptography;
 
@@ -14,25 +13,44 @@ internal sealed class ChunkFileWriter : IDisposable
     private const int Depth = 4;
 
     private readonly HandOff<(int Index, string Path, byte[] Data, int Length)> _queue;
+    private readonly HandOff<byte[]> _free;
     private readonly ChunkTable _table;
     private readonly Action<int>? _afterWritten;
     private readonly CancellationToken _ct;
     private readonly Task _task;
     private volatile Exception? _failure;
 
-    public ChunkFileWriter(ChunkTable table, Action<int>? afterWritten, CancellationToken ct)
+    public ChunkFileWriter(ChunkTable table, Action<int>? afterWritten, CancellationToken ct, int chunkCapacity = 1 << 16)
     {
         _table = table;
         _afterWritten = afterWritten;
         _ct = ct;
         _queue = new(Depth, ct);
+        // Its own few buffers, recycled: renting from the shared pool on one thread and returning on another kept
+        // missing and allocated a new 64 KB array for many chunks (megabytes of garbage, all resident until a GC).
+        _free = new(Depth + 2, ct);
+        for (var i = 0; i < Depth + 2; i++)
+        {
+            _free.Add(new byte[chunkCapacity]);
+        }
+
         _task = Task.Factory.StartNew(Run, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
     }
 
     /// <summary>Queues a copy of <paramref name="data"/> to be written to <paramref name="path"/>.</summary>
     public void Enqueue(int index, string path, ReadOnlySpan<byte> data)
     {
-        var copy = ArrayPool<byte>.Shared.Rent(data.Length);
+        if (!_free.TryTake(out var copy))
+        {
+            // The writer failed and closed the pool.
+            ExceptionDispatchInfo.Throw(_failure ?? new InvalidOperationException("chunk writer stopped"));
+        }
+
+        if (copy.Length < data.Length)
+        {
+            copy = new byte[data.Length];
+        }
+
         data.CopyTo(copy);
         try
         {
@@ -40,13 +58,7 @@ internal sealed class ChunkFileWriter : IDisposable
         }
         catch (InvalidOperationException) when (_failure != null)
         {
-            ArrayPool<byte>.Shared.Return(copy);
             ExceptionDispatchInfo.Throw(_failure);
-        }
-        catch
-        {
-            ArrayPool<byte>.Shared.Return(copy);
-            throw;
         }
     }
 
@@ -71,6 +83,7 @@ internal sealed class ChunkFileWriter : IDisposable
         }
 
         _queue.Dispose();
+        _free.Dispose();
     }
 
     private void Run()
@@ -96,7 +109,7 @@ internal sealed class ChunkFileWriter : IDisposable
                 }
                 finally
                 {
-                    ArrayPool<byte>.Shared.Return(data);
+                    _free.Add(data);
                 }
 
                 _afterWritten?.Invoke(index);
@@ -106,6 +119,7 @@ internal sealed class ChunkFileWriter : IDisposable
         {
             _failure = e;
             _queue.Complete();
+            _free.Complete();
             throw;
         }
     }

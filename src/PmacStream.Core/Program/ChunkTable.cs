@@ -11,7 +11,9 @@ namespace PmacStream.Program;
 internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
 {
     private readonly object _gate = new();
-    private Entry[] _entries = new Entry[64];
+    // Fixed-size segments instead of one doubling array: growing never copies, so no garbage accumulates.
+    private const int SegmentShift = 10;
+    private readonly List<Entry[]> _segments = [];
     private int _count;
 
     public int Count
@@ -33,7 +35,7 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
             lock (_gate)
             {
                 ArgumentOutOfRangeException.ThrowIfGreaterThanOrEqual((uint)index, (uint)_count, nameof(index));
-                e = _entries[index];
+                e = At(index);
             }
 
             return new ChunkInfo(index + 1, FileName(index + 1), e.First, e.Last, e.Blocks, e.Motion, e.Bytes, e.Words,
@@ -52,12 +54,12 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
     {
         lock (_gate)
         {
-            if (_count == _entries.Length)
+            if ((_count >> SegmentShift) == _segments.Count)
             {
-                Array.Resize(ref _entries, _entries.Length * 2);
+                _segments.Add(new Entry[1 << SegmentShift]);
             }
 
-            _entries[_count] = new Entry { First = first, Last = last, Blocks = blocks, Motion = motion, Bytes = bytes, Words = words };
+            At(_count) = new Entry { First = first, Last = last, Blocks = blocks, Motion = motion, Bytes = bytes, Words = words };
             return ++_count;
         }
     }
@@ -66,7 +68,7 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
     {
         lock (_gate)
         {
-            sha256.CopyTo(_entries[chunkIndex - 1].Sha);
+            sha256.CopyTo(At(chunkIndex - 1).Sha);
         }
     }
 
@@ -83,7 +85,7 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
             Entry e;
             lock (_gate)
             {
-                e = _entries[i];
+                e = At(i);
             }
 
             (i + 1).TryFormat(file[(name.Length + 1)..], out var digits, "D4", System.Globalization.CultureInfo.InvariantCulture);
@@ -92,6 +94,11 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
             length += Splitter.ChunkExtension.Length;
             Convert.TryToHexStringLower(e.Sha, sha, out _);
             ChunkManifest.WriteChunk(w, i + 1, file[..length], e.First, e.Last, e.Blocks, e.Motion, e.Bytes, e.Words, sha);
+            if (w.BytesPending > 1 << 14)
+            {
+                // The writer buffers everything until flushed: a gigabyte program's manifest is megabytes.
+                w.Flush();
+            }
         }
     }
 
@@ -105,6 +112,8 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
     }
 
     IEnumerator IEnumerable.GetEnumerator() => GetEnumerator();
+
+    private ref Entry At(int index) => ref _segments[index >> SegmentShift][index & ((1 << SegmentShift) - 1)];
 
     private struct Entry
     {

@@ -250,7 +250,7 @@ public static class Splitter
             _full = full;
             _free = free;
             _stop = stop.Token;
-            using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct))
+            using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct, (int)Math.Min(_o.MaxChunkBytes + 256, 1 << 20)))
             {
                 _writer = writer;
                 var reading = Task.Factory.StartNew(Produce, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
