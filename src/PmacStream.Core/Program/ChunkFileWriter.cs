@@ -11,6 +11,7 @@ namespace PmacStream.Program;
 internal sealed class ChunkFileWriter : IDisposable
 {
     private const int Depth = 4;
+    private const int CollectEvery = 4096;
 
     private readonly HandOff<(int Index, string Path, byte[] Data, int Length)> _queue;
     private readonly HandOff<byte[]> _free;
@@ -113,6 +114,14 @@ internal sealed class ChunkFileWriter : IDisposable
                 }
 
                 _afterWritten?.Invoke(index);
+                if ((index & (CollectEvery - 1)) == 0)
+                {
+                    // Each chunk leaves ~300 bytes of garbage (its path string and file handle) and the first gen0
+                    // collection would only come after tens of megabytes (the budget follows the L3 cache size), all
+                    // of it resident: a gigabyte program's 30,000 chunks would add ~9 MB. A gen0 collection of an
+                    // almost empty generation costs well under a millisecond.
+                    GC.Collect(0, GCCollectionMode.Forced, blocking: true, compacting: false);
+                }
             }
         }
         catch (Exception e)

@@ -15,6 +15,7 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
     private const int SegmentShift = 10;
     private readonly List<Entry[]> _segments = [];
     private int _count;
+    private long _largest;
 
     public int Count
     {
@@ -43,6 +44,18 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
         }
     }
 
+    /// <summary>Size of the largest chunk so far.</summary>
+    public long LargestBytes
+    {
+        get
+        {
+            lock (_gate)
+            {
+                return _largest;
+            }
+        }
+    }
+
     public string FileName(int chunkIndex) => $"{name}_{chunkIndex:D4}{Splitter.ChunkExtension}";
 
     /// <summary>The chunk file's full path in <paramref name="folder"/>, built as one string (one allocation per chunk).</summary>
@@ -59,6 +72,7 @@ internal sealed class ChunkTable(string name) : IReadOnlyList<ChunkInfo>
                 _segments.Add(new Entry[1 << SegmentShift]);
             }
 
+            _largest = Math.Max(_largest, bytes);
             At(_count) = new Entry { First = first, Last = last, Blocks = blocks, Motion = motion, Bytes = bytes, Words = words };
             return ++_count;
         }

@@ -15,7 +15,12 @@ public sealed record SplitResult(ChunkManifest Manifest, string OutputDirectory,
     public IEnumerable<string> ChunkPaths => Manifest.Chunks.Select(c => Path.Combine(OutputDirectory, c.FileName));
 
     /// <summary>Size of the largest chunk file in bytes.</summary>
-    public long LargestChunkBytes => Manifest.Chunks.Count == 0 ? 0 : Manifest.Chunks.Max(c => c.ByteSize);
+    public long LargestChunkBytes => Manifest.Chunks switch
+    {
+        ChunkTable table => table.LargestBytes, // no record and strings per chunk for a summary line
+        { Count: 0 } => 0,
+        var chunks => chunks.Max(c => c.ByteSize),
+    };
 }
 
 /// <summary>Progress of a running split.</summary>
