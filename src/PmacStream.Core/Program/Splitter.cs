@@ -414,7 +414,8 @@ public static class Splitter
                 };
             }
 
-            if (!Checking && _errorCount > 0 && !_o.AllowErrors)
+            // Also when checking: lines stopped flowing at the first lexical error, so never publish what came before.
+            if (_errorCount > 0 && !_o.AllowErrors)
             {
                 throw new SplitException(
                     $"{_source}: {_errorCount} error(s); not split (force splits anyway, dropping what is not G-code)",
