@@ -4,13 +4,16 @@
 # Usage: bench/scripts/split-bench.sh [WORKDIR] [BIG_LINES]
 #   PMACSTREAM_CLI=/path/to/pmacstream (e.g. a Native AOT publish) runs that binary instead of `dotnet pmacstream.dll`.
 # Each file is split twice: `--force` (no checker) and the default (checker and splitter in ONE streamed pass).
-# Every run writes its own output folder and all are deleted only at the end: deleting ~30,000 files and creating
-# as many right after makes ext4 scan the recently freed inodes on every create (seen here: 0.3 s to 5 s of system
-# time for the same 8,000 files), which would measure the previous run's clean-up, not the split.
+# Every run writes its own output folder and all are deleted only at the end. Why: ext4 avoids reusing inodes freed
+# in the last 60 s (360 s while their inode-table block is dirty) and scans past every one of them on each create
+# (kernel recently_deleted()/find_inode_bit() in `perf`), so creating 30,000 files minutes after ANY process deleted
+# many files on the same file system costs seconds to tens of seconds of system time (seen here: 0.3 s to 5 s for
+# the same 8,000 files, 1.4 s to 21 s for 30,000). On a quiet machine, start it >= 6 minutes after large deletions
+# (including a previous run's clean-up); the "fs floor" line before each run shows what creation costs right then.
 # Columns: wall time and MB/s by wall (the goal's measure; on a shared machine it includes waiting for a CPU), CPU
 # time (user + sys) and MB per CPU-second, peak RSS (/usr/bin/time), the 1-minute load average before and after.
 # "fs floor" is the time a trivial writer needs to create the same number of files of the same total size in the
-# same file system just before: what file creation alone costs on this machine at that moment.
+# same file system just before each run: what file creation alone costs on this machine at that moment.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 work="${1:-$(mktemp -d /tmp/pmacstream-split-bench.XXXXXX)}"
@@ -25,7 +28,7 @@ gen="$root/bench/PmacStream.Benchmarks/bin/Release/net10.0/PmacStream.Benchmarks
 echo "split-bench: $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), cli: ${cli[*]}"
 
 floor() { # name count total-bytes: create count files totalling bytes, print wall and sys
-  python3 - "$work/floor-$1" "$2" "$3" <<'PY'
+  python3 - "$work/floor-${1//[^a-zA-Z0-9]/_}" "$2" "$3" <<'PY'
 import os, sys, time
 d, n, total = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 os.makedirs(d)
@@ -36,7 +39,7 @@ for i in range(n):
     os.write(fd, data)
     os.close(fd)
 c2 = os.times()
-print(f"fs floor {n} files: wall {time.time() - t:.2f} s, sys {c2.system - c.system:.2f} s")
+print(f"|   fs floor: {n} files   |            | wall {time.time() - t:6.2f} s |              | sys {c2.system - c.system:6.2f} s")
 PY
 }
 
@@ -65,11 +68,13 @@ PY
 chunks_of() { echo $(( $(stat -c %s "$1") / 37000 + 1 )); }
 
 dotnet "$gen" gen-surfacing "$work/1m.nc" 1000000 >/dev/null
-floor 1m "$(chunks_of "$work/1m.nc")" "$(stat -c %s "$work/1m.nc")"
+floor 1m-force "$(chunks_of "$work/1m.nc")" "$(stat -c %s "$work/1m.nc")"
 run "1M lines, split --force" "$work/1m.nc" --force
+floor 1m-check "$(chunks_of "$work/1m.nc")" "$(stat -c %s "$work/1m.nc")"
 run "1M lines, check+split" "$work/1m.nc"
 
 dotnet "$gen" gen-surfacing "$work/big.nc" "$big_lines" >/dev/null
-floor big "$(chunks_of "$work/big.nc")" "$(stat -c %s "$work/big.nc")"
+floor big-force "$(chunks_of "$work/big.nc")" "$(stat -c %s "$work/big.nc")"
 run "big, split --force" "$work/big.nc" --force
+floor big-check "$(chunks_of "$work/big.nc")" "$(stat -c %s "$work/big.nc")"
 run "big, check+split" "$work/big.nc"
