@@ -77,6 +77,7 @@ public sealed class StreamingSession
         _track = string.IsNullOrWhiteSpace(program.Manifest.TrackVariable) ? "M0" : program.Manifest.TrackVariable.Trim();
         _feedMode = options.Feed ?? program.Manifest.Feed;
         _singleBlock = options.SingleBlock;
+        program.UseLineProbe(options.LineProbeVariable);
         Context = new StreamingContext(this);
         _startTimestamp = _time.GetTimestamp();
     }
@@ -205,6 +206,12 @@ public sealed class StreamingSession
             if (Options.ResetTrackVariable)
             {
                 await OnlineAsync($"{_track}=0", cancellationToken).ConfigureAwait(false);
+            }
+
+            if (Program.LineProbeVariable is { } probe)
+            {
+                // A probe value left by an earlier job would read as lines of this one.
+                await OnlineAsync($"{probe}=0", cancellationToken).ConfigureAwait(false);
             }
 
             // B0 must precede the first OPEN ROT: inside an open buffer it would be a B-axis move.
@@ -550,14 +557,26 @@ public sealed class StreamingSession
         }
 
         var body = Program.Body(p.Chunk);
-        var path = Program.ChunkPath(p.Chunk);
+        var path = Program.SendPath(p.Chunk, out var temporary);
         _nextExact = false;
         SaveCheckpoint(durable: false);
         _bufferOpen = true;
         var sw = Stopwatch.StartNew();
 
         // The paper's call: Download(pmacNumber, file, macro, map, log, dnld) with all four flags true.
-        var report = await _devices.DownloadAsync(Options.PmacNumber, path, new DownloadOptions(true, true, true, true), cancellationToken).ConfigureAwait(false);
+        DownloadReport report;
+        try
+        {
+            report = await _devices.DownloadAsync(Options.PmacNumber, path, new DownloadOptions(true, true, true, true), cancellationToken).ConfigureAwait(false);
+        }
+        finally
+        {
+            if (temporary)
+            {
+                DeleteQuietly(Path.GetDirectoryName(path)!);
+            }
+        }
+
         Log.Debug("download {File} -> {Success} {Lines} lines in {Ms:0.0} ms", path, report.Success, report.LinesSent, sw.Elapsed.TotalMilliseconds);
         if (report.Success)
         {
@@ -714,7 +733,9 @@ public sealed class StreamingSession
         var room = Options.BufferWords - Options.SafetyWords;
         foreach (var c in Program.Manifest.Chunks)
         {
-            if (c.EstimatedWords > room)
+            // The line probe adds a word to each non-motion line (at most one per source block that is not a move).
+            var probeWords = Program.LineProbeVariable is null ? 0 : Math.Max(0, c.BlockCount - c.MotionBlockCount);
+            if (c.EstimatedWords + probeWords > room)
             {
                 throw new InvalidOperationException(
                     $"chunk {c.Index} ({c.FileName}) needs about {c.EstimatedWords} words but the rotary buffer holds {Options.BufferWords} (less {Options.SafetyWords} margin): split into smaller chunks or define a larger buffer");
@@ -798,6 +819,22 @@ public sealed class StreamingSession
 
             await TryCloseAsync(cancellationToken).ConfigureAwait(false);
             throw;
+        }
+    }
+
+    private static void DeleteQuietly(string folder)
+    {
+        try
+        {
+            Directory.Delete(folder, recursive: true);
+        }
+        catch (IOException e)
+        {
+            Log.Warning("could not delete {Folder}: {Error}", folder, e.Message);
+        }
+        catch (UnauthorizedAccessException e)
+        {
+            Log.Warning("could not delete {Folder}: {Error}", folder, e.Message);
         }
     }
 
@@ -905,10 +942,22 @@ public sealed class StreamingSession
             return;
         }
 
+        // Everything the controller got has run: M0 names the last move that arrived, the line probe the last
+        // non-motion line (M08, S, P500=...). Sending resumes after the later of the two, never before _next.
         var after = Program.PositionAfterBlock(_tracked) ?? _next;
         if (Compare(after, _next) > 0)
         {
             _next = after;
+        }
+
+        if (Program.LineProbeVariable is { } probe)
+        {
+            var value = await ReadProbeAsync(probe, cancellationToken).ConfigureAwait(false);
+            if (Program.PositionAfterProbe(value) is { } afterProbe && Compare(afterProbe, _next) > 0)
+            {
+                Log.Information("line probe {Probe}={Value}: the controller got non-motion lines up to {Position}", probe, value, afterProbe);
+                _next = afterProbe;
+            }
         }
 
         while (_occupancy.Count > 0)
@@ -1012,6 +1061,14 @@ public sealed class StreamingSession
         var text = await OnlineAsync(_track, cancellationToken).ConfigureAwait(false);
         MeasureRoundTrip(sw.Elapsed.TotalSeconds);
         return ParseInt(text, _track);
+    }
+
+    private async Task<long> ReadProbeAsync(string probe, CancellationToken cancellationToken)
+    {
+        var text = FirstValue(await OnlineAsync(probe, cancellationToken).ConfigureAwait(false));
+        return double.TryParse(text, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) && v >= 0 && v < 1e15
+            ? (long)Math.Round(v)
+            : throw new PmacLinkException($"unexpected reply '{text}' to {probe}");
     }
 
     private async Task ReadFeedAsync(CancellationToken cancellationToken)
