@@ -107,7 +107,7 @@ public sealed class CoreHmiBackend : IHmiBackend
             }
 
             var diagnostics = new List<Diagnostic>();
-            var times = new List<(int Line, double Seconds)>();
+            var times = new List<(int Line, double Seconds, double Feed)>();
             var timed = true;
             var summary = new Checker(_profile).CheckFile(
                 path,
@@ -132,7 +132,7 @@ public sealed class CoreHmiBackend : IHmiBackend
                         return;
                     }
 
-                    times.Add((b.Line, b.DurationSeconds));
+                    times.Add((b.Line, b.DurationSeconds, b.Modal.Feed ?? double.NaN));
                 },
                 cancellationToken);
 

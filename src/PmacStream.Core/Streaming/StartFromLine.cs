@@ -116,7 +116,7 @@ public static class StartFromLine
     public static MoveTimeTable? MoveTimes(string sourcePath, int maxBlocks = 2_000_000, MachineProfile? profile = null)
     {
         var interp = new Interpreter(profile ?? MachineProfile.Default);
-        var list = new List<(int, double)>();
+        var list = new List<(int, double, double)>();
         using var reader = GCodeReader.Open(sourcePath);
         while (reader.Read())
         {
@@ -128,7 +128,7 @@ public static class StartFromLine
                     return null;
                 }
 
-                list.Add((d.Line, d.DurationSeconds));
+                list.Add((d.Line, d.DurationSeconds, d.Modal.Feed ?? double.NaN));
             }
         }
 

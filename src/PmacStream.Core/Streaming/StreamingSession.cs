@@ -61,6 +61,8 @@ public sealed class StreamingSession
     private bool _runSent;
     private long _ticks;
     private bool _statusUnsupported;
+    private readonly EtaEstimator _eta = new();
+    private readonly long _etaOrigin;
 
     /// <summary>Creates a session on a PComm-style device facade; downloads go through its <c>Download</c>.</summary>
     public StreamingSession(IPmacDevices devices, ChunkedProgram program, StreamingOptions options, ICheckpointSink? checkpoints = null, IMoveTimes? moveTimes = null, TimeProvider? time = null, IStreamingStrategy? strategy = null)
@@ -80,6 +82,7 @@ public sealed class StreamingSession
         program.UseLineProbe(options.LineProbeVariable);
         Context = new StreamingContext(this);
         _startTimestamp = _time.GetTimestamp();
+        _etaOrigin = _startTimestamp;
     }
 
     /// <summary>Creates a session on a bare connection (chunk downloads are sent over it line by line).</summary>
@@ -142,7 +145,8 @@ public sealed class StreamingSession
             }
             else if (MoveTimes is not null)
             {
-                eta = TimeSpan.FromSeconds(MoveTimes.SecondsBetween(_tracked, Program.FinalTrackedLine) / FeedScale);
+                // Real time: program seconds left, scaled by the live feed and the rate measured so far.
+                eta = _eta.Estimate(MoveTimes.SecondsBetween(_tracked - 1, Program.FinalTrackedLine), LiveFeedFactor);
             }
             else if (executed > 0 && _blocksPerSecond > 0)
             {
@@ -170,7 +174,30 @@ public sealed class StreamingSession
     /// <summary>The checkpoint now (what a crash-safe resume needs).</summary>
     public Checkpoint Checkpoint => new(_tracked, _currentChunk, _next, _nextExact, _chunksDownloaded, _state, _time.GetUtcNow(), _runSent);
 
-    private double FeedScale => _feedMode == FeedMode.Override && _feed is > 0 ? _feed.Value / 100.0 : 1.0;
+    /// <summary>
+    /// How much faster than programmed the live feed runs the moves: the % override over 100 in override mode, the
+    /// feed variable (P500) over the programmed F at the executing block in paper mode; 1 when either is unknown.
+    /// </summary>
+    private double LiveFeedFactor
+    {
+        get
+        {
+            if (_feed is not > 0)
+            {
+                return 1.0;
+            }
+
+            if (_feedMode == FeedMode.Override)
+            {
+                return _feed.Value / 100.0;
+            }
+
+            return MoveTimes?.ProgrammedFeedAt(_tracked) is double f && f > 0 ? _feed.Value / f : 1.0;
+        }
+    }
+
+    /// <summary>The ETA's measured rate: predicted over actual wall seconds (1 until measured).</summary>
+    internal double MeasuredRate => _eta.Rate;
 
     /// <summary>
     /// Sets up and starts: <c>CLOSE</c>, (optionally) define the rotary buffer, reset the tracking variable,
@@ -704,7 +731,7 @@ public sealed class StreamingSession
     {
         if (MoveTimes is not null)
         {
-            return MoveTimes.SecondsBetween(_tracked, lastTag) / FeedScale;
+            return MoveTimes.SecondsBetween(_tracked, lastTag) / LiveFeedFactor;
         }
 
         return _blocksPerSecond > 0 ? markersAhead / _blocksPerSecond : 0;
@@ -896,6 +923,12 @@ public sealed class StreamingSession
     private void FollowTrack(int m)
     {
         _tracked = m;
+        if (MoveTimes is not null)
+        {
+            var wall = _time.GetElapsedTime(_etaOrigin).TotalSeconds;
+            _eta.Observe(wall, m > 0 ? MoveTimes.SecondsBetween(0, m - 1) : 0, LiveFeedFactor, counting: _state == SessionState.Running);
+        }
+
         while (_occupancy.Count > 0 && _occupancy.Peek().Tag < m)
         {
             Dequeue();

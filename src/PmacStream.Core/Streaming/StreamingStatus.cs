@@ -114,4 +114,7 @@ public interface IMoveTimes
 {
     /// <summary>Seconds of motion (at programmed feed) of the tracked blocks after <paramref name="afterLine"/> up to and including <paramref name="throughLine"/>.</summary>
     double SecondsBetween(int afterLine, int throughLine);
+
+    /// <summary>The programmed feed (F) in force for the block at or before <paramref name="line"/>; null when not known.</summary>
+    double? ProgrammedFeedAt(int line) => null;
 }
