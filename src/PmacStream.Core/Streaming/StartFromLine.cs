@@ -125,7 +125,9 @@ public static class StartFromLine
 
             if (moved)
             {
-                highest = Math.Max(highest, Math.Max(decoded!.Start.Z, decoded.End.Z));
+                // Ends only: each move starts where the previous ended, and the first starts at the interpreter's
+                // initial position, which is not a place the program took the tool to.
+                highest = Math.Max(highest, decoded!.End.Z);
             }
         }
 
