@@ -62,12 +62,20 @@ public sealed class ChunkedProgram
     public int TotalChunks => Manifest.Chunks.Count;
 
     /// <summary>
-    /// The line-probe variable (e.g. <c>P501</c>), or null. When set, every non-motion body line is sent with a plain
+    /// The line-probe variable (e.g. <c>P501</c>), or null. When set, every non-motion body line (every line with
+    /// paper placement, <see cref="ProbesEveryLine"/>) is sent with a plain
     /// (calculation-time) assignment <c>P501=n</c> in front, <c>n</c> = <see cref="ProbeValue"/> of its position.
     /// A non-motion line carries no <c>M0==</c> (and a synchronous assignment would only show with the next move),
     /// so after a download broke off and the buffer drained, the probe is what tells whether the controller got it.
     /// </summary>
     public string? LineProbeVariable => _lineProbe;
+
+    /// <summary>
+    /// True when the probe goes on every line, moves too: with paper placement (<c>... M0==n</c> last) a move's
+    /// marker is only written when the next move starts, so after a drain M0 names the move before the last one
+    /// that arrived, and only the probe tells that the last one arrived.
+    /// </summary>
+    public bool ProbesEveryLine => _lineProbe is not null && Manifest.Tracking == TrackingPlacement.Paper;
 
     /// <summary>Sets <see cref="LineProbeVariable"/> (null or empty: off); bodies read before are re-read.</summary>
     public void UseLineProbe(string? variable)
@@ -130,7 +138,7 @@ public sealed class ChunkedProgram
         var byFileLine = new Dictionary<int, string>();
         foreach (var l in body)
         {
-            if (l.TrackedLine == 0 && !l.IsMotion && l.FileLine > 0)
+            if ((ProbesEveryLine || (l.TrackedLine == 0 && !l.IsMotion)) && l.FileLine > 0)
             {
                 byFileLine[l.FileLine] = l.Text;
             }
@@ -213,7 +221,7 @@ public sealed class ChunkedProgram
             }
 
             var l = Classify(t, fileLine);
-            if (_lineProbe is not null && l.TrackedLine == 0 && !l.IsMotion)
+            if (_lineProbe is not null && (ProbesEveryLine || (l.TrackedLine == 0 && !l.IsMotion)))
             {
                 l = Annotate(l, ProbeValue(new StreamPosition(index, list.Count)));
             }

@@ -760,8 +760,9 @@ public sealed class StreamingSession
         var room = Options.BufferWords - Options.SafetyWords;
         foreach (var c in Program.Manifest.Chunks)
         {
-            // The line probe adds a word to each non-motion line (at most one per source block that is not a move).
-            var probeWords = Program.LineProbeVariable is null ? 0 : Math.Max(0, c.BlockCount - c.MotionBlockCount);
+            // The line probe adds a word to each non-motion line (feed-variable lines included: at most one line per
+            // source block), or to every line with paper placement (at most two lines per block).
+            var probeWords = Program.LineProbeVariable is null ? 0 : Program.ProbesEveryLine ? 2 * c.BlockCount : c.BlockCount;
             if (c.EstimatedWords + probeWords > room)
             {
                 throw new InvalidOperationException(

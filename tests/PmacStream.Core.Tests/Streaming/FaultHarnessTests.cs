@@ -64,14 +64,37 @@ public class FaultHarnessTests(ITestOutputHelper output)
         nonMotion.Lost.Should().Be(0);
     }
 
-    private static async Task<(int Faults, int Kills, int Recoveries, int Injected, LineCounts Motion, LineCounts NonMotion, int NonMotionLines)> RunOnce(int seed, string? probe)
+    /// <summary>
+    /// Paper placement (<c>... F(P500) M0==n</c>, M0 one block behind): the probe on every line keeps motion and
+    /// non-motion lines exact under faults too. Counted from the controller's executed-line log, since M0 lags.
+    /// </summary>
+    [Fact]
+    public async Task Faults_never_lose_repeat_or_reorder_a_line_with_paper_placement()
+    {
+        LineCounts motion = default, nonMotion = default;
+        var injected = 0;
+        for (var seed = 0; seed < 40; seed++)
+        {
+            var r = await RunOnce(seed + 90_000, "P501", TrackingPlacement.Paper);
+            motion += r.Motion;
+            nonMotion += r.NonMotion;
+            injected += r.Injected;
+        }
+
+        output.WriteLine($"paper placement, 40 runs, {injected} faults injected: motion {motion}; non-motion {nonMotion}");
+        injected.Should().BeGreaterThan(40);
+        motion.Exact.Should().BeTrue($"motion lines: {motion}");
+        nonMotion.Exact.Should().BeTrue($"non-motion lines: {nonMotion}");
+    }
+
+    private static async Task<(int Faults, int Kills, int Recoveries, int Injected, LineCounts Motion, LineCounts NonMotion, int NonMotionLines)> RunOnce(int seed, string? probe, TrackingPlacement placement = TrackingPlacement.Exact)
     {
         var r = new Random(seed);
         var strategy = (StrategyKind)(seed % 3);
         var lines = 150 + r.Next(250);
         var chunk = 25 + r.Next(120);
         var folder = FakeSplit.TempFolder($"fault{seed}");
-        var program = FakeSplit.Write(folder, FakeSplit.Program(lines, seed), chunk);
+        var program = FakeSplit.Write(folder, FakeSplit.Program(lines, seed), chunk, placement);
         var options = new StreamingOptions { LineProbeVariable = probe, Strategy = strategy, BufferWords = 6000, PrTargetLines = 20 + r.Next(60), AdaptiveMinLeadSeconds = 0.1 + (r.NextDouble() * 0.4) };
         Rig? rig = null;
         var faulty = new FaultyConnection(new FakeRotaryController(), r, dt => rig!.Advance(dt));
@@ -160,13 +183,17 @@ public class FaultHarnessTests(ITestOutputHelper output)
         var executed = rig.Controller.Moves.Select(m => m.SourceLine).ToList();
         var expected = program.TrackedLines().ToList();
         rig.Session.State.Should().Be(SessionState.Completed, $"seed {seed} ({strategy}) must finish; {rig.Session.Status.Message}");
-        executed.Should().Equal(expected, $"seed {seed} ({strategy}, {lines} lines, chunks of {chunk}): 0 lost, 0 repeated, 0 reordered");
+        if (placement == TrackingPlacement.Exact)
+        {
+            executed.Should().Equal(expected, $"seed {seed} ({strategy}, {lines} lines, chunks of {chunk}): 0 lost, 0 repeated, 0 reordered");
+        }
+
         rig.Controller.Violations.Should().BeEmpty($"seed {seed}");
         var sent = Enumerable.Range(1, program.TotalChunks).SelectMany(c => program.Body(c)).Select(l => l.Text).ToList();
         var (motion, nonMotion) = LineAccounting.Compare(sent, rig.Controller.ExecutedLines, t => program.Classify(t) is { } l && (l.IsMotion || l.TrackedLine > 0));
-        if (probe is not null && !nonMotion.Exact)
+        if (probe is not null && !(nonMotion.Exact && motion.Exact))
         {
-            throw new Xunit.Sdk.XunitException($"seed {seed} ({strategy}): non-motion lines {nonMotion}");
+            throw new Xunit.Sdk.XunitException($"seed {seed} ({strategy}, {placement}): motion {motion}, non-motion lines {nonMotion}");
         }
 
         Directory.Delete(folder, true);
