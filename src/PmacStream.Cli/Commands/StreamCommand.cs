@@ -124,7 +124,7 @@ internal sealed class CommonStreamOptions
 
         var mode = parse.GetValue(SafeZMode)?.Trim().ToLowerInvariant() switch
         {
-            "fixed" => Streaming.SafeZMode.Fixed,
+            null or "" or "fixed" => Streaming.SafeZMode.Fixed, // demo has no start-from-line options
             "highest" => Streaming.SafeZMode.HighestSoFar,
             var other => throw new CliException($"--safe-z-mode: expected fixed or highest, got '{other}'"),
         };
