@@ -766,7 +766,7 @@ public sealed class StreamingSession
             if (c.EstimatedWords + probeWords > room)
             {
                 throw new InvalidOperationException(
-                    $"chunk {c.Index} ({c.FileName}) needs about {c.EstimatedWords} words but the rotary buffer holds {Options.BufferWords} (less {Options.SafetyWords} margin): split into smaller chunks or define a larger buffer");
+                    $"chunk {c.Index} ({c.FileName}) needs about {c.EstimatedWords + probeWords} words (line probe included) but the rotary buffer holds {Options.BufferWords} (less {Options.SafetyWords} margin): split into smaller chunks or define a larger buffer");
             }
         }
     }
@@ -848,6 +848,21 @@ public sealed class StreamingSession
             await TryCloseAsync(cancellationToken).ConfigureAwait(false);
             throw;
         }
+    }
+
+    /// <summary>Tracked (move) lines from <paramref name="from"/> up to, not including, <paramref name="to"/>; stops counting past <paramref name="limit"/>.</summary>
+    private int MovesBetween(StreamPosition from, StreamPosition to, int limit)
+    {
+        var n = 0;
+        for (var p = Program.Normalize(from); Compare(p, to) < 0 && p.Chunk <= Program.TotalChunks; p = Program.Normalize(new StreamPosition(p.Chunk, p.Line + 1)))
+        {
+            if (Program.Body(p.Chunk)[p.Line].TrackedLine > 0 && ++n > limit)
+            {
+                break;
+            }
+        }
+
+        return n;
     }
 
     private static void DeleteQuietly(string folder)
@@ -989,8 +1004,18 @@ public sealed class StreamingSession
             var value = await ReadProbeAsync(probe, cancellationToken).ConfigureAwait(false);
             if (Program.PositionAfterProbe(value) is { } afterProbe && Compare(afterProbe, _next) > 0)
             {
-                Log.Information("line probe {Probe}={Value}: the controller got non-motion lines up to {Position}", probe, value, afterProbe);
-                _next = afterProbe;
+                // Only lines without a move can lie between M0's block and the probe's line (a move that arrived
+                // would have moved M0; with paper placement M0 lags by one move). Anything else is not this job's
+                // value (a program or PLC wrote the variable): not trusted, so nothing is skipped on its word.
+                if (MovesBetween(after, afterProbe, Program.ProbesEveryLine ? 1 : 0) <= (Program.ProbesEveryLine ? 1 : 0))
+                {
+                    Log.Information("line probe {Probe}={Value}: the controller got lines up to {Position}", probe, value, afterProbe);
+                    _next = afterProbe;
+                }
+                else
+                {
+                    Log.Warning("line probe {Probe}={Value} points past moves M0={Tracked} did not reach: ignored (is {Probe} used elsewhere?)", probe, value, _tracked, probe);
+                }
             }
         }
 
