@@ -32,7 +32,7 @@ public enum SessionState
 /// <param name="Percent">Progress in percent of motion blocks.</param>
 /// <param name="Feed">Feed set (P500 value in paper mode, % in override mode); null when unknown.</param>
 /// <param name="Elapsed">Time since start.</param>
-/// <param name="Eta">Estimated time to finish, null when unknown.</param>
+/// <param name="Eta">Estimated time to finish in the session clock's (wall) time: move times scaled by the live feed and the measured rate (<see cref="EtaEstimator"/>); null when unknown.</param>
 /// <param name="ChunksDownloaded">Chunks completely sent.</param>
 /// <param name="LinesSent">Program lines sent.</param>
 /// <param name="Underruns">Times the host saw the buffer run dry before the end.</param>

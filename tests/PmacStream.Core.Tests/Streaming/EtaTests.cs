@@ -105,4 +105,46 @@ public class EtaTests(ITestOutputHelper output)
             Directory.Delete(folder, true);
         }
     }
+
+    [Fact]
+    public async Task Eta_follows_a_live_override_change_at_once()
+    {
+        var folder = FakeSplit.TempFolder("eta-override");
+        try
+        {
+            var program = FakeSplit.Write(folder, FakeSplit.Program(800, 3), 200);
+            var table = new MoveTimeTable(program.TrackedLines().Select(l => (l, 0.01, 1000.0)));
+            var options = new StreamingOptions { BufferWords = 8000, Feed = FeedMode.Override };
+            var rig = new Rig(program, options, moveSeconds: 0.01, capacityWords: 8000);
+            rig.Session = new StreamingSession(rig.Connection, program, options, rig.Sink, moveTimes: table, time: rig.Time);
+            await rig.Session.StartAsync();
+            var samples = new List<(double Time, double Percent, double Eta)>();
+            var changed = false;
+            (await rig.RunAsync(everyTick: async _ =>
+            {
+                if (rig.Session.Status is { State: SessionState.Running, Eta: { } e, Percent: var p })
+                {
+                    if (!changed && p >= 40)
+                    {
+                        await rig.Session.SetFeedAsync(50); // the machine now runs at half speed
+                        changed = true;
+                        return;
+                    }
+
+                    samples.Add((rig.Controller.Now, p, rig.Session.Status.Eta!.Value.TotalSeconds));
+                }
+            })).Should().BeTrue();
+
+            var end = rig.Controller.Moves[^1].StartSeconds + 0.02;
+            var after = samples.Where(s => s.Percent > 41 && s.Percent <= 90).ToList();
+            var worst = after.Max(s => Math.Abs(s.Eta - (end - s.Time)) / (end - s.Time));
+            output.WriteLine($"override 100 -> 50 % at 40 %: worst ETA error after the change {worst:P1} over {after.Count} samples");
+            after.Count.Should().BeGreaterThan(20);
+            worst.Should().BeLessThan(0.10);
+        }
+        finally
+        {
+            Directory.Delete(folder, true);
+        }
+    }
 }
