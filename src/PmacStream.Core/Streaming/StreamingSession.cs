@@ -59,6 +59,9 @@ public sealed class StreamingSession
     private bool _singleBlock;
     private int _lastDurableChunk;
     private bool _runSent;
+    private bool _loaded;
+    private StreamPosition _startAt = new(1, 0);
+    private List<ProgramLine>? _preamble;
     private long _ticks;
     private bool _statusUnsupported;
     private readonly EtaEstimator _eta = new();
@@ -245,17 +248,12 @@ public sealed class StreamingSession
             await OnlineAsync($"{_cs} B0", cancellationToken).ConfigureAwait(false);
             await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
 
-            _next = start;
+            _startAt = start;
             _currentChunk = start.Chunk;
             _startTimestamp = _time.GetTimestamp();
             _rateTimestamp = _startTimestamp;
-            if (preamble is { Count: > 0 })
-            {
-                var lines = preamble.Select(p => Program.Classify(p) with { TrackedLine = 0 }).ToList();
-                await SendBatchAsync(lines, advance: false, oneByOne: false, cancellationToken).ConfigureAwait(false);
-            }
-
-            await DownloadNextChunkAsync(late: false, cancellationToken).ConfigureAwait(false);
+            _preamble = preamble is { Count: > 0 } ? preamble.Select(p => Program.Classify(p) with { TrackedLine = 0 }).ToList() : null;
+            await LoadAsync(cancellationToken).ConfigureAwait(false);
             _state = SessionState.Running;
             await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
             _runSent = true;
@@ -356,6 +354,35 @@ public sealed class StreamingSession
         PublishStatus();
     }
 
+    /// <summary>
+    /// Loads what must be in the buffer before the run command: clears the rotary buffer (leftovers of an earlier job
+    /// or of a start that broke off would run first), then the preamble and the first chunk (from the start block).
+    /// </summary>
+    private async Task LoadAsync(CancellationToken cancellationToken)
+    {
+        _loaded = false;
+        _next = _startAt;
+        _nextExact = true;
+        _occupancy.Clear();
+        _occWords = 0;
+        _markersAhead = 0;
+        _markersSent = 0;
+        _lastSentTag = 0;
+        _linesSent = 0;
+        _chunksDownloaded = 0;
+        _bufferOpen = true;
+        await SendAsync("OPEN ROT", cancellationToken).ConfigureAwait(false);
+        await SendAsync("CLEAR", cancellationToken).ConfigureAwait(false);
+        await SendOnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+        if (_preamble is not null)
+        {
+            await SendBatchAsync(_preamble, advance: false, oneByOne: false, cancellationToken).ConfigureAwait(false);
+        }
+
+        await DownloadNextChunkAsync(late: false, cancellationToken).ConfigureAwait(false);
+        _loaded = true;
+    }
+
     /// <summary>Timer tick, blocking (for a WinForms timer's <c>Tick</c> handler that cannot await).</summary>
     public void Tick() => TickAsync().GetAwaiter().GetResult();
 
@@ -431,7 +458,13 @@ public sealed class StreamingSession
             await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
             if (!_runSent)
             {
-                // The start broke off before the run command: give it now.
+                // The start broke off before the run command, so nothing has run yet. When the loading (preamble,
+                // first chunk) broke off, how much of it arrived is not known: clear the buffer and load it again.
+                if (!_loaded && await ProgramRunningAsync(cancellationToken).ConfigureAwait(false) != true)
+                {
+                    await LoadAsync(cancellationToken).ConfigureAwait(false);
+                }
+
                 await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
                 _runSent = true;
             }

@@ -66,6 +66,13 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
                 return Ok();
             }
 
+            if (u is "CLEAR")
+            {
+                _buffer.Clear();
+                _words = 0;
+                return Ok();
+            }
+
             if (Online.IsMatch(u))
             {
                 Violations.Add(cmd);

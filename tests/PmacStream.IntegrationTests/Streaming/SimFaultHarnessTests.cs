@@ -21,7 +21,7 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
     [MemberData(nameof(Batches))]
     public async Task Faults_never_lose_repeat_or_reorder_a_block_on_the_simulator(int batch)
     {
-        int injected = 0, kills = 0, faults = 0, nonMotionLines = 0;
+        int injected = 0, kills = 0, faults = 0, nonMotionLines = 0, fromLine = 0;
         LineCounts motion = default, nonMotion = default;
         for (var run = 0; run < 30; run++)
         {
@@ -32,9 +32,10 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
             motion += r.Motion;
             nonMotion += r.NonMotion;
             nonMotionLines += r.NonMotionLines;
+            fromLine += r.FromLine ? 1 : 0;
         }
 
-        output.WriteLine($"batch {batch}: 30 runs, {injected} faults injected, {faults} session faults, {kills} host kills");
+        output.WriteLine($"batch {batch}: 30 runs ({fromLine} from a line behind a preamble), {injected} faults injected, {faults} session faults, {kills} host kills");
         output.WriteLine($"batch {batch}: motion blocks {motion}; non-motion lines ({nonMotionLines} in all) {nonMotion}");
         injected.Should().BeGreaterThan(30);
         kills.Should().BeGreaterThan(0);
@@ -94,7 +95,7 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
         return path;
     }
 
-    private static async Task<(int Injected, int Kills, int Faults, LineCounts Motion, LineCounts NonMotion, int NonMotionLines)> RunOnce(int seed, string? probe)
+    private static async Task<(int Injected, int Kills, int Faults, LineCounts Motion, LineCounts NonMotion, int NonMotionLines, bool FromLine)> RunOnce(int seed, string? probe)
     {
         var r = new Random(seed);
         var folder = Path.Combine(Path.GetTempPath(), "pmacstream-simfault", seed.ToString(CultureInfo.InvariantCulture));
@@ -107,6 +108,15 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
         var src = Source(folder, 120 + r.Next(200), r);
         var split = Splitter.Split(src, new SplitOptions { LinesPerChunk = 25 + r.Next(100), OutDir = Path.Combine(folder, "chunks") });
         var program = ChunkedProgram.Open(split.ManifestPath);
+
+        // Every fourth run starts from a line, behind the restore preamble: that must be exact under faults too.
+        StartPlan? plan = null;
+        if (seed % 4 == 1)
+        {
+            var tracked = program.TrackedLines().ToList();
+            plan = StartFromLine.Plan(src, tracked[tracked.Count / 3], StartPlanOptions.For(split.Manifest));
+        }
+
         using var sim = new PmacSimulator(new SimOptions { RecordRotaryLines = true });
         var port = sim.OpenPort("host");
         await new InProcessConnection(port).DownloadAsync(SimRig.Library);
@@ -144,7 +154,7 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
                     }
                     else
                     {
-                        await session.StartAsync();
+                        await session.StartAsync(plan?.Line, plan?.PmacLines);
                     }
 
                     started = true;
@@ -209,7 +219,7 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
             }
         }
 
-        var expected = program.TrackedLines().ToList();
+        var expected = program.TrackedLines().Where(l => plan is null || l >= plan.Line).ToList();
         var k = 0;
         while (k < Math.Min(expected.Count, executed.Count) && expected[k] == executed[k])
         {
@@ -223,7 +233,9 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
 
         // Every program line, motion or not: the simulator's log of rotary lines against the chunk bodies as sent.
         bool IsMotion(string t) => program.Classify(t) is { } l && (l.IsMotion || l.TrackedLine > 0);
-        var sent = Enumerable.Range(1, program.TotalChunks).SelectMany(c => program.Body(c)).Select(l => l.Text).ToList();
+        var from = plan is null ? new StreamPosition(1, 0) : program.PositionOfBlock(plan.Line)!.Value;
+        var sent = (plan?.PmacLines ?? []).Concat(Enumerable.Range(from.Chunk, program.TotalChunks - from.Chunk + 1)
+            .SelectMany(c => program.Body(c).Skip(c == from.Chunk ? from.Line : 0)).Select(l => l.Text)).ToList();
         var ran = sim.ExecutedRotaryLines.Select(l => l.Text).ToList();
         var (motion, nonMotion) = LineAccounting.Compare(sent, ran, IsMotion);
         if (probe is not null && !(motion.Exact && nonMotion.Exact))
@@ -232,6 +244,6 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
         }
 
         Directory.Delete(folder, true);
-        return (faulty.Injected, kills, faults, motion, nonMotion, sent.Count(t => !IsMotion(t)));
+        return (faulty.Injected, kills, faults, motion, nonMotion, sent.Count(t => !IsMotion(t)), plan is not null);
     }
 }
