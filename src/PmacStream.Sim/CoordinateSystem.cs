@@ -59,6 +59,9 @@ internal sealed class CoordinateSystem : IVariableAccess
     private readonly List<Cursor> _stack = [];
     private readonly Queue<Segment> _queue = new();
     private readonly List<(int Index, double Value)> _pendingSync = [];
+    private ProgramBuffer? _loggedBuffer;
+    private long _loggedLine = -1;
+    private bool _cursorReset;
     private readonly bool[] _incremental = new bool[AxisCount];
     private readonly double[] _calcPos = new double[AxisCount];
     private readonly double[] _wordValues = new double[AxisCount + 4];
@@ -240,6 +243,7 @@ internal sealed class CoordinateSystem : IVariableAccess
 
             _stack.Clear();
             _pc = new Cursor(buffer, buffer.BaseIndex, 0);
+            _cursorReset = true;
             _pc.SkipEmptyLines();
             _pcValid = true;
             _programEnded = false;
@@ -335,6 +339,7 @@ internal sealed class CoordinateSystem : IVariableAccess
         {
             _stack.Clear();
             _pc = new Cursor(Rotary, Rotary.BaseIndex, 0);
+            _cursorReset = true;
         }
     }
 
@@ -398,6 +403,15 @@ internal sealed class CoordinateSystem : IVariableAccess
 
     private void Execute()
     {
+        if (_pc.Buffer.Kind == BufferKind.Rotary && (!ReferenceEquals(_pc.Buffer, _loggedBuffer) || _pc.Line != _loggedLine || _cursorReset))
+        {
+            // First statement calculated on a rotary line (or the line again after a restart): the line runs now.
+            _loggedBuffer = _pc.Buffer;
+            _loggedLine = _pc.Line;
+            _cursorReset = false;
+            _sim.RecordRotaryLine(this, _pc.Buffer[_pc.Line].Text);
+        }
+
         var stmt = _pc.Current;
         if (Flow.TryExecute(ref _pc, this, out _))
         {

@@ -70,6 +70,13 @@ public readonly record struct ExecutedMove(long Sequence, int SourceLine, double
     public double Duration => EndTime - StartTime;
 }
 
+/// <summary>One rotary-buffer line a coordinate system started calculating (recorded with <see cref="SimOptions.RecordRotaryLines"/>).</summary>
+/// <param name="Sequence">1-based order.</param>
+/// <param name="CoordinateSystem">Coordinate system that ran it.</param>
+/// <param name="Text">The line as stored.</param>
+/// <param name="Time">Virtual time, seconds.</param>
+public readonly record struct ExecutedRotaryLine(long Sequence, int CoordinateSystem, string Text, double Time);
+
 /// <summary>Counters the tests and the CLI read to prove nothing was lost, repeated or reordered.</summary>
 /// <param name="MovesExecuted">Moves and dwells completed.</param>
 /// <param name="Underruns">Times the program was running, not at its end, and ran out of rotary lines with no motion left.</param>

@@ -22,6 +22,7 @@ public sealed partial class PmacSimulator : IDisposable
     private readonly List<SimPort> _ports = [];
     private readonly List<ExecutedMove> _executed = [];
     private readonly List<ExecutedMove> _pendingEvents = [];
+    private readonly List<ExecutedRotaryLine> _rotaryLines = [];
     private readonly (int Cs, int Axis, double Scale)[] _motors = new (int, int, double)[33];
     private readonly double[] _scratch = new double[CoordinateSystem.AxisCount];
     private readonly AutoResetEvent _wake = new(false);
@@ -82,6 +83,21 @@ public sealed partial class PmacSimulator : IDisposable
             lock (_sync)
             {
                 return _executed.ToArray();
+            }
+        }
+    }
+
+    /// <summary>
+    /// A snapshot of every rotary-buffer line started (motion and non-motion), in order; empty unless
+    /// <see cref="SimOptions.RecordRotaryLines"/> is set.
+    /// </summary>
+    public IReadOnlyList<ExecutedRotaryLine> ExecutedRotaryLines
+    {
+        get
+        {
+            lock (_sync)
+            {
+                return _rotaryLines.ToArray();
             }
         }
     }
@@ -358,6 +374,15 @@ public sealed partial class PmacSimulator : IDisposable
             case 'Q':
                 Memory.SetQ(1, index, value);
                 break;
+        }
+    }
+
+    /// <summary>Logs a rotary line a coordinate system starts calculating (called under the lock).</summary>
+    internal void RecordRotaryLine(CoordinateSystem cs, string text)
+    {
+        if (Options.RecordRotaryLines)
+        {
+            _rotaryLines.Add(new ExecutedRotaryLine(_rotaryLines.Count + 1, cs.Number, text, _now));
         }
     }
 

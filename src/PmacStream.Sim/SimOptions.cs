@@ -118,6 +118,13 @@ public sealed class SimOptions
     /// <summary>M-variable whose value is logged as each move's source line. Default 0 (M0).</summary>
     public int TrackingVariable { get; set; }
 
+    /// <summary>
+    /// When true, every rotary-buffer line the coordinate systems start calculating is logged
+    /// (<see cref="PmacSimulator.ExecutedRotaryLines"/>), motion and non-motion alike, so tests can prove each program
+    /// line ran exactly once. Off by default: the log grows with the program.
+    /// </summary>
+    public bool RecordRotaryLines { get; set; }
+
     /// <summary>Firmware version answered to <c>VERSION</c>.</summary>
     public string Version { get; set; } = SimInfo.Version;
 

@@ -72,6 +72,10 @@ internal sealed class CommonStreamOptions
 
     public required Option<double> SafeZ { get; init; }
 
+    public required Option<string> SafeZMode { get; init; }
+
+    public required Option<double> Clearance { get; init; }
+
     /// <summary>The connection spec chosen (<c>sim</c>, <c>tcp://..</c>, <c>serial:..</c>), or null.</summary>
     public string? Target(ParseResult parse)
     {
@@ -118,12 +122,19 @@ internal sealed class CommonStreamOptions
             throw new CliException("--tick-ms must be between 5 and 10000");
         }
 
-        return new RunSettings(parse.GetValue(Yes), parse.GetValue(JobDb), speed, parse.GetValue(BufferWords), TimeSpan.FromMilliseconds(tick), parse.GetValue(SingleBlock), parse.GetValue(SafeZ));
+        var mode = parse.GetValue(SafeZMode)?.Trim().ToLowerInvariant() switch
+        {
+            null or "" or "fixed" => Streaming.SafeZMode.Fixed, // demo has no start-from-line options
+            "highest" => Streaming.SafeZMode.HighestSoFar,
+            var other => throw new CliException($"--safe-z-mode: expected fixed or highest, got '{other}'"),
+        };
+        var plan = new StartPlanOptions { SafeZMode = mode, SafeZ = parse.GetValue(SafeZ), Clearance = parse.GetValue(Clearance) };
+        return new RunSettings(parse.GetValue(Yes), parse.GetValue(JobDb), speed, parse.GetValue(BufferWords), TimeSpan.FromMilliseconds(tick), parse.GetValue(SingleBlock), plan);
     }
 }
 
 /// <summary>Settings of one run.</summary>
-internal sealed record RunSettings(bool Yes, string? JobDb, SimSpeed SimSpeed, int BufferWords, TimeSpan Tick, bool SingleBlock, double SafeZ);
+internal sealed record RunSettings(bool Yes, string? JobDb, SimSpeed SimSpeed, int BufferWords, TimeSpan Tick, bool SingleBlock, StartPlanOptions StartPlan);
 
 /// <summary>The controller a job talks to: the in-process simulator or a real link.</summary>
 internal sealed class StreamTarget : IAsyncDisposable
@@ -225,7 +236,9 @@ internal static class StreamRunner
             BufferWords = new Option<int>("--buffer-words") { Description = "Rotary buffer size in words (the simulator's is defined to this).", DefaultValueFactory = _ => 16_000 },
             TickMs = new Option<int>("--tick-ms") { Description = "Timer period (the paper's timer1 interval), milliseconds.", DefaultValueFactory = _ => 50 },
             SingleBlock = new Option<bool>("--single-block") { Description = "Single-block mode (HMI only: each block needs a start)." },
-            SafeZ = new Option<double>("--safe-z") { Description = "Safe Z for the approach when starting from a line.", DefaultValueFactory = _ => 10.0 },
+            SafeZ = new Option<double>("--safe-z") { Description = "Safe Z (work coordinates) for the approach when starting from a line (--safe-z-mode fixed, and the fallback of highest).", DefaultValueFactory = _ => 10.0 },
+            SafeZMode = new Option<string>("--safe-z-mode") { Description = "Safe Z when starting from a line: fixed (--safe-z) or highest (the highest Z reached so far plus --clearance). The HMI plans the same way.", DefaultValueFactory = _ => "fixed" },
+            Clearance = new Option<double>("--clearance") { Description = "Added to the highest Z so far with --safe-z-mode highest.", DefaultValueFactory = _ => 5.0 },
         };
         if (!forDemo)
         {
@@ -235,6 +248,8 @@ internal static class StreamRunner
             cmd.Options.Add(o.Yes);
             cmd.Options.Add(o.JobDb);
             cmd.Options.Add(o.SafeZ);
+            cmd.Options.Add(o.SafeZMode);
+            cmd.Options.Add(o.Clearance);
         }
 
         cmd.Options.Add(o.SimSpeed);
@@ -346,7 +361,8 @@ internal static class StreamRunner
         StartPlan plan;
         try
         {
-            plan = StartFromLine.Plan(source, line, settings.SafeZ, program.Manifest.Feed, program.Manifest.FeedVariable);
+            // The one planner the HMI uses too: same options, same preamble.
+            plan = StartFromLine.Plan(source, line, StartPlanOptions.For(program.Manifest, settings.StartPlan));
         }
         catch (ArgumentOutOfRangeException e)
         {

@@ -44,14 +44,22 @@ public sealed class CoreHmiBackend : IHmiBackend
         MachineProfile? profile = null,
         StreamingOptions? streaming = null,
         TimeProvider? time = null,
-        string? jobDatabase = null)
+        string? jobDatabase = null,
+        StartPlanOptions? startPlan = null)
     {
         JobDatabase = Path.GetFullPath(jobDatabase ?? JobStore.DefaultPath);
         _simulator = simulator;
         _profile = profile ?? MachineProfile.Default;
         _options = streaming ?? new StreamingOptions();
         _time = time ?? TimeProvider.System;
+        StartPlanOptions = (startPlan ?? new StartPlanOptions()) with { Profile = _profile };
     }
+
+    /// <summary>
+    /// How starts from a line are planned (safe Z mode and height, clearance): <see cref="StartFromLine.Plan(string, int, StartPlanOptions, CancellationToken)"/>
+    /// with the same options as the CLI's <c>--safe-z-mode</c>/<c>--safe-z</c>/<c>--clearance</c>, so both show and run the same preamble.
+    /// </summary>
+    public StartPlanOptions StartPlanOptions { get; }
 
     /// <summary>The SQLite job store the HMI records its jobs and checkpoints in (the CLI's <c>--job-db</c>).</summary>
     public string JobDatabase { get; }
@@ -107,7 +115,7 @@ public sealed class CoreHmiBackend : IHmiBackend
             }
 
             var diagnostics = new List<Diagnostic>();
-            var times = new List<(int Line, double Seconds)>();
+            var times = new List<(int Line, double Seconds, double Feed)>();
             var timed = true;
             var summary = new Checker(_profile).CheckFile(
                 path,
@@ -132,7 +140,7 @@ public sealed class CoreHmiBackend : IHmiBackend
                         return;
                     }
 
-                    times.Add((b.Line, b.DurationSeconds));
+                    times.Add((b.Line, b.DurationSeconds, b.Modal.Feed ?? double.NaN));
                 },
                 cancellationToken);
 
@@ -162,15 +170,20 @@ public sealed class CoreHmiBackend : IHmiBackend
     }
 
     /// <inheritdoc />
-    public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default) =>
-        Task.Run(() => BuildPreamble(program.Manifest.SourcePath, line, cancellationToken), cancellationToken);
+    /// <remarks>The G-code of <see cref="StartFromLine.Plan(string, int, StartPlanOptions, CancellationToken)"/>: what the CLI shows for the same line.</remarks>
+    public async Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default) =>
+        (await PlanStartAsync(program, line, cancellationToken).ConfigureAwait(false)).GCode;
+
+    /// <summary>Plans a start at <paramref name="line"/> of a split program (the CLI's planner, this backend's options).</summary>
+    public Task<StartPlan> PlanStartAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default) =>
+        Task.Run(() => StartFromLine.Plan(program.Manifest.SourcePath, line, StartPlanOptions.For(program.Manifest, StartPlanOptions), cancellationToken), cancellationToken);
 
     /// <inheritdoc />
     public async Task<IHmiJob> StartAsync(IPmacConnection connection, HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         var split = request.Program;
         var strategy = ParseStrategy(request.Strategy);
-        var preamble = request.FromLine is { } from ? await BuildPreambleAsync(split, from, cancellationToken).ConfigureAwait(false) : null;
+        var plan = request.FromLine is { } from ? await PlanStartAsync(split, from, cancellationToken).ConfigureAwait(false) : null;
         var store = JobStore.Open(JobDatabase);
         try
         {
@@ -181,7 +194,7 @@ public sealed class CoreHmiBackend : IHmiBackend
             try
             {
                 await SetFeedBeforeStartAsync(connection, split.Manifest, request.Feed, cancellationToken).ConfigureAwait(false);
-                await session.StartAsync(request.FromLine, preamble, cancellationToken).ConfigureAwait(false);
+                await session.StartAsync(plan?.Line, plan?.PmacLines, cancellationToken).ConfigureAwait(false);
             }
             catch (Exception e) when (e is PmacLinkException or PmacErrorException or InvalidOperationException)
             {
@@ -277,9 +290,9 @@ public sealed class CoreHmiBackend : IHmiBackend
 
             // The controller lost the job (reset, abort) or it never started: start again at the interrupted line behind the preamble.
             var restart = NewSession(connection, split, record.Strategy, singleBlock: false, sink);
-            var preamble = await BuildPreambleAsync(split, job.ResumeLine, cancellationToken).ConfigureAwait(false);
+            var plan = await PlanStartAsync(split, job.ResumeLine, cancellationToken).ConfigureAwait(false);
             await SetFeedBeforeStartAsync(connection, split.Manifest, feed, cancellationToken).ConfigureAwait(false);
-            await restart.StartAsync(job.ResumeLine, preamble, cancellationToken).ConfigureAwait(false);
+            await restart.StartAsync(plan.Line, plan.PmacLines, cancellationToken).ConfigureAwait(false);
             Log.Information("Job {Job} restarted at line {Line}", record.Id, job.ResumeLine);
             return new SessionJob(restart, feed, store, record.Id);
         }
@@ -288,52 +301,6 @@ public sealed class CoreHmiBackend : IHmiBackend
             store.Dispose();
             throw;
         }
-    }
-
-    /// <summary>
-    /// The restore preamble for starting at <paramref name="line"/>: the modal state and position after the last
-    /// block before it (from the interpreter), approached from the highest Z the program reached so far.
-    /// </summary>
-    internal IReadOnlyList<string> BuildPreamble(string sourcePath, int line, CancellationToken cancellationToken)
-    {
-        DecodedBlock? last = null;
-        double? safeZ = null;
-        using var stop = CancellationTokenSource.CreateLinkedTokenSource(cancellationToken);
-        try
-        {
-            new Checker(_profile).CheckFile(sourcePath, _ => { }, b =>
-            {
-                if (b.Line >= line)
-                {
-                    stop.Cancel();
-                    return;
-                }
-
-                last = b;
-                if (b.Motion != MotionKind.None)
-                {
-                    safeZ = Math.Max(safeZ ?? double.MinValue, Math.Max(b.Start.Z, b.End.Z));
-                }
-            }, stop.Token);
-        }
-        catch (OperationCanceledException) when (!cancellationToken.IsCancellationRequested)
-        {
-            // Reached the line: the rest of the program is not needed.
-        }
-
-        if (last is null)
-        {
-            return [];
-        }
-
-        var lines = last.Modal.ToPreamble(last.End).ToList();
-        if (safeZ is { } z)
-        {
-            // Retract before moving in XY: the tool may stand anywhere after an interruption.
-            lines.Insert(1, "G90 G00 Z" + ModalState.Num(z));
-        }
-
-        return lines;
     }
 
     private StreamingSession NewSession(IPmacConnection connection, HmiSplitResult split, StrategyKind strategy, bool singleBlock, ICheckpointSink checkpoints)

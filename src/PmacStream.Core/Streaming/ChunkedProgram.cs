@@ -37,6 +37,10 @@ public sealed class ChunkedProgram
     private readonly Dictionary<int, IReadOnlyList<ProgramLine>> _cache = new();
     private readonly Queue<int> _cacheOrder = new();
     private int _finalTrackedLine = -1;
+    private string? _lineProbe;
+
+    /// <summary>Program lines per chunk a line-probe value can address (<see cref="ProbeValue"/>).</summary>
+    internal const long ProbeLinesPerChunk = 100_000;
 
     private ChunkedProgram(ChunkManifest manifest, string folder)
     {
@@ -56,6 +60,112 @@ public sealed class ChunkedProgram
 
     /// <summary>Number of chunks.</summary>
     public int TotalChunks => Manifest.Chunks.Count;
+
+    /// <summary>
+    /// The line-probe variable (e.g. <c>P501</c>), or null. When set, every non-motion body line (every line with
+    /// paper placement, <see cref="ProbesEveryLine"/>) is sent with a plain
+    /// (calculation-time) assignment <c>P501=n</c> in front, <c>n</c> = <see cref="ProbeValue"/> of its position.
+    /// A non-motion line carries no <c>M0==</c> (and a synchronous assignment would only show with the next move),
+    /// so after a download broke off and the buffer drained, the probe is what tells whether the controller got it.
+    /// </summary>
+    public string? LineProbeVariable => _lineProbe;
+
+    /// <summary>
+    /// True when the probe goes on every line, moves too: with paper placement (<c>... M0==n</c> last) a move's
+    /// marker is only written when the next move starts, so after a drain M0 names the move before the last one
+    /// that arrived, and only the probe tells that the last one arrived.
+    /// </summary>
+    public bool ProbesEveryLine => _lineProbe is not null && Manifest.Tracking == TrackingPlacement.Paper;
+
+    /// <summary>Sets <see cref="LineProbeVariable"/> (null or empty: off); bodies read before are re-read.</summary>
+    public void UseLineProbe(string? variable)
+    {
+        var v = string.IsNullOrWhiteSpace(variable) ? null : variable.Trim().ToUpperInvariant();
+        if (v is not null && !Regex.IsMatch(v, @"^P\d+$", RegexOptions.CultureInvariant))
+        {
+            throw new ArgumentException($"line-probe variable '{variable}' must be a P variable such as P501 (48 bits hold the probe values)", nameof(variable));
+        }
+
+        lock (_cache)
+        {
+            if (v == _lineProbe)
+            {
+                return;
+            }
+
+            _lineProbe = v;
+            _cache.Clear();
+            _cacheOrder.Clear();
+        }
+    }
+
+    /// <summary>The probe value of the body line at <paramref name="position"/>: chunk x 100000 + line + 1 (never 0).</summary>
+    public static long ProbeValue(StreamPosition position) => (position.Chunk * ProbeLinesPerChunk) + position.Line + 1;
+
+    /// <summary>The position just after the line whose probe value is <paramref name="value"/>; null for 0 or a value outside the program.</summary>
+    public StreamPosition? PositionAfterProbe(long value)
+    {
+        if (value <= 0)
+        {
+            return null;
+        }
+
+        var chunk = value / ProbeLinesPerChunk;
+        var line = (value % ProbeLinesPerChunk) - 1;
+        if (chunk < 1 || chunk > TotalChunks || line < 0 || line >= Body((int)chunk).Count)
+        {
+            return null;
+        }
+
+        return Normalize(new StreamPosition((int)chunk, (int)line + 1));
+    }
+
+    /// <summary>
+    /// The file to hand to <c>Download</c> for a chunk: the chunk file itself, or (with a line probe and non-motion
+    /// lines in it) an annotated copy in a temporary folder, line for line, so a refused line maps to the same file line.
+    /// <paramref name="temporary"/> tells the caller to delete the copy (and what Download wrote next to it).
+    /// </summary>
+    public string SendPath(int index, out bool temporary)
+    {
+        temporary = false;
+        var path = ChunkPath(index);
+        if (_lineProbe is null)
+        {
+            return path;
+        }
+
+        var body = Body(index);
+        var byFileLine = new Dictionary<int, string>();
+        foreach (var l in body)
+        {
+            if ((ProbesEveryLine || (l.TrackedLine == 0 && !l.IsMotion)) && l.FileLine > 0)
+            {
+                byFileLine[l.FileLine] = l.Text;
+            }
+        }
+
+        if (byFileLine.Count == 0)
+        {
+            return path;
+        }
+
+        var dir = Path.Combine(Path.GetTempPath(), "pmacstream-send", $"{Environment.ProcessId}-{Guid.NewGuid():N}");
+        Directory.CreateDirectory(dir);
+        var copy = Path.Combine(dir, Path.GetFileName(path));
+        using (var w = new StreamWriter(copy, append: false, System.Text.Encoding.ASCII))
+        {
+            var n = 0;
+            foreach (var raw in File.ReadLines(path))
+            {
+                n++;
+                w.Write(byFileLine.TryGetValue(n, out var annotated) ? annotated : raw);
+                w.Write("\r\n");
+            }
+        }
+
+        temporary = true;
+        return copy;
+    }
 
     /// <summary>Opens a split program from its <c>manifest.json</c> (or the folder holding it).</summary>
     public static ChunkedProgram Open(string manifestPathOrFolder)
@@ -110,7 +220,18 @@ public sealed class ChunkedProgram
                 continue;
             }
 
-            list.Add(Classify(t, fileLine));
+            var l = Classify(t, fileLine);
+            if (_lineProbe is not null && (ProbesEveryLine || (l.TrackedLine == 0 && !l.IsMotion)))
+            {
+                l = Annotate(l, ProbeValue(new StreamPosition(index, list.Count)));
+            }
+
+            list.Add(l);
+        }
+
+        if (_lineProbe is not null && list.Count >= ProbeLinesPerChunk)
+        {
+            throw new InvalidDataException($"{path}: {list.Count} program lines in one chunk; a line probe addresses at most {ProbeLinesPerChunk - 1} (split into smaller chunks)");
         }
 
         lock (_cache)
@@ -133,6 +254,18 @@ public sealed class ChunkedProgram
         var tracked = m.Success && int.TryParse(m.Groups[1].ValueSpan, out var n) ? n : 0;
         var rest = _feedExpression.Replace(m.Success ? _marker.Replace(text, " ") : text, " ");
         return new ProgramLine(text, tracked, MotionWords.IsMatch(rest), Math.Max(1, Values.Count(text)), fileLine);
+    }
+
+    private ProgramLine Annotate(ProgramLine l, long probe)
+    {
+        // After an N label (which must lead the line), before everything else: the probe is set when the line is
+        // calculated, whatever the rest of the line calls.
+        var t = l.Text;
+        var label = Regex.Match(t, @"^N\d+\s*", RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
+        var text = label.Success
+            ? string.Concat(t.AsSpan(0, label.Length), $"{_lineProbe}={probe} ", t.AsSpan(label.Length))
+            : $"{_lineProbe}={probe} {t}";
+        return l with { Text = text, Words = l.Words + 1 };
     }
 
     /// <summary>True for the lines that frame a chunk (<c>CLOSE</c>, <c>OPEN ROT</c>); they are not buffer content.</summary>

@@ -60,6 +60,14 @@ public sealed record StreamingOptions
     /// <summary>Single-block mode: each start (<c>&amp;n S</c>) runs one block.</summary>
     public bool SingleBlock { get; init; }
 
+    /// <summary>
+    /// Line-probe variable: every non-motion line is sent with a plain <c>P501=n</c> (its position), reset to 0 at the
+    /// start. After a download broke off mid-way and the buffer drained, M0 tells the last move the controller got and
+    /// the probe the last non-motion line, so sending resumes exactly after what arrived (nothing repeated, even M08).
+    /// Null or empty turns it off (then a non-motion line right before a break may be sent twice).
+    /// </summary>
+    public string? LineProbeVariable { get; init; } = "P501";
+
     /// <summary>Set the tracking variable to 0 before starting, so a stale value from an earlier job is not read as progress.</summary>
     public bool ResetTrackVariable { get; init; } = true;
 }

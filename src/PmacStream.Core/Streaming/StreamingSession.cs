@@ -59,8 +59,13 @@ public sealed class StreamingSession
     private bool _singleBlock;
     private int _lastDurableChunk;
     private bool _runSent;
+    private bool _loaded;
+    private StreamPosition _startAt = new(1, 0);
+    private List<ProgramLine>? _preamble;
     private long _ticks;
     private bool _statusUnsupported;
+    private readonly EtaEstimator _eta = new();
+    private readonly long _etaOrigin;
 
     /// <summary>Creates a session on a PComm-style device facade; downloads go through its <c>Download</c>.</summary>
     public StreamingSession(IPmacDevices devices, ChunkedProgram program, StreamingOptions options, ICheckpointSink? checkpoints = null, IMoveTimes? moveTimes = null, TimeProvider? time = null, IStreamingStrategy? strategy = null)
@@ -77,8 +82,10 @@ public sealed class StreamingSession
         _track = string.IsNullOrWhiteSpace(program.Manifest.TrackVariable) ? "M0" : program.Manifest.TrackVariable.Trim();
         _feedMode = options.Feed ?? program.Manifest.Feed;
         _singleBlock = options.SingleBlock;
+        program.UseLineProbe(options.LineProbeVariable);
         Context = new StreamingContext(this);
         _startTimestamp = _time.GetTimestamp();
+        _etaOrigin = _startTimestamp;
     }
 
     /// <summary>Creates a session on a bare connection (chunk downloads are sent over it line by line).</summary>
@@ -141,7 +148,8 @@ public sealed class StreamingSession
             }
             else if (MoveTimes is not null)
             {
-                eta = TimeSpan.FromSeconds(MoveTimes.SecondsBetween(_tracked, Program.FinalTrackedLine) / FeedScale);
+                // Real time: program seconds left, scaled by the live feed and the rate measured so far.
+                eta = _eta.Estimate(MoveTimes.SecondsBetween(_tracked - 1, Program.FinalTrackedLine), LiveFeedFactor);
             }
             else if (executed > 0 && _blocksPerSecond > 0)
             {
@@ -169,7 +177,30 @@ public sealed class StreamingSession
     /// <summary>The checkpoint now (what a crash-safe resume needs).</summary>
     public Checkpoint Checkpoint => new(_tracked, _currentChunk, _next, _nextExact, _chunksDownloaded, _state, _time.GetUtcNow(), _runSent);
 
-    private double FeedScale => _feedMode == FeedMode.Override && _feed is > 0 ? _feed.Value / 100.0 : 1.0;
+    /// <summary>
+    /// How much faster than programmed the live feed runs the moves: the % override over 100 in override mode, the
+    /// feed variable (P500) over the programmed F at the executing block in paper mode; 1 when either is unknown.
+    /// </summary>
+    private double LiveFeedFactor
+    {
+        get
+        {
+            if (_feed is not > 0)
+            {
+                return 1.0;
+            }
+
+            if (_feedMode == FeedMode.Override)
+            {
+                return _feed.Value / 100.0;
+            }
+
+            return MoveTimes?.ProgrammedFeedAt(_tracked) is double f && f > 0 ? _feed.Value / f : 1.0;
+        }
+    }
+
+    /// <summary>The ETA's measured rate: predicted over actual wall seconds (1 until measured).</summary>
+    internal double MeasuredRate => _eta.Rate;
 
     /// <summary>
     /// Sets up and starts: <c>CLOSE</c>, (optionally) define the rotary buffer, reset the tracking variable,
@@ -207,21 +238,22 @@ public sealed class StreamingSession
                 await OnlineAsync($"{_track}=0", cancellationToken).ConfigureAwait(false);
             }
 
+            if (Program.LineProbeVariable is { } probe)
+            {
+                // A probe value left by an earlier job would read as lines of this one.
+                await OnlineAsync($"{probe}=0", cancellationToken).ConfigureAwait(false);
+            }
+
             // B0 must precede the first OPEN ROT: inside an open buffer it would be a B-axis move.
             await OnlineAsync($"{_cs} B0", cancellationToken).ConfigureAwait(false);
             await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
 
-            _next = start;
+            _startAt = start;
             _currentChunk = start.Chunk;
             _startTimestamp = _time.GetTimestamp();
             _rateTimestamp = _startTimestamp;
-            if (preamble is { Count: > 0 })
-            {
-                var lines = preamble.Select(p => Program.Classify(p) with { TrackedLine = 0 }).ToList();
-                await SendBatchAsync(lines, advance: false, oneByOne: false, cancellationToken).ConfigureAwait(false);
-            }
-
-            await DownloadNextChunkAsync(late: false, cancellationToken).ConfigureAwait(false);
+            _preamble = preamble is { Count: > 0 } ? preamble.Select(p => Program.Classify(p) with { TrackedLine = 0 }).ToList() : null;
+            await LoadAsync(cancellationToken).ConfigureAwait(false);
             _state = SessionState.Running;
             await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
             _runSent = true;
@@ -322,6 +354,35 @@ public sealed class StreamingSession
         PublishStatus();
     }
 
+    /// <summary>
+    /// Loads what must be in the buffer before the run command: clears the rotary buffer (leftovers of an earlier job
+    /// or of a start that broke off would run first), then the preamble and the first chunk (from the start block).
+    /// </summary>
+    private async Task LoadAsync(CancellationToken cancellationToken)
+    {
+        _loaded = false;
+        _next = _startAt;
+        _nextExact = true;
+        _occupancy.Clear();
+        _occWords = 0;
+        _markersAhead = 0;
+        _markersSent = 0;
+        _lastSentTag = 0;
+        _linesSent = 0;
+        _chunksDownloaded = 0;
+        _bufferOpen = true;
+        await SendAsync("OPEN ROT", cancellationToken).ConfigureAwait(false);
+        await SendAsync("CLEAR", cancellationToken).ConfigureAwait(false);
+        await SendOnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+        if (_preamble is not null)
+        {
+            await SendBatchAsync(_preamble, advance: false, oneByOne: false, cancellationToken).ConfigureAwait(false);
+        }
+
+        await DownloadNextChunkAsync(late: false, cancellationToken).ConfigureAwait(false);
+        _loaded = true;
+    }
+
     /// <summary>Timer tick, blocking (for a WinForms timer's <c>Tick</c> handler that cannot await).</summary>
     public void Tick() => TickAsync().GetAwaiter().GetResult();
 
@@ -397,7 +458,13 @@ public sealed class StreamingSession
             await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
             if (!_runSent)
             {
-                // The start broke off before the run command: give it now.
+                // The start broke off before the run command, so nothing has run yet. When the loading (preamble,
+                // first chunk) broke off, how much of it arrived is not known: clear the buffer and load it again.
+                if (!_loaded && await ProgramRunningAsync(cancellationToken).ConfigureAwait(false) != true)
+                {
+                    await LoadAsync(cancellationToken).ConfigureAwait(false);
+                }
+
                 await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
                 _runSent = true;
             }
@@ -550,14 +617,26 @@ public sealed class StreamingSession
         }
 
         var body = Program.Body(p.Chunk);
-        var path = Program.ChunkPath(p.Chunk);
+        var path = Program.SendPath(p.Chunk, out var temporary);
         _nextExact = false;
         SaveCheckpoint(durable: false);
         _bufferOpen = true;
         var sw = Stopwatch.StartNew();
 
         // The paper's call: Download(pmacNumber, file, macro, map, log, dnld) with all four flags true.
-        var report = await _devices.DownloadAsync(Options.PmacNumber, path, new DownloadOptions(true, true, true, true), cancellationToken).ConfigureAwait(false);
+        DownloadReport report;
+        try
+        {
+            report = await _devices.DownloadAsync(Options.PmacNumber, path, new DownloadOptions(true, true, true, true), cancellationToken).ConfigureAwait(false);
+        }
+        finally
+        {
+            if (temporary)
+            {
+                DeleteQuietly(Path.GetDirectoryName(path)!);
+            }
+        }
+
         Log.Debug("download {File} -> {Success} {Lines} lines in {Ms:0.0} ms", path, report.Success, report.LinesSent, sw.Elapsed.TotalMilliseconds);
         if (report.Success)
         {
@@ -685,7 +764,7 @@ public sealed class StreamingSession
     {
         if (MoveTimes is not null)
         {
-            return MoveTimes.SecondsBetween(_tracked, lastTag) / FeedScale;
+            return MoveTimes.SecondsBetween(_tracked, lastTag) / LiveFeedFactor;
         }
 
         return _blocksPerSecond > 0 ? markersAhead / _blocksPerSecond : 0;
@@ -714,10 +793,13 @@ public sealed class StreamingSession
         var room = Options.BufferWords - Options.SafetyWords;
         foreach (var c in Program.Manifest.Chunks)
         {
-            if (c.EstimatedWords > room)
+            // The line probe adds a word to each non-motion line (feed-variable lines included: at most one line per
+            // source block), or to every line with paper placement (at most two lines per block).
+            var probeWords = Program.LineProbeVariable is null ? 0 : Program.ProbesEveryLine ? 2 * c.BlockCount : c.BlockCount;
+            if (c.EstimatedWords + probeWords > room)
             {
                 throw new InvalidOperationException(
-                    $"chunk {c.Index} ({c.FileName}) needs about {c.EstimatedWords} words but the rotary buffer holds {Options.BufferWords} (less {Options.SafetyWords} margin): split into smaller chunks or define a larger buffer");
+                    $"chunk {c.Index} ({c.FileName}) needs about {c.EstimatedWords + probeWords} words (line probe included) but the rotary buffer holds {Options.BufferWords} (less {Options.SafetyWords} margin): split into smaller chunks or define a larger buffer");
             }
         }
     }
@@ -801,6 +883,37 @@ public sealed class StreamingSession
         }
     }
 
+    /// <summary>Tracked (move) lines from <paramref name="from"/> up to, not including, <paramref name="to"/>; stops counting past <paramref name="limit"/>.</summary>
+    private int MovesBetween(StreamPosition from, StreamPosition to, int limit)
+    {
+        var n = 0;
+        for (var p = Program.Normalize(from); Compare(p, to) < 0 && p.Chunk <= Program.TotalChunks; p = Program.Normalize(new StreamPosition(p.Chunk, p.Line + 1)))
+        {
+            if (Program.Body(p.Chunk)[p.Line].TrackedLine > 0 && ++n > limit)
+            {
+                break;
+            }
+        }
+
+        return n;
+    }
+
+    private static void DeleteQuietly(string folder)
+    {
+        try
+        {
+            Directory.Delete(folder, recursive: true);
+        }
+        catch (IOException e)
+        {
+            Log.Warning("could not delete {Folder}: {Error}", folder, e.Message);
+        }
+        catch (UnauthorizedAccessException e)
+        {
+            Log.Warning("could not delete {Folder}: {Error}", folder, e.Message);
+        }
+    }
+
     private void Advance() => _next = Program.Normalize(new StreamPosition(_next.Chunk, _next.Line + 1));
 
     private void Accept(ProgramLine l)
@@ -859,6 +972,12 @@ public sealed class StreamingSession
     private void FollowTrack(int m)
     {
         _tracked = m;
+        if (MoveTimes is not null)
+        {
+            var wall = _time.GetElapsedTime(_etaOrigin).TotalSeconds;
+            _eta.Observe(wall, m > 0 ? MoveTimes.SecondsBetween(0, m - 1) : 0, LiveFeedFactor, counting: _state == SessionState.Running);
+        }
+
         while (_occupancy.Count > 0 && _occupancy.Peek().Tag < m)
         {
             Dequeue();
@@ -905,10 +1024,32 @@ public sealed class StreamingSession
             return;
         }
 
+        // Everything the controller got has run: M0 names the last move that arrived, the line probe the last
+        // non-motion line (M08, S, P500=...). Sending resumes after the later of the two, never before _next.
         var after = Program.PositionAfterBlock(_tracked) ?? _next;
         if (Compare(after, _next) > 0)
         {
             _next = after;
+        }
+
+        if (Program.LineProbeVariable is { } probe)
+        {
+            var value = await ReadProbeAsync(probe, cancellationToken).ConfigureAwait(false);
+            if (Program.PositionAfterProbe(value) is { } afterProbe && Compare(afterProbe, _next) > 0)
+            {
+                // Only lines without a move can lie between M0's block and the probe's line (a move that arrived
+                // would have moved M0; with paper placement M0 lags by one move). Anything else is not this job's
+                // value (a program or PLC wrote the variable): not trusted, so nothing is skipped on its word.
+                if (MovesBetween(after, afterProbe, Program.ProbesEveryLine ? 1 : 0) <= (Program.ProbesEveryLine ? 1 : 0))
+                {
+                    Log.Information("line probe {Probe}={Value}: the controller got lines up to {Position}", probe, value, afterProbe);
+                    _next = afterProbe;
+                }
+                else
+                {
+                    Log.Warning("line probe {Probe}={Value} points past moves M0={Tracked} did not reach: ignored (is {Probe} used elsewhere?)", probe, value, _tracked, probe);
+                }
+            }
         }
 
         while (_occupancy.Count > 0)
@@ -1012,6 +1153,14 @@ public sealed class StreamingSession
         var text = await OnlineAsync(_track, cancellationToken).ConfigureAwait(false);
         MeasureRoundTrip(sw.Elapsed.TotalSeconds);
         return ParseInt(text, _track);
+    }
+
+    private async Task<long> ReadProbeAsync(string probe, CancellationToken cancellationToken)
+    {
+        var text = FirstValue(await OnlineAsync(probe, cancellationToken).ConfigureAwait(false));
+        return double.TryParse(text, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) && v >= 0 && v < 1e15
+            ? (long)Math.Round(v)
+            : throw new PmacLinkException($"unexpected reply '{text}' to {probe}");
     }
 
     private async Task ReadFeedAsync(CancellationToken cancellationToken)

@@ -32,7 +32,7 @@ public enum SessionState
 /// <param name="Percent">Progress in percent of motion blocks.</param>
 /// <param name="Feed">Feed set (P500 value in paper mode, % in override mode); null when unknown.</param>
 /// <param name="Elapsed">Time since start.</param>
-/// <param name="Eta">Estimated time to finish, null when unknown.</param>
+/// <param name="Eta">Estimated time to finish in the session clock's (wall) time: move times scaled by the live feed and the measured rate (<see cref="EtaEstimator"/>); null when unknown.</param>
 /// <param name="ChunksDownloaded">Chunks completely sent.</param>
 /// <param name="LinesSent">Program lines sent.</param>
 /// <param name="Underruns">Times the host saw the buffer run dry before the end.</param>
@@ -114,4 +114,7 @@ public interface IMoveTimes
 {
     /// <summary>Seconds of motion (at programmed feed) of the tracked blocks after <paramref name="afterLine"/> up to and including <paramref name="throughLine"/>.</summary>
     double SecondsBetween(int afterLine, int throughLine);
+
+    /// <summary>The programmed feed (F) in force for the block at or before <paramref name="line"/>; null when not known.</summary>
+    double? ProgrammedFeedAt(int line) => null;
 }

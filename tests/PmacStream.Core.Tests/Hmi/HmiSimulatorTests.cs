@@ -26,7 +26,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
 {
     private const double SecondsPerTick = 1.0;
     private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-sim-" + Guid.NewGuid().ToString("N"));
-    private readonly PmacSimulator _sim = new(new SimOptions());
+    private readonly PmacSimulator _sim = new(new SimOptions { RecordRotaryLines = true });
     private readonly List<MainPresenter> _presenters = [];
     private string _source = string.Empty;
 
@@ -215,6 +215,17 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         v.Confirmations.Should().ContainSingle();
         var text = v.Confirmations[0].Text;
         text.Should().Contain($"line {from}").And.Contain("G21 G17 G54").And.Contain("G90 G00 Z10").And.Contain("M03");
+
+        // The unified preamble: exactly what the CLI's planner gives for this line (modal state, retract to the safe
+        // Z, rapid in XY, feed down, then distance mode, motion mode and feed), in work coordinates.
+        var manifest = ChunkManifest.Load(Path.Combine(Splitter.DefaultOutDir(_source), ChunkManifest.FileName));
+        var plan = StartFromLine.Plan(_source, from, StartPlanOptions.For(manifest));
+        text.Should().Contain(string.Join(Environment.NewLine, plan.GCode));
+        var g = plan.GCode.ToList();
+        var retract = g.FindIndex(l => l.StartsWith("G90 G00 Z", StringComparison.Ordinal));
+        g[retract + 1].Should().StartWith("G00 X", "rapid in XY after the retract");
+        g[retract + 2].Should().StartWith("G01 Z", "then feed down to the block's start");
+        g.Take(retract).Should().Contain(l => l.Contains("M03", StringComparison.Ordinal)).And.Contain("M08").And.Contain("T1");
         p.JobActive.Should().BeFalse();
         _sim.Counters.LinesReceived.Should().Be(received, "a declined start sends nothing");
 
@@ -222,6 +233,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         await Do(p, v.ClickStartFromLine);
         v.Errors.Should().BeEmpty();
         await RunToEnd(p);
+        _sim.ExecutedRotaryLines.Select(l => l.Text).Take(plan.PmacLines.Count).Should().Equal(plan.PmacLines, "the controller runs the plan's preamble first, as the CLI would send it");
 
         ExecutedLines().Should().Equal(tracked.SkipWhile(l => l < from), "from the chosen block to the end, each once");
         _sim.ExecutedMoves.First().SourceLine.Should().Be(0, "the preamble's approach runs first");

@@ -36,6 +36,9 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
     public int M0 { get; private set; }
     public Dictionary<int, double> P { get; } = new() { [500] = 1000 };
     public List<FakeMove> Moves { get; } = new();
+
+    /// <summary>Every rotary line executed (motion and non-motion), in order.</summary>
+    public List<string> ExecutedLines { get; } = new();
     public List<string> Violations { get; } = new();
     public List<string> Log { get; } = new();
     public int Underruns { get; private set; }
@@ -60,6 +63,13 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
 
             if (u is "OPENROT")
             {
+                return Ok();
+            }
+
+            if (u is "CLEAR")
+            {
+                _buffer.Clear();
+                _words = 0;
                 return Ok();
             }
 
@@ -229,8 +239,8 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
     {
         var mm = Marker.Match(line);
         var motion = Motion.Match(Marker.Replace(line, " "));
-        var assign = Regex.Match(line, @"(?<![A-Z0-9])P(\d+)\s*=\s*(-?[\d.]+)", RegexOptions.IgnoreCase);
-        if (assign.Success)
+        ExecutedLines.Add(line);
+        foreach (Match assign in Regex.Matches(line, @"(?<![A-Z0-9])P(\d+)\s*=\s*(-?[\d.]+)", RegexOptions.IgnoreCase))
         {
             P[int.Parse(assign.Groups[1].Value, CultureInfo.InvariantCulture)] = double.Parse(assign.Groups[2].Value, CultureInfo.InvariantCulture);
         }

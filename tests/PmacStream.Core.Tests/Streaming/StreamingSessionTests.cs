@@ -67,7 +67,10 @@ public class StreamingSessionTests
         }
 
         // Each chunk file went to the controller once: count OPEN ROT framing lines in the command log.
-        rig.Controller.Log.Count(l => l.Equals("OPEN ROT", StringComparison.OrdinalIgnoreCase)).Should().Be(program.TotalChunks);
+        // (The start clears the buffer once first: OPEN ROT, CLEAR, CLOSE.)
+        var log = rig.Controller.Log;
+        Enumerable.Range(0, log.Count - 1).Count(i => log[i].Equals("OPEN ROT", StringComparison.OrdinalIgnoreCase) && log[i + 1] != "CLEAR").Should().Be(program.TotalChunks);
+        Enumerable.Range(0, log.Count - 1).Count(i => log[i] == "CLEAR").Should().Be(1);
         Raw(rig).Should().Equal(program.TrackedLines());
     }
 
