@@ -148,9 +148,10 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
             {
                 if (!started)
                 {
-                    if (sink.Last is { } cp)
+                    if (sink.Last is not null)
                     {
-                        await session.ResumeAsync(cp);
+                        // As a host resumes from the job store: a start that broke off while loading is loaded again.
+                        await session.ResumeAsync(sink.Record());
                     }
                     else
                     {
