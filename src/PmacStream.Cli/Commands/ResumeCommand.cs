@@ -74,7 +74,8 @@ internal static class ResumeCommand
                     // From the record: its line probe, and a start that broke off while loading is loaded again.
                     await session.ResumeAsync(record, ct).ConfigureAwait(false);
                     Console.WriteLine($"controller still holds the job at line {session.Status.CurrentLine}; continuing at {session.Next}");
-                    return await StreamRunner.RunAsync(session, target, jobs, record.Id, null, _ => Task.CompletedTask, ct, "resume").ConfigureAwait(false);
+                    var reloaded = cp is { Loaded: false, Started: false } ? record.FromLine : null;
+                    return await StreamRunner.RunAsync(session, target, jobs, record.Id, reloaded, _ => Task.CompletedTask, ct, "resume").ConfigureAwait(false);
                 }
                 catch (InvalidOperationException e)
                 {
