@@ -367,6 +367,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
             store.LatestUnfinished().Should().BeNull();
         }
     }
+
     [Fact]
     public async Task A_job_whose_start_broke_off_while_loading_is_loaded_again_with_its_recorded_preamble_and_probe()
     {
