@@ -62,9 +62,20 @@ internal static class ResumeCommand
             {
                 try
                 {
-                    await session.ResumeAsync(cp, ct).ConfigureAwait(false);
+                    if (cp is { Loaded: false, Started: false })
+                    {
+                        Console.WriteLine($"the start broke off while loading the buffer (nothing ran): clearing and loading it again{(record.FromLine is { } from ? $" at line {from}" : string.Empty)}");
+                        foreach (var l in record.Preamble ?? [])
+                        {
+                            Console.WriteLine("  " + l);
+                        }
+                    }
+
+                    // From the record: its line probe, and a start that broke off while loading is loaded again.
+                    await session.ResumeAsync(record, ct).ConfigureAwait(false);
                     Console.WriteLine($"controller still holds the job at line {session.Status.CurrentLine}; continuing at {session.Next}");
-                    return await StreamRunner.RunAsync(session, target, jobs, record.Id, null, _ => Task.CompletedTask, ct, "resume").ConfigureAwait(false);
+                    var reloaded = cp is { Loaded: false, Started: false } ? record.FromLine : null;
+                    return await StreamRunner.RunAsync(session, target, jobs, record.Id, reloaded, _ => Task.CompletedTask, ct, "resume").ConfigureAwait(false);
                 }
                 catch (InvalidOperationException e)
                 {

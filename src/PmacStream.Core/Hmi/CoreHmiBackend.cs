@@ -189,7 +189,7 @@ public sealed class CoreHmiBackend : IHmiBackend
         {
             var spec = _specs.TryGetValue(connection, out var known) ? known : connection.Description;
             var jobId = store.CreateJob(split.Manifest.SourcePath, split.Manifest.SourceSha256, Path.Combine(split.Directory, ChunkManifest.FileName),
-                strategy, spec, request.FromLine);
+                strategy, spec, request.FromLine, _options.LineProbeVariable);
             var session = NewSession(connection, split, strategy, request.SingleBlock, store.SinkFor(jobId));
             try
             {
@@ -278,7 +278,8 @@ public sealed class CoreHmiBackend : IHmiBackend
                 try
                 {
                     // The controller may still hold (or be running) the buffered lines: continue sending where the job stopped.
-                    await session.ResumeAsync(cp, cancellationToken).ConfigureAwait(false);
+                    // From the record: its line probe, and a start that broke off while loading is loaded again.
+                    await session.ResumeAsync(record, cancellationToken).ConfigureAwait(false);
                     Log.Information("Job {Job} resumed from its checkpoint at line {Line}", record.Id, cp.LastExecutedLine);
                     return new SessionJob(session, feed, store, record.Id);
                 }

@@ -15,7 +15,9 @@ namespace PmacStream.Streaming;
 /// <param name="Message">Last notable message (fault text).</param>
 /// <param name="Checkpoint">Last checkpoint, null before the first.</param>
 /// <param name="Created">When the job was created.</param>
-public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created)
+/// <param name="Preamble">The PMAC lines the (latest) start sent before its block, or null (none, or not recorded).</param>
+/// <param name="LineProbeVariable">The line-probe variable the job's lines carry (null: none); records of older versions read as <c>P501</c>.</param>
+public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created, IReadOnlyList<string>? Preamble = null, string? LineProbeVariable = "P501")
 {
     /// <summary>True when the job has not completed (it can be resumed).</summary>
     public bool Unfinished => Checkpoint?.State is not SessionState.Completed;
@@ -50,6 +52,17 @@ public sealed class JobStore : IDisposable
           cp_started INTEGER
         );
         """;
+
+    /// <summary>
+    /// Columns added after the first schema, with their definitions: added to older databases on open, so those stay
+    /// readable (their jobs read with the defaults: probe P501, no preamble, loaded checkpoints).
+    /// </summary>
+    private static readonly (string Name, string Definition)[] AddedColumns =
+    [
+        ("line_probe", "TEXT NOT NULL DEFAULT 'P501'"),
+        ("preamble", "TEXT"),
+        ("cp_loaded", "INTEGER"),
+    ];
 
     private static readonly ILogger Logger = Log.ForContext<JobStore>();
     private readonly SqliteConnection _db;
@@ -88,19 +101,48 @@ public sealed class JobStore : IDisposable
             cmd.ExecuteNonQuery();
         }
 
+        Migrate(db);
         return new JobStore(db, full);
     }
 
-    /// <summary>Records a new job and returns its id.</summary>
-    public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine)
+    private static void Migrate(SqliteConnection db)
+    {
+        var have = new HashSet<string>(StringComparer.OrdinalIgnoreCase);
+        using (var info = db.CreateCommand())
+        {
+            info.CommandText = "PRAGMA table_info(jobs)";
+            using var r = info.ExecuteReader();
+            while (r.Read())
+            {
+                have.Add(r.GetString(1));
+            }
+        }
+
+        foreach (var (name, definition) in AddedColumns)
+        {
+            if (have.Contains(name))
+            {
+                continue;
+            }
+
+            using var alter = db.CreateCommand();
+            alter.CommandText = $"ALTER TABLE jobs ADD COLUMN {name} {definition}";
+            alter.ExecuteNonQuery();
+            Logger.Information("job database: column {Column} added", name);
+        }
+    }
+
+    /// <summary>Records a new job and returns its id; <paramref name="lineProbe"/> is the line-probe variable its lines carry (null: none).</summary>
+    public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe = "P501")
     {
         lock (_lock)
         {
             using var cmd = _db.CreateCommand();
             cmd.CommandText = """
-                INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line)
-                VALUES ($c, $p, $h, $m, $s, $conn, $f); SELECT last_insert_rowid();
+                INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe)
+                VALUES ($c, $p, $h, $m, $s, $conn, $f, $lp); SELECT last_insert_rowid();
                 """;
+            cmd.Parameters.AddWithValue("$lp", lineProbe ?? string.Empty);
             cmd.Parameters.AddWithValue("$c", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
             cmd.Parameters.AddWithValue("$p", System.IO.Path.GetFullPath(programPath));
             cmd.Parameters.AddWithValue("$h", programSha256);
@@ -132,12 +174,30 @@ public sealed class JobStore : IDisposable
             p["$ne"].Value = cp.NextExact ? 1 : 0;
             p["$cd"].Value = cp.ChunksDownloaded;
             p["$sd"].Value = cp.Started ? 1 : 0;
+            p["$ld"].Value = cp.Loaded ? 1 : 0;
             _update.ExecuteNonQuery();
             CheckpointWrites++;
             if (durable)
             {
                 SetSynchronous(false);
             }
+        }
+    }
+
+    /// <summary>Records how the job (re)starts: start line, preamble and line probe, committed with <c>synchronous=FULL</c>.</summary>
+    public void RecordStart(long jobId, JobStart start)
+    {
+        lock (_lock)
+        {
+            SetSynchronous(true);
+            using var cmd = _db.CreateCommand();
+            cmd.CommandText = "UPDATE jobs SET from_line=$f, preamble=$pre, line_probe=$lp WHERE id=$id";
+            cmd.Parameters.AddWithValue("$f", start.FromLine is { } f ? f : DBNull.Value);
+            cmd.Parameters.AddWithValue("$pre", start.Preamble is { } pre ? string.Join('\n', pre) : DBNull.Value);
+            cmd.Parameters.AddWithValue("$lp", start.LineProbeVariable ?? string.Empty);
+            cmd.Parameters.AddWithValue("$id", jobId);
+            cmd.ExecuteNonQuery();
+            SetSynchronous(false);
         }
     }
 
@@ -192,9 +252,9 @@ public sealed class JobStore : IDisposable
         var cmd = _db.CreateCommand();
         cmd.CommandText = """
             UPDATE jobs SET cp_time=$t, cp_state=$st, cp_last_line=$l, cp_chunk=$c, cp_next_chunk=$nc, cp_next_line=$nl,
-              cp_next_exact=$ne, cp_chunks_downloaded=$cd, cp_started=$sd WHERE id=$id
+              cp_next_exact=$ne, cp_chunks_downloaded=$cd, cp_started=$sd, cp_loaded=$ld WHERE id=$id
             """;
-        foreach (var n in new[] { "$id", "$t", "$st", "$l", "$c", "$nc", "$nl", "$ne", "$cd", "$sd" })
+        foreach (var n in new[] { "$id", "$t", "$st", "$l", "$c", "$nc", "$nl", "$ne", "$cd", "$sd", "$ld" })
         {
             cmd.Parameters.Add(new SqliteParameter(n, null));
         }
@@ -210,7 +270,7 @@ public sealed class JobStore : IDisposable
         {
             using var cmd = _db.CreateCommand();
             cmd.CommandText = "SELECT id, created, program_path, program_sha256, manifest_path, strategy, connection, from_line, message, "
-                + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started FROM jobs " + where;
+                + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded FROM jobs " + where;
             foreach (var (n, v) in args)
             {
                 cmd.Parameters.AddWithValue(n, v);
@@ -227,7 +287,8 @@ public sealed class JobStore : IDisposable
                     r.GetInt32(16),
                     Enum.Parse<SessionState>(r.GetString(10)),
                     DateTimeOffset.Parse(r.GetString(9), CultureInfo.InvariantCulture),
-                    r.GetInt32(17) != 0);
+                    r.GetInt32(17) != 0,
+                    r.IsDBNull(20) || r.GetInt32(20) != 0);
                 list.Add(new JobRecord(
                     r.GetInt64(0),
                     r.GetString(2),
@@ -238,7 +299,9 @@ public sealed class JobStore : IDisposable
                     r.IsDBNull(7) ? null : r.GetInt32(7),
                     r.GetString(8),
                     cp,
-                    DateTimeOffset.Parse(r.GetString(1), CultureInfo.InvariantCulture)));
+                    DateTimeOffset.Parse(r.GetString(1), CultureInfo.InvariantCulture),
+                    r.IsDBNull(19) ? null : r.GetString(19).Split('\n'),
+                    r.GetString(18) is { Length: > 0 } probe ? probe : null));
             }
         }
 
@@ -248,5 +311,7 @@ public sealed class JobStore : IDisposable
     private sealed class Sink(JobStore store, long jobId) : ICheckpointSink
     {
         public void Save(Checkpoint checkpoint, bool durable) => store.SaveCheckpoint(jobId, checkpoint, durable);
+
+        public void RecordStart(JobStart start) => store.RecordStart(jobId, start);
     }
 }

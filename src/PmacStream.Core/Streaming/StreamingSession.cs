@@ -13,7 +13,7 @@ namespace PmacStream.Streaming;
 /// checkpoint. Operator commands (hold, resume, abort, feed, step) are sent between ticks, never while a buffer is open.
 /// Whatever fails, no block is skipped, repeated or reordered: on an <c>ERRnnn</c> or a lost link the session stops
 /// sending, keeps the exact position (or, when a download broke off mid-way, waits for the buffer to drain and
-/// re-derives it from M0), and <see cref="RecoverAsync"/> or <see cref="ResumeAsync"/> continues.
+/// re-derives it from M0), and <see cref="RecoverAsync"/> or <see cref="ResumeAsync(Checkpoint, CancellationToken)"/> continues.
 /// </summary>
 public sealed class StreamingSession
 {
@@ -175,7 +175,7 @@ public sealed class StreamingSession
     }
 
     /// <summary>The checkpoint now (what a crash-safe resume needs).</summary>
-    public Checkpoint Checkpoint => new(_tracked, _currentChunk, _next, _nextExact, _chunksDownloaded, _state, _time.GetUtcNow(), _runSent);
+    public Checkpoint Checkpoint => new(_tracked, _currentChunk, _next, _nextExact, _chunksDownloaded, _state, _time.GetUtcNow(), _runSent, _loaded || _runSent);
 
     /// <summary>
     /// How much faster than programmed the live feed runs the moves: the % override over 100 in override mode, the
@@ -225,6 +225,10 @@ public sealed class StreamingSession
                 : new StreamPosition(1, 0);
             CheckChunksFit();
 
+            // Recorded before anything is sent: a host that dies from here until the load completed resumes by
+            // clearing and loading this same start again.
+            _sink?.RecordStart(new JobStart(fromLine, preamble is { Count: > 0 } ? preamble.ToList() : null, Program.LineProbeVariable));
+
             await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
             if (Options.DefineBuffer)
             {
@@ -255,6 +259,7 @@ public sealed class StreamingSession
             _preamble = preamble is { Count: > 0 } ? preamble.Select(p => Program.Classify(p) with { TrackedLine = 0 }).ToList() : null;
             await LoadAsync(cancellationToken).ConfigureAwait(false);
             _state = SessionState.Running;
+            SaveCheckpoint(durable: true); // loaded, not started: a resume gives the run command
             await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);
             _runSent = true;
             Raise(StreamingEventKind.Started, fromLine is { } f ? $"started at line {f} ({_strategy.Name})" : $"started ({_strategy.Name})", _next.Chunk);
@@ -284,6 +289,47 @@ public sealed class StreamingSession
     }
 
     /// <summary>
+    /// Continues a job from its record after a host crash: uses the line-probe variable the job recorded; when the
+    /// job's start had not finished loading the buffer (no checkpoint yet, or one taken while loading: nothing has
+    /// run, how much of the preamble and first chunk arrived is unknown) it clears the buffer and loads the recorded
+    /// start again (preamble, first chunk, then the run command); otherwise as <see cref="ResumeAsync(Checkpoint, CancellationToken)"/>.
+    /// Throws <see cref="InvalidOperationException"/> when the controller lost the job, or when a start from a line
+    /// must be loaded again but the record holds no preamble (a record of an older version): restart from the line.
+    /// </summary>
+    public Task ResumeAsync(JobRecord job, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(job);
+        if (_state != SessionState.Idle)
+        {
+            throw new InvalidOperationException($"the session is {_state}; resume needs a new session");
+        }
+
+        if (!string.Equals(Program.LineProbeVariable, NormalizeProbe(job.LineProbeVariable), StringComparison.Ordinal))
+        {
+            // The lines already in the controller carry the recorded variable: the drain must read that one.
+            Log.Information("job {Job} was recorded with line probe {Probe}; using it", job.Id, job.LineProbeVariable ?? "(none)");
+            Program.UseLineProbe(job.LineProbeVariable);
+        }
+
+        if (job.Checkpoint is { } cp && (cp.Loaded || cp.Started))
+        {
+            return ResumeAsync(cp, cancellationToken);
+        }
+
+        if (job.FromLine is { } line && job.Preamble is null)
+        {
+            throw new InvalidOperationException(
+                $"job {job.Id} broke off while loading its start at line {line} and the record holds no preamble: restart from line {line} with a preamble");
+        }
+
+        Log.Information("job {Job}: its start broke off while loading the buffer; clearing and loading it again", job.Id);
+        return StartAsync(job.FromLine, job.Preamble, cancellationToken);
+    }
+
+    private static string? NormalizeProbe(string? variable) =>
+        string.IsNullOrWhiteSpace(variable) ? null : variable.Trim().ToUpperInvariant();
+
+    /// <summary>
     /// Continues a job after a host crash from its last checkpoint: closes any buffer left open on this port, reads M0,
     /// and continues sending at the checkpoint's position (or, when a download had broken off, once the buffer has
     /// drained, after the block M0 reports). Throws <see cref="InvalidOperationException"/> when the controller lost
@@ -294,6 +340,13 @@ public sealed class StreamingSession
         if (_state != SessionState.Idle)
         {
             throw new InvalidOperationException($"the session is {_state}; resume needs a new session");
+        }
+
+        if (!checkpoint.Loaded && !checkpoint.Started)
+        {
+            // Nothing ran and the buffer holds an unknown part of the start: only the start itself can be loaded again.
+            throw new InvalidOperationException(
+                "the job's start broke off while loading the buffer (nothing has run): start it again (resume from the job record loads the recorded start)");
         }
 
         await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
@@ -308,6 +361,7 @@ public sealed class StreamingSession
             }
 
             _runSent = true;
+            _loaded = true;
             var m = await ReadTrackAsync(cancellationToken).ConfigureAwait(false);
             if (m < checkpoint.LastExecutedLine)
             {
@@ -370,6 +424,10 @@ public sealed class StreamingSession
         _lastSentTag = 0;
         _linesSent = 0;
         _chunksDownloaded = 0;
+
+        // Durable before the buffer is touched: whatever the last checkpoint said about the buffer (a broken first
+        // load) stops being true with the CLEAR; a resume from here loads the recorded start again.
+        SaveCheckpoint(durable: true);
         _bufferOpen = true;
         await SendAsync("OPEN ROT", cancellationToken).ConfigureAwait(false);
         await SendAsync("CLEAR", cancellationToken).ConfigureAwait(false);
@@ -463,6 +521,7 @@ public sealed class StreamingSession
                 if (!_loaded && await ProgramRunningAsync(cancellationToken).ConfigureAwait(false) != true)
                 {
                     await LoadAsync(cancellationToken).ConfigureAwait(false);
+                    SaveCheckpoint(durable: true);
                 }
 
                 await OnlineAsync(_singleBlock ? $"{_cs} S" : $"{_cs} R", cancellationToken).ConfigureAwait(false);

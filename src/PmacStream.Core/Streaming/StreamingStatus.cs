@@ -100,13 +100,29 @@ public sealed record StreamingEvent(StreamingEventKind Kind, string Message, int
 /// <param name="State">Session state.</param>
 /// <param name="TimeUtc">When it was taken.</param>
 /// <param name="Started">True once the run command (<c>&amp;n R</c>) was given.</param>
-public sealed record Checkpoint(int LastExecutedLine, int CurrentChunk, StreamPosition Next, bool NextExact, int ChunksDownloaded, SessionState State, DateTimeOffset TimeUtc, bool Started = true);
+/// <param name="Loaded">
+/// False while the start loads the buffer (clear, preamble, first chunk) and until that load completed: how much of
+/// it arrived is unknown and nothing has run, so a resume clears and loads the job's recorded start again
+/// (<see cref="JobStart"/>) instead of running what is there.
+/// </param>
+public sealed record Checkpoint(int LastExecutedLine, int CurrentChunk, StreamPosition Next, bool NextExact, int ChunksDownloaded, SessionState State, DateTimeOffset TimeUtc, bool Started = true, bool Loaded = true);
+
+/// <summary>How a job starts: what a resume needs to load the start again when it broke off before the run command.</summary>
+/// <param name="FromLine">The source line of the start block, or null for the program start.</param>
+/// <param name="Preamble">The PMAC lines sent before that block (restore modal state, safe approach), or null.</param>
+/// <param name="LineProbeVariable">The line-probe variable the job's lines carry (null: none).</param>
+public sealed record JobStart(int? FromLine, IReadOnlyList<string>? Preamble, string? LineProbeVariable);
 
 /// <summary>Where checkpoints go (the job store; tests use memory).</summary>
 public interface ICheckpointSink
 {
     /// <summary>Records a checkpoint; <paramref name="durable"/> asks for a synchronous commit (chunk boundaries, faults, end).</summary>
     void Save(Checkpoint checkpoint, bool durable);
+
+    /// <summary>Records how the job starts (durably), before the start sends anything; the job store keeps it for resume.</summary>
+    void RecordStart(JobStart start)
+    {
+    }
 }
 
 /// <summary>Move times by source line, for ETA and the adaptive lead.</summary>

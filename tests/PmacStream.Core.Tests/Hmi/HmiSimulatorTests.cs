@@ -367,4 +367,35 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
             store.LatestUnfinished().Should().BeNull();
         }
     }
+
+    [Fact]
+    public async Task A_job_whose_start_broke_off_while_loading_is_loaded_again_with_its_recorded_preamble_and_probe()
+    {
+        var (p, v) = await ReadyAsync();
+        var program = ChunkedProgram.Open(Splitter.DefaultOutDir(_source));
+        var tracked = TrackedLines();
+        var plan = StartFromLine.Plan(_source, tracked[900], StartPlanOptions.For(program.Manifest));
+        var preamble = new[] { "P901=42" }.Concat(plan.PmacLines).ToList();
+        long id;
+        using (var store = JobStore.Open(JobDb))
+        {
+            // What a host that died while loading its start leaves: the start recorded, a checkpoint taken while loading.
+            id = store.CreateJob(_source, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName), StrategyKind.Chunk, "sim", plan.Line, "P777");
+            store.RecordStart(id, new JobStart(plan.Line, preamble, "P777"));
+            var at = program.PositionOfBlock(plan.Line)!.Value;
+            store.SaveCheckpoint(id, new Checkpoint(0, at.Chunk, at, false, 0, SessionState.Idle, DateTimeOffset.UtcNow, Started: false, Loaded: false), durable: true);
+        }
+
+        await Do(p, v.ClickResumeInterrupted);
+        v.Errors.Should().BeEmpty();
+        await RunToEnd(p);
+
+        ExecutedLines().Should().Equal(tracked.SkipWhile(l => l < plan.Line), "from the recorded start block to the end, each once");
+        var ran = _sim.ExecutedRotaryLines.Select(l => l.Text.Trim()).ToList();
+        ran.Take(preamble.Count).Should().Equal(preamble, "the recorded preamble runs first, once");
+        ran.Should().Contain(t => t.StartsWith("P777=", StringComparison.Ordinal), "the job's lines carry its recorded probe");
+        ran.Should().NotContain(t => t.StartsWith("P501=", StringComparison.Ordinal));
+        using var check = JobStore.Open(JobDb);
+        check.Get(id)!.Checkpoint!.State.Should().Be(SessionState.Completed);
+    }
 }

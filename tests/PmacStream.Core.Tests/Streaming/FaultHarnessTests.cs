@@ -112,9 +112,10 @@ public class FaultHarnessTests(ITestOutputHelper output)
             {
                 if (!started)
                 {
-                    if (rig.Sink.Last is { } cp)
+                    if (rig.Sink.Last is not null)
                     {
-                        await rig.Session.ResumeAsync(cp);
+                        // As a host resumes from the job store: a start that broke off while loading is loaded again.
+                        await rig.Session.ResumeAsync(rig.Sink.Record());
                     }
                     else
                     {

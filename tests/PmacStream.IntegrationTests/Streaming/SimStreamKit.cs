@@ -138,5 +138,13 @@ public sealed class MemorySinkIt : ICheckpointSink
 {
     public Checkpoint? Last { get; private set; }
 
+    public JobStart? Start { get; private set; }
+
     public void Save(Checkpoint checkpoint, bool durable) => Last = checkpoint;
+
+    public void RecordStart(JobStart start) => Start = start;
+
+    /// <summary>The job record a host would read back after dying (what the job store keeps).</summary>
+    public JobRecord Record() => new(1, "p.nc", string.Empty, "manifest.json", StrategyKind.Chunk, "sim", Start?.FromLine, string.Empty, Last,
+        DateTimeOffset.UnixEpoch, Start?.Preamble, Start is null ? "P501" : Start.LineProbeVariable);
 }
