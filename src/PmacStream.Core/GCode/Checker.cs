@@ -113,8 +113,10 @@ public sealed class Checker
             }
 
             diags.Clear();
-            foreach (var d in block.DiagnosticList)
+            var lexical = block.DiagnosticList;
+            for (var di = 0; di < lexical.Count; di++)
             {
+                var d = lexical[di];
                 if (d.Code == DiagnosticCodes.NulByte)
                 {
                     // One report per file is enough to say "binary"; the rest would bury everything else.
@@ -164,7 +166,7 @@ public sealed class Checker
                 }
             }
 
-            if (block.ProgramNumber.HasValue)
+            if (interp.LastHadProgramNumber)
             {
                 sawProgramNumber = true;
             }
@@ -181,9 +183,9 @@ public sealed class Checker
             }
             else
             {
-                foreach (var d in diags)
+                for (var di = 0; di < diags.Count; di++)
                 {
-                    Emit(d);
+                    Emit(diags[di]);
                 }
             }
 

@@ -23,6 +23,7 @@ public sealed class Interpreter
     private int _plane = 17;
     private bool _absolute = true;
     private int _wcs = 54;
+    private Point3? _wcsOffset;
     private int _tool;
     private int _h;
     private int _d;
@@ -34,6 +35,9 @@ public sealed class Interpreter
     private ModalState? _snapshot;
     private LastBlock _last;
     private bool _dirty = true;
+    private bool _nonModalSet = true;
+    private double? _motionFor = double.NaN;
+    private int _motion = -1;
 
     /// <summary>Starts in the profile's power-on state (its <see cref="MachineProfile.Startup"/> codes) at the origin.</summary>
     public Interpreter(MachineProfile profile)
@@ -78,6 +82,7 @@ public sealed class Interpreter
         _plane = state.Plane;
         _absolute = state.Absolute;
         _wcs = state.WorkOffset;
+        _wcsOffset = null;
         _tool = state.Tool;
         _h = state.LengthOffset;
         _d = state.CutterComp;
@@ -108,6 +113,9 @@ public sealed class Interpreter
     public DecodedBlock? Step(GBlock block) => Step(block, null);
 
     internal DecodedBlock? Step(GBlock block, List<Diagnostic>? diags) => StepCore(block, diags) ? Materialize() : null;
+
+    /// <summary>The line given to the last <see cref="StepCore"/> carried an O program number (saves the checker a second scan of the words).</summary>
+    internal bool LastHadProgramNumber { get; private set; }
 
     /// <summary>The last interpreted block, without allocating (the checker's hot path when nothing is stored).</summary>
     internal ref readonly LastBlock Last => ref _last;
@@ -140,8 +148,13 @@ public sealed class Interpreter
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
         {
+            LastHadProgramNumber = block.ProgramNumber.HasValue;
             return false;
         }
+
+        var sawO = false;
+        var anyG = false;                              // most CAM blocks carry no G or M word: skip the group loops
+        var anyM = false;
 
         var line = block.LineNumber;
         Span<int> col = stackalloc int[26];          // column of the first word of each letter, 0 = absent
@@ -163,6 +176,10 @@ public sealed class Interpreter
             if (w.Letter != 'O')
             {
                 onlyO = false;
+            }
+            else
+            {
+                sawO = true;
             }
 
             if (!_profile.AcceptsLetter(w.Letter))
@@ -208,6 +225,8 @@ public sealed class Interpreter
 
                 slotCol[group] = w.Column;
                 (isG ? gIn : mIn)[group] = w.Value;
+                anyG |= isG;
+                anyM |= !isG;
                 continue;
             }
 
@@ -230,6 +249,7 @@ public sealed class Interpreter
             }
         }
 
+        LastHadProgramNumber = sawO;
         if (onlyO)
         {
             return false;
@@ -239,7 +259,7 @@ public sealed class Interpreter
         ClearNonModal();
         var dwell = false;
         var motionInBlock = -1;
-        for (var gi = 0; gi < GroupCount; gi++)
+        for (var gi = 0; anyG && gi < GroupCount; gi++)
         {
             if (gCol[gi] == 0)
             {
@@ -259,7 +279,7 @@ public sealed class Interpreter
             }
         }
 
-        for (var mi = 0; mi < MGroupCount; mi++)
+        for (var mi = 0; anyM && mi < MGroupCount; mi++)
         {
             if (mCol[mi] != 0)
             {
@@ -268,8 +288,9 @@ public sealed class Interpreter
             }
         }
 
-        double? Word(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
-        int ColOf(char c, Span<int> col) => col[c - 'A'];
+        [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+        static double? Word(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
+        static int ColOf(char c, Span<int> col) => col[c - 'A'];
 
         // Values and their ranges.
         var f = Word('F', col, val);
@@ -407,7 +428,7 @@ public sealed class Interpreter
         else if (hasAxes || ((motionInBlock is 2 or 3) && (i0.HasValue || j0.HasValue || k0.HasValue)))
         {
             end = Target(start, x, y, z);
-            var mode = _g[0] is { } ga ? MachineProfile.Key(ga) / 10 : -1;
+            var mode = MotionMode();
             var modeCol = motionInBlock >= 0 ? gCol[0] : words[0].Column;
             switch (mode)
             {
@@ -443,7 +464,7 @@ public sealed class Interpreter
 
         if (diags != null)
         {
-            if (!usedArcWords)
+            if (!usedArcWords && (col['I' - 'A'] | col['J' - 'A'] | col['K' - 'A'] | col['R' - 'A']) != 0)
             {
                 foreach (var c in "IJKR")
                 {
@@ -489,6 +510,19 @@ public sealed class Interpreter
         return true;
     }
 
+    // The motion mode (0..3 for G00..G03, -1 when none) of group GA, recomputed only when GA changes.
+    private int MotionMode()
+    {
+        var ga = _g[0];
+        if (ga != _motionFor)
+        {
+            _motionFor = ga;
+            _motion = ga is { } v ? MachineProfile.Key(v) / 10 : -1;
+        }
+
+        return _motion;
+    }
+
     private int IndexOfGroupWithKey(int key)
     {
         for (var i = 0; i < GroupCount; i++)
@@ -517,7 +551,8 @@ public sealed class Interpreter
     {
         if (_absolute)
         {
-            var o = _profile.WorkOffset(_wcs);
+            // The offset of the active work coordinate system, looked up once per G54..G59 change, not per block.
+            var o = _wcsOffset ??= _profile.WorkOffset(_wcs);
             return new Point3(x is { } ax ? ax + o.X : start.X, y is { } ay ? ay + o.Y : start.Y, z is { } az ? az + o.Z : start.Z);
         }
 
@@ -631,6 +666,13 @@ public sealed class Interpreter
 
     private void ClearNonModal()
     {
+        // Most blocks follow a block that set no non-modal code (G04, G53, M00...): nothing to clear then.
+        if (!_nonModalSet)
+        {
+            return;
+        }
+
+        _nonModalSet = false;
         for (var i = 0; i < GroupCount; i++)
         {
             if (_gNonModal[i] && _g[i] != null)
@@ -652,6 +694,7 @@ public sealed class Interpreter
 
     private void SetG(int group, double value)
     {
+        _nonModalSet |= _gNonModal[group];
         if (_g[group] != value)
         {
             _g[group] = value;
@@ -661,6 +704,7 @@ public sealed class Interpreter
 
     private void SetM(int group, double value)
     {
+        _nonModalSet |= _mNonModal[group];
         if (_m[group] != value)
         {
             _m[group] = value;
@@ -677,7 +721,7 @@ public sealed class Interpreter
             case 210: _units = LengthUnits.Millimetres; break;
             case 900: _absolute = true; break;
             case 910: _absolute = false; break;
-            case >= 540 and <= 590 when key % 10 == 0: _wcs = key / 10; break;
+            case >= 540 and <= 590 when key % 10 == 0: _wcs = key / 10; _wcsOffset = null; break;
             default: return;
         }
 
