@@ -48,8 +48,20 @@ public sealed class Checker
     /// <summary>Checks a stream, calling <paramref name="onDiagnostic"/> in line order and <paramref name="onBlock"/> for each interpreted block.</summary>
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default) =>
+        CheckCore(stream, fileName, onDiagnostic, onBlock, null, cancellationToken);
+
+    /// <summary>
+    /// Checks a stream, handing the interpreter itself to <paramref name="onInterpreted"/> after each block (read
+    /// <see cref="Interpreter.Last"/> and <see cref="Interpreter.State"/>): the store's path, without a record
+    /// allocated per block.
+    /// </summary>
+    internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<Interpreter> onInterpreted, CancellationToken cancellationToken) =>
+        CheckCore(stream, fileName, onDiagnostic, null, onInterpreted, cancellationToken);
+
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default)
+    private CheckSummary CheckCore(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
+        Action<Interpreter>? onInterpreted, CancellationToken cancellationToken)
     {
         var sw = Stopwatch.StartNew();
         var errors = 0;
@@ -189,9 +201,16 @@ public sealed class Checker
                 }
             }
 
-            if (isBlock && onBlock != null)
+            if (isBlock)
             {
-                onBlock(interp.Materialize());
+                if (onBlock != null)
+                {
+                    onBlock(interp.Materialize());
+                }
+                else
+                {
+                    onInterpreted?.Invoke(interp);
+                }
             }
         }
 

@@ -165,18 +165,15 @@ public sealed class ProgramStore : IDisposable
 
     /// <summary>
     /// Checks a file and stores every block and diagnostic in one pass (hashing as it reads). Returns the program id
-    /// and the summary; <paramref name="onDiagnostic"/> sees each diagnostic as it is found.
+    /// and the summary; <paramref name="onDiagnostic"/> sees each diagnostic as it is found, in line order, on a
+    /// worker thread: reading and interpreting run on one thread while SQLite stores the blocks on the calling one.
     /// </summary>
     public (long ProgramId, CheckSummary Summary) Import(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
     {
         using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
         using var hashing = new HashingReadStream(fs);
         using var writer = BeginProgram(file, fs.Length, profile.Name);
-        var summary = new Checker(profile).Check(hashing, file, d =>
-        {
-            writer.Add(d);
-            onDiagnostic?.Invoke(d);
-        }, writer.Add, cancellationToken);
+        var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken);
         writer.Complete(summary, hashing.HashHex());
         Logger.Information("Stored {File} as program {Id}: {Summary} in {Ms} ms", file, writer.ProgramId, summary.ToString(), (int)summary.Elapsed.TotalMilliseconds);
         return (writer.ProgramId, summary);
@@ -380,7 +377,18 @@ public sealed class ProgramWriter : IDisposable
     /// <summary>Adds a block (in program order).</summary>
     public void Add(DecodedBlock b)
     {
-        var m = b.Modal;
+        var fields = new Interpreter.LastBlock
+        {
+            Line = b.Line, ByteOffset = b.ByteOffset, N = b.N, BlockDelete = b.BlockDelete,
+            X = b.X, Y = b.Y, Z = b.Z, I = b.I, J = b.J, K = b.K, R = b.R, F = b.F, S = b.S, T = b.T, H = b.H, D = b.D, P = b.P,
+            Motion = b.Motion, Start = b.Start, End = b.End, Center = b.Center, Length = b.Length, DurationSeconds = b.DurationSeconds,
+        };
+        Add(in fields, b.Modal);
+    }
+
+    /// <summary>Adds a block from the interpreter's fields and modal state (no record allocated).</summary>
+    internal void Add(in Interpreter.LastBlock b, ModalState m)
+    {
         BindI(1, ProgramStore.Key(ProgramId, b.Line));
         BindI(2, ProgramId);
         BindI(3, b.Line);
