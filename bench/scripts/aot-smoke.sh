@@ -75,8 +75,8 @@ run plc 0 plc "$R/samples/plc/motor-fwd-rev.ladder" && same plc plc.out
 run plc2 0 plc "$R/samples/plc/sand-mould-spindle.ladder" -o plc2.pmc && same plc2 plc2.pmc
 run preview 0 preview "$R/samples/demo.nc" --png demo.png --size 400x300 && same preview demo.png
 run preview-iso 0 preview "$R/samples/demo.nc" --png iso.png --size 300x200 --view iso && same preview-iso iso.png
-run stream-sim 0 stream "$R/samples/demo.nc" --sim --sim-speed instant --job-db jobs.db && echo "PASS stream-sim"
-run stream-sim-from-line 0 stream "$R/samples/demo.nc" --sim --sim-speed instant --from-line 1500 -y --job-db jobs.db && echo "PASS stream-sim-from-line"
+run stream-sim 0 stream "$WORK/demo.nc" --sim --sim-speed instant --job-db jobs.db && echo "PASS stream-sim"
+run stream-sim-from-line 0 stream "$WORK/demo.nc" --sim --sim-speed instant --from-line 1500 -y --job-db jobs.db && echo "PASS stream-sim-from-line"
 run resume-none 2 resume --sim --job-db missing.db && same resume-none resume-none.err
 run demo 0 demo --sim-speed instant && echo "PASS demo"
 run help 0 --help && same help help.out

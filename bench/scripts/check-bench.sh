@@ -6,7 +6,7 @@
 #     existing store
 #   - LinuxCNC's stand-alone interpreter `rs274 -g FILE /dev/null` on the 1M file, and the ratio (goal >= 20x)
 # Usage: bench/scripts/check-bench.sh [LINES]   (default 1000000; work files go to $BENCH_DIR or a temp dir)
-#   REPS=3 (best of N by wall time), AOT_BIN=path (skip publishing), SKIP_JIT=1, SKIP_BIG=1.
+#   REPS=3 (best of N by wall time, rs274 too: RS274_REPS), AOT_BIN=path (skip publishing), SKIP_JIT=1, SKIP_BIG=1.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 LINES=${1:-1000000}
@@ -92,7 +92,7 @@ if [ -z "$RS274" ]; then
 fi
 
 # rs274 interprets the program and writes canonical machining calls; -g runs it without the interactive prompt.
-read -r tr mr cr lr < <(REPS=${RS274_REPS:-1} measure "$RS274" -g "$WORK/surf-1x.nc" /dev/null)
+read -r tr mr cr lr < <(REPS=${RS274_REPS:-$REPS} measure "$RS274" -g "$WORK/surf-1x.nc" /dev/null)
 row "rs274 -g 1x" "$tr" "$mr" "$cr" "$lr" "LinuxCNC stand-alone interpreter"
 echo
 for label in aot jit; do
