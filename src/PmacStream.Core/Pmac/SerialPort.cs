@@ -20,8 +20,8 @@ public enum SerialParity
 public sealed record SerialSettings(int BaudRate = 38400, SerialParity Parity = SerialParity.None, bool TwoStopBits = false);
 
 /// <summary>
-/// A raw serial port. System.IO.Ports is not available to this project, so the port is opened directly:
-/// POSIX termios through libc on Linux and macOS, the Win32 comm API on Windows (see <see cref="SerialPorts.Open"/>).
+/// A raw serial port: the seam between the serial transport (and the simulator's serial server) and the device, so
+/// tests can put a socat pty pair or an in-memory fake behind it. <see cref="SerialPorts.Open"/> opens a real one.
 /// </summary>
 public interface ISerialPort : IDisposable
 {
@@ -38,7 +38,7 @@ public interface ISerialPort : IDisposable
     void DiscardInput();
 }
 
-/// <summary>Opens serial ports with the implementation for the running OS.</summary>
+/// <summary>Opens serial ports through System.IO.Ports (Windows COM ports, Linux/macOS tty and pty devices).</summary>
 public static class SerialPorts
 {
     /// <summary>Opens <paramref name="portName"/> (<c>/dev/ttyS0</c>, a pty path, or <c>COM3</c>) raw, with the given settings.</summary>
@@ -47,7 +47,7 @@ public static class SerialPorts
     {
         ArgumentNullException.ThrowIfNull(portName);
         ArgumentNullException.ThrowIfNull(settings);
-        return OperatingSystem.IsWindows() ? new WindowsSerialPort(portName, settings) : new PosixSerialPort(portName, settings);
+        return new SystemIoSerialPort(portName, settings);
     }
 }
 

@@ -4,7 +4,7 @@ using Xunit.Abstractions;
 
 namespace PmacStream.IntegrationTests.Transports;
 
-/// <summary>SerialConnection (termios) against the simulator's serial server through a socat pty pair.</summary>
+/// <summary>SerialConnection (System.IO.Ports) against the simulator's serial server through a socat pty pair.</summary>
 public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifetime
 {
     private readonly TestController _controller = new();
