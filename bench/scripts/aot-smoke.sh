@@ -4,13 +4,15 @@
 # store's rows, split's chunk files and manifest.json, prog1000, plc, preview PNG). stream --sim, demo and resume
 # run against the built-in simulator (instant clock) and must finish with exit 0 from both binaries.
 # Usage: bench/scripts/aot-smoke.sh AOT_BINARY [JIT_DLL]
-#   JIT_DLL defaults to src/PmacStream.Cli/bin/Release/net10.0/pmacstream.dll (built when missing).
+#   JIT_DLL defaults to src/PmacStream.Cli/bin/Release/net10.0/pmacstream.dll (built first, so it matches the source).
 # Exit 0 when every check passed; prints one PASS/FAIL line per check.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 AOT=${1:?usage: aot-smoke.sh AOT_BINARY [JIT_DLL]}
-JIT_DLL=${2:-src/PmacStream.Cli/bin/Release/net10.0/pmacstream.dll}
-[ -f "$JIT_DLL" ] || dotnet build -c Release src/PmacStream.Cli -v q -nologo >/dev/null
+if [ -n "${2:-}" ]; then JIT_DLL=$2; else
+  JIT_DLL=src/PmacStream.Cli/bin/Release/net10.0/pmacstream.dll
+  dotnet build -c Release src/PmacStream.Cli -v q -nologo >/dev/null
+fi
 WORK=$(mktemp -d /tmp/pmacstream-aot-smoke.XXXXXX)
 [ -n "${KEEP:-}" ] || trap 'rm -rf "$WORK"' EXIT
 fails=0
@@ -80,6 +82,32 @@ run stream-sim-from-line 0 stream "$WORK/demo.nc" --sim --sim-speed instant --fr
 run resume-none 2 resume --sim --job-db missing.db && same resume-none resume-none.err
 run demo 0 demo --sim-speed instant && echo "PASS demo"
 run help 0 --help && same help help.out
+
+# The AOT binary on both ends of the wire: `sim` serving Ethernet (and serial through a socat pty pair when socat
+# is installed) and `stream --tcp/--serial` running demo.nc against it.
+wire() { # NAME SIM_ARGS... -- STREAM_ARGS...
+  local name=$1; shift
+  local sim_args=() ; while [ "$1" != "--" ]; do sim_args+=("$1"); shift; done; shift
+  "$AOT" sim --speed instant "${sim_args[@]}" >"$WORK/$name.sim" 2>&1 &
+  local sim=$!
+  for _ in $(seq 50); do grep -q "listening\|serving" "$WORK/$name.sim" && break; sleep 0.1; done
+  local port; port=$(grep -oE 'port [0-9]+' "$WORK/$name.sim" | head -1 | cut -d' ' -f2)
+  local args=("${@//PORT/$port}")
+  if (cd "$WORK" && timeout 120 "$AOT" stream demo.nc "${args[@]}" --job-db "$name.jobs.db" >"$name.out" 2>&1) &&
+     grep -q "executed 3207 of 3207 blocks" "$WORK/$name.out"; then echo "PASS $name"
+  else echo "FAIL $name"; tail -3 "$WORK/$name.out"; fails=$((fails + 1)); fi
+  kill "$sim" 2>/dev/null; wait "$sim" 2>/dev/null
+}
+wire stream-tcp --tcp 127.0.0.1:0 -- --tcp 127.0.0.1:PORT
+if command -v socat >/dev/null; then
+  socat pty,raw,echo=0,link="$WORK/pty-a" pty,raw,echo=0,link="$WORK/pty-b" 2>/dev/null &
+  SOCAT=$!
+  for _ in $(seq 50); do [ -e "$WORK/pty-b" ] && break; sleep 0.1; done
+  wire stream-serial --tcp none --serial "$WORK/pty-a" -- --serial "$WORK/pty-b"
+  kill "$SOCAT" 2>/dev/null; wait "$SOCAT" 2>/dev/null
+else
+  echo "SKIP stream-serial (socat not installed)"
+fi
 
 if [ "$fails" = 0 ]; then echo "all AOT smoke checks passed ($AOT)"; else echo "$fails AOT smoke check(s) FAILED"; fi
 exit $((fails > 0))
