@@ -36,6 +36,7 @@ public sealed class Interpreter
     private LastBlock _last;
     private bool _dirty = true;
     private bool _nonModalSet = true;
+    private readonly LetterKind[] _letterKinds = new LetterKind[26];
     private double? _motionFor = double.NaN;
     private int _motion = -1;
 
@@ -169,6 +170,7 @@ public sealed class Interpreter
         var onlyO = true;
         var effective = false;
         var wordSpan = System.Runtime.InteropServices.CollectionsMarshal.AsSpan(words);
+        var letterKinds = _letterKinds;
         for (var i = 0; i < wordSpan.Length; i++)
         {
             ref readonly var w = ref wordSpan[i];
@@ -182,16 +184,17 @@ public sealed class Interpreter
                 sawO = true;
             }
 
-            if (!_profile.AcceptsLetter(w.Letter))
+            var letterKind = (uint)li < 26 ? letterKinds[li] : LetterKind.Unsupported;
+            if (letterKind == LetterKind.Unsupported)
             {
                 Add(diags, DiagnosticCodes.UnsupportedLetter, line, w.Column, w.Letter, _profile.Name, _profile.Letters);
                 continue;
             }
 
-            if (w.Letter == 'G' || w.Letter == 'M')
+            if (letterKind is LetterKind.G or LetterKind.M)
             {
                 effective = true;
-                var isG = w.Letter == 'G';
+                var isG = letterKind == LetterKind.G;
                 var group = isG ? _profile.GGroupOf(w.Value) : _profile.MGroupOf(w.Value);
                 if (group < 0)
                 {
@@ -230,11 +233,6 @@ public sealed class Interpreter
                 continue;
             }
 
-            if (li is < 0 or >= 26)
-            {
-                continue;
-            }
-
             if (col[li] != 0)
             {
                 Add(diags, DiagnosticCodes.DuplicateWord, line, w.Column, w.Letter, col[li]);
@@ -243,10 +241,7 @@ public sealed class Interpreter
 
             col[li] = w.Column;
             val[li] = w.Value;
-            if (w.Letter is not ('N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L'))
-            {
-                effective = true;
-            }
+            effective |= letterKind == LetterKind.Effective;
         }
 
         LastHadProgramNumber = sawO;
@@ -635,6 +630,16 @@ public sealed class Interpreter
 
     private void ClassifyGroups()
     {
+        // One table lookup per word instead of the profile's letter set plus the letter tests in the hot loop.
+        for (var c = 'A'; c <= 'Z'; c++)
+        {
+            _letterKinds[c - 'A'] = !_profile.AcceptsLetter(c) ? LetterKind.Unsupported
+                : c == 'G' ? LetterKind.G
+                : c == 'M' ? LetterKind.M
+                : c is 'N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L' ? LetterKind.Parameter
+                : LetterKind.Effective;
+        }
+
         // A group is non-modal when every code in it is one that acts only in its own block.
         int[] nonModalG = [40, 90, 100, 280, 300, 530, 650, 920];
         int[] nonModalM = [0, 10, 20, 300, 60, 980, 990];
@@ -764,6 +769,16 @@ public sealed class Interpreter
     private static void Add(List<Diagnostic>? diags, string code, int line, int column, params object[] args)
     {
         diags?.Add(new Diagnostic(DiagnosticCodes.SeverityOf(code), code, line, column, DiagnosticText.Format(code, args)));
+    }
+
+    /// <summary>What a word's letter does in a block.</summary>
+    private enum LetterKind : byte
+    {
+        Unsupported,
+        G,
+        M,
+        Parameter,   // N, O, I, J, K, R, P, Q, L: not an effective function on their own
+        Effective,   // axes, F, S, T, H, D...: the block does something
     }
 
     /// <summary>The fields of a decoded block without the allocation.</summary>
