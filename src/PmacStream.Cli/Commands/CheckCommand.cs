@@ -118,35 +118,21 @@ internal static class CheckCommand
             throw new CliException($"--db {dbPath}: is a directory, expected a database file");
         }
 
-        var created = !File.Exists(dbPath);
         try
         {
+            if (!File.Exists(dbPath))
+            {
+                // A new database: built under a temporary name without a write-ahead log and renamed when complete,
+                // so a failed or cancelled import leaves no file behind.
+                return ProgramStore.ImportToNewFile(dbPath, file, machine, onDiagnostic, ct).Summary;
+            }
+
             using var store = ProgramStore.Open(dbPath);
             return store.Import(file, machine, onDiagnostic, ct).Summary;
         }
-        catch (Exception e) when (e is Microsoft.Data.Sqlite.SqliteException or IOException or UnauthorizedAccessException or OperationCanceledException)
+        catch (Exception e) when (e is Microsoft.Data.Sqlite.SqliteException or IOException or UnauthorizedAccessException)
         {
-            // The import rolled back; a database file this run created would only be an empty shell.
-            if (created)
-            {
-                Microsoft.Data.Sqlite.SqliteConnection.ClearAllPools();
-                foreach (var f in new[] { dbPath, dbPath + "-wal", dbPath + "-shm" })
-                {
-                    try
-                    {
-                        File.Delete(f);
-                    }
-                    catch (IOException)
-                    {
-                    }
-                }
-            }
-
-            if (e is OperationCanceledException)
-            {
-                throw;
-            }
-
+            // The import rolled back (an existing store keeps its other programs).
             throw new CliException($"--db {dbPath}: {e.Message}");
         }
     }

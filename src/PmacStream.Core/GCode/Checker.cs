@@ -46,15 +46,26 @@ public sealed class Checker
     }
 
     /// <summary>Checks a stream, calling <paramref name="onDiagnostic"/> in line order and <paramref name="onBlock"/> for each interpreted block.</summary>
+    public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default) =>
+        CheckCore(stream, fileName, onDiagnostic, onBlock, null, null, cancellationToken);
+
+    /// <summary>
+    /// Checks a stream, handing the interpreter itself to <paramref name="onInterpreted"/> after each block (read
+    /// <see cref="Interpreter.Last"/> and <see cref="Interpreter.State"/>): the store's path, without a record
+    /// allocated per block.
+    /// </summary>
+    internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<Interpreter> onInterpreted, CancellationToken cancellationToken) =>
+        CheckCore(stream, fileName, onDiagnostic, null, onInterpreted, null, cancellationToken);
+
+    /// <summary>As the public overload; <paramref name="onLine"/> sees every line's lexed block after the checker took it (the splitter's single pass).</summary>
+    internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock, Action<GBlock>? onLine, CancellationToken cancellationToken) =>
+        CheckCore(stream, fileName, onDiagnostic, onBlock, null, onLine, cancellationToken);
+
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default) =>
-        Check(stream, fileName, onDiagnostic, onBlock, null, cancellationToken);
-
-    /// <summary>As above; <paramref name="onLine"/> sees every line's lexed block after the checker took it (the splitter's single pass).</summary>
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock, Action<GBlock>? onLine, CancellationToken cancellationToken)
+    private CheckSummary CheckCore(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
+        Action<Interpreter>? onInterpreted, Action<GBlock>? onLine, CancellationToken cancellationToken)
     {
         var sw = Stopwatch.StartNew();
         var errors = 0;
@@ -118,8 +129,10 @@ public sealed class Checker
             }
 
             diags.Clear();
-            foreach (var d in block.DiagnosticList)
+            var lexical = block.DiagnosticList;
+            for (var di = 0; di < lexical.Count; di++)
             {
+                var d = lexical[di];
                 if (d.Code == DiagnosticCodes.NulByte)
                 {
                     // One report per file is enough to say "binary"; the rest would bury everything else.
@@ -169,7 +182,7 @@ public sealed class Checker
                 }
             }
 
-            if (block.ProgramNumber.HasValue)
+            if (interp.LastHadProgramNumber)
             {
                 sawProgramNumber = true;
             }
@@ -186,15 +199,22 @@ public sealed class Checker
             }
             else
             {
-                foreach (var d in diags)
+                for (var di = 0; di < diags.Count; di++)
                 {
-                    Emit(d);
+                    Emit(diags[di]);
                 }
             }
 
-            if (isBlock && onBlock != null)
+            if (isBlock)
             {
-                onBlock(interp.Materialize());
+                if (onBlock != null)
+                {
+                    onBlock(interp.Materialize());
+                }
+                else
+                {
+                    onInterpreted?.Invoke(interp);
+                }
             }
 
             onLine?.Invoke(block);

@@ -23,6 +23,7 @@ public sealed class Interpreter
     private int _plane = 17;
     private bool _absolute = true;
     private int _wcs = 54;
+    private Point3? _wcsOffset;
     private int _tool;
     private int _h;
     private int _d;
@@ -34,6 +35,10 @@ public sealed class Interpreter
     private ModalState? _snapshot;
     private LastBlock _last;
     private bool _dirty = true;
+    private bool _nonModalSet = true;
+    private readonly LetterKind[] _letterKinds = new LetterKind[26];
+    private double? _motionFor = double.NaN;
+    private int _motion = -1;
 
     /// <summary>Starts in the profile's power-on state (its <see cref="MachineProfile.Startup"/> codes) at the origin.</summary>
     public Interpreter(MachineProfile profile)
@@ -78,6 +83,7 @@ public sealed class Interpreter
         _plane = state.Plane;
         _absolute = state.Absolute;
         _wcs = state.WorkOffset;
+        _wcsOffset = null;
         _tool = state.Tool;
         _h = state.LengthOffset;
         _d = state.CutterComp;
@@ -108,6 +114,9 @@ public sealed class Interpreter
     public DecodedBlock? Step(GBlock block) => Step(block, null);
 
     internal DecodedBlock? Step(GBlock block, List<Diagnostic>? diags) => StepCore(block, diags) ? Materialize() : null;
+
+    /// <summary>The line given to the last <see cref="StepCore"/> carried an O program number (saves the checker a second scan of the words).</summary>
+    internal bool LastHadProgramNumber { get; private set; }
 
     /// <summary>The last interpreted block, without allocating (the checker's hot path when nothing is stored).</summary>
     internal ref readonly LastBlock Last => ref _last;
@@ -140,8 +149,13 @@ public sealed class Interpreter
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
         {
+            LastHadProgramNumber = block.ProgramNumber.HasValue;
             return false;
         }
+
+        var sawO = false;
+        var anyG = false;                              // most CAM blocks carry no G or M word: skip the group loops
+        var anyM = false;
 
         var line = block.LineNumber;
         Span<int> col = stackalloc int[26];          // column of the first word of each letter, 0 = absent
@@ -156,6 +170,7 @@ public sealed class Interpreter
         var onlyO = true;
         var effective = false;
         var wordSpan = System.Runtime.InteropServices.CollectionsMarshal.AsSpan(words);
+        var letterKinds = _letterKinds;
         for (var i = 0; i < wordSpan.Length; i++)
         {
             ref readonly var w = ref wordSpan[i];
@@ -164,17 +179,22 @@ public sealed class Interpreter
             {
                 onlyO = false;
             }
+            else
+            {
+                sawO = true;
+            }
 
-            if (!_profile.AcceptsLetter(w.Letter))
+            var letterKind = (uint)li < 26 ? letterKinds[li] : LetterKind.Unsupported;
+            if (letterKind == LetterKind.Unsupported)
             {
                 Add(diags, DiagnosticCodes.UnsupportedLetter, line, w.Column, w.Letter, _profile.Name, _profile.Letters);
                 continue;
             }
 
-            if (w.Letter == 'G' || w.Letter == 'M')
+            if (letterKind is LetterKind.G or LetterKind.M)
             {
                 effective = true;
-                var isG = w.Letter == 'G';
+                var isG = letterKind == LetterKind.G;
                 var group = isG ? _profile.GGroupOf(w.Value) : _profile.MGroupOf(w.Value);
                 if (group < 0)
                 {
@@ -208,11 +228,8 @@ public sealed class Interpreter
 
                 slotCol[group] = w.Column;
                 (isG ? gIn : mIn)[group] = w.Value;
-                continue;
-            }
-
-            if (li is < 0 or >= 26)
-            {
+                anyG |= isG;
+                anyM |= !isG;
                 continue;
             }
 
@@ -224,12 +241,10 @@ public sealed class Interpreter
 
             col[li] = w.Column;
             val[li] = w.Value;
-            if (w.Letter is not ('N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L'))
-            {
-                effective = true;
-            }
+            effective |= letterKind == LetterKind.Effective;
         }
 
+        LastHadProgramNumber = sawO;
         if (onlyO)
         {
             return false;
@@ -239,7 +254,7 @@ public sealed class Interpreter
         ClearNonModal();
         var dwell = false;
         var motionInBlock = -1;
-        for (var gi = 0; gi < GroupCount; gi++)
+        for (var gi = 0; anyG && gi < GroupCount; gi++)
         {
             if (gCol[gi] == 0)
             {
@@ -259,7 +274,7 @@ public sealed class Interpreter
             }
         }
 
-        for (var mi = 0; mi < MGroupCount; mi++)
+        for (var mi = 0; anyM && mi < MGroupCount; mi++)
         {
             if (mCol[mi] != 0)
             {
@@ -268,8 +283,9 @@ public sealed class Interpreter
             }
         }
 
-        double? Word(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
-        int ColOf(char c, Span<int> col) => col[c - 'A'];
+        [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+        static double? Word(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
+        static int ColOf(char c, Span<int> col) => col[c - 'A'];
 
         // Values and their ranges.
         var f = Word('F', col, val);
@@ -407,7 +423,7 @@ public sealed class Interpreter
         else if (hasAxes || ((motionInBlock is 2 or 3) && (i0.HasValue || j0.HasValue || k0.HasValue)))
         {
             end = Target(start, x, y, z);
-            var mode = _g[0] is { } ga ? MachineProfile.Key(ga) / 10 : -1;
+            var mode = MotionMode();
             var modeCol = motionInBlock >= 0 ? gCol[0] : words[0].Column;
             switch (mode)
             {
@@ -443,7 +459,7 @@ public sealed class Interpreter
 
         if (diags != null)
         {
-            if (!usedArcWords)
+            if (!usedArcWords && (col['I' - 'A'] | col['J' - 'A'] | col['K' - 'A'] | col['R' - 'A']) != 0)
             {
                 foreach (var c in "IJKR")
                 {
@@ -489,6 +505,19 @@ public sealed class Interpreter
         return true;
     }
 
+    // The motion mode (0..3 for G00..G03, -1 when none) of group GA, recomputed only when GA changes.
+    private int MotionMode()
+    {
+        var ga = _g[0];
+        if (ga != _motionFor)
+        {
+            _motionFor = ga;
+            _motion = ga is { } v ? MachineProfile.Key(v) / 10 : -1;
+        }
+
+        return _motion;
+    }
+
     private int IndexOfGroupWithKey(int key)
     {
         for (var i = 0; i < GroupCount; i++)
@@ -517,7 +546,8 @@ public sealed class Interpreter
     {
         if (_absolute)
         {
-            var o = _profile.WorkOffset(_wcs);
+            // The offset of the active work coordinate system, looked up once per G54..G59 change, not per block.
+            var o = _wcsOffset ??= _profile.WorkOffset(_wcs);
             return new Point3(x is { } ax ? ax + o.X : start.X, y is { } ay ? ay + o.Y : start.Y, z is { } az ? az + o.Z : start.Z);
         }
 
@@ -600,6 +630,16 @@ public sealed class Interpreter
 
     private void ClassifyGroups()
     {
+        // One table lookup per word instead of the profile's letter set plus the letter tests in the hot loop.
+        for (var c = 'A'; c <= 'Z'; c++)
+        {
+            _letterKinds[c - 'A'] = !_profile.AcceptsLetter(c) ? LetterKind.Unsupported
+                : c == 'G' ? LetterKind.G
+                : c == 'M' ? LetterKind.M
+                : c is 'N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L' ? LetterKind.Parameter
+                : LetterKind.Effective;
+        }
+
         // A group is non-modal when every code in it is one that acts only in its own block.
         int[] nonModalG = [40, 90, 100, 280, 300, 530, 650, 920];
         int[] nonModalM = [0, 10, 20, 300, 60, 980, 990];
@@ -631,6 +671,13 @@ public sealed class Interpreter
 
     private void ClearNonModal()
     {
+        // Most blocks follow a block that set no non-modal code (G04, G53, M00...): nothing to clear then.
+        if (!_nonModalSet)
+        {
+            return;
+        }
+
+        _nonModalSet = false;
         for (var i = 0; i < GroupCount; i++)
         {
             if (_gNonModal[i] && _g[i] != null)
@@ -652,6 +699,7 @@ public sealed class Interpreter
 
     private void SetG(int group, double value)
     {
+        _nonModalSet |= _gNonModal[group];
         if (_g[group] != value)
         {
             _g[group] = value;
@@ -661,6 +709,7 @@ public sealed class Interpreter
 
     private void SetM(int group, double value)
     {
+        _nonModalSet |= _mNonModal[group];
         if (_m[group] != value)
         {
             _m[group] = value;
@@ -677,7 +726,7 @@ public sealed class Interpreter
             case 210: _units = LengthUnits.Millimetres; break;
             case 900: _absolute = true; break;
             case 910: _absolute = false; break;
-            case >= 540 and <= 590 when key % 10 == 0: _wcs = key / 10; break;
+            case >= 540 and <= 590 when key % 10 == 0: _wcs = key / 10; _wcsOffset = null; break;
             default: return;
         }
 
@@ -720,6 +769,16 @@ public sealed class Interpreter
     private static void Add(List<Diagnostic>? diags, string code, int line, int column, params object[] args)
     {
         diags?.Add(new Diagnostic(DiagnosticCodes.SeverityOf(code), code, line, column, DiagnosticText.Format(code, args)));
+    }
+
+    /// <summary>What a word's letter does in a block.</summary>
+    private enum LetterKind : byte
+    {
+        Unsupported,
+        G,
+        M,
+        Parameter,   // N, O, I, J, K, R, P, Q, L: not an effective function on their own
+        Effective,   // axes, F, S, T, H, D...: the block does something
     }
 
     /// <summary>The fields of a decoded block without the allocation.</summary>

@@ -81,18 +81,11 @@ public sealed record ChunkManifest(
     /// <summary>True when N numbers were kept in the chunks.</summary>
     public bool KeepN { get; init; }
 
-    private static readonly JsonSerializerOptions Json = new()
-    {
-        WriteIndented = true,
-        PropertyNamingPolicy = JsonNamingPolicy.CamelCase,
-        Converters = { new JsonStringEnumConverter(JsonNamingPolicy.CamelCase) },
-    };
-
     /// <summary>Reads a manifest.</summary>
     public static ChunkManifest Load(string path)
     {
         using var s = File.OpenRead(path);
-        return JsonSerializer.Deserialize<ChunkManifest>(s, Json) ?? throw new InvalidDataException($"{path}: empty manifest");
+        return JsonSerializer.Deserialize(s, ChunkManifestJsonContext.Default.ChunkManifest) ?? throw new InvalidDataException($"{path}: empty manifest");
     }
 
     /// <summary>Writes the manifest as indented JSON.</summary>
@@ -192,5 +185,26 @@ public sealed record ChunkManifest(
         }
 
         return null;
+    }
+}
+
+/// <summary>
+/// Source-generated serializer for <c>manifest.json</c>: no reflection, so the CLI can be published with Native AOT.
+/// Camel-case names and camel-case enum strings, as the reflection serializer wrote them before.
+/// </summary>
+[JsonSourceGenerationOptions(
+    WriteIndented = true,
+    PropertyNamingPolicy = JsonKnownNamingPolicy.CamelCase,
+    Converters = [typeof(CamelCaseEnumConverter<TrackingPlacement>), typeof(CamelCaseEnumConverter<FeedMode>)])]
+[JsonSerializable(typeof(ChunkManifest))]
+internal sealed partial class ChunkManifestJsonContext : JsonSerializerContext;
+
+/// <summary>An enum written as its camel-case name (the generic converter is the AOT-safe one).</summary>
+internal sealed class CamelCaseEnumConverter<TEnum> : JsonStringEnumConverter<TEnum>
+    where TEnum : struct, Enum
+{
+    public CamelCaseEnumConverter()
+        : base(JsonNamingPolicy.CamelCase)
+    {
     }
 }

@@ -119,6 +119,24 @@ public sealed class CheckCommandTests : IDisposable
     }
 
     [Fact]
+    public void Db_option_appends_to_an_existing_store_and_leaves_nothing_when_it_cannot_write()
+    {
+        var db = Path.Combine(_dir, "store.db");
+        var demo = Path.Combine(RepoRoot, "samples", "demo.nc");
+        Run(demo, "--db", db).Code.Should().Be(0);
+        Run(Write("bad.nc", "O1\nG01 X1\n"), "--db", db).Code.Should().Be(1, "the program has an error, and is still stored");
+        using (var store = ProgramStore.Open(db))
+        {
+            store.ListPrograms().Select(p => p.Errors).Should().Equal(1, 0);
+        }
+
+        // A database in a folder that does not exist: exit 2, and no temporary file anywhere in the work folder.
+        var before = Directory.GetFiles(_dir, "*", SearchOption.AllDirectories).Order().ToList();
+        Run(demo, "--db", Path.Combine(_dir, "no-such-dir", "x.db")).Code.Should().Be(2);
+        Directory.GetFiles(_dir, "*", SearchOption.AllDirectories).Order().Should().Equal(before);
+    }
+
+    [Fact]
     public void Usage_and_io_problems_exit_2()
     {
         Run(Path.Combine(_dir, "missing.nc")).Code.Should().Be(2);

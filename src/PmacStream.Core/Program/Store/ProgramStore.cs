@@ -79,16 +79,79 @@ public sealed class ProgramStore : IDisposable
     public string Path { get; private init; } = string.Empty;
 
     /// <summary>Opens (creating when needed) a store file.</summary>
-    public static ProgramStore Open(string path)
+    public static ProgramStore Open(string path) =>
+        // WAL keeps readers (HMI, preview) going while a program is imported; NORMAL sync is safe with WAL.
+        OpenWith(path, "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA temp_store=MEMORY;");
+
+    /// <summary>
+    /// Checks a file and stores it as the first program of a database file that does not exist yet: the fast path of
+    /// <c>check --db NEW.db</c>. The database is built beside <paramref name="dbPath"/> under a temporary name with
+    /// no write-ahead log (every page is written once instead of to the WAL and again at the checkpoint) and renamed
+    /// into place only when complete, so a failure or cancellation leaves no file behind. The result is an ordinary
+    /// store in WAL mode. Throws <see cref="IOException"/> when <paramref name="dbPath"/> exists.
+    /// </summary>
+    public static (long ProgramId, CheckSummary Summary) ImportToNewFile(string dbPath, string file, MachineProfile profile,
+        Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
+    {
+        if (File.Exists(dbPath))
+        {
+            throw new IOException($"{dbPath}: already exists");
+        }
+
+        var full = System.IO.Path.GetFullPath(dbPath);
+        var temp = System.IO.Path.Combine(System.IO.Path.GetDirectoryName(full)!,
+            $".{System.IO.Path.GetFileName(full)}.{Environment.ProcessId}.{Guid.NewGuid():N}.importing");
+        try
+        {
+            (long, CheckSummary) result;
+            // The rollback journal stays in memory: pages appended by the import are never journaled (a rollback
+            // just forgets them), and nobody else can see the temporary file. One exclusive lock for the whole run.
+            using (var store = OpenWith(temp, $"PRAGMA page_size={BulkPageSize}; PRAGMA journal_mode=MEMORY; PRAGMA synchronous=OFF; " +
+                                              $"PRAGMA locking_mode=EXCLUSIVE; PRAGMA temp_store=MEMORY; PRAGMA cache_size=-{BulkCacheKiB};"))
+            {
+                result = store.Import(file, profile, onDiagnostic, cancellationToken);
+                using var cmd = store._connection.CreateCommand();
+                // Back to the store's normal mode for the readers that open it later; nothing to checkpoint yet.
+                cmd.CommandText = "PRAGMA locking_mode=NORMAL; PRAGMA journal_mode=WAL;";
+                cmd.ExecuteNonQuery();
+            }
+
+            File.Move(temp, full, overwrite: false);
+            return result;
+        }
+        finally
+        {
+            foreach (var f in new[] { temp, temp + "-journal", temp + "-wal", temp + "-shm" })
+            {
+                if (File.Exists(f))
+                {
+                    File.Delete(f);
+                }
+            }
+        }
+    }
+
+    /// <summary>Page size of a database built by <see cref="ImportToNewFile"/> (fewer, fuller pages for long tables).</summary>
+    internal const int BulkPageSize = 16384;
+
+    /// <summary>Page cache of the bulk import, KiB (bounded: peak memory of check --db must stay small).</summary>
+    internal const int BulkCacheKiB = 4096;
+
+    private static ProgramStore OpenWith(string path, string pragmas)
     {
         var cs = new SqliteConnectionStringBuilder { DataSource = path, Mode = SqliteOpenMode.ReadWriteCreate, Pooling = false }.ToString();
         var connection = new SqliteConnection(cs);
-        connection.Open();
-        using (var cmd = connection.CreateCommand())
+        try
         {
-            // WAL keeps readers (HMI, preview) going while a program is imported; NORMAL sync is safe with WAL.
-            cmd.CommandText = "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA temp_store=MEMORY;" + Schema;
+            connection.Open();
+            using var cmd = connection.CreateCommand();
+            cmd.CommandText = pragmas + Schema;
             cmd.ExecuteNonQuery();
+        }
+        catch
+        {
+            connection.Dispose();
+            throw;
         }
 
         return new ProgramStore(connection) { Path = path };
@@ -102,18 +165,15 @@ public sealed class ProgramStore : IDisposable
 
     /// <summary>
     /// Checks a file and stores every block and diagnostic in one pass (hashing as it reads). Returns the program id
-    /// and the summary; <paramref name="onDiagnostic"/> sees each diagnostic as it is found.
+    /// and the summary; <paramref name="onDiagnostic"/> sees each diagnostic as it is found, in line order, on a
+    /// worker thread: reading and interpreting run on one thread while SQLite stores the blocks on the calling one.
     /// </summary>
     public (long ProgramId, CheckSummary Summary) Import(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
     {
         using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
         using var hashing = new HashingReadStream(fs);
         using var writer = BeginProgram(file, fs.Length, profile.Name);
-        var summary = new Checker(profile).Check(hashing, file, d =>
-        {
-            writer.Add(d);
-            onDiagnostic?.Invoke(d);
-        }, writer.Add, cancellationToken);
+        var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken);
         writer.Complete(summary, hashing.HashHex());
         Logger.Information("Stored {File} as program {Id}: {Summary} in {Ms} ms", file, writer.ProgramId, summary.ToString(), (int)summary.Elapsed.TotalMilliseconds);
         return (writer.ProgramId, summary);
@@ -317,7 +377,18 @@ public sealed class ProgramWriter : IDisposable
     /// <summary>Adds a block (in program order).</summary>
     public void Add(DecodedBlock b)
     {
-        var m = b.Modal;
+        var fields = new Interpreter.LastBlock
+        {
+            Line = b.Line, ByteOffset = b.ByteOffset, N = b.N, BlockDelete = b.BlockDelete,
+            X = b.X, Y = b.Y, Z = b.Z, I = b.I, J = b.J, K = b.K, R = b.R, F = b.F, S = b.S, T = b.T, H = b.H, D = b.D, P = b.P,
+            Motion = b.Motion, Start = b.Start, End = b.End, Center = b.Center, Length = b.Length, DurationSeconds = b.DurationSeconds,
+        };
+        Add(in fields, b.Modal);
+    }
+
+    /// <summary>Adds a block from the interpreter's fields and modal state (no record allocated).</summary>
+    internal void Add(in Interpreter.LastBlock b, ModalState m)
+    {
         BindI(1, ProgramStore.Key(ProgramId, b.Line));
         BindI(2, ProgramId);
         BindI(3, b.Line);

@@ -1,0 +1,150 @@
+using Microsoft.Data.Sqlite;
+using PmacStream.GCode;
+using PmacStream.Program.Store;
+
+namespace PmacStream.Core.Tests.Store;
+
+/// <summary>The two-thread import (<see cref="ImportPipeline"/>): batch boundaries and failures on either side.</summary>
+public sealed class ImportPipelineTests : IDisposable
+{
+    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-pipeline-").FullName;
+
+    public void Dispose()
+    {
+        SqliteConnection.ClearAllPools();
+        Directory.Delete(_dir, true);
+    }
+
+    private string Program(int moves, int seed, string? extraAt = null, int extraLine = -1)
+    {
+        var rnd = new Random(seed);
+        var sb = new System.Text.StringBuilder("%\nO0100\nN1 G21 G17 G90 G54\nN2 G01 F500\n");
+        for (var i = 0; i < moves; i++)
+        {
+            if (i == extraLine && extraAt != null)
+            {
+                sb.Append(extraAt).Append('\n');
+            }
+
+            // Mixed blocks: moves, an occasional arc, comment-only and blank lines (no block, still a line).
+            switch (rnd.Next(20))
+            {
+                case 0: sb.Append("(pass ").Append(i).Append(")\n"); break;
+                case 1: sb.Append('\n'); break;
+                case 2: sb.Append($"N{i + 3} G02 X{rnd.Next(100)} Y{rnd.Next(100)} R200\n"); break;
+                default: sb.Append($"N{i + 3} G01 X{rnd.NextDouble() * 100:F4} Y{rnd.NextDouble() * 100:F4} Z{-rnd.NextDouble():F4}\n"); break;
+            }
+        }
+
+        sb.Append("M30\n%\n");
+        var path = Path.Combine(_dir, $"p{seed}.nc");
+        File.WriteAllText(path, sb.ToString());
+        return path;
+    }
+
+    private static List<DecodedBlock> Interpret(string file)
+    {
+        var list = new List<DecodedBlock>();
+        new Checker(MachineProfile.Default).CheckFile(file, _ => { }, list.Add);
+        return list;
+    }
+
+    [Theory]
+    [InlineData(0)]
+    [InlineData(1)]
+    [InlineData(ImportPipeline.BatchSize - 3)]
+    [InlineData((ImportPipeline.BatchSize * 2) + 37)]
+    [InlineData((ImportPipeline.BatchSize * (ImportPipeline.QueueDepth + 3)) + 5)]
+    public void Every_block_round_trips_whatever_the_batch_boundaries(int moves)
+    {
+        var file = Program(moves, moves);
+        var expected = Interpret(file);
+        // Land exactly on a batch boundary too: the header blocks plus the moves are not a multiple of the batch.
+        using var store = ProgramStore.Open(Path.Combine(_dir, "s.db"));
+        var (id, summary) = store.Import(file, MachineProfile.Default);
+        summary.Blocks.Should().Be(expected.Count);
+        var stored = store.ReadBlocks(id).ToList();
+        stored.Should().HaveCount(expected.Count);
+        for (var i = 0; i < stored.Count; i++)
+        {
+            stored[i].Should().Be(expected[i], $"block {i} (line {expected[i].Line})");
+        }
+    }
+
+    [Fact]
+    public void Exactly_one_full_batch_and_diagnostics_across_batches_are_stored()
+    {
+        // "O0100" alone is no block: 1 header block + (BatchSize - 2) moves + M30 = BatchSize blocks.
+        var path = Path.Combine(_dir, "exact.nc");
+        var lines = new List<string> { "O0100", "N1 G21 G90 G01 F100" };
+        for (var i = 0; i < ImportPipeline.BatchSize - 2; i++)
+        {
+            // Every 100th move has an unknown G code: diagnostics in many batches.
+            lines.Add(i % 100 == 0 ? $"N{i + 2} G77 X{i}" : $"N{i + 2} G01 X{i}");
+        }
+
+        lines.Add("N9999 M30");
+        File.WriteAllLines(path, lines);
+        var seen = new List<Diagnostic>();
+        using var store = ProgramStore.Open(Path.Combine(_dir, "s.db"));
+        var (id, summary) = store.Import(path, MachineProfile.Default, seen.Add);
+        summary.Blocks.Should().Be(ImportPipeline.BatchSize);
+        store.ReadBlocks(id).Count().Should().Be(ImportPipeline.BatchSize);
+        seen.Select(d => d.Line).Should().BeInAscendingOrder();
+        seen.Select(d => d.Code).Should().Equal(Enumerable.Repeat(DiagnosticCodes.UnknownGCode, 11));
+        store.GetDiagnostics(id).Should().Equal(seen);
+    }
+
+    [Fact]
+    public void A_store_failure_mid_import_stops_the_reader_and_rolls_back_everything()
+    {
+        var db = Path.Combine(_dir, "s.db");
+        var ok = Program(50, 7);
+        var big = Program(ImportPipeline.BatchSize * 20, 8);
+        using var store = ProgramStore.Open(db);
+        var (keep, _) = store.Import(ok, MachineProfile.Default);
+
+        // A trigger makes SQLite refuse one row deep inside the second program (after several batches).
+        using (var c = new SqliteConnection($"Data Source={db};Pooling=False"))
+        {
+            c.Open();
+            using var cmd = c.CreateCommand();
+            cmd.CommandText = "CREATE TRIGGER refuse BEFORE INSERT ON blocks WHEN NEW.program_id > 1 AND NEW.Lines = 5000 " +
+                              "BEGIN SELECT RAISE(ABORT, 'refused by test'); END;";
+            cmd.ExecuteNonQuery();
+        }
+
+        var act = () => store.Import(big, MachineProfile.Default);
+        act.Should().Throw<SqliteException>().WithMessage("*refused by test*");
+
+        store.ListPrograms().Select(p => p.Id).Should().Equal(keep);
+        using var check = new SqliteConnection($"Data Source={db};Pooling=False");
+        check.Open();
+        using var count = check.CreateCommand();
+        count.CommandText = "SELECT COUNT(*) FROM blocks WHERE program_id <> $k";
+        count.Parameters.AddWithValue("$k", keep);
+        count.ExecuteScalar().Should().Be(0L);
+        store.ReadBlocks(keep).Count().Should().Be((int)store.GetProgram(keep)!.Blocks);
+    }
+
+    [Fact]
+    public void A_reader_failure_mid_import_rolls_back_and_surfaces_unwrapped()
+    {
+        var big = Program(ImportPipeline.BatchSize * 10, 9, extraAt: "G77", extraLine: ImportPipeline.BatchSize * 8);
+        using var store = ProgramStore.Open(Path.Combine(_dir, "s.db"));
+        var act = () => store.Import(big, MachineProfile.Default, d => throw new InvalidOperationException($"stop at {d.Line}"));
+        act.Should().Throw<InvalidOperationException>().WithMessage("stop at *");
+        store.ListPrograms().Should().BeEmpty();
+
+        using var cts = new CancellationTokenSource();
+        var cancelAt = 0;
+        var cancelled = () => store.Import(big, MachineProfile.Default, _ =>
+        {
+            cancelAt++;
+            cts.Cancel();
+        }, cts.Token);
+        cancelled.Should().Throw<OperationCanceledException>();
+        cancelAt.Should().BeInRange(1, 4, "the reader stops at the next line once cancelled (one line may carry several diagnostics)");
+        store.ListPrograms().Should().BeEmpty();
+    }
+}
