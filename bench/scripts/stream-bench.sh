@@ -11,5 +11,5 @@ echo "== CPU and underruns: $LINES blocks at 1000 blocks/s, 2 ms simulated link 
 "$B" stream-bench cpu "$LINES"
 echo "== memory: streaming a ~$MB MB program (split first, then streamed by a fresh process)"
 "$B" stream-bench memory "$MB" --split-only
-/usr/bin/time -v "$B" stream-bench stream-only "${TMPDIR:-/tmp}/pmacstream-bench/mem/chunks/manifest.json" 2>&1 | grep -E "Chunk|Adaptive|Maximum resident"
+/usr/bin/time -v "$B" stream-bench stream-only "${TMPDIR:-/tmp}/pmacstream-bench/mem/chunks/manifest.json" 2>&1 | grep -E "move times|Chunk|Adaptive|Maximum resident"
 rm -rf "${TMPDIR:-/tmp}/pmacstream-bench/mem"

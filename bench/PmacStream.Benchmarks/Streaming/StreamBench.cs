@@ -155,10 +155,22 @@ public static class StreamBench
         var program = ChunkedProgram.Open(manifestPath);
         var controller = new NullController();
         var conn = new InProcessConnection(controller, "null");
+
+        // As `pmacstream stream` does: the interpreter's move times for the ETA and the adaptive lead (a thinned table
+        // for a program this size), so their memory is part of the peak.
+        var source = program.Manifest.SourcePath;
+        MoveTimeTable? times = null;
+        if (File.Exists(source))
+        {
+            var build = Stopwatch.StartNew();
+            times = StartFromLine.MoveTimes(source);
+            Console.WriteLine($"move times: {times.BlockCount} blocks in {times.SampleCount} samples, {times.TotalSeconds / 3600:0.0} h of motion, built in {build.Elapsed.TotalSeconds:0.0} s");
+        }
+
         foreach (var kind in new[] { StrategyKind.Chunk, StrategyKind.Adaptive })
         {
             controller.Reset();
-            var session = new StreamingSession(conn, program, new StreamingOptions { Strategy = kind, BufferWords = 16_000 });
+            var session = new StreamingSession(conn, program, new StreamingOptions { Strategy = kind, BufferWords = 16_000 }, null, times);
             var sw = Stopwatch.StartNew();
             session.StartAsync().GetAwaiter().GetResult();
             while (session.State == SessionState.Running)
@@ -182,12 +194,14 @@ public static class StreamBench
         var size = new FileInfo(src).Length;
         var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(dir, "chunks") });
         Console.WriteLine($"program: {size / 1e6:0} MB, {split.Manifest.TotalBlocks} blocks, {split.Manifest.Chunks.Count} chunks (generate+split {sw.Elapsed.TotalSeconds:0} s)");
-        File.Delete(src);
         if (splitOnly)
         {
+            // The source stays too: the streaming process builds its move times from it, as the CLI does.
             Console.WriteLine($"split kept: {split.ManifestPath}");
             return 0;
         }
+
+        File.Delete(src);
 
         GC.Collect();
         var before = Process.GetCurrentProcess().WorkingSet64;

@@ -1,46 +1,104 @@
 namespace PmacStream.Streaming;
 
-/// <summary>Move times by tracked source line as prefix sums: O(log n) for any span, 12 bytes a block (16 with feeds).</summary>
+/// <summary>
+/// Move times by tracked source line as prefix sums: O(log n) for any span, 16 bytes a sample. Every block is a
+/// sample up to <see cref="DefaultMaxSamples"/> blocks; beyond that only every k-th block is kept (k doubles as the
+/// program grows) and spans inside a sampling interval are interpolated by line number, so a gigabyte program still
+/// gets an ETA from the interpreter's times in a few megabytes.
+/// </summary>
 public sealed class MoveTimeTable : IMoveTimes
 {
+    /// <summary>Samples kept before the table starts thinning (4 MB of samples).</summary>
+    public const int DefaultMaxSamples = 262_144;
+
     private readonly int[] _lines;
     private readonly double[] _prefix;
     private readonly float[]? _feeds;
+    private readonly int _stride;
 
     /// <summary>Builds the table from (source line, seconds) pairs in source order.</summary>
     public MoveTimeTable(IEnumerable<(int Line, double Seconds)> moves)
-        : this(moves.Select(m => (m.Line, m.Seconds, double.NaN)), withFeeds: false)
+        : this(moves.Select(m => (m.Line, m.Seconds, double.NaN)), withFeeds: false, DefaultMaxSamples)
     {
     }
 
     /// <summary>Builds the table from (source line, seconds, programmed feed) in source order; the feeds give the live-feed ratio.</summary>
     public MoveTimeTable(IEnumerable<(int Line, double Seconds, double Feed)> moves)
-        : this(moves, withFeeds: true)
+        : this(moves, withFeeds: true, DefaultMaxSamples)
     {
     }
 
-    private MoveTimeTable(IEnumerable<(int Line, double Seconds, double Feed)> moves, bool withFeeds)
+    /// <summary>As above, keeping at most <paramref name="maxSamples"/> samples (at least 2).</summary>
+    public MoveTimeTable(IEnumerable<(int Line, double Seconds, double Feed)> moves, int maxSamples)
+        : this(moves, withFeeds: true, maxSamples)
     {
+    }
+
+    private MoveTimeTable(IEnumerable<(int Line, double Seconds, double Feed)> moves, bool withFeeds, int maxSamples)
+    {
+        ArgumentOutOfRangeException.ThrowIfLessThan(maxSamples, 2);
         var lines = new List<int>();
         var prefix = new List<double> { 0 };
         var feeds = withFeeds ? new List<float>() : null;
         var sum = 0.0;
+        var stride = 1;
+        var blocks = 0;
+        int curLine = int.MinValue;
+        var curFeed = float.NaN;
+
+        void Close()
+        {
+            // The block just finished becomes a sample when it is the stride-th one; thinning keeps every other
+            // sample, which keeps exactly the blocks on the doubled stride.
+            blocks++;
+            if (blocks % stride != 0)
+            {
+                return;
+            }
+
+            lines.Add(curLine);
+            prefix.Add(sum);
+            feeds?.Add(curFeed);
+            if (lines.Count > maxSamples)
+            {
+                Thin(lines, prefix, feeds);
+                stride *= 2;
+            }
+        }
+
         foreach (var (line, seconds, feed) in moves)
         {
-            if (lines.Count > 0 && line <= lines[^1])
+            if (curLine != int.MinValue && line <= curLine)
             {
-                // Several moves of one block (or out of order): fold into the last entry.
+                // Several moves of one block (or out of order): fold into the current block.
                 sum += Math.Max(0, seconds);
-                prefix[^1] = sum;
                 continue;
             }
 
-            lines.Add(line);
+            if (curLine != int.MinValue)
+            {
+                Close();
+            }
+
+            curLine = line;
+            curFeed = (float)feed;
             sum += Math.Max(0, seconds);
-            prefix.Add(sum);
-            feeds?.Add((float)feed);
         }
 
+        if (curLine != int.MinValue)
+        {
+            Close();
+            if (lines.Count == 0 || lines[^1] != curLine)
+            {
+                // The last block always ends the table, whatever the stride, so the total is exact.
+                lines.Add(curLine);
+                prefix.Add(sum);
+                feeds?.Add(curFeed);
+            }
+        }
+
+        BlockCount = blocks;
+        _stride = stride;
         _lines = lines.ToArray();
         _prefix = prefix.ToArray();
         _feeds = feeds?.ToArray();
@@ -68,21 +126,56 @@ public sealed class MoveTimeTable : IMoveTimes
     public double TotalSeconds => _prefix[^1];
 
     /// <summary>Number of blocks with a time.</summary>
-    public int Count => _lines.Length;
+    public int Count => BlockCount;
+
+    /// <summary>Number of blocks with a time.</summary>
+    public int BlockCount { get; }
+
+    /// <summary>Samples kept (equals <see cref="BlockCount"/> until the program outgrows the sample budget).</summary>
+    public int SampleCount => _lines.Length;
 
     /// <inheritdoc />
     public double SecondsBetween(int afterLine, int throughLine) =>
         throughLine <= afterLine ? 0 : Through(throughLine) - Through(afterLine);
 
-    /// <summary>Seconds of the blocks up to and including <paramref name="line"/>.</summary>
+    /// <summary>Seconds of the blocks up to and including <paramref name="line"/> (interpolated inside a sampling interval).</summary>
     public double Through(int line)
     {
         var i = Array.BinarySearch(_lines, line);
-        if (i < 0)
+        if (i >= 0)
         {
-            i = ~i - 1;
+            return _prefix[i + 1];
         }
 
-        return _prefix[i + 1];
+        var next = ~i;
+        if (_stride == 1 || next >= _lines.Length)
+        {
+            // Every block is a sample (or the line lies past the last): no motion between the sample before and it.
+            return _prefix[next];
+        }
+
+        var loLine = next == 0 ? 0 : _lines[next - 1];
+        var lo = _prefix[next];
+        var hi = _prefix[next + 1];
+        return lo + ((hi - lo) * (line - loLine) / Math.Max(1, _lines[next] - loLine));
+    }
+
+    private static void Thin(List<int> lines, List<double> prefix, List<float>? feeds)
+    {
+        // Keep samples 1, 3, 5, ... (0-based): the later block of each pair. prefix[0] is the origin and stays.
+        var n = lines.Count / 2;
+        for (var k = 0; k < n; k++)
+        {
+            lines[k] = lines[(2 * k) + 1];
+            prefix[k + 1] = prefix[(2 * k) + 2];
+            if (feeds is not null)
+            {
+                feeds[k] = feeds[(2 * k) + 1];
+            }
+        }
+
+        lines.RemoveRange(n, lines.Count - n);
+        prefix.RemoveRange(n + 1, prefix.Count - n - 1);
+        feeds?.RemoveRange(n, feeds.Count - n);
     }
 }

@@ -193,29 +193,26 @@ public static class StartFromLine
 
     /// <summary>
     /// Move times of every motion block of a source, from the interpreter (seconds at programmed feed), for the ETA
-    /// and the adaptive lead. Returns null for programs above <paramref name="maxBlocks"/> blocks, where the
-    /// measured block rate is used instead so memory stays bounded.
+    /// and the adaptive lead. Memory stays bounded for any size: past <paramref name="maxSamples"/> blocks the table
+    /// keeps every k-th block and interpolates between (see <see cref="MoveTimeTable"/>).
     /// </summary>
-    public static MoveTimeTable? MoveTimes(string sourcePath, int maxBlocks = 2_000_000, MachineProfile? profile = null)
+    public static MoveTimeTable MoveTimes(string sourcePath, int maxSamples = MoveTimeTable.DefaultMaxSamples, MachineProfile? profile = null)
     {
-        var interp = new Interpreter(profile ?? MachineProfile.Default);
-        var list = new List<(int, double, double)>();
-        using var reader = GCodeReader.Open(sourcePath);
-        while (reader.Read())
-        {
-            var d = interp.Step(reader.Current);
-            if (d is not null && d.Motion != MotionKind.None)
-            {
-                if (list.Count >= maxBlocks)
-                {
-                    return null;
-                }
+        return new MoveTimeTable(Moves(sourcePath, profile ?? MachineProfile.Default), maxSamples);
 
-                list.Add((d.Line, d.DurationSeconds, d.Modal.Feed ?? double.NaN));
+        static IEnumerable<(int, double, double)> Moves(string path, MachineProfile profile)
+        {
+            var interp = new Interpreter(profile);
+            using var reader = GCodeReader.Open(path);
+            while (reader.Read())
+            {
+                var d = interp.Step(reader.Current);
+                if (d is not null && d.Motion != MotionKind.None)
+                {
+                    yield return (d.Line, d.DurationSeconds, d.Modal.Feed ?? double.NaN);
+                }
             }
         }
-
-        return new MoveTimeTable(list);
     }
 
     private static string Num(double v) => Math.Round(v, 4).ToString("0.####", CultureInfo.InvariantCulture);
