@@ -8,8 +8,8 @@ namespace PmacStream.Streaming;
 /// </summary>
 public sealed class MoveTimeTable : IMoveTimes
 {
-    /// <summary>Samples kept before the table starts thinning (4 MB of samples).</summary>
-    public const int DefaultMaxSamples = 262_144;
+    /// <summary>Samples kept before the table starts thinning (2 MB of samples).</summary>
+    public const int DefaultMaxSamples = 131_072;
 
     private readonly int[] _lines;
     private readonly double[] _prefix;

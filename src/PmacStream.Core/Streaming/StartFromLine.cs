@@ -206,10 +206,10 @@ public static class StartFromLine
             using var reader = GCodeReader.Open(path);
             while (reader.Read())
             {
-                var d = interp.Step(reader.Current);
-                if (d is not null && d.Motion != MotionKind.None)
+                // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.
+                if (interp.StepCore(reader.Current, null) && interp.Last.Motion != MotionKind.None)
                 {
-                    yield return (d.Line, d.DurationSeconds, d.Modal.Feed ?? double.NaN);
+                    yield return (interp.Last.Line, interp.Last.DurationSeconds, interp.State.Feed ?? double.NaN);
                 }
             }
         }
