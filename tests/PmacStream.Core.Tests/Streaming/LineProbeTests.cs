@@ -1,5 +1,6 @@
 using PmacStream.Pmac;
 using PmacStream.Streaming;
+using PmacStream.Testing;
 
 namespace PmacStream.Core.Tests.Streaming;
 

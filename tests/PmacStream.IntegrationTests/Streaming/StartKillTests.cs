@@ -5,6 +5,7 @@ using PmacStream.Program;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 using Xunit.Abstractions;
+using PmacStream.Testing;
 
 namespace PmacStream.IntegrationTests.Streaming;
 
