@@ -3,6 +3,7 @@ using System.Text;
 using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Streaming;
+using PmacStream.Testing;
 
 namespace PmacStream.Core.Tests.Streaming;
 
@@ -129,128 +130,6 @@ public static class FakeSplit
         var d = Path.Combine(Path.GetTempPath(), "pmacstream-tests", $"{tag}-{Guid.NewGuid():N}");
         Directory.CreateDirectory(d);
         return d;
-    }
-}
-
-/// <summary>Thrown by the fault wrapper to model the host process dying mid-call.</summary>
-public sealed class HostKilledException : Exception
-{
-    public HostKilledException()
-        : base("host killed")
-    {
-    }
-}
-
-/// <summary>
-/// An in-process connection that injects seeded faults: link resets before a command, replies lost after it ran,
-/// ERR replies, slow replies (the virtual clock runs on while waiting) and host kills; downloads break off part-way.
-/// </summary>
-public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Action<double> slow) : IPmacConnection
-{
-    private readonly InProcessConnection _inner = new(port, "faulty");
-
-    public double FaultRate { get; set; }
-
-    public double KillRate { get; set; }
-
-    public bool Down { get; set; }
-
-    public int Injected { get; private set; }
-
-    public string Description => "faulty in-process";
-
-    public async Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default)
-    {
-        if (Down)
-        {
-            throw new PmacLinkException("link down");
-        }
-
-        switch (Pick())
-        {
-            case 1:
-                Down = true;
-                throw new PmacLinkException("link reset");
-            case 2:
-                await _inner.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
-                Down = true;
-                throw new PmacLinkException("reply lost");
-            case 3:
-                throw new PmacErrorException(3, command);
-            case 4:
-                slow(0.02 + (random.NextDouble() * 0.2));
-                break;
-            case 5:
-                if (random.Next(2) == 0)
-                {
-                    await _inner.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
-                }
-
-                throw new HostKilledException();
-        }
-
-        return await _inner.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
-    }
-
-    public async Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default)
-    {
-        if (Down)
-        {
-            throw new PmacLinkException("link down");
-        }
-
-        var fault = Pick();
-        if (fault is 0 or 4)
-        {
-            if (fault == 4)
-            {
-                slow(0.02 + (random.NextDouble() * 0.2));
-            }
-
-            await _inner.DownloadAsync(lines, cancellationToken).ConfigureAwait(false);
-            return;
-        }
-
-        var cut = random.Next(lines.Count + 1);
-        await _inner.DownloadAsync(lines.Take(cut).ToList(), cancellationToken).ConfigureAwait(false);
-        switch (fault)
-        {
-            case 1:
-            case 2:
-                Down = true;
-                throw new PmacLinkException("link reset during download");
-            case 3:
-                if (cut == lines.Count)
-                {
-                    return;
-                }
-
-                throw new PmacErrorException(6, lines[cut], cut);
-            default:
-                throw new HostKilledException();
-        }
-    }
-
-    public Task FlushAsync(CancellationToken cancellationToken = default) => _inner.FlushAsync(cancellationToken);
-
-    public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => _inner.ControlAsync(control, cancellationToken);
-
-    public ValueTask DisposeAsync() => ValueTask.CompletedTask;
-
-    private int Pick()
-    {
-        if (random.NextDouble() >= FaultRate + KillRate)
-        {
-            return 0;
-        }
-
-        Injected++;
-        if (random.NextDouble() < KillRate / (FaultRate + KillRate))
-        {
-            return 5;
-        }
-
-        return 1 + random.Next(4);
     }
 }
 

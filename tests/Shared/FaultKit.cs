@@ -1,6 +1,8 @@
 using PmacStream.Pmac;
 
-namespace PmacStream.IntegrationTests.Streaming;
+namespace PmacStream.Testing;
+
+// Shared by the Core and Integration test projects (linked into both): the fault-injecting link and the host kill.
 
 /// <summary>Thrown by the fault wrapper to model the host process dying mid-call.</summary>
 public sealed class HostKilledException : Exception
