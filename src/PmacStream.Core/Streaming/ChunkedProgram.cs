@@ -77,8 +77,8 @@ public sealed class ChunkedProgram
     /// </summary>
     public bool ProbesEveryLine => _lineProbe is not null && Manifest.Tracking == TrackingPlacement.Paper;
 
-    /// <summary>Sets <see cref="LineProbeVariable"/> (null or empty: off); bodies read before are re-read.</summary>
-    public void UseLineProbe(string? variable)
+    /// <summary>Sets <see cref="LineProbeVariable"/> (null or empty: off); bodies read before are re-read. True when it changed.</summary>
+    public bool UseLineProbe(string? variable)
     {
         var v = string.IsNullOrWhiteSpace(variable) ? null : variable.Trim().ToUpperInvariant();
         if (v is not null && !Regex.IsMatch(v, @"^P\d+$", RegexOptions.CultureInvariant))
@@ -90,12 +90,13 @@ public sealed class ChunkedProgram
         {
             if (v == _lineProbe)
             {
-                return;
+                return false;
             }
 
             _lineProbe = v;
             _cache.Clear();
             _cacheOrder.Clear();
+            return true;
         }
     }
 

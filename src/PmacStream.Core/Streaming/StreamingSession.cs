@@ -304,11 +304,10 @@ public sealed class StreamingSession
             throw new InvalidOperationException($"the session is {_state}; resume needs a new session");
         }
 
-        if (!string.Equals(Program.LineProbeVariable, NormalizeProbe(job.LineProbeVariable), StringComparison.Ordinal))
+        // The lines already in the controller carry the recorded variable: the drain must read that one.
+        if (Program.UseLineProbe(job.LineProbeVariable))
         {
-            // The lines already in the controller carry the recorded variable: the drain must read that one.
             Log.Information("job {Job} was recorded with line probe {Probe}; using it", job.Id, job.LineProbeVariable ?? "(none)");
-            Program.UseLineProbe(job.LineProbeVariable);
         }
 
         if (job.Checkpoint is { } cp && (cp.Loaded || cp.Started))
@@ -325,9 +324,6 @@ public sealed class StreamingSession
         Log.Information("job {Job}: its start broke off while loading the buffer; clearing and loading it again", job.Id);
         return StartAsync(job.FromLine, job.Preamble, cancellationToken);
     }
-
-    private static string? NormalizeProbe(string? variable) =>
-        string.IsNullOrWhiteSpace(variable) ? null : variable.Trim().ToUpperInvariant();
 
     /// <summary>
     /// Continues a job after a host crash from its last checkpoint: closes any buffer left open on this port, reads M0,
