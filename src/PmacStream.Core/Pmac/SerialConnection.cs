@@ -65,7 +65,7 @@ public sealed class SerialConnection : IPmacConnection
         try
         {
             var sw = Stopwatch.StartNew();
-            var raw = await Task.Run(() => Exchange(command, cancellationToken), cancellationToken).ConfigureAwait(false);
+            var raw = await OffPool(() => Exchange(command, cancellationToken), cancellationToken).ConfigureAwait(false);
             if (Log.IsEnabled(Serilog.Events.LogEventLevel.Debug))
             {
                 Log.Debug("{Device} > {Command} < {Reply} ({Ms:0.000} ms)", Description, command, ReplyParser.Visible(raw), sw.Elapsed.TotalMilliseconds);
@@ -86,7 +86,7 @@ public sealed class SerialConnection : IPmacConnection
         try
         {
             var sw = Stopwatch.StartNew();
-            await Task.Run(
+            await OffPool(
                 () =>
                 {
                     for (var i = 0; i < lines.Count; i++)
@@ -118,7 +118,7 @@ public sealed class SerialConnection : IPmacConnection
         await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
         try
         {
-            await Task.Run(
+            await OffPool(
                 () =>
                 {
                     var port = Port();
@@ -146,7 +146,7 @@ public sealed class SerialConnection : IPmacConnection
         try
         {
             var sw = Stopwatch.StartNew();
-            var raw = await Task.Run(
+            var raw = await OffPool(
                 () =>
                 {
                     var port = Port();
@@ -199,7 +199,17 @@ public sealed class SerialConnection : IPmacConnection
         }
     }
 
-    /// <summary>Sends one line and reads its complete reply (blocking; runs on a pool thread).</summary>
+    /// <summary>
+    /// Runs blocking port I/O on its own thread, not the pool: System.IO.Ports on Unix completes its read timeouts on
+    /// pool threads, so a caller that blocked one (or a busy HMI) would make a 300 ms timeout fire seconds late.
+    /// </summary>
+    private static Task<T> OffPool<T>(Func<T> work, CancellationToken cancellationToken) =>
+        Task.Factory.StartNew(work, cancellationToken, TaskCreationOptions.LongRunning | TaskCreationOptions.DenyChildAttach, TaskScheduler.Default);
+
+    private static Task OffPool(Action work, CancellationToken cancellationToken) =>
+        Task.Factory.StartNew(work, cancellationToken, TaskCreationOptions.LongRunning | TaskCreationOptions.DenyChildAttach, TaskScheduler.Default);
+
+    /// <summary>Sends one line and reads its complete reply (blocking; runs on its own thread).</summary>
     private byte[] Exchange(string line, CancellationToken cancellationToken)
     {
         var port = Port();

@@ -9,6 +9,7 @@ namespace PmacStream.Pmac;
 internal sealed class SystemIoSerialPort : ISerialPort
 {
     private readonly SerialPort _port;
+    private static readonly TimeSpan SpinFor = TimeSpan.FromMilliseconds(0.2);
     private readonly byte[] _readBuffer = new byte[4096];
 
     public SystemIoSerialPort(string portName, SerialSettings settings)
@@ -53,6 +54,19 @@ internal sealed class SystemIoSerialPort : ISerialPort
         var ms = (int)Math.Clamp(timeout.TotalMilliseconds, 0, int.MaxValue);
         try
         {
+            if (!OperatingSystem.IsWindows())
+            {
+                // On Unix SerialPort ends a timed-out read from a pool-thread timer: with the pool busy a 300 ms
+                // timeout fired when the late reply came, seconds on. Waiting for the first byte here keeps the
+                // deadline ours; the read below then finds data waiting.
+                if (!WaitForData(timeout))
+                {
+                    return 0;
+                }
+
+                ms = Math.Max(ms, 1);
+            }
+
             // ReadTimeout 0 means "return what is there or time out at once"; SerialPort rejects negative values.
             _port.ReadTimeout = ms;
             var n = _port.Read(_readBuffer, 0, Math.Min(buffer.Length, _readBuffer.Length));
@@ -67,6 +81,39 @@ internal sealed class SystemIoSerialPort : ISerialPort
         {
             throw new IOException($"read from {PortName} failed: {ex.Message}", ex);
         }
+    }
+
+    /// <summary>Polls the driver's receive count (FIONREAD) until a byte is there or the timeout passes.</summary>
+    private bool WaitForData(TimeSpan timeout)
+    {
+        if (_port.BytesToRead > 0)
+        {
+            return true;
+        }
+
+        var clock = System.Diagnostics.Stopwatch.StartNew();
+        var spin = new SpinWait();
+
+        // Spin briefly first: a controller's reply usually follows within a character time or two.
+        while (clock.Elapsed < SpinFor)
+        {
+            spin.SpinOnce(sleep1Threshold: -1);
+            if (_port.BytesToRead > 0)
+            {
+                return true;
+            }
+        }
+
+        while (clock.Elapsed < timeout)
+        {
+            Thread.Sleep(1);
+            if (_port.BytesToRead > 0)
+            {
+                return true;
+            }
+        }
+
+        return false;
     }
 
     public void DiscardInput()

@@ -121,6 +121,40 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
     }
 
     [Fact]
+    public async Task A_timeout_fires_on_time_even_when_the_thread_pool_is_busy()
+    {
+        if (_connection is null)
+        {
+            return;
+        }
+
+        // An HMI can keep every pool thread busy. System.IO.Ports on Unix ends timed-out reads from a pool-thread
+        // timer, so before SystemIoSerialPort polled for data itself this read waited for the late ACK and took it
+        // as the reply to the command that had timed out.
+        await using var quick = new SerialConnection(SerialPorts.Open(_pair!.B, new SerialSettings(115200)), TimeSpan.FromMilliseconds(300));
+        await _connection.DisposeAsync();
+        using var release = new ManualResetEventSlim();
+        ThreadPool.GetMinThreads(out var workers, out _);
+        var blockers = Enumerable.Range(0, workers + 4).Select(_ => Task.Run(() => release.Wait())).ToArray();
+        try
+        {
+            var clock = System.Diagnostics.Stopwatch.StartNew();
+            var act = () => quick.GetResponseAsync("SLEEP 1500");
+            (await act.Should().ThrowAsync<PmacLinkException>()).WithMessage("*no complete reply*");
+            clock.Elapsed.Should().BeLessThan(TimeSpan.FromMilliseconds(1400), "the 300 ms timeout fired before the controller's late reply");
+        }
+        finally
+        {
+            release.Set();
+            await Task.WhenAll(blockers);
+        }
+
+        await WaitUntil(() => _server!.CommandsServed >= 1);
+        await Task.Delay(300);
+        (await quick.GetResponseAsync("VER")).Should().Be("1.947");
+    }
+
+    [Fact]
     public async Task A_pulled_cable_is_a_link_error()
     {
         if (_connection is null)
