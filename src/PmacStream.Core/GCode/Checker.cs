@@ -38,6 +38,9 @@ public sealed class Checker
     /// <summary>The profile checked against.</summary>
     public MachineProfile Profile => _profile;
 
+    /// <summary>Off: straight moves are not measured, so the summary's estimated time covers arcs and dwells only (see <see cref="Interpreter.MeasureMoves"/>).</summary>
+    internal bool MeasureMoves { get; init; } = true;
+
     /// <summary>Checks a file. Throws <see cref="IOException"/>/<see cref="UnauthorizedAccessException"/> when it cannot be read.</summary>
     public CheckSummary CheckFile(string path, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default)
     {
@@ -83,7 +86,7 @@ public sealed class Checker
         var undecidedOverflow = false;
         var reportedNul = false;
         var diags = new List<Diagnostic>(8);
-        var interp = new Interpreter(_profile);
+        var interp = new Interpreter(_profile) { MeasureMoves = MeasureMoves };
 
         void Emit(Diagnostic d)
         {

@@ -107,6 +107,13 @@ public sealed class Interpreter
     public bool BlockDeleteEnabled { get; set; }
 
     /// <summary>
+    /// Whether straight moves get their length (and so a duration). A caller that only wants the diagnostics (the
+    /// splitter's check) turns it off: a square root per block is a tenth of the checker's time. Arcs are always
+    /// measured, because their geometry is checked.
+    /// </summary>
+    internal bool MeasureMoves { get; set; } = true;
+
+    /// <summary>
     /// Interprets one block. Returns null for empty, comment-only, tape-mark and program-number-only lines (and for
     /// deleted blocks when <see cref="BlockDeleteEnabled"/>). Never throws on content: what cannot be executed is
     /// skipped here and reported by the checker.
@@ -429,12 +436,12 @@ public sealed class Interpreter
             {
                 case 0:
                     kind = MotionKind.Rapid;
-                    length = start.DistanceTo(end);
+                    length = MeasureMoves ? start.DistanceTo(end) : 0;
                     seconds = length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
                     break;
                 case 1:
                     kind = MotionKind.Linear;
-                    length = start.DistanceTo(end);
+                    length = MeasureMoves ? start.DistanceTo(end) : 0;
                     seconds = FeedTime(length, diags, line, modeCol, 1);
                     break;
                 case 2:

@@ -53,8 +53,21 @@ internal sealed class ByteLine
         return _buffer.AsSpan(Length);
     }
 
-    /// <summary>Takes what was written into the span <see cref="Reserve"/> returned, given what is left of it.</summary>
-    public void Commit(Span<byte> rest) => Length = _buffer.Length - rest.Length;
+    /// <summary>Takes the first <paramref name="count"/> bytes written into the span <see cref="Reserve"/> returned.</summary>
+    public void Commit(int count) => Length += count;
+
+    /// <summary>The first <paramref name="count"/> bytes written after the content but not committed yet.</summary>
+    public ReadOnlySpan<byte> Pending(int count) => _buffer.AsSpan(Length, count);
+
+    /// <summary>The underlying array (content is its first <see cref="Length"/> bytes).</summary>
+    public byte[] Buffer => _buffer;
+
+    /// <summary>Continues, empty, in <paramref name="replacement"/>; the caller took the old array with <see cref="Buffer"/>.</summary>
+    public void Swap(byte[] replacement)
+    {
+        _buffer = replacement;
+        Length = 0;
+    }
 
     public void Insert(int at, ReadOnlySpan<byte> bytes)
     {

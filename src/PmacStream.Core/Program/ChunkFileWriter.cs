@@ -38,29 +38,29 @@ internal sealed class ChunkFileWriter : IDisposable
         _task = Task.Factory.StartNew(Run, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
     }
 
-    /// <summary>Queues a copy of <paramref name="data"/> to be written to <paramref name="path"/>.</summary>
-    public void Enqueue(int index, string path, ReadOnlySpan<byte> data)
+    /// <summary>
+    /// Queues the first <paramref name="length"/> bytes of <paramref name="data"/> to be written to
+    /// <paramref name="path"/>; the writer owns that array from now on. Returns an empty array to build the next
+    /// chunk in (waits while <see cref="Depth"/> chunks are queued).
+    /// </summary>
+    public byte[] Submit(int index, string path, byte[] data, int length)
     {
-        if (!_free.TryTake(out var copy))
+        if (!_free.TryTake(out var next))
         {
             // The writer failed and closed the pool.
             ExceptionDispatchInfo.Throw(_failure ?? new InvalidOperationException("chunk writer stopped"));
         }
 
-        if (copy.Length < data.Length)
-        {
-            copy = new byte[data.Length];
-        }
-
-        data.CopyTo(copy);
         try
         {
-            _queue.Add((index, path, copy, data.Length));
+            _queue.Add((index, path, data, length));
         }
         catch (InvalidOperationException) when (_failure != null)
         {
             ExceptionDispatchInfo.Throw(_failure);
         }
+
+        return next;
     }
 
     /// <summary>Waits for every queued chunk (their hashes are then in the table). Rethrows a writer failure.</summary>

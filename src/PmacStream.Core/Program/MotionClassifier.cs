@@ -27,49 +27,70 @@ internal static class MotionClassifier
     /// <summary>Classifies one block from its words; <paramref name="endsProgram"/> tells whether it carries M02/M30.</summary>
     public static BlockMotion Classify(ReadOnlySpan<GWord> words, out bool endsProgram)
     {
-        var hasAxis = false;
-        var dataOnly = false;
-        var dwell = false;
-        endsProgram = false;
+        var scan = default(MotionScan);
         foreach (ref readonly var w in words)
         {
-            switch (w.Letter)
-            {
-                case 'G':
-                    switch (w.CodeTimesTen)
-                    {
-                        case 40:
-                            dwell = true;
-                            break;
-                        case 100:
-                        case 520:
-                        case 920:
-                        case 921:
-                        case 922:
-                        case 923:
-                            dataOnly = true;
-                            break;
-                    }
-
-                    break;
-                case 'M':
-                    if (w.CodeTimesTen is 20 or 300)
-                    {
-                        endsProgram = true;
-                    }
-
-                    break;
-                case 'X':
-                case 'Y':
-                case 'Z':
-                case 'A':
-                case 'B':
-                case 'C':
-                    hasAxis = true;
-                    break;
-            }
+            scan.Add(w);
         }
 
-        return dwell ? BlockMotion.Dwell : hasAxis && !dataOnly ? BlockMotion.Move : BlockMotion.None;
+        endsProgram = scan.EndsProgram;
+        return scan.Result;
+    }
+}
+
+/// <summary>
+/// <see cref="MotionClassifier.Classify"/> one word at a time, for a caller that already walks the block's words
+/// (the splitter's emit loop): the same rule without a second pass over the words.
+/// </summary>
+internal struct MotionScan
+{
+    private bool _axis;
+    private bool _dataOnly;
+    private bool _dwell;
+
+    /// <summary>The block carries M02 or M30.</summary>
+    public bool EndsProgram { get; private set; }
+
+    /// <summary>What the words seen so far make of the block.</summary>
+    public readonly BlockMotion Result => _dwell ? BlockMotion.Dwell : _axis && !_dataOnly ? BlockMotion.Move : BlockMotion.None;
+
+    /// <summary>Takes one word of the block.</summary>
+    public void Add(in GWord w)
+    {
+        switch (w.Letter)
+        {
+            case 'G':
+                switch (w.CodeTimesTen)
+                {
+                    case 40:
+                        _dwell = true;
+                        break;
+                    case 100:
+                    case 520:
+                    case 920:
+                    case 921:
+                    case 922:
+                    case 923:
+                        _dataOnly = true;
+                        break;
+                }
+
+                break;
+            case 'M':
+                if (w.CodeTimesTen is 20 or 300)
+                {
+                    EndsProgram = true;
+                }
+
+                break;
+            case 'X':
+            case 'Y':
+            case 'Z':
+            case 'A':
+            case 'B':
+            case 'C':
+                _axis = true;
+                break;
+        }
     }
 }

@@ -1,4 +1,5 @@
 using System.Buffers.Text;
+using System.Runtime.InteropServices;
 using System.Security.Cryptography;
 using System.Text;
 using PmacStream.GCode;
@@ -172,6 +173,7 @@ public static class Splitter
         private readonly byte[] _tail;
         private readonly int _tailWords;
         private readonly ByteLine _block = new(256);
+        private readonly AsciiCounter _trackDigits = new();
         private readonly ByteLine _chunk;
         private readonly ChunkTable _chunks;
         private long _totalBytes;
@@ -184,6 +186,8 @@ public static class Splitter
         private int _errorCount;
         private int _checkErrorCount;
         private int _warnings;
+        // Errors were found and the split will be refused: stop handing lines over, keep reading to list them.
+        private bool _refusing;
         private LineBatch? _batch;
         private HandOff<LineBatch>? _full;
         private HandOff<LineBatch>? _free;
@@ -229,9 +233,6 @@ public static class Splitter
 
         /// <summary>The checker runs in this pass: it decides refusal (force skips it, as before).</summary>
         private bool Checking => _o.CheckProfile != null && !_o.AllowErrors;
-
-        /// <summary>Errors were found and the split will be refused: stop handing lines over, keep reading to list them.</summary>
-        private bool Refusing => !_o.AllowErrors && (_errorCount > 0 || _checkErrorCount > 0);
 
         public (ChunkManifest Manifest, int Warnings) Execute()
         {
@@ -315,7 +316,7 @@ public static class Splitter
                 {
                     if (Checking)
                     {
-                        size = new Checker(_o.CheckProfile!).Check(stream, _source, OnCheckDiagnostic, null, Take, _stop).Bytes;
+                        size = new Checker(_o.CheckProfile!) { MeasureMoves = false }.Check(stream, _source, OnCheckDiagnostic, null, Take, _stop).Bytes;
                     }
                     else
                     {
@@ -348,6 +349,7 @@ public static class Splitter
             if (d.Severity == Severity.Error)
             {
                 _checkErrorCount++;
+                _refusing = !_o.AllowErrors;
                 if (_checkErrors.Count < _o.MaxReportedErrors)
                 {
                     _checkErrors.Add(d);
@@ -369,7 +371,7 @@ public static class Splitter
             }
 
             // Nothing for the controller in tape marks, skipped blocks and lines without words (Emit drops them too).
-            if (Refusing || b.IsTapeMark || (b.BlockDelete && _o.BlockDelete) || b.WordList.Count == 0)
+            if (_refusing || b.IsTapeMark || (b.BlockDelete && _o.BlockDelete) || b.WordList.Count == 0)
             {
                 return;
             }
@@ -444,6 +446,7 @@ public static class Splitter
                 if (d.Severity == Severity.Error)
                 {
                     _errorCount++;
+                    _refusing = !_o.AllowErrors;
                     if (_errors.Count < _o.MaxReportedErrors)
                     {
                         _errors.Add(d);
@@ -458,11 +461,13 @@ public static class Splitter
 
         private void Emit(ReadOnlySpan<byte> src, ReadOnlySpan<GWord> words, int lineNumber)
         {
-            // Hot path: spans over the batch's word list and line bytes, no allocation per block.
+            // Hot path: spans over the batch's word list and line bytes, written straight into the chunk being
+            // built; no allocation and no intermediate copy per block.
             var paperFeed = _o.Feed == FeedMode.Paper;
             var feedIndex = -1;
             var nIndex = -1;
             var any = false;
+            var scan = default(MotionScan);
             for (var i = 0; i < words.Length; i++)
             {
                 switch (words[i].Letter)
@@ -477,6 +482,7 @@ public static class Splitter
                         break;
                     default:
                         any = true;
+                        scan.Add(words[i]);
                         break;
                 }
             }
@@ -486,13 +492,11 @@ public static class Splitter
                 return; // empty, comment-only, N-only or O-only: nothing for the controller
             }
 
-            var endsProgram = false;
-            var motion = any ? MotionClassifier.Classify(words, out endsProgram) : BlockMotion.None;
-            endsProgram &= motion == BlockMotion.None;
-            var line = _block;
-            line.Clear();
+            var motion = scan.Result;
+            var endsProgram = scan.EndsProgram && motion == BlockMotion.None;
             // Upper bound: every word's text plus a separator, the source line once more (for P500=F), markers.
-            var o = line.Reserve((2 * src.Length) + (2 * words.Length) + 64 + (2 * (_track.Length + _feedVar.Length)));
+            var space = _chunk.Reserve((2 * src.Length) + (2 * words.Length) + 64 + (2 * (_track.Length + _feedVar.Length)));
+            var o = space;
             var values = 0;
             if (feedIndex >= 0)
             {
@@ -573,8 +577,7 @@ public static class Splitter
                 o = o[2..];
             }
 
-            line.Commit(o);
-            Add(lineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
+            Add(space.Length - o.Length, lineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
         }
 
         private static Span<byte> Put(Span<byte> o, byte[] bytes)
@@ -592,7 +595,18 @@ public static class Splitter
                 text = text[1..];
             }
 
-            text.CopyTo(o);
+            // Most numbers are under 8 bytes and more line follows them: one 8-byte load and store (the bytes past the
+            // number land in reserved space and are overwritten next) instead of a general copy per word.
+            var start = w.NumberStart + (w.NumberLength - text.Length);
+            if (text.Length <= 8 && src.Length - start >= 8 && o.Length >= 8)
+            {
+                MemoryMarshal.Write(o, MemoryMarshal.Read<ulong>(src[start..]));
+            }
+            else
+            {
+                text.CopyTo(o);
+            }
+
             return o[text.Length..];
         }
 
@@ -601,20 +615,32 @@ public static class Splitter
             o = Put(o, _track);
             o[0] = (byte)'=';
             o[1] = (byte)'=';
-            Utf8Formatter.TryFormat(sourceLine, o[2..], out var written);
-            return o[(2 + written)..];
+            var digits = _trackDigits.Text(sourceLine);
+            digits.CopyTo(o[2..]);
+            return o[(2 + digits.Length)..];
         }
 
-        private void Add(int sourceLine, bool motion, bool endsProgram, int words)
+        /// <summary>
+        /// Takes the block just written after the chunk's content (<paramref name="bytes"/> long), starting a new
+        /// chunk first when it would break a limit.
+        /// </summary>
+        private void Add(int bytes, int sourceLine, bool motion, bool endsProgram, int words)
         {
-            var bytes = _block.Length;
             var reserve = _tail.Length + FooterBytes.Length;
             if (_chunkBlocks > 0 &&
                 (_chunkBlocks >= _o.LinesPerChunk ||
                  _chunk.Length + bytes + reserve > _o.MaxChunkBytes ||
                  _chunkWords + words + _tailWords > _o.RotWords))
             {
+                // Once per chunk: the block waits aside while the full chunk is closed and handed to the writer.
+                _block.Clear();
+                _block.Append(_chunk.Pending(bytes));
                 Flush(last: false);
+                _chunk.Append(_block.Span);
+            }
+            else
+            {
+                _chunk.Commit(bytes);
             }
 
             if (_chunkBlocks == 0 &&
@@ -631,9 +657,8 @@ public static class Splitter
                 _chunkFirst = sourceLine;
             }
 
-            _lastBlockStart = _chunk.Length;
+            _lastBlockStart = _chunk.Length - bytes;
             _lastBlockEndsProgram = endsProgram;
-            _chunk.Append(_block.Span);
             _chunkBlocks++;
             _chunkWords += words;
             _chunkLast = sourceLine;
@@ -666,10 +691,10 @@ public static class Splitter
             }
 
             _chunk.Append(FooterBytes);
-            var data = _chunk.Span;
-            var index = _chunks.Add(_chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, data.Length, words);
-            _writer!.Enqueue(index, _chunks.FilePath(_folder, index), data);
-            _chunk.Clear();
+            var length = _chunk.Length;
+            var index = _chunks.Add(_chunkFirst, _chunkLast, _chunkBlocks, _chunkMotion, length, words);
+            // The full buffer goes to the writer as it is; an empty one comes back for the next chunk.
+            _chunk.Swap(_writer!.Submit(index, _chunks.FilePath(_folder, index), _chunk.Buffer, length));
             _chunk.Append(HeaderBytes);
             _chunkBlocks = 0;
             _chunkMotion = 0;

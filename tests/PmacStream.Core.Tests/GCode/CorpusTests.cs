@@ -32,3 +32,41 @@ public class CorpusTests(ITestOutputHelper output)
         }
     }
 }
+
+/// <summary>The splitter's check skips measuring straight moves; it must not change what is reported.</summary>
+public class UnmeasuredCheckTests(ITestOutputHelper output)
+{
+    [Fact]
+    public void Not_measuring_straight_moves_reports_the_same_diagnostics_on_every_corpus_program()
+    {
+        if (RepoRoot.Corpus is not { } dir)
+        {
+            output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent; nothing to check.");
+            return;
+        }
+
+        foreach (var file in Directory.GetFiles(dir).Where(f => !f.EndsWith(".md") && !f.EndsWith(".tsv")).OrderBy(f => f))
+        {
+            var measured = new List<Diagnostic>();
+            var unmeasured = new List<Diagnostic>();
+            var a = new Checker(MachineProfile.Default).CheckFile(file, measured.Add);
+            var b = new Checker(MachineProfile.Default) { MeasureMoves = false }.CheckFile(file, unmeasured.Add);
+            unmeasured.Should().Equal(measured, Path.GetFileName(file));
+            b.Blocks.Should().Be(a.Blocks);
+            b.EstimatedSeconds.Should().BeLessThan(a.EstimatedSeconds, "straight moves were left out of the estimate");
+        }
+    }
+
+    [Fact]
+    public void Not_measuring_keeps_feed_errors_and_arc_checks()
+    {
+        const string program = "O1\nN1 G90 G01 X10 Y0\nN2 G02 X0 Y10 R-0.001\nN3 F100 X20\n";
+        var (a, da) = new Checker(MachineProfile.Default).CheckText(program);
+        var checker = new Checker(MachineProfile.Default) { MeasureMoves = false };
+        var diags = new List<Diagnostic>();
+        using var ms = new MemoryStream(System.Text.Encoding.ASCII.GetBytes(program));
+        var b = checker.Check(ms, "<text>", diags.Add);
+        diags.Select(d => d.Code).Should().Equal(da.Select(d => d.Code)).And.NotBeEmpty();
+        b.Errors.Should().Be(a.Errors).And.BeGreaterThan(0);
+    }
+}
