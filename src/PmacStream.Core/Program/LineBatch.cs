@@ -11,10 +11,10 @@ namespace PmacStream.Program;
 internal sealed class LineBatch
 {
     /// <summary>A batch is handed over once it holds this many lines ...</summary>
-    public const int MaxLines = 1024;
+    public const int MaxLines = 4096;
 
     /// <summary>... or this many text bytes.</summary>
-    public const int TextBudget = 1 << 16;
+    public const int TextBudget = 1 << 18;
 
     private byte[] _text = new byte[TextBudget + 1024];
     private GWord[] _words = new GWord[MaxLines * 4];
