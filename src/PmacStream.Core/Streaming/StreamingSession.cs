@@ -226,10 +226,18 @@ public sealed class StreamingSession
             CheckChunksFit();
 
             // Recorded before anything is sent: a host that dies from here until the load completed resumes by
-            // clearing and loading this same start again.
+            // clearing and loading this same start again (which comes back here, to the check below).
             _sink?.RecordStart(new JobStart(fromLine, preamble is { Count: > 0 } ? preamble.ToList() : null, Program.LineProbeVariable));
 
             await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+            if (await ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == true)
+            {
+                // Another host's job, or one started at the controller: redefining the rotary buffer or sending B0
+                // under it would break it off (a real PMAC answers ERR001). Refuse before anything reaches a buffer.
+                throw new InvalidOperationException(
+                    $"{_cs} is running a program: stop it or let it finish, then start again");
+            }
+
             if (Options.DefineBuffer)
             {
                 await OnlineAsync("DELETE GATHER", cancellationToken).ConfigureAwait(false);
