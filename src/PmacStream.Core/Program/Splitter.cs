@@ -1,4 +1,3 @@
-using System.Buffers.Text;
 using System.Runtime.InteropServices;
 using System.Security.Cryptography;
 using System.Text;
@@ -172,7 +171,7 @@ public static class Splitter
         private readonly byte[] _feedVar;
         private readonly byte[] _tail;
         private readonly int _tailWords;
-        private readonly ByteLine _block = new(256);
+        private readonly ByteLine _block = new(256); // the block set aside while its chunk is closed (once per chunk)
         private readonly AsciiCounter _trackDigits = new();
         private readonly ByteLine _chunk;
         private readonly ChunkTable _chunks;
