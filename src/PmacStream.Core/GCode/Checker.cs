@@ -86,7 +86,7 @@ public sealed class Checker
         var undecidedOverflow = false;
         var reportedNul = false;
         var diags = new List<Diagnostic>(8);
-        var interp = new Interpreter(_profile) { MeasureMoves = MeasureMoves };
+        var interp = new Interpreter(_profile) { MeasureMoves = MeasureMoves, RecordBlocks = onBlock != null || onInterpreted != null };
 
         void Emit(Diagnostic d)
         {

@@ -114,6 +114,13 @@ public sealed class Interpreter
     internal bool MeasureMoves { get; set; } = true;
 
     /// <summary>
+    /// Whether <see cref="Last"/> gets the whole block (words, positions, motion). Off for a caller that reads only
+    /// the line, N and duration (the checker when nobody takes the decoded blocks): filling the record is a tenth
+    /// of a block's interpretation.
+    /// </summary>
+    internal bool RecordBlocks { get; set; } = true;
+
+    /// <summary>
     /// Interprets one block. Returns null for empty, comment-only, tape-mark and program-number-only lines (and for
     /// deleted blocks when <see cref="BlockDeleteEnabled"/>). Never throws on content: what cannot be executed is
     /// skipped here and reported by the checker.
@@ -486,6 +493,15 @@ public sealed class Interpreter
         _pos = end;
         // Filled in place: the record is large and this runs once per block.
         ref var last = ref _last;
+        if (!RecordBlocks)
+        {
+            // Only what the checker's own summary reads.
+            last.Line = line;
+            last.N = Word('N', col, val);
+            last.DurationSeconds = seconds;
+            return true;
+        }
+
         last.Line = line;
         last.ByteOffset = block.ByteOffset;
         last.N = Word('N', col, val);

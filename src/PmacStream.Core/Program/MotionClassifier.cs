@@ -55,6 +55,7 @@ internal struct MotionScan
     public readonly BlockMotion Result => _dwell ? BlockMotion.Dwell : _axis && !_dataOnly ? BlockMotion.Move : BlockMotion.None;
 
     /// <summary>Takes one word of the block.</summary>
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
     public void Add(in GWord w)
     {
         switch (w.Letter)

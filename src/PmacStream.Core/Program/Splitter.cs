@@ -173,6 +173,10 @@ public static class Splitter
         private readonly int _tailWords;
         private readonly ByteLine _block = new(256); // the block set aside while its chunk is closed (once per chunk)
         private readonly AsciiCounter _trackDigits = new();
+        private readonly byte[] _trackPrefix;     // "M0=="
+        private readonly ulong _trackPrefixWord;
+        private readonly byte[] _feedSuffix;      // " F(P500)"
+        private readonly ulong _feedSuffixWord;
         private readonly ByteLine _chunk;
         private readonly ChunkTable _chunks;
         private long _totalBytes;
@@ -214,6 +218,10 @@ public static class Splitter
             _ct = ct;
             _track = Encoding.ASCII.GetBytes(options.TrackVariable);
             _feedVar = Encoding.ASCII.GetBytes(options.FeedVariable);
+            _trackPrefix = Encoding.ASCII.GetBytes(options.TrackVariable + "==");
+            _trackPrefixWord = Word8(_trackPrefix);
+            _feedSuffix = Encoding.ASCII.GetBytes($" F({options.FeedVariable})");
+            _feedSuffixWord = Word8(_feedSuffix);
             var tail = new StringBuilder();
             foreach (var line in options.ProgramTail.Split('\n'))
             {
@@ -555,12 +563,7 @@ public static class Splitter
 
                 if (motion == BlockMotion.Move && paperFeed)
                 {
-                    o[0] = (byte)' ';
-                    o[1] = (byte)'F';
-                    o[2] = (byte)'(';
-                    o = Put(o[3..], _feedVar);
-                    o[0] = (byte)')';
-                    o = o[1..];
+                    o = Put(o, _feedSuffix, _feedSuffixWord); // " F(P500)"
                     values++;
                 }
 
@@ -585,7 +588,35 @@ public static class Splitter
             return o[bytes.Length..];
         }
 
+        /// <summary>
+        /// Writes a fixed marker of at most 8 bytes (<paramref name="word"/> holds it, zero-padded) with one 8-byte
+        /// store; longer markers, or too little room, take the general copy.
+        /// </summary>
+        [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+        private static Span<byte> Put(Span<byte> o, byte[] bytes, ulong word)
+        {
+            if (bytes.Length <= 8 && o.Length >= 8)
+            {
+                MemoryMarshal.Write(o, word);
+            }
+            else
+            {
+                bytes.CopyTo(o);
+            }
+
+            return o[bytes.Length..];
+        }
+
+        private static ulong Word8(byte[] bytes)
+        {
+            Span<byte> padded = stackalloc byte[8];
+            padded.Clear();
+            bytes.AsSpan(0, Math.Min(8, bytes.Length)).CopyTo(padded);
+            return MemoryMarshal.Read<ulong>(padded);
+        }
+
         /// <summary>A number as written in the source, minus a leading <c>+</c> (the PMAC reads it as an operator).</summary>
+        [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
         private static Span<byte> Number(Span<byte> o, ReadOnlySpan<byte> src, in GWord w)
         {
             var text = src.Slice(w.NumberStart, w.NumberLength);
@@ -609,14 +640,11 @@ public static class Splitter
             return o[text.Length..];
         }
 
+        [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
         private Span<byte> Track(Span<byte> o, int sourceLine)
         {
-            o = Put(o, _track);
-            o[0] = (byte)'=';
-            o[1] = (byte)'=';
-            var digits = _trackDigits.Text(sourceLine);
-            digits.CopyTo(o[2..]);
-            return o[(2 + digits.Length)..];
+            o = Put(o, _trackPrefix, _trackPrefixWord);
+            return o[_trackDigits.Write(o, sourceLine)..];
         }
 
         /// <summary>

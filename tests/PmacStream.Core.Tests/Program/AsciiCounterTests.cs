@@ -28,5 +28,23 @@ public sealed class AsciiCounterTests
         }
     }
 
-    private static string Text(AsciiCounter counter, int n) => Encoding.ASCII.GetString(counter.Text(n));
+    [Fact]
+    public void Writes_into_short_destinations_without_touching_bytes_after_the_digits()
+    {
+        var counter = new AsciiCounter();
+        var small = new byte[12];
+        small.AsSpan().Fill((byte)'#');
+        counter.Write(small.AsSpan(0, 7), 1234567).Should().Be(7);
+        Encoding.ASCII.GetString(small).Should().Be("1234567#####");
+        counter.Write(small.AsSpan(0, 7), 1234568).Should().Be(7);
+        Encoding.ASCII.GetString(small).Should().Be("1234568#####");
+    }
+
+    // Through a 16-byte destination, the hot path (two 8-byte stores).
+    private static string Text(AsciiCounter counter, int n)
+    {
+        var o = new byte[32];
+        var length = counter.Write(o, n);
+        return Encoding.ASCII.GetString(o, 0, length);
+    }
 }
