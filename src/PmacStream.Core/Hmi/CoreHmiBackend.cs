@@ -193,6 +193,8 @@ public sealed class CoreHmiBackend : IHmiBackend
             var session = NewSession(connection, split, strategy, request.SingleBlock, store.SinkFor(jobId));
             try
             {
+                // Refused before the feed is set: P500 (or the % override) belongs to whatever program is running.
+                await session.EnsureIdleAsync(cancellationToken).ConfigureAwait(false);
                 await SetFeedBeforeStartAsync(connection, split.Manifest, request.Feed, cancellationToken).ConfigureAwait(false);
                 await session.StartAsync(plan?.Line, plan?.PmacLines, cancellationToken).ConfigureAwait(false);
             }
@@ -292,6 +294,7 @@ public sealed class CoreHmiBackend : IHmiBackend
             // The controller lost the job (reset, abort) or it never started: start again at the interrupted line behind the preamble.
             var restart = NewSession(connection, split, record.Strategy, singleBlock: false, sink);
             var plan = await PlanStartAsync(split, job.ResumeLine, cancellationToken).ConfigureAwait(false);
+            await restart.EnsureIdleAsync(cancellationToken).ConfigureAwait(false);
             await SetFeedBeforeStartAsync(connection, split.Manifest, feed, cancellationToken).ConfigureAwait(false);
             await restart.StartAsync(plan.Line, plan.PmacLines, cancellationToken).ConfigureAwait(false);
             Log.Information("Job {Job} restarted at line {Line}", record.Id, job.ResumeLine);

@@ -229,15 +229,7 @@ public sealed class StreamingSession
             // clearing and loading this same start again (which comes back here, to the check below).
             _sink?.RecordStart(new JobStart(fromLine, preamble is { Count: > 0 } ? preamble.ToList() : null, Program.LineProbeVariable));
 
-            await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
-            if (await ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == true)
-            {
-                // Another host's job, or one started at the controller: redefining the rotary buffer or sending B0
-                // under it would break it off (a real PMAC answers ERR001). Refuse before anything reaches a buffer.
-                throw new InvalidOperationException(
-                    $"{_cs} is running a program: stop it or let it finish, then start again");
-            }
-
+            await EnsureNotRunningAsync(cancellationToken).ConfigureAwait(false);
             if (Options.DefineBuffer)
             {
                 await OnlineAsync("DELETE GATHER", cancellationToken).ConfigureAwait(false);
@@ -294,6 +286,36 @@ public sealed class StreamingSession
         }
 
         PublishStatus();
+    }
+
+    /// <summary>
+    /// Throws <see cref="InvalidOperationException"/> when the coordinate system is running a program (another host's
+    /// job, or one started at the controller); sends only <c>CLOSE</c> and a status query. <see cref="StartAsync"/>
+    /// checks this itself; a caller that sets anything on the controller before the start (the HMI sets the feed)
+    /// calls it first, so a refused start leaves the other program untouched.
+    /// </summary>
+    public async Task EnsureIdleAsync(CancellationToken cancellationToken = default)
+    {
+        await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
+        try
+        {
+            await EnsureNotRunningAsync(cancellationToken).ConfigureAwait(false);
+        }
+        finally
+        {
+            _gate.Release();
+        }
+    }
+
+    private async Task EnsureNotRunningAsync(CancellationToken cancellationToken)
+    {
+        await OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+        if (await ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == true)
+        {
+            // Redefining the rotary buffer or sending B0 under a running program would break it off (a real PMAC
+            // answers ERR001). Refuse before anything reaches a buffer.
+            throw new InvalidOperationException($"{_cs} is running a program: stop it or let it finish, then start again");
+        }
     }
 
     /// <summary>

@@ -179,6 +179,27 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task Execute_while_another_program_runs_is_refused_and_leaves_its_feed_alone()
+    {
+        var (p, v) = await ReadyAsync();
+        var pendant = _sim.OpenPort("pendant");
+        foreach (var line in new[] { "P500=123", "OPEN PROG 7 CLEAR", "LINEAR", "F600", "X100", "X0", "CLOSE", "&1 B7 R" })
+        {
+            pendant.ExecuteText(line).Should().NotContain("ERR", line);
+        }
+
+        _sim.Advance(TimeSpan.FromSeconds(1));
+        v.Feed = 800;
+        await Do(p, v.ClickExecute);
+
+        v.Errors.Should().ContainSingle().Which.Should().Contain("running a program");
+        p.JobActive.Should().BeFalse();
+        pendant.ExecuteText("P500").Should().StartWith("123", "the feed variable belongs to the program that is running");
+        _sim.Advance(TimeSpan.FromSeconds(30));
+        _sim.ExecutedMoves.Should().HaveCount(2, "the other program ran to its end");
+    }
+
+    [Fact]
     public async Task Hold_stops_motion_and_resume_continues_without_losing_a_block()
     {
         var (p, v) = await ReadyAsync();
