@@ -70,7 +70,7 @@ internal static class CliGlobals
             await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return e.ExitCode;
         }
-        catch (Exception e) when (e is IOException or UnauthorizedAccessException or Microsoft.Data.Sqlite.SqliteException)
+        catch (Exception e) when (e is IOException or InvalidDataException or UnauthorizedAccessException or Microsoft.Data.Sqlite.SqliteException)
         {
             await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return UsageOrIo;

@@ -1,3 +1,5 @@
+using System.Security.Cryptography;
+using System.Text;
 using System.Text.RegularExpressions;
 using PmacStream.Program;
 
@@ -130,6 +132,8 @@ public sealed class ChunkedProgram
     {
         temporary = false;
         var path = ChunkPath(index);
+        // Checked at every download, not only when first read: Download reads the file itself.
+        var bytes = ReadVerified(index);
         if (_lineProbe is null)
         {
             return path;
@@ -156,7 +160,7 @@ public sealed class ChunkedProgram
         using (var w = new StreamWriter(copy, append: false, System.Text.Encoding.ASCII))
         {
             var n = 0;
-            foreach (var raw in File.ReadLines(path))
+            foreach (var raw in Lines(bytes))
             {
                 n++;
                 w.Write(byFileLine.TryGetValue(n, out var annotated) ? annotated : raw);
@@ -212,7 +216,7 @@ public sealed class ChunkedProgram
         var path = ChunkPath(index);
         var list = new List<ProgramLine>(Math.Max(16, Chunk(index).BlockCount + 8));
         var fileLine = 0;
-        foreach (var raw in File.ReadLines(path))
+        foreach (var raw in Lines(ReadVerified(index)))
         {
             fileLine++;
             var t = raw.Trim();
@@ -246,6 +250,39 @@ public sealed class ChunkedProgram
         }
 
         return list;
+    }
+
+    /// <summary>
+    /// Reads a chunk file whole and checks it against the manifest's SHA-256, so a chunk edited, truncated or
+    /// replaced after the split is never sent: its lines would no longer be the blocks the tracking and the
+    /// checkpoints count. Throws <see cref="InvalidDataException"/> naming the file.
+    /// </summary>
+    private byte[] ReadVerified(int index)
+    {
+        var info = Chunk(index);
+        var path = ChunkPath(index);
+        var bytes = File.ReadAllBytes(path);
+        if (!string.IsNullOrEmpty(info.Sha256))
+        {
+            var actual = Convert.ToHexStringLower(SHA256.HashData(bytes));
+            if (!actual.Equals(info.Sha256, StringComparison.OrdinalIgnoreCase))
+            {
+                throw new InvalidDataException(
+                    $"{path}: chunk {index} changed since the split ({bytes.Length} bytes, SHA-256 {actual[..12]}; the manifest says {info.ByteSize} bytes, {info.Sha256[..Math.Min(12, info.Sha256.Length)]}): split the program again");
+            }
+        }
+
+        return bytes;
+    }
+
+    /// <summary>The lines of a chunk file's bytes, split as <see cref="File.ReadLines(string)"/> does.</summary>
+    private static IEnumerable<string> Lines(byte[] bytes)
+    {
+        using var reader = new StringReader(Encoding.UTF8.GetString(bytes));
+        while (reader.ReadLine() is { } line)
+        {
+            yield return line;
+        }
     }
 
     /// <summary>Classifies one program line (marker, motion, words).</summary>

@@ -516,6 +516,12 @@ public sealed class StreamingSession
         {
             Fault(e);
         }
+        catch (Exception e) when (e is IOException or InvalidDataException or UnauthorizedAccessException)
+        {
+            // A chunk file that cannot be read or changed since the split: read before any of its lines is sent,
+            // so sending stops at a block boundary and the job stays resumable once the file is right again.
+            Fault(e);
+        }
         finally
         {
             _gate.Release();
@@ -1332,6 +1338,7 @@ public sealed class StreamingSession
         {
             PmacLinkException => $"link to the controller lost ({e.Message}); {at}. The controller keeps running the lines it holds. When the link is back, resume (pmacstream resume, or Resume in the HMI): nothing is lost or repeated.",
             PmacErrorException pe => $"controller refused '{pe.Command}' with ERR{pe.Number:000} ({PmacErrors.Describe(pe.Number)}); {at}. Fix the cause, then resume.",
+            IOException or InvalidDataException or UnauthorizedAccessException => $"{e.Message}; {at}. The controller runs the lines it holds, then stops. Put the chunk right (or split again), then resume: nothing is lost or repeated.",
             _ => $"{e.Message}; {at}",
         };
         Log.Error("Streaming stopped: {Message}", _message);
