@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Whole-process benchmark of `pmacstream split` (issue 4): MB/s and peak RSS on the 1,000,000-line generated
 # surfacing program and on a ~1 GB one. Goals: >= 300 MB/s, <= 64 MB peak RSS (whole process).
-# Usage: bench/scripts/split-bench.sh [WORKDIR] [BIG_LINES]
+# Usage: [RUNS=3] bench/scripts/split-bench.sh [WORKDIR] [BIG_LINES]
+#   RUNS: how many times each configuration runs (default 3). Wall time on a shared VM swings by about 25 % from one
+#   minute to the next, so the summary at the end gives the best and the median run of each configuration.
 #   PMACSTREAM_CLI=/path/to/pmacstream (e.g. a Native AOT publish) runs that binary instead of `dotnet pmacstream.dll`.
 # Each file is split twice: `--force` (no checker) and the default (checker and splitter in ONE streamed pass).
 # Every run writes its own output folder and all are deleted only at the end. Why: ext4 avoids reusing inodes freed
@@ -57,24 +59,45 @@ run() { # name file extra-args...
   rss=$(grep "Maximum resident set size" "$work/time.txt" | awk '{print $NF}')
   user=$(grep "User time" "$work/time.txt" | awk '{print $NF}')
   sys=$(grep "System time" "$work/time.txt" | awk '{print $NF}')
-  python3 - "$name" "$bytes" "$wall" "$rss" "$user" "$sys" "$(grep ' chunks, ' "$work/stdout.txt" | tail -1)" "$load0" "$(cut -d' ' -f1 /proc/loadavg)" <<'PY'
+  python3 - "$name" "$bytes" "$wall" "$rss" "$user" "$sys" "$(grep ' chunks, ' "$work/stdout.txt" | tail -1)" "$load0" "$(cut -d' ' -f1 /proc/loadavg)" "$work/results.tsv" <<'PY'
 import sys
 name, size, wall, rss, user, sys_, summary, load0, load1 = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4]), float(sys.argv[5]), float(sys.argv[6]), sys.argv[7], sys.argv[8], sys.argv[9]
 parts = [float(p) for p in wall.split(":")]
 secs = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
 cpu = user + sys_
 print(f"| {name:<24} | {size/1e6:7.1f} MB | wall {secs:6.2f} s | {size/1e6/secs:6.1f} MB/s | cpu {cpu:6.2f} s (user {user:.2f} sys {sys_:.2f}) | {size/1e6/cpu:6.1f} MB/cpu-s | RSS {rss/1024:5.1f} MB | load {load0}->{load1} | {summary}")
+with open(sys.argv[10], "a") as f:
+    f.write(f"{name.split(' #')[0]}\t{size}\t{secs}\t{rss}\n")
 PY
+}
+
+runs="${RUNS:-3}"
+repeat() { # name file extra-args...: the configuration RUNS times
+  local name="$1"; shift
+  for r in $(seq 1 "$runs"); do run "$name #$r" "$@"; done
 }
 
 chunks_of() { echo $(( $(stat -c %s "$1") / 37000 + 1 )); }
 
 dotnet "$gen" gen-surfacing "$work/1m.nc" 1000000 >/dev/null
 floor 1m-force "$(chunks_of "$work/1m.nc")" "$(stat -c %s "$work/1m.nc")"
-run "1M lines, split --force" "$work/1m.nc" --force
-run "1M lines, check+split" "$work/1m.nc"
+repeat "1M lines, split --force" "$work/1m.nc" --force
+repeat "1M lines, check+split" "$work/1m.nc"
 
 dotnet "$gen" gen-surfacing "$work/big.nc" "$big_lines" >/dev/null
 floor big-force "$(chunks_of "$work/big.nc")" "$(stat -c %s "$work/big.nc")"
-run "big, split --force" "$work/big.nc" --force
-run "big, check+split" "$work/big.nc"
+repeat "big, split --force" "$work/big.nc" --force
+repeat "big, check+split" "$work/big.nc"
+
+python3 - "$work/results.tsv" <<'PY'
+import sys, statistics
+rows = {}
+for line in open(sys.argv[1]):
+    name, size, secs, rss = line.rstrip("\n").split("\t")
+    rows.setdefault(name, []).append((float(secs), int(size), int(rss)))
+print("summary (best / median of each configuration):")
+for name, runs in rows.items():
+    secs = sorted(r[0] for r in runs)
+    size = runs[0][1]
+    print(f"| {name:<24} | best {secs[0]:6.2f} s {size/1e6/secs[0]:6.1f} MB/s | median {statistics.median(secs):6.2f} s {size/1e6/statistics.median(secs):6.1f} MB/s | peak RSS {max(r[2] for r in runs)/1024:5.1f} MB | {len(runs)} runs")
+PY
