@@ -202,6 +202,9 @@ public sealed class SerialConnection : IPmacConnection
     /// <summary>
     /// Runs blocking port I/O on its own thread, not the pool: System.IO.Ports on Unix completes its read timeouts on
     /// pool threads, so a caller that blocked one (or a busy HMI) would make a 300 ms timeout fire seconds late.
+    /// A thread per request, not one long-lived worker: the caller's continuation then runs on the thread that
+    /// finished (no pool needed), and a caller that waits synchronously there cannot block the next request (tried:
+    /// a single worker with asynchronous continuations waited for the busy pool again).
     /// </summary>
     private static Task<T> OffPool<T>(Func<T> work, CancellationToken cancellationToken) =>
         Task.Factory.StartNew(work, cancellationToken, TaskCreationOptions.LongRunning | TaskCreationOptions.DenyChildAttach, TaskScheduler.Default);
