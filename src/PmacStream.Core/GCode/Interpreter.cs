@@ -529,6 +529,7 @@ public sealed class Interpreter
     }
 
     // The motion mode (0..3 for G00..G03, -1 when none) of group GA, recomputed only when GA changes.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
     private int MotionMode()
     {
         var ga = _g[0];
@@ -554,17 +555,17 @@ public sealed class Interpreter
         return 0;
     }
 
-    private double FeedTime(double length, List<Diagnostic>? diags, int line, int column, int mode)
-    {
-        if (_feed is { } feed && feed > 0)
-        {
-            return length / feed * 60.0;
-        }
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+    private double FeedTime(double length, List<Diagnostic>? diags, int line, int column, int mode) =>
+        _feed is { } feed && feed > 0 ? length / feed * 60.0 : NoFeed(diags, line, column, mode);
 
+    private double NoFeed(List<Diagnostic>? diags, int line, int column, int mode)
+    {
         Add(diags, DiagnosticCodes.FeedMoveWithoutFeed, line, column, "0" + mode);
         return 0;
     }
 
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
     private Point3 Target(Point3 start, double? x, double? y, double? z)
     {
         if (_absolute)
