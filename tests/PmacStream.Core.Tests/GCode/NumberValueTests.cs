@@ -68,3 +68,48 @@ public class NumberValueTests
         }
     }
 }
+
+/// <summary>Lines are lexed where they lie in the read buffer, or copied when they straddle two reads: the result must not depend on which.</summary>
+public class ReadBufferIndependenceTests
+{
+    [Theory]
+    [InlineData(1)]
+    [InlineData(3)]
+    [InlineData(7)]
+    [InlineData(64)]
+    [InlineData(4096)]
+    public void Every_read_buffer_size_lexes_a_program_the_same(int bufferSize)
+    {
+        var rng = new Random(99);
+        var sb = new StringBuilder();
+        string[] pieces = ["G1", "X-12.5", "Y.25", "Z+3.", "(comment 注释)", ";tail", "  ", "\t", "%", "/", "N10", "f1500", "X1.2.3", "#", "M30"];
+        for (var line = 0; line < 400; line++)
+        {
+            var n = rng.Next(0, 8);
+            for (var i = 0; i < n; i++)
+            {
+                sb.Append(pieces[rng.Next(pieces.Length)]).Append(rng.Next(3) == 0 ? " " : string.Empty);
+            }
+
+            sb.Append(rng.Next(3) switch { 0 => "\n", 1 => "\r\n", _ => "\r" });
+        }
+
+        var bytes = Encoding.UTF8.GetBytes(sb.ToString());
+        Read(bytes, bufferSize).Should().Equal(Read(bytes, 1 << 16));
+    }
+
+    private static List<string> Read(byte[] bytes, int bufferSize)
+    {
+        using var reader = new GCodeReader(new MemoryStream(bytes), bufferSize: bufferSize);
+        var result = new List<string>();
+        while (reader.Read())
+        {
+            var b = reader.Current;
+            var words = string.Join(" ", b.Words.Select(w => $"{w.Letter}{w.Value.ToString("R", CultureInfo.InvariantCulture)}@{w.Column}:{Encoding.UTF8.GetString(b.NumberText(w))}"));
+            var diags = string.Join(",", b.LexicalDiagnostics.Select(d => $"{d.Code}@{d.Column}"));
+            result.Add($"{b.LineNumber}|{b.ByteOffset}|{Encoding.UTF8.GetString(b.Line)}|{words}|{string.Join("/", b.CommentTexts())}|{diags}|{b.BlockDelete}|{b.IsTapeMark}");
+        }
+
+        return result;
+    }
+}
