@@ -1,5 +1,3 @@
-using System.Buffers.Text;
-
 namespace PmacStream.Program;
 
 /// <summary>A growable ASCII byte buffer for building chunk text without allocating per block.</summary>
@@ -15,35 +13,11 @@ internal sealed class ByteLine
 
     public void Clear() => Length = 0;
 
-    public void Append(byte b)
-    {
-        Ensure(1);
-        _buffer[Length++] = b;
-    }
-
     public void Append(ReadOnlySpan<byte> bytes)
     {
         Ensure(bytes.Length);
         bytes.CopyTo(_buffer.AsSpan(Length));
         Length += bytes.Length;
-    }
-
-    public void Append(int value)
-    {
-        Ensure(11);
-        Utf8Formatter.TryFormat(value, _buffer.AsSpan(Length), out var written);
-        Length += written;
-    }
-
-    /// <summary>A number as written in the source, minus a leading <c>+</c> (the PMAC reads it as an operator).</summary>
-    public void AppendNumber(ReadOnlySpan<byte> text)
-    {
-        if (text.Length > 1 && text[0] == (byte)'+')
-        {
-            text = text[1..];
-        }
-
-        Append(text);
     }
 
     /// <summary>Makes room for <paramref name="count"/> bytes and returns the free space after the content.</summary>
@@ -75,13 +49,6 @@ internal sealed class ByteLine
         _buffer.AsSpan(at, Length - at).CopyTo(_buffer.AsSpan(at + bytes.Length));
         bytes.CopyTo(_buffer.AsSpan(at));
         Length += bytes.Length;
-    }
-
-    public void AppendCrLf()
-    {
-        Ensure(2);
-        _buffer[Length++] = (byte)'\r';
-        _buffer[Length++] = (byte)'\n';
     }
 
     private void Ensure(int extra)

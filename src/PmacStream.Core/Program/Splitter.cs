@@ -167,7 +167,6 @@ public static class Splitter
         private readonly SplitOptions _o;
         private readonly IProgress<SplitProgress>? _progress;
         private readonly CancellationToken _ct;
-        private readonly byte[] _track;
         private readonly byte[] _feedVar;
         private readonly byte[] _tail;
         private readonly int _tailWords;
@@ -216,7 +215,6 @@ public static class Splitter
             _o = options;
             _progress = progress;
             _ct = ct;
-            _track = Encoding.ASCII.GetBytes(options.TrackVariable);
             _feedVar = Encoding.ASCII.GetBytes(options.FeedVariable);
             _trackPrefix = Encoding.ASCII.GetBytes(options.TrackVariable + "==");
             _trackPrefixWord = Word8(_trackPrefix);
@@ -502,7 +500,7 @@ public static class Splitter
             var motion = scan.Result;
             var endsProgram = scan.EndsProgram && motion == BlockMotion.None;
             // Upper bound: every word's text plus a separator, the source line once more (for P500=F), markers.
-            var space = _chunk.Reserve((2 * src.Length) + (2 * words.Length) + 64 + (2 * (_track.Length + _feedVar.Length)));
+            var space = _chunk.Reserve((2 * src.Length) + (2 * words.Length) + 64 + (2 * (_trackPrefix.Length + _feedSuffix.Length)));
             var o = space;
             var values = 0;
             if (feedIndex >= 0)
