@@ -50,7 +50,7 @@ public sealed class Checker
 
     /// <summary>Checks a stream, calling <paramref name="onDiagnostic"/> in line order and <paramref name="onBlock"/> for each interpreted block.</summary>
     public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default) =>
-        CheckCore(stream, fileName, onDiagnostic, onBlock, null, null, cancellationToken);
+        CheckCore(stream, fileName, onDiagnostic, onBlock, null, cancellationToken);
 
     /// <summary>
     /// Checks a stream, handing the interpreter itself to <paramref name="onInterpreted"/> after each block (read
@@ -58,190 +58,28 @@ public sealed class Checker
     /// allocated per block.
     /// </summary>
     internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<Interpreter> onInterpreted, CancellationToken cancellationToken) =>
-        CheckCore(stream, fileName, onDiagnostic, null, onInterpreted, null, cancellationToken);
+        CheckCore(stream, fileName, onDiagnostic, null, onInterpreted, cancellationToken);
 
-    /// <summary>As the public overload; <paramref name="onLine"/> sees every line's lexed block after the checker took it (the splitter's single pass).</summary>
-    internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock, Action<GBlock>? onLine, CancellationToken cancellationToken) =>
-        CheckCore(stream, fileName, onDiagnostic, onBlock, null, onLine, cancellationToken);
-
-    // Hot loop of a million-line program: compile optimized at once instead of spending the first
-    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
     private CheckSummary CheckCore(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
-        Action<Interpreter>? onInterpreted, Action<GBlock>? onLine, CancellationToken cancellationToken)
+        Action<Interpreter>? onInterpreted, CancellationToken cancellationToken)
     {
         var sw = Stopwatch.StartNew();
-        var errors = 0;
-        var warnings = 0;
-        long blocks = 0;
-        double seconds = 0;
-        var lines = 0;
-        var firstBlockLine = 0;
-        var sawProgramNumber = false;
-        var sawSequence = false;
-        // Until the first N is seen we cannot know whether un-numbered blocks deserve W002 ("only when the program
-        // numbers some blocks"), so diagnostics are held (bounded) and released in line order once it is known.
-        var held = new List<Diagnostic>();
-        var heldLines = 0;
-        var undecidedOverflow = false;
-        var reportedNul = false;
-        var diags = new List<Diagnostic>(8);
-        var interp = new Interpreter(_profile) { MeasureMoves = MeasureMoves, RecordBlocks = onBlock != null || onInterpreted != null };
-
-        void Emit(Diagnostic d)
-        {
-            if (d.Severity == Severity.Error)
-            {
-                errors++;
-            }
-            else
-            {
-                warnings++;
-            }
-
-            onDiagnostic(d);
-        }
-
-        void ReleaseWithoutW002()
-        {
-            foreach (var d in held)
-            {
-                if (d.Code != DiagnosticCodes.NoSequenceNumber)
-                {
-                    Emit(d);
-                }
-            }
-
-            held.Clear();
-        }
-
-        void Make(string code, int line, int column, params object[] args) =>
-            Emit(new Diagnostic(DiagnosticCodes.SeverityOf(code), code, line, column, DiagnosticText.Format(code, args)));
-
+        var run = new CheckRun(_profile, MeasureMoves, onDiagnostic, onBlock, onInterpreted);
         using var reader = new GCodeReader(stream, leaveOpen: true);
         while (reader.Read())
         {
             cancellationToken.ThrowIfCancellationRequested();
             var block = reader.Current;
-            lines = block.LineNumber;
-            if (lines == 1 && reader.StartsWithUtf16Bom)
+            if (block.LineNumber == 1 && reader.StartsWithUtf16Bom)
             {
-                Make(DiagnosticCodes.Utf16File, 1, 1);
-                held.Clear();
-                return new CheckSummary(fileName, lines, 0, errors, warnings, reader.Position, 0, sw.Elapsed);
+                return run.Utf16(fileName, reader.Position, sw.Elapsed);
             }
 
-            diags.Clear();
-            var lexical = block.DiagnosticList;
-            for (var di = 0; di < lexical.Count; di++)
-            {
-                var d = lexical[di];
-                if (d.Code == DiagnosticCodes.NulByte)
-                {
-                    // One report per file is enough to say "binary"; the rest would bury everything else.
-                    if (reportedNul)
-                    {
-                        continue;
-                    }
-
-                    reportedNul = true;
-                }
-
-                diags.Add(d);
-            }
-
-            var isBlock = interp.StepCore(block, diags);
-            if (isBlock)
-            {
-                ref readonly var decoded = ref interp.Last;
-                blocks++;
-                seconds += decoded.DurationSeconds;
-                if (firstBlockLine == 0)
-                {
-                    firstBlockLine = block.LineNumber;
-                }
-
-                if (decoded.N.HasValue)
-                {
-                    if (!sawSequence)
-                    {
-                        // The program numbers blocks: the held un-numbered ones get their W002, in line order.
-                        sawSequence = true;
-                        foreach (var d in held)
-                        {
-                            Emit(d);
-                        }
-
-                        held.Clear();
-                    }
-                }
-                else if (sawSequence)
-                {
-                    diags.Insert(0, NoSequence(block.LineNumber));
-                }
-                else if (!undecidedOverflow)
-                {
-                    diags.Insert(0, NoSequence(block.LineNumber));
-                }
-            }
-
-            if (interp.LastHadProgramNumber)
-            {
-                sawProgramNumber = true;
-            }
-
-            if (!sawSequence && !undecidedOverflow)
-            {
-                held.AddRange(diags);
-                if (++heldLines > PendingSequenceLimit)
-                {
-                    // A long un-numbered start: treat the program as un-numbered rather than hold unbounded memory.
-                    undecidedOverflow = true;
-                    ReleaseWithoutW002();
-                }
-            }
-            else
-            {
-                for (var di = 0; di < diags.Count; di++)
-                {
-                    Emit(diags[di]);
-                }
-            }
-
-            if (isBlock)
-            {
-                if (onBlock != null)
-                {
-                    onBlock(interp.Materialize());
-                }
-                else
-                {
-                    onInterpreted?.Invoke(interp);
-                }
-            }
-
-            onLine?.Invoke(block);
+            run.Line(block);
         }
 
-        if (!sawSequence)
-        {
-            ReleaseWithoutW002();
-        }
-
-        if (blocks == 0)
-        {
-            Make(DiagnosticCodes.EmptyProgram, Math.Max(1, lines), 1);
-        }
-        else if (!sawProgramNumber)
-        {
-            Make(DiagnosticCodes.NoProgramNumber, firstBlockLine, 1);
-        }
-
-        return new CheckSummary(fileName, lines, blocks, errors, warnings, reader.Position, seconds, sw.Elapsed);
+        return run.Finish(fileName, reader.Position, sw.Elapsed);
     }
-
-    private static Diagnostic NoSequence(int line) =>
-        new(Severity.Warning, DiagnosticCodes.NoSequenceNumber, line, 1, DiagnosticText.Format(DiagnosticCodes.NoSequenceNumber));
 
     /// <summary>Checks program text held in memory (tests, the HMI editor) and returns the diagnostics with the summary.</summary>
     public (CheckSummary Summary, IReadOnlyList<Diagnostic> Diagnostics) CheckText(string text, string fileName = "<text>")
@@ -251,4 +89,232 @@ public sealed class Checker
         var summary = Check(ms, fileName, list.Add);
         return (summary, list);
     }
+}
+
+/// <summary>
+/// One check in progress, a line at a time: <see cref="Checker"/> feeds it from its reader, the splitter from its
+/// own (which takes simple lines through <see cref="TryAxisLine"/> without lexing them into a block).
+/// </summary>
+internal sealed class CheckRun
+{
+    private readonly Action<Diagnostic> _onDiagnostic;
+    private readonly Action<DecodedBlock>? _onBlock;
+    private readonly Action<Interpreter>? _onInterpreted;
+    private readonly Interpreter _interp;
+    // Until the first N is seen we cannot know whether un-numbered blocks deserve W002 ("only when the program
+    // numbers some blocks"), so diagnostics are held (bounded) and released in line order once it is known.
+    private readonly List<Diagnostic> _held = [];
+    private readonly List<Diagnostic> _diags = new(8);
+    private int _errors;
+    private int _warnings;
+    private long _blocks;
+    private double _seconds;
+    private int _lines;
+    private int _firstBlockLine;
+    private bool _sawProgramNumber;
+    private bool _sawSequence;
+    private int _heldLines;
+    private bool _undecidedOverflow;
+    private bool _reportedNul;
+
+    public CheckRun(MachineProfile profile, bool measureMoves, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
+        Action<Interpreter>? onInterpreted)
+    {
+        _onDiagnostic = onDiagnostic;
+        _onBlock = onBlock;
+        _onInterpreted = onInterpreted;
+        _interp = new Interpreter(profile) { MeasureMoves = measureMoves, RecordBlocks = onBlock != null || onInterpreted != null };
+    }
+
+    /// <summary>The interpreter the check runs (tests compare its state).</summary>
+    public Interpreter Interpreter => _interp;
+
+    /// <summary>The file starts with a UTF-16 byte-order mark: one error, and the check ends there.</summary>
+    public CheckSummary Utf16(string fileName, long bytes, TimeSpan elapsed)
+    {
+        _lines = 1;
+        Make(DiagnosticCodes.Utf16File, 1, 1);
+        _held.Clear();
+        return new CheckSummary(fileName, _lines, 0, _errors, _warnings, bytes, 0, elapsed);
+    }
+
+    /// <summary>
+    /// Takes a line of only an N number, the motion code in force (G00/G01) and X/Y/Z words, already lexed by
+    /// <see cref="AxisLine"/>, when it is sure to leave no diagnostic: it then moves the interpreter exactly as
+    /// <see cref="Line"/> would. False (nothing changed) when the line needs the full path.
+    /// </summary>
+    public bool TryAxisLine(int lineNumber, in AxisLine line)
+    {
+        // An N-less block is told W002 once the program numbers blocks, and held while that is undecided.
+        if (line.HasN ? !_sawSequence : (_sawSequence || !_undecidedOverflow))
+        {
+            return false;
+        }
+
+        if (!_interp.TryStepAxisLine(lineNumber, line))
+        {
+            return false;
+        }
+
+        _lines = lineNumber;
+        _blocks++;
+        if (_firstBlockLine == 0)
+        {
+            _firstBlockLine = lineNumber;
+        }
+
+        return true;
+    }
+
+    /// <summary>Checks one lexed line.</summary>
+    // Hot loop of a million-line program: compile optimized at once instead of spending the first
+    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
+    public void Line(GBlock block)
+    {
+        _lines = block.LineNumber;
+        var diags = _diags;
+        diags.Clear();
+        var lexical = block.DiagnosticList;
+        for (var di = 0; di < lexical.Count; di++)
+        {
+            var d = lexical[di];
+            if (d.Code == DiagnosticCodes.NulByte)
+            {
+                // One report per file is enough to say "binary"; the rest would bury everything else.
+                if (_reportedNul)
+                {
+                    continue;
+                }
+
+                _reportedNul = true;
+            }
+
+            diags.Add(d);
+        }
+
+        var interp = _interp;
+        var isBlock = interp.StepCore(block, diags);
+        if (isBlock)
+        {
+            ref readonly var decoded = ref interp.Last;
+            _blocks++;
+            _seconds += decoded.DurationSeconds;
+            if (_firstBlockLine == 0)
+            {
+                _firstBlockLine = block.LineNumber;
+            }
+
+            if (decoded.N.HasValue)
+            {
+                if (!_sawSequence)
+                {
+                    // The program numbers blocks: the held un-numbered ones get their W002, in line order.
+                    _sawSequence = true;
+                    foreach (var d in _held)
+                    {
+                        Emit(d);
+                    }
+
+                    _held.Clear();
+                }
+            }
+            else if (_sawSequence)
+            {
+                diags.Insert(0, NoSequence(block.LineNumber));
+            }
+            else if (!_undecidedOverflow)
+            {
+                diags.Insert(0, NoSequence(block.LineNumber));
+            }
+        }
+
+        if (interp.LastHadProgramNumber)
+        {
+            _sawProgramNumber = true;
+        }
+
+        if (!_sawSequence && !_undecidedOverflow)
+        {
+            _held.AddRange(diags);
+            if (++_heldLines > Checker.PendingSequenceLimit)
+            {
+                // A long un-numbered start: treat the program as un-numbered rather than hold unbounded memory.
+                _undecidedOverflow = true;
+                ReleaseWithoutW002();
+            }
+        }
+        else
+        {
+            for (var di = 0; di < diags.Count; di++)
+            {
+                Emit(diags[di]);
+            }
+        }
+
+        if (isBlock)
+        {
+            if (_onBlock != null)
+            {
+                _onBlock(interp.Materialize());
+            }
+            else
+            {
+                _onInterpreted?.Invoke(interp);
+            }
+        }
+    }
+
+    /// <summary>The end of the program: the whole-program findings, and the totals.</summary>
+    public CheckSummary Finish(string fileName, long bytes, TimeSpan elapsed)
+    {
+        if (!_sawSequence)
+        {
+            ReleaseWithoutW002();
+        }
+
+        if (_blocks == 0)
+        {
+            Make(DiagnosticCodes.EmptyProgram, Math.Max(1, _lines), 1);
+        }
+        else if (!_sawProgramNumber)
+        {
+            Make(DiagnosticCodes.NoProgramNumber, _firstBlockLine, 1);
+        }
+
+        return new CheckSummary(fileName, _lines, _blocks, _errors, _warnings, bytes, _seconds, elapsed);
+    }
+
+    private void Emit(Diagnostic d)
+    {
+        if (d.Severity == Severity.Error)
+        {
+            _errors++;
+        }
+        else
+        {
+            _warnings++;
+        }
+
+        _onDiagnostic(d);
+    }
+
+    private void ReleaseWithoutW002()
+    {
+        foreach (var d in _held)
+        {
+            if (d.Code != DiagnosticCodes.NoSequenceNumber)
+            {
+                Emit(d);
+            }
+        }
+
+        _held.Clear();
+    }
+
+    private void Make(string code, int line, int column, params object[] args) =>
+        Emit(new Diagnostic(DiagnosticCodes.SeverityOf(code), code, line, column, DiagnosticText.Format(code, args)));
+
+    private static Diagnostic NoSequence(int line) =>
+        new(Severity.Warning, DiagnosticCodes.NoSequenceNumber, line, 1, DiagnosticText.Format(DiagnosticCodes.NoSequenceNumber));
 }

@@ -15,6 +15,9 @@ public sealed class GCodeReader : IDisposable
     /// <summary>Longest line accepted; longer lines are cut there and reported (E114), so memory stays bounded.</summary>
     public const int MaxLineLength = 1 << 20;
 
+    /// <summary>Bytes readable after the line end of a line <see cref="ReadRaw"/> returns (wide loads need no bounds checks).</summary>
+    internal const int RawSlack = 16;
+
     private readonly Stream _stream;
     private readonly bool _leaveOpen;
     private readonly byte[] _chunk;
@@ -25,13 +28,17 @@ public sealed class GCodeReader : IDisposable
     private int _lineNumber;
     private bool _pendingCrLf;
     private bool _eof;
+    private bool _rawInChunk;   // the line ReadRaw returned lies in the read buffer, not (yet) in the block
+    private long _rawOffset;
+    private int _rawStart;
+    private int _rawLength;
 
     /// <summary>Reads from a stream (which the reader disposes unless <paramref name="leaveOpen"/>).</summary>
     public GCodeReader(Stream stream, bool leaveOpen = false, int bufferSize = 1 << 16)
     {
         _stream = stream;
         _leaveOpen = leaveOpen;
-        _chunk = ArrayPool<byte>.Shared.Rent(bufferSize);
+        _chunk = ArrayPool<byte>.Shared.Rent(bufferSize + RawSlack);
     }
 
     /// <summary>Opens a file for sequential reading.</summary>
@@ -57,6 +64,86 @@ public sealed class GCodeReader : IDisposable
 
         Lex(_block);
         return true;
+    }
+
+    /// <summary>Lines read so far: the number of the line <see cref="ReadRaw"/> returned last.</summary>
+    internal int LineNumber => _lineNumber;
+
+    /// <summary>
+    /// Reads the next line without lexing it (the splitter's fast lane looks at the bytes first): it is
+    /// <paramref name="length"/> bytes of <paramref name="data"/> from <paramref name="start"/>, followed by a line
+    /// end or a 0 and at least <see cref="RawSlack"/> more bytes of the array; valid until the next read.
+    /// <see cref="LexRaw"/> turns it into <see cref="Current"/>, exactly as <see cref="Read"/> would have. A line
+    /// that lies whole in the read buffer is not copied.
+    /// </summary>
+    internal bool ReadRaw(out byte[] data, out int start, out int length)
+    {
+        if (_pendingCrLf && _chunkPos < _chunkLen)
+        {
+            _pendingCrLf = false;
+            if (_chunk[_chunkPos] == (byte)'\n')
+            {
+                _chunkPos++;
+            }
+        }
+
+        if (!_pendingCrLf && _chunkPos < _chunkLen)
+        {
+            var span = _chunk.AsSpan(_chunkPos, _chunkLen - _chunkPos);
+            var end = span.IndexOfAny((byte)'\n', (byte)'\r');
+            if ((uint)end <= MaxLineLength)
+            {
+                _rawInChunk = true;
+                _rawOffset = _chunkFileOffset + _chunkPos;
+                data = _chunk;
+                start = _rawStart = _chunkPos;
+                length = _rawLength = end;
+                _pendingCrLf = span[end] == (byte)'\r';
+                _chunkPos += end + 1;
+                _lineNumber++;
+                return true;
+            }
+        }
+
+        // The line runs past the buffer (or is the first one, or too long): assemble it in the block as Read does.
+        _rawInChunk = false;
+        if (!ReadLine())
+        {
+            data = _block.Buffer;
+            start = length = 0;
+            return false;
+        }
+
+        var b = _block;
+        if (b.Buffer.Length < b.Length + 1 + RawSlack)
+        {
+            Array.Resize(ref b.Buffer, b.Length + 1 + RawSlack);
+        }
+
+        b.Buffer[b.Length] = 0;
+        data = b.Buffer;
+        start = 0;
+        length = b.Length;
+        return true;
+    }
+
+    /// <summary>Lexes the line <see cref="ReadRaw"/> returned last into <see cref="Current"/> and returns it.</summary>
+    internal GBlock LexRaw()
+    {
+        var b = _block;
+        if (_rawInChunk)
+        {
+            _rawInChunk = false;
+            b.Length = 0;
+            b.DiagnosticList.Clear();
+            var truncated = false;
+            Append(b, _chunk.AsSpan(_rawStart, _rawLength), ref truncated);
+            b.ByteOffset = _rawOffset;
+            b.LineNumber = _lineNumber;
+        }
+
+        Lex(b);
+        return b;
     }
 
     /// <summary>Reads every block of a file, yielding the shared instance (copy what you keep).</summary>
@@ -100,7 +187,7 @@ public sealed class GCodeReader : IDisposable
 
         _chunkFileOffset += _chunkLen;
         _chunkPos = 0;
-        _chunkLen = _stream.Read(_chunk, 0, _chunk.Length);
+        _chunkLen = _stream.Read(_chunk, 0, _chunk.Length - RawSlack);
         if (_chunkLen <= 0)
         {
             _chunkLen = 0;

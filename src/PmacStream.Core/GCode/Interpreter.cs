@@ -39,6 +39,7 @@ public sealed class Interpreter
     private readonly LetterKind[] _letterKinds = new LetterKind[26];
     private double? _motionFor = double.NaN;
     private int _motion = -1;
+    private bool _axisLineLetters; // the profile takes N, G and X/Y/Z as usual, and the motion group is modal
 
     /// <summary>Starts in the profile's power-on state (its <see cref="MachineProfile.Startup"/> codes) at the origin.</summary>
     public Interpreter(MachineProfile profile)
@@ -528,6 +529,45 @@ public sealed class Interpreter
         return true;
     }
 
+    /// <summary>
+    /// Interprets an <see cref="AxisLine"/> (N, the motion code in force, X/Y/Z) when that is sure to raise no
+    /// diagnostic and to do nothing but move: absolute G00 (with a rapid rate) or G01 with a feed, no non-modal code
+    /// pending, neither lengths nor records wanted. Then the state ends exactly as <see cref="StepCore"/> leaves it;
+    /// otherwise nothing changes and the answer is false.
+    /// </summary>
+    internal bool TryStepAxisLine(int line, in AxisLine a)
+    {
+        if (_nonModalSet || !_absolute || RecordBlocks || MeasureMoves || !_axisLineLetters)
+        {
+            return false;
+        }
+
+        var mode = MotionMode();
+        if (mode == 1 ? !(_feed > 0) : mode != 0 || !(_profile.RapidRate > 0))
+        {
+            return false;
+        }
+
+        if (a.HasG && a.G != _g[0])
+        {
+            return false;
+        }
+
+        var o = _wcsOffset ??= _profile.WorkOffset(_wcs);
+        var p = _pos;
+        var axes = a.Axes;
+        _pos = new Point3(
+            (axes & AxisLine.XBit) != 0 ? a.X + o.X : p.X,
+            (axes & (AxisLine.XBit << 1)) != 0 ? a.Y + o.Y : p.Y,
+            (axes & (AxisLine.XBit << 2)) != 0 ? a.Z + o.Z : p.Z);
+        ref var last = ref _last;
+        last.Line = line;
+        last.N = a.HasN ? a.N : null;
+        last.DurationSeconds = 0;
+        LastHadProgramNumber = false;
+        return true;
+    }
+
     // The motion mode (0..3 for G00..G03, -1 when none) of group GA, recomputed only when GA changes.
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
     private int MotionMode()
@@ -669,6 +709,9 @@ public sealed class Interpreter
         int[] nonModalM = [0, 10, 20, 300, 60, 980, 990];
         Classify(_profile.GCodes, MachineProfile.GGroupNames, nonModalG, _gNonModal);
         Classify(_profile.MCodes, MachineProfile.MGroupNames, nonModalM, _mNonModal);
+        _axisLineLetters = _letterKinds['N' - 'A'] == LetterKind.Parameter && _letterKinds['G' - 'A'] == LetterKind.G &&
+            _letterKinds['X' - 'A'] == LetterKind.Effective && _letterKinds['Y' - 'A'] == LetterKind.Effective &&
+            _letterKinds['Z' - 'A'] == LetterKind.Effective && !_gNonModal[0];
     }
 
     private static void Classify(IReadOnlyList<CodeDefinition> codes, IReadOnlyList<string> names, int[] nonModal, bool[] result)

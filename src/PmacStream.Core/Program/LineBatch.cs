@@ -46,6 +46,28 @@ internal sealed class LineBatch
         EndPosition = 0;
     }
 
+    /// <summary>
+    /// Makes room in <see cref="Text"/> for an <see cref="AxisLine"/> of a <paramref name="lineLength"/>-byte line and
+    /// returns where it goes (read <see cref="Text"/> after this call: it may have grown).
+    /// </summary>
+    public int AxisTextRoom(int lineLength)
+    {
+        var room = AxisLine.TextRoom(lineLength);
+        if (TextLength + room > _text.Length)
+        {
+            Array.Resize(ref _text, Math.Max(TextLength + room, _text.Length * 2));
+        }
+
+        return TextLength;
+    }
+
+    /// <summary>Takes the <see cref="AxisLine"/> text just written into <see cref="AxisTextRoom"/>: a line of <paramref name="words"/> words, N dropped.</summary>
+    public void AddAxisLine(int lineNumber, int textLength, int words)
+    {
+        _lines[Count++] = new LineRecord(lineNumber, TextLength, textLength, -1, words);
+        TextLength += textLength;
+    }
+
     /// <summary>Copies a line (the reader's shared block is overwritten by the next line).</summary>
     public void Add(GBlock block)
     {
@@ -69,5 +91,11 @@ internal sealed class LineBatch
     }
 }
 
-/// <summary>Where one line of a <see cref="LineBatch"/> lies; word number offsets are relative to the line's text.</summary>
-internal readonly record struct LineRecord(int LineNumber, int TextStart, int TextLength, int WordStart, int WordCount);
+/// <summary>
+/// Where one line of a <see cref="LineBatch"/> lies; word number offsets are relative to the line's text. An
+/// <see cref="AxisLine"/> has no words stored (<see cref="WordStart"/> -1): its text is already the block as emitted.
+/// </summary>
+internal readonly record struct LineRecord(int LineNumber, int TextStart, int TextLength, int WordStart, int WordCount)
+{
+    public bool IsAxisLine => WordStart < 0;
+}

@@ -71,6 +71,12 @@ public sealed record SplitOptions
     /// <summary>Test hook: called after each chunk file is written (index), so a failure can be injected mid-way.</summary>
     internal Action<int>? AfterChunkWritten { get; init; }
 
+    /// <summary>
+    /// Simple axis lines (<see cref="AxisLine"/>) skip the general lexer and interpreter. Off only in tests, which
+    /// compare both paths: the results must be byte for byte the same.
+    /// </summary>
+    internal bool AxisLane { get; init; } = true;
+
     /// <summary>Throws <see cref="ArgumentException"/> naming the first bad setting.</summary>
     public void Validate()
     {

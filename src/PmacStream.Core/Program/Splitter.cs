@@ -152,7 +152,10 @@ public static class Splitter
     /// One split in progress. Two threads share the work: the reading thread lexes the source (and runs the
     /// checker on the same blocks when <see cref="SplitOptions.CheckProfile"/> is set) and hands batches of lines
     /// over a bounded queue, in order, to the calling thread, which builds the chunks; a third writes and hashes
-    /// the chunk files (<see cref="ChunkFileWriter"/>) and a fourth hashes the source.
+    /// the chunk files (<see cref="ChunkFileWriter"/>) and a fourth hashes the source. Most CAM lines are plain
+    /// axis moves in the mode in force: those take the <see cref="AxisLine"/> lane (lexed in one scan of the read
+    /// buffer, checked by <see cref="CheckRun.TryAxisLine"/>, handed over as their emitted text); every other line
+    /// takes the general lexer, checker and emitter, with the same results (AxisLaneTests compare the two).
     /// </summary>
     private sealed class SplitRun
     {
@@ -318,24 +321,55 @@ public static class Splitter
                 _batch = TakeFree();
                 long size;
                 using (var stream = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan))
+                using (var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16))
                 {
-                    if (Checking)
+                    var check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
+                    // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
+                    var lane = _o.AxisLane && !_o.KeepN;
+                    while (reader.ReadRaw(out var data, out var start, out var length))
                     {
-                        size = new Checker(_o.CheckProfile!) { MeasureMoves = false }.Check(stream, _source, OnCheckDiagnostic, null, Take, _stop).Bytes;
-                    }
-                    else
-                    {
-                        using var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16);
-                        while (reader.Read())
+                        var number = reader.LineNumber;
+                        if ((number & 0x3FFF) == 0)
                         {
-                            Take(reader.Current);
+                            _stop.ThrowIfCancellationRequested();
                         }
 
-                        size = reader.Position;
+                        var at = lane ? _batch!.AxisTextRoom(length) : 0; // first: it may grow the text
+                        if (lane && AxisLine.TryParse(data, start, length, _batch!.Text, at, out var axes) &&
+                            (check == null || check.TryAxisLine(number, axes)))
+                        {
+                            if (!_refusing)
+                            {
+                                _batch.AddAxisLine(number, axes.TextLength, axes.Words);
+                                if (_batch.IsFull)
+                                {
+                                    Hand(reader.Position);
+                                }
+                            }
+
+                            continue;
+                        }
+
+                        var block = reader.LexRaw();
+                        if (check != null)
+                        {
+                            if (number == 1 && reader.StartsWithUtf16Bom)
+                            {
+                                check.Utf16(_source, reader.Position, TimeSpan.Zero);
+                                break;
+                            }
+
+                            check.Line(block);
+                        }
+
+                        Take(block);
                     }
+
+                    check?.Finish(_source, reader.Position, TimeSpan.Zero);
+                    size = reader.Position;
                 }
 
-                _batch.EndPosition = size;
+                _batch!.EndPosition = size;
                 _full!.Add(_batch);
                 _batch = null;
                 return size;
@@ -344,6 +378,14 @@ public static class Splitter
             {
                 _full!.Complete();
             }
+        }
+
+        /// <summary>Hands the full batch over and takes an empty one.</summary>
+        private void Hand(long endPosition)
+        {
+            _batch!.EndPosition = endPosition;
+            _full!.Add(_batch);
+            _batch = TakeFree();
         }
 
         private LineBatch TakeFree() =>
@@ -365,11 +407,6 @@ public static class Splitter
         /// <summary>One lexed line on the reading thread.</summary>
         private void Take(GBlock b)
         {
-            if ((b.LineNumber & 0x3FFF) == 0)
-            {
-                _stop.ThrowIfCancellationRequested();
-            }
-
             if (b.DiagnosticList.Count > 0)
             {
                 Collect(b);
@@ -381,14 +418,10 @@ public static class Splitter
                 return;
             }
 
-            var batch = _batch!;
-            batch.Add(b);
-            if (batch.IsFull)
+            _batch!.Add(b);
+            if (_batch.IsFull)
             {
-                batch.EndPosition = b.ByteOffset + b.Length;
-                _full!.Add(batch);
-                batch = TakeFree();
-                _batch = batch;
+                Hand(b.ByteOffset + b.Length);
             }
         }
 
@@ -404,7 +437,14 @@ public static class Splitter
                     _ct.ThrowIfCancellationRequested();
                 }
 
-                Emit(text.AsSpan(line.TextStart, line.TextLength), batch.WordsOf(line), line.LineNumber);
+                if (line.IsAxisLine)
+                {
+                    EmitAxisLine(text.AsSpan(line.TextStart, line.TextLength), line.WordCount, line.LineNumber);
+                }
+                else
+                {
+                    Emit(text.AsSpan(line.TextStart, line.TextLength), batch.WordsOf(line), line.LineNumber);
+                }
             }
 
             _position = batch.EndPosition;
@@ -578,6 +618,42 @@ public static class Splitter
             }
 
             Add(space.Length - o.Length, lineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
+        }
+
+        /// <summary>
+        /// <see cref="Emit"/> for an <see cref="AxisLine"/>: its text is already the words as emitted, so only the
+        /// markers go around it. A move, so it is tracked and (paper feed) gets the feed suffix.
+        /// </summary>
+        private void EmitAxisLine(ReadOnlySpan<byte> text, int words, int lineNumber)
+        {
+            var space = _chunk.Reserve(text.Length + 64 + (2 * (_trackPrefix.Length + _feedSuffix.Length)));
+            var o = space;
+            var values = words + 1;
+            if (_o.Tracking == TrackingPlacement.Exact)
+            {
+                o = Track(o, lineNumber);
+                o[0] = (byte)' ';
+                o = o[1..];
+            }
+
+            text.CopyTo(o);
+            o = o[text.Length..];
+            if (_o.Feed == FeedMode.Paper)
+            {
+                o = Put(o, _feedSuffix, _feedSuffixWord); // " F(P500)"
+                values++;
+            }
+
+            if (_o.Tracking == TrackingPlacement.Paper)
+            {
+                o[0] = (byte)' ';
+                o = Track(o[1..], lineNumber);
+            }
+
+            o[0] = (byte)'\r';
+            o[1] = (byte)'\n';
+            o = o[2..];
+            Add(space.Length - o.Length, lineNumber, motion: true, endsProgram: false, Math.Max(_o.WordsPerBlock, values));
         }
 
         private static Span<byte> Put(Span<byte> o, byte[] bytes)
