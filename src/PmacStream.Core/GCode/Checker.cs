@@ -140,10 +140,10 @@ internal sealed class CheckRun
 
     /// <summary>
     /// Takes a line of only an N number, the motion code in force (G00/G01) and X/Y/Z words, already lexed by
-    /// <see cref="AxisLine"/>, when it is sure to leave no diagnostic: it then moves the interpreter exactly as
+    /// <see cref="AxisLine"/> into <paramref name="text"/> at <paramref name="textStart"/>, when it is sure to leave no diagnostic: it then moves the interpreter exactly as
     /// <see cref="Line"/> would. False (nothing changed) when the line needs the full path.
     /// </summary>
-    public bool TryAxisLine(int lineNumber, in AxisLine line)
+    public bool TryAxisLine(int lineNumber, in AxisLine line, byte[] text, int textStart)
     {
         // An N-less block is told W002 once the program numbers blocks, and held while that is undecided.
         if (line.HasN ? !_sawSequence : (_sawSequence || !_undecidedOverflow))
@@ -151,7 +151,7 @@ internal sealed class CheckRun
             return false;
         }
 
-        if (!_interp.TryStepAxisLine(lineNumber, line))
+        if (!_interp.TryStepAxisLine(line, text, textStart))
         {
             return false;
         }

@@ -40,6 +40,13 @@ public sealed class Interpreter
     private double? _motionFor = double.NaN;
     private int _motion = -1;
     private bool _axisLineLetters; // the profile takes N, G and X/Y/Z as usual, and the motion group is modal
+    private bool _laneOpen;        // an AxisLine would only move now (see UpdateLane)
+    private bool _measureMoves = true;
+    private bool _recordBlocks = true;
+    // Axis values AxisLines set that nobody read yet: their text, converted into _pos only when the position is read
+    // (a block on the full path, Position). The work offset cannot change meanwhile: only StepCore changes it.
+    private int _pendingAxes;
+    private PendingNumbers _pending;
 
     /// <summary>Starts in the profile's power-on state (its <see cref="MachineProfile.Startup"/> codes) at the origin.</summary>
     public Interpreter(MachineProfile profile)
@@ -62,6 +69,7 @@ public sealed class Interpreter
         }
 
         ClearNonModal();
+        UpdateLane();
     }
 
     /// <summary>Resumes from a known state and position (start from a block: the state after the block before it).</summary>
@@ -93,6 +101,7 @@ public sealed class Interpreter
         _coolant = state.Coolant;
         _feed = state.Feed;
         _pos = position;
+        UpdateLane();
     }
 
     /// <summary>The profile the interpreter works to.</summary>
@@ -102,7 +111,14 @@ public sealed class Interpreter
     public ModalState State => Snapshot();
 
     /// <summary>The absolute position after the last block.</summary>
-    public Point3 Position => _pos;
+    public Point3 Position
+    {
+        get
+        {
+            Resolve();
+            return _pos;
+        }
+    }
 
     /// <summary>When true, blocks starting with <c>/</c> are skipped (the operator's block-delete switch).</summary>
     public bool BlockDeleteEnabled { get; set; }
@@ -112,14 +128,30 @@ public sealed class Interpreter
     /// splitter's check) turns it off: a square root per block is a tenth of the checker's time. Arcs are always
     /// measured, because their geometry is checked.
     /// </summary>
-    internal bool MeasureMoves { get; set; } = true;
+    internal bool MeasureMoves
+    {
+        get => _measureMoves;
+        set
+        {
+            _measureMoves = value;
+            UpdateLane();
+        }
+    }
 
     /// <summary>
     /// Whether <see cref="Last"/> gets the whole block (words, positions, motion). Off for a caller that reads only
     /// the line, N and duration (the checker when nobody takes the decoded blocks): filling the record is a tenth
     /// of a block's interpretation.
     /// </summary>
-    internal bool RecordBlocks { get; set; } = true;
+    internal bool RecordBlocks
+    {
+        get => _recordBlocks;
+        set
+        {
+            _recordBlocks = value;
+            UpdateLane();
+        }
+    }
 
     /// <summary>
     /// Interprets one block. Returns null for empty, comment-only, tape-mark and program-number-only lines (and for
@@ -161,6 +193,8 @@ public sealed class Interpreter
     [System.Runtime.CompilerServices.SkipLocalsInit]
     internal bool StepCore(GBlock block, List<Diagnostic>? diags)
     {
+        // Before anything here changes the mode or the work offset the lane's values were written under.
+        Resolve();
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
         {
@@ -492,6 +526,7 @@ public sealed class Interpreter
         }
 
         _pos = end;
+        UpdateLane();
         // Filled in place: the record is large and this runs once per block.
         ref var last = ref _last;
         if (!RecordBlocks)
@@ -530,42 +565,61 @@ public sealed class Interpreter
     }
 
     /// <summary>
-    /// Interprets an <see cref="AxisLine"/> (N, the motion code in force, X/Y/Z) when that is sure to raise no
-    /// diagnostic and to do nothing but move: absolute G00 (with a rapid rate) or G01 with a feed, no non-modal code
-    /// pending, neither lengths nor records wanted. Then the state ends exactly as <see cref="StepCore"/> leaves it;
-    /// otherwise nothing changes and the answer is false.
+    /// Interprets an <see cref="AxisLine"/> (N, the motion code in force, X/Y/Z), whose text is at
+    /// <paramref name="textStart"/> of <paramref name="text"/>, when that is sure to raise no diagnostic and to do
+    /// nothing but move: absolute G00 (with a rapid rate) or G01 with a feed, no non-modal code pending, neither
+    /// lengths nor records wanted. The state then ends as <see cref="StepCore"/> leaves it (<see cref="Last"/> is
+    /// not filled: nobody reads it without records); otherwise nothing changes and the answer is false.
     /// </summary>
-    internal bool TryStepAxisLine(int line, in AxisLine a)
+    internal bool TryStepAxisLine(in AxisLine a, byte[] text, int textStart)
     {
-        if (_nonModalSet || !_absolute || RecordBlocks || MeasureMoves || !_axisLineLetters)
+        if (!_laneOpen || (a.HasG && a.G != _g[0]))
         {
             return false;
         }
 
-        var mode = MotionMode();
-        if (mode == 1 ? !(_feed > 0) : mode != 0 || !(_profile.RapidRate > 0))
-        {
-            return false;
-        }
-
-        if (a.HasG && a.G != _g[0])
-        {
-            return false;
-        }
-
-        var o = _wcsOffset ??= _profile.WorkOffset(_wcs);
-        var p = _pos;
         var axes = a.Axes;
-        _pos = new Point3(
-            (axes & AxisLine.XBit) != 0 ? a.X + o.X : p.X,
-            (axes & (AxisLine.XBit << 1)) != 0 ? a.Y + o.Y : p.Y,
-            (axes & (AxisLine.XBit << 2)) != 0 ? a.Z + o.Z : p.Z);
-        ref var last = ref _last;
-        last.Line = line;
-        last.N = a.HasN ? a.N : null;
-        last.DurationSeconds = 0;
+        for (var axis = 0; axis < 3; axis++)
+        {
+            if ((axes & (AxisLine.XBit << axis)) != 0)
+            {
+                _pending[axis].Set(text, textStart + a.At[axis], a.Size[axis]);
+            }
+        }
+
+        _pendingAxes |= axes;
         LastHadProgramNumber = false;
         return true;
+    }
+
+    /// <summary>Converts the axis values lane lines left as text into the position.</summary>
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+    private void Resolve()
+    {
+        if (_pendingAxes != 0)
+        {
+            ResolvePending();
+        }
+    }
+
+    private void ResolvePending()
+    {
+        var o = _wcsOffset ??= _profile.WorkOffset(_wcs);
+        var p = _pos;
+        var axes = _pendingAxes;
+        _pendingAxes = 0;
+        _pos = new Point3(
+            (axes & AxisLine.XBit) != 0 ? _pending[0].Value() + o.X : p.X,
+            (axes & (AxisLine.XBit << 1)) != 0 ? _pending[1].Value() + o.Y : p.Y,
+            (axes & (AxisLine.XBit << 2)) != 0 ? _pending[2].Value() + o.Z : p.Z);
+    }
+
+    /// <summary>Whether an <see cref="AxisLine"/> would only move in the state reached (recomputed whenever it may change).</summary>
+    private void UpdateLane()
+    {
+        var mode = MotionMode();
+        _laneOpen = !_nonModalSet && _absolute && !_recordBlocks && !_measureMoves && _axisLineLetters &&
+            (mode == 1 ? _feed > 0 : mode == 0 && _profile.RapidRate > 0);
     }
 
     // The motion mode (0..3 for G00..G03, -1 when none) of group GA, recomputed only when GA changes.
@@ -861,4 +915,11 @@ public sealed class Interpreter
         public Point3? Center;
         public double Length, DurationSeconds;
     }
+}
+
+/// <summary>X, Y and Z number texts held inline.</summary>
+[System.Runtime.CompilerServices.InlineArray(3)]
+internal struct PendingNumbers
+{
+    private NumberText _first;
 }

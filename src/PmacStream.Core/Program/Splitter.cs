@@ -336,7 +336,7 @@ public static class Splitter
 
                         var at = lane ? _batch!.AxisTextRoom(length) : 0; // first: it may grow the text
                         if (lane && AxisLine.TryParse(data, start, length, _batch!.Text, at, out var axes) &&
-                            (check == null || check.TryAxisLine(number, axes)))
+                            (check == null || check.TryAxisLine(number, axes, _batch.Text, at)))
                         {
                             if (!_refusing)
                             {
