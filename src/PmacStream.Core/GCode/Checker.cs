@@ -166,6 +166,9 @@ internal sealed class CheckRun
         return true;
     }
 
+    /// <summary>The caller is about to reuse a text array it gave <see cref="TryAxisLine"/> (see <see cref="Interpreter.ReleaseText"/>).</summary>
+    public void ReleaseText(byte[] text) => _interp.ReleaseText(text);
+
     /// <summary>Checks one lexed line.</summary>
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.

@@ -38,7 +38,7 @@ public sealed class GCodeReader : IDisposable
     {
         _stream = stream;
         _leaveOpen = leaveOpen;
-        _chunk = ArrayPool<byte>.Shared.Rent(bufferSize + RawSlack);
+        _chunk = ArrayPool<byte>.Shared.Rent(bufferSize + RawSlack + 1);
     }
 
     /// <summary>Opens a file for sequential reading.</summary>
@@ -72,7 +72,7 @@ public sealed class GCodeReader : IDisposable
     /// <summary>
     /// Reads the next line without lexing it (the splitter's fast lane looks at the bytes first): it is
     /// <paramref name="length"/> bytes of <paramref name="data"/> from <paramref name="start"/>, followed by a line
-    /// end or a 0 and at least <see cref="RawSlack"/> more bytes of the array; valid until the next read.
+    /// end (CR or LF) and at least <see cref="RawSlack"/> more bytes of the array; valid until the next read.
     /// <see cref="LexRaw"/> turns it into <see cref="Current"/>, exactly as <see cref="Read"/> would have. A line
     /// that lies whole in the read buffer is not copied.
     /// </summary>
@@ -120,11 +120,52 @@ public sealed class GCodeReader : IDisposable
             Array.Resize(ref b.Buffer, b.Length + 1 + RawSlack);
         }
 
-        b.Buffer[b.Length] = 0;
+        b.Buffer[b.Length] = (byte)'\n'; // what every line returned is followed by
         data = b.Buffer;
         start = 0;
         length = b.Length;
         return true;
+    }
+
+    /// <summary>
+    /// The unread part of the read buffer, <paramref name="data"/>[<paramref name="position"/>..<paramref name="end"/>),
+    /// followed by a 0 and at least <see cref="RawSlack"/> more bytes: for a scanner that finds the next line's end
+    /// itself and then takes the line with <see cref="TakeLine"/>. False when the next line must come from
+    /// <see cref="ReadRaw"/> (the buffer is used up, or a CR at its end may still be followed by an LF).
+    /// </summary>
+    internal bool PeekBuffer(out byte[] data, out int position, out int end)
+    {
+        if (_pendingCrLf && _chunkPos < _chunkLen)
+        {
+            _pendingCrLf = false;
+            if (_chunk[_chunkPos] == (byte)'\n')
+            {
+                _chunkPos++;
+            }
+        }
+
+        data = _chunk;
+        position = _chunkPos;
+        end = _chunkLen;
+        return !_pendingCrLf && _chunkPos < _chunkLen;
+    }
+
+    /// <summary>
+    /// Takes the next line, found by the caller in <see cref="PeekBuffer"/>'s bytes: <paramref name="length"/> bytes
+    /// and the line end after them (CR or LF). It is then read, as if through <see cref="ReadRaw"/>; it is not lexed.
+    /// </summary>
+    internal void TakeLine(int length)
+    {
+        var terminator = _chunk[_chunkPos + length];
+        if ((uint)length > MaxLineLength || _chunkPos + length >= _chunkLen || terminator is not ((byte)'\n' or (byte)'\r'))
+        {
+            throw new ArgumentOutOfRangeException(nameof(length), "not a whole line of the read buffer");
+        }
+
+        _rawInChunk = false;
+        _pendingCrLf = terminator == (byte)'\r';
+        _chunkPos += length + 1;
+        _lineNumber++;
     }
 
     /// <summary>Lexes the line <see cref="ReadRaw"/> returned last into <see cref="Current"/> and returns it.</summary>
@@ -187,13 +228,15 @@ public sealed class GCodeReader : IDisposable
 
         _chunkFileOffset += _chunkLen;
         _chunkPos = 0;
-        _chunkLen = _stream.Read(_chunk, 0, _chunk.Length - RawSlack);
+        _chunkLen = _stream.Read(_chunk, 0, _chunk.Length - RawSlack - 1); // room for the 0 and the slack after it
         if (_chunkLen <= 0)
         {
             _chunkLen = 0;
             _eof = true;
             return false;
         }
+
+        _chunk[_chunkLen] = 0; // the end of the data, for scans that find line ends themselves (PeekBuffer)
 
         if (_chunkFileOffset == 0)
         {

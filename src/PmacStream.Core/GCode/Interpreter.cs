@@ -43,10 +43,13 @@ public sealed class Interpreter
     private bool _laneOpen;        // an AxisLine would only move now (see UpdateLane)
     private bool _measureMoves = true;
     private bool _recordBlocks = true;
-    // Axis values AxisLines set that nobody read yet: their text, converted into _pos only when the position is read
-    // (a block on the full path, Position). The work offset cannot change meanwhile: only StepCore changes it.
+    // Axis values AxisLines set that nobody read yet: where their text is, converted into _pos only when the position
+    // is read (a block on the full path, Position) or the text is about to be reused (ReleaseText). The work offset
+    // cannot change meanwhile: only StepCore changes it.
     private int _pendingAxes;
-    private PendingNumbers _pending;
+    private byte[]? _pendingText;
+    private AxisTriple _pendingAt;
+    private AxisTriple _pendingSize;
 
     /// <summary>Starts in the profile's power-on state (its <see cref="MachineProfile.Startup"/> codes) at the origin.</summary>
     public Interpreter(MachineProfile profile)
@@ -578,18 +581,39 @@ public sealed class Interpreter
             return false;
         }
 
+        if (!ReferenceEquals(text, _pendingText))
+        {
+            // Values left in another array (a grown or earlier batch) are read while it is still intact.
+            Resolve();
+            _pendingText = text;
+        }
+
         var axes = a.Axes;
         for (var axis = 0; axis < 3; axis++)
         {
             if ((axes & (AxisLine.XBit << axis)) != 0)
             {
-                _pending[axis].Set(text, textStart + a.At[axis], a.Size[axis]);
+                _pendingAt[axis] = textStart + a.At[axis];
+                _pendingSize[axis] = a.Size[axis];
             }
         }
 
         _pendingAxes |= axes;
         LastHadProgramNumber = false;
         return true;
+    }
+
+    /// <summary>
+    /// The caller is about to reuse <paramref name="text"/> (an <see cref="AxisLine"/>'s text array given to
+    /// <see cref="TryStepAxisLine"/>): values still held there are read now.
+    /// </summary>
+    internal void ReleaseText(byte[] text)
+    {
+        if (ReferenceEquals(text, _pendingText))
+        {
+            Resolve();
+            _pendingText = null;
+        }
     }
 
     /// <summary>Converts the axis values lane lines left as text into the position.</summary>
@@ -609,10 +633,12 @@ public sealed class Interpreter
         var axes = _pendingAxes;
         _pendingAxes = 0;
         _pos = new Point3(
-            (axes & AxisLine.XBit) != 0 ? _pending[0].Value() + o.X : p.X,
-            (axes & (AxisLine.XBit << 1)) != 0 ? _pending[1].Value() + o.Y : p.Y,
-            (axes & (AxisLine.XBit << 2)) != 0 ? _pending[2].Value() + o.Z : p.Z);
+            (axes & AxisLine.XBit) != 0 ? PendingValue(0) + o.X : p.X,
+            (axes & (AxisLine.XBit << 1)) != 0 ? PendingValue(1) + o.Y : p.Y,
+            (axes & (AxisLine.XBit << 2)) != 0 ? PendingValue(2) + o.Z : p.Z);
     }
+
+    private double PendingValue(int axis) => AxisLine.Value(_pendingText.AsSpan(_pendingAt[axis], _pendingSize[axis]));
 
     /// <summary>Whether an <see cref="AxisLine"/> would only move in the state reached (recomputed whenever it may change).</summary>
     private void UpdateLane()
@@ -915,11 +941,4 @@ public sealed class Interpreter
         public Point3? Center;
         public double Length, DurationSeconds;
     }
-}
-
-/// <summary>X, Y and Z number texts held inline.</summary>
-[System.Runtime.CompilerServices.InlineArray(3)]
-internal struct PendingNumbers
-{
-    private NumberText _first;
 }

@@ -28,7 +28,8 @@ internal sealed class LineBatch
 
     public bool IsFull => Count == MaxLines || TextLength >= TextBudget;
 
-    private int TextLength { get; set; }
+    /// <summary>Text bytes used: where the next line's text goes.</summary>
+    public int TextLength { get; private set; }
 
     private int WordCount { get; set; }
 

@@ -21,6 +21,12 @@ public sealed record SplitResult(ChunkManifest Manifest, string OutputDirectory,
         { Count: 0 } => 0,
         var chunks => chunks.Max(c => c.ByteSize),
     };
+
+    /// <summary>Source lines the splitter's fast lane (<see cref="AxisLine"/>) took (tests check the lane is used).</summary>
+    internal int LaneLines { get; init; }
+
+    /// <summary>Of <see cref="LaneLines"/>, those scanned straight in the read buffer.</summary>
+    internal int BufferLaneLines { get; init; }
 }
 
 /// <summary>Progress of a running split.</summary>

@@ -73,7 +73,7 @@ public static class Splitter
             Publish(temp, outDir);
             Logger.Information("Split {Source}: {Chunks} chunks, {Blocks} blocks ({Motion} motion)",
                 source, manifest.Chunks.Count, manifest.TotalBlocks, manifest.TotalMotionBlocks);
-            return new SplitResult(manifest, outDir, warnings);
+            return new SplitResult(manifest, outDir, warnings) { LaneLines = run.LaneLines, BufferLaneLines = run.BufferLaneLines };
         }
         catch
         {
@@ -194,6 +194,9 @@ public static class Splitter
         // Errors were found and the split will be refused: stop handing lines over, keep reading to list them.
         private bool _refusing;
         private LineBatch? _batch;
+        private CheckRun? _check;
+        private int _laneLines;        // lines the AxisLine lane took ...
+        private int _bufferLaneLines;  // ... of them, straight from the read buffer
         private HandOff<LineBatch>? _full;
         private HandOff<LineBatch>? _free;
         private CancellationToken _stop;
@@ -238,6 +241,12 @@ public static class Splitter
             _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
             _chunk.Append(HeaderBytes);
         }
+
+        /// <summary>Lines the <see cref="AxisLine"/> lane took (read after <see cref="Execute"/>).</summary>
+        public int LaneLines => _laneLines;
+
+        /// <summary>Of <see cref="LaneLines"/>, those scanned straight in the read buffer.</summary>
+        public int BufferLaneLines => _bufferLaneLines;
 
         /// <summary>The checker runs in this pass: it decides refusal (force skips it, as before).</summary>
         private bool Checking => _o.CheckProfile != null && !_o.AllowErrors;
@@ -323,30 +332,40 @@ public static class Splitter
                 using (var stream = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan))
                 using (var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16))
                 {
-                    var check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
+                    var check = _check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
                     // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
                     var lane = _o.AxisLane && !_o.KeepN;
-                    while (reader.ReadRaw(out var data, out var start, out var length))
+                    while (true)
                     {
+                        // The lane first, straight on the read buffer: it finds the line's end itself.
+                        if (lane && reader.PeekBuffer(out var buffer, out var position, out var end))
+                        {
+                            var batch = _batch!;
+                            var length = AxisLine.TryParseNext(buffer, position, end, batch.Text, batch.TextLength, out var axes);
+                            if (length >= 0 && TakeAxisLine(reader.LineNumber + 1, axes, reader.Position))
+                            {
+                                _bufferLaneLines++;
+                                reader.TakeLine(length);
+                                continue;
+                            }
+                        }
+
+                        if (!reader.ReadRaw(out var data, out var start, out var rawLength))
+                        {
+                            break;
+                        }
+
                         var number = reader.LineNumber;
                         if ((number & 0x3FFF) == 0)
                         {
                             _stop.ThrowIfCancellationRequested();
                         }
 
-                        var at = lane ? _batch!.AxisTextRoom(length) : 0; // first: it may grow the text
-                        if (lane && AxisLine.TryParse(data, start, length, _batch!.Text, at, out var axes) &&
-                            (check == null || check.TryAxisLine(number, axes, _batch.Text, at)))
+                        // Lines the buffer scan could not take whole (across two reads) get the lane's other entry.
+                        var at = lane ? _batch!.AxisTextRoom(rawLength) : 0; // first: it may grow the text
+                        if (lane && AxisLine.TryParse(data, start, rawLength, _batch!.Text, at, out var rawAxes) &&
+                            TakeAxisLine(number, rawAxes, reader.Position))
                         {
-                            if (!_refusing)
-                            {
-                                _batch.AddAxisLine(number, axes.TextLength, axes.Words);
-                                if (_batch.IsFull)
-                                {
-                                    Hand(reader.Position);
-                                }
-                            }
-
                             continue;
                         }
 
@@ -380,11 +399,48 @@ public static class Splitter
             }
         }
 
+        /// <summary>
+        /// An <see cref="AxisLine"/> written at the end of the batch's text: checked (false: the checker wants the
+        /// full path), then kept (unless the split is refused).
+        /// </summary>
+        private bool TakeAxisLine(int number, in AxisLine axes, long position)
+        {
+            var batch = _batch!;
+            if (_check != null && !_check.TryAxisLine(number, axes, batch.Text, batch.TextLength))
+            {
+                return false;
+            }
+
+            if ((number & 0x3FFF) == 0)
+            {
+                _stop.ThrowIfCancellationRequested();
+            }
+
+            _laneLines++;
+            if (_refusing)
+            {
+                // The line is not kept, so its text is overwritten next: read the values it left there now.
+                _check?.ReleaseText(batch.Text);
+                return true;
+            }
+
+            batch.AddAxisLine(number, axes.TextLength, axes.Words);
+            if (batch.IsFull)
+            {
+                Hand(position);
+            }
+
+            return true;
+        }
+
         /// <summary>Hands the full batch over and takes an empty one.</summary>
         private void Hand(long endPosition)
         {
-            _batch!.EndPosition = endPosition;
-            _full!.Add(_batch);
+            // The splitting thread reuses the batch's text once done with it: axis values still left there are read now.
+            var batch = _batch!;
+            _check?.ReleaseText(batch.Text);
+            batch.EndPosition = endPosition;
+            _full!.Add(batch);
             _batch = TakeFree();
         }
 
