@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Whole-process benchmark of `pmacstream split` (issue 4): MB/s and peak RSS on the 1,000,000-line generated
 # surfacing program and on a ~1 GB one. Goals: >= 300 MB/s, <= 64 MB peak RSS (whole process).
-# Usage: [RUNS=3] bench/scripts/split-bench.sh [WORKDIR] [BIG_LINES]
+# Usage: [RUNS=3] [OUT_ROOT=DIR] bench/scripts/split-bench.sh [WORKDIR] [BIG_LINES]
 #   RUNS: how many times each configuration runs (default 3). Wall time on a shared VM swings by about 25 % from one
 #   minute to the next, so the summary at the end gives the best and the median run of each configuration.
+#   OUT_ROOT: where the chunk folders go (default WORKDIR). OUT_ROOT=/dev/shm measures the program with a file system
+#   whose create cost does not depend on what was deleted minutes ago (see below); the sources stay in WORKDIR.
+#   Before each run, `sync` writes back what earlier runs left dirty, so no run pays for another's write-back.
 #   PMACSTREAM_CLI=/path/to/pmacstream (e.g. a Native AOT publish) runs that binary instead of `dotnet pmacstream.dll`.
 # Each file is split twice: `--force` (no checker) and the default (checker and splitter in ONE streamed pass).
 # Every run writes its own output folder and all are deleted only at the end. Why: ext4 avoids reusing inodes freed
@@ -32,7 +35,7 @@ gen="$root/bench/PmacStream.Benchmarks/bin/Release/net10.0/PmacStream.Benchmarks
 echo "split-bench: $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), cli: ${cli[*]}"
 
 floor() { # name count total-bytes: create count files totalling bytes, print wall and sys
-  python3 - "$work/floor-${1//[^a-zA-Z0-9]/_}" "$2" "$3" <<'PY'
+  python3 - "$out_base/floor-${1//[^a-zA-Z0-9]/_}" "$2" "$3" <<'PY'
 import os, sys, time
 d, n, total = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 os.makedirs(d)
@@ -47,9 +50,15 @@ print(f"|   fs floor: {n} files   |            | wall {time.time() - t:6.2f} s |
 PY
 }
 
+out_root="${OUT_ROOT:-$work}"
+mkdir -p "$out_root"
+out_base="$(mktemp -d "$out_root/split-bench-out.XXXXXX")"
+trap 'rm -rf "$work" "$out_base"' EXIT
+
 run() { # name file extra-args...
   local name="$1" file="$2"; shift 2
-  local out="$work/out-${name//[^a-zA-Z0-9]/_}"
+  local out="$out_base/out-${name//[^a-zA-Z0-9]/_}"
+  sync
   local load0; load0=$(cut -d' ' -f1 /proc/loadavg)
   /usr/bin/time -v -o "$work/time.txt" "${cli[@]}" split "$file" --out "$out" "$@" >"$work/stdout.txt" 2>&1 || {
     cat "$work/stdout.txt"; return 1; }
