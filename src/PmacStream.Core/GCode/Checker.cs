@@ -166,6 +166,9 @@ internal sealed class CheckRun
         return true;
     }
 
+    /// <summary>Whether <see cref="TryAxisLine"/> can take any line now: when not, a caller need not even scan for one.</summary>
+    public bool AxisLaneOpen => _interp.AxisLaneOpen;
+
     /// <summary>The caller is about to reuse a text array it gave <see cref="TryAxisLine"/> (see <see cref="Interpreter.ReleaseText"/>).</summary>
     public void ReleaseText(byte[] text) => _interp.ReleaseText(text);
 

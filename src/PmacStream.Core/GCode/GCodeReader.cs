@@ -168,6 +168,9 @@ public sealed class GCodeReader : IDisposable
         _lineNumber++;
     }
 
+    /// <summary>The line <see cref="ReadRaw"/> returned last lay whole in the read buffer (and was not copied).</summary>
+    internal bool LineWasInBuffer => _rawInChunk;
+
     /// <summary>Lexes the line <see cref="ReadRaw"/> returned last into <see cref="Current"/> and returns it.</summary>
     internal GBlock LexRaw()
     {

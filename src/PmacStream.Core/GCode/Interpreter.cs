@@ -603,6 +603,9 @@ public sealed class Interpreter
         return true;
     }
 
+    /// <summary>Whether <see cref="TryStepAxisLine"/> can take a line at all now (false in G91, G02/G03, without a feed, ...).</summary>
+    internal bool AxisLaneOpen => _laneOpen;
+
     /// <summary>
     /// The caller is about to reuse <paramref name="text"/> (an <see cref="AxisLine"/>'s text array given to
     /// <see cref="TryStepAxisLine"/>): values still held there are read now.

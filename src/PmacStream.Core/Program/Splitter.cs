@@ -354,8 +354,12 @@ public static class Splitter
                     while (true)
                     {
                         // The lane first, straight on the read buffer: it finds the line's end itself.
-                        if (lane && reader.PeekBuffer(out var buffer, out var position, out var end))
+                        // In a mode the checker's lane does not take (G91, arcs, no feed yet), no line is scanned for it.
+                        var laneNow = lane && (check == null || check.AxisLaneOpen);
+                        var peeked = false;
+                        if (laneNow && reader.PeekBuffer(out var buffer, out var position, out var end))
                         {
+                            peeked = true;
                             var batch = _batch!;
                             var length = AxisLine.TryParseNext(buffer, position, end, batch.Text, batch.TextLength, out var axes);
                             if (length >= 0 && TakeAxisLine(reader.LineNumber + 1, axes, reader.Position))
@@ -378,8 +382,10 @@ public static class Splitter
                         }
 
                         // Lines the buffer scan could not take whole (across two reads) get the lane's other entry.
-                        var at = lane ? _batch!.AxisTextRoom(rawLength) : 0; // first: it may grow the text
-                        if (lane && AxisLine.TryParse(data, start, rawLength, _batch!.Text, at, out var rawAxes) &&
+                        // The buffer scan saw this line whole (and said no, or the checker did): no second try.
+                        var tryLane = laneNow && !(peeked && reader.LineWasInBuffer);
+                        var at = tryLane ? _batch!.AxisTextRoom(rawLength) : 0; // first: it may grow the text
+                        if (tryLane && AxisLine.TryParse(data, start, rawLength, _batch!.Text, at, out var rawAxes) &&
                             TakeAxisLine(number, rawAxes, reader.Position))
                         {
                             continue;
