@@ -17,9 +17,6 @@ internal struct AxisLine
     /// <summary>Bit of <see cref="Axes"/> for X; Y and Z follow.</summary>
     public const int XBit = 1;
 
-    /// <summary>Longest number text: a sign, 15 digits and a point.</summary>
-    public const int MaxNumberLength = 17;
-
     /// <summary>The line has an N word (at its start).</summary>
     public bool HasN;
 
@@ -52,7 +49,6 @@ internal struct AxisLine
     /// it has the lane's shape, writing its text at <paramref name="textStart"/> of <paramref name="text"/>.
     /// The line must be followed by its line end (CR or LF) and 16 more bytes, and the text must have
     /// <see cref="TextRoom"/> bytes (8-byte stores may write past the text's end); otherwise the answer is no.
-    /// A number's text can be read as 24 bytes from where it starts (what follows it is junk).
     /// </summary>
     public static bool TryParse(byte[] data, int start, int length, byte[] text, int textStart, out AxisLine result)
     {
