@@ -37,8 +37,20 @@ public static class DiagnosticText
         [DiagnosticCodes.MissingWord] = ("{0} without {1}: {2}", "{0} 缺少 {1}：{3}"),
     };
 
-    /// <summary>The culture messages are written in; defaults to the current UI culture.</summary>
-    public static CultureInfo Culture { get; set; } = CultureInfo.CurrentUICulture;
+    private static readonly CultureInfo DefaultCulture = CultureInfo.CurrentUICulture;
+    private static readonly AsyncLocal<CultureInfo?> FlowCulture = new();
+
+    /// <summary>
+    /// The culture messages are written in; defaults to the current UI culture. Setting it holds for the current
+    /// operation (the async flow, and the tasks and threads it starts), not for the whole process: a check run in
+    /// Chinese for the HMI, or for <c>pmacstream check --lang zh</c>, does not change the messages of another check
+    /// running meanwhile (tests run many at once, and two HMI checks may overlap).
+    /// </summary>
+    public static CultureInfo Culture
+    {
+        get => FlowCulture.Value ?? DefaultCulture;
+        set => FlowCulture.Value = value;
+    }
 
     /// <summary>True when a message is registered for the code.</summary>
     public static bool IsRegistered(string code) => Texts.ContainsKey(code);

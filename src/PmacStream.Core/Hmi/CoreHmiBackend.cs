@@ -107,12 +107,8 @@ public sealed class CoreHmiBackend : IHmiBackend
     public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default) =>
         Task.Run(() =>
         {
-            var wantChinese = language == HmiLanguage.Chinese;
-            if (DiagnosticText.Culture.Name.StartsWith("zh", StringComparison.OrdinalIgnoreCase) != wantChinese)
-            {
-                // Diagnostic texts follow one process-wide culture; the HMI is the only user in its process.
-                DiagnosticText.Culture = HmiText.Culture(language);
-            }
+            // For this check only: the diagnostic culture follows the async flow, and this task is the check's own.
+            DiagnosticText.Culture = HmiText.Culture(language);
 
             var diagnostics = new List<Diagnostic>();
             var times = new List<(int Line, double Seconds, double Feed)>();

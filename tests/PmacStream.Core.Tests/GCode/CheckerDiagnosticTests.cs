@@ -198,3 +198,31 @@ public class CheckerDiagnosticTests
         en.Should().Be("G0 and G1 are both in modal group GA: only one code of a group per block");
     }
 }
+
+/// <summary>The diagnostic language belongs to one operation, not to the process.</summary>
+public class DiagnosticCultureTests
+{
+    [Fact]
+    public async Task A_check_in_Chinese_does_not_change_the_messages_of_a_check_running_meanwhile()
+    {
+        var inChinese = new TaskCompletionSource();
+        var englishChecked = new TaskCompletionSource();
+        var chinese = Task.Run(async () =>
+        {
+            DiagnosticText.Culture = System.Globalization.CultureInfo.GetCultureInfo("zh-CN");
+            inChinese.SetResult();
+            await englishChecked.Task;
+            return new Checker(MachineProfile.Default).CheckText("O1\nG05 X1\n").Diagnostics[0].Message;
+        });
+        await inChinese.Task;
+        var english = await Task.Run(() =>
+        {
+            DiagnosticText.Culture = System.Globalization.CultureInfo.GetCultureInfo("en");
+            return new Checker(MachineProfile.Default).CheckText("O1\nG05 X1\n").Diagnostics[0].Message;
+        });
+        englishChecked.SetResult();
+        english.Should().StartWith("unknown G code G05");
+        (await chinese).Should().Contain("G05").And.NotStartWith("unknown", "the Chinese check keeps its own language");
+        DiagnosticText.Culture.Should().NotBeSameAs(System.Globalization.CultureInfo.GetCultureInfo("zh-CN"), "this test's own flow never set Chinese");
+    }
+}
