@@ -631,17 +631,15 @@ public sealed class Interpreter
 
     private void ResolvePending()
     {
-        var o = _wcsOffset ??= _profile.WorkOffset(_wcs);
-        var p = _pos;
+        // The lane only takes lines in absolute mode, and nothing changed the mode or the work offset since: the
+        // block's own target computation gives the same position the full path would have.
         var axes = _pendingAxes;
         _pendingAxes = 0;
-        _pos = new Point3(
-            (axes & AxisLine.XBit) != 0 ? PendingValue(0) + o.X : p.X,
-            (axes & (AxisLine.XBit << 1)) != 0 ? PendingValue(1) + o.Y : p.Y,
-            (axes & (AxisLine.XBit << 2)) != 0 ? PendingValue(2) + o.Z : p.Z);
+        _pos = Target(_pos, PendingValue(axes, 0), PendingValue(axes, 1), PendingValue(axes, 2));
     }
 
-    private double PendingValue(int axis) => AxisLine.Value(_pendingText.AsSpan(_pendingAt[axis], _pendingSize[axis]));
+    private double? PendingValue(int axes, int axis) =>
+        (axes & (AxisLine.XBit << axis)) != 0 ? AxisLine.Value(_pendingText.AsSpan(_pendingAt[axis], _pendingSize[axis])) : null;
 
     /// <summary>Whether an <see cref="AxisLine"/> would only move in the state reached (recomputed whenever it may change).</summary>
     private void UpdateLane()
