@@ -140,8 +140,9 @@ internal sealed class CheckRun
 
     /// <summary>
     /// Takes a line of only an N number, the motion code in force (G00/G01) and X/Y/Z words, already lexed by
-    /// <see cref="AxisLine"/> into <paramref name="text"/> at <paramref name="textStart"/>, when it is sure to leave no diagnostic: it then moves the interpreter exactly as
-    /// <see cref="Line"/> would. False (nothing changed) when the line needs the full path.
+    /// <see cref="AxisLine"/> into <paramref name="text"/> at <paramref name="textStart"/>, when it is sure to leave
+    /// no diagnostic: it then moves the interpreter exactly as <see cref="Line"/> would. False (nothing changed) when
+    /// the line needs the full path.
     /// </summary>
     public bool TryAxisLine(int lineNumber, in AxisLine line, byte[] text, int textStart)
     {

@@ -78,14 +78,7 @@ public sealed class GCodeReader : IDisposable
     /// </summary>
     internal bool ReadRaw(out byte[] data, out int start, out int length)
     {
-        if (_pendingCrLf && _chunkPos < _chunkLen)
-        {
-            _pendingCrLf = false;
-            if (_chunk[_chunkPos] == (byte)'\n')
-            {
-                _chunkPos++;
-            }
-        }
+        SkipLfAfterCr();
 
         if (!_pendingCrLf && _chunkPos < _chunkLen)
         {
@@ -135,14 +128,7 @@ public sealed class GCodeReader : IDisposable
     /// </summary>
     internal bool PeekBuffer(out byte[] data, out int position, out int end)
     {
-        if (_pendingCrLf && _chunkPos < _chunkLen)
-        {
-            _pendingCrLf = false;
-            if (_chunk[_chunkPos] == (byte)'\n')
-            {
-                _chunkPos++;
-            }
-        }
+        SkipLfAfterCr();
 
         data = _chunk;
         position = _chunkPos;
@@ -166,6 +152,19 @@ public sealed class GCodeReader : IDisposable
         _pendingCrLf = terminator == (byte)'\r';
         _chunkPos += length + 1;
         _lineNumber++;
+    }
+
+    /// <summary>A CR ended the last line: an LF right after it belongs to that line end, when the buffer shows it yet.</summary>
+    private void SkipLfAfterCr()
+    {
+        if (_pendingCrLf && _chunkPos < _chunkLen)
+        {
+            _pendingCrLf = false;
+            if (_chunk[_chunkPos] == (byte)'\n')
+            {
+                _chunkPos++;
+            }
+        }
     }
 
     /// <summary>The line <see cref="ReadRaw"/> returned last lay whole in the read buffer (and was not copied).</summary>

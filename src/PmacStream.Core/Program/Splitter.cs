@@ -381,8 +381,8 @@ public static class Splitter
                             _stop.ThrowIfCancellationRequested();
                         }
 
-                        // Lines the buffer scan could not take whole (across two reads) get the lane's other entry.
-                        // The buffer scan saw this line whole (and said no, or the checker did): no second try.
+                        // The lane's other entry, for lines the buffer scan could not see whole (across two reads). A line
+                        // it saw whole was already refused, by the scan or by the checker: no second try.
                         var tryLane = laneNow && !(peeked && reader.LineWasInBuffer);
                         var at = tryLane ? _batch!.AxisTextRoom(rawLength) : 0; // first: it may grow the text
                         if (tryLane && AxisLine.TryParse(data, start, rawLength, _batch!.Text, at, out var rawAxes) &&
