@@ -9,13 +9,12 @@ public class CorpusTests(ITestOutputHelper output)
     [Fact]
     public void Checker_reads_every_corpus_program_without_throwing_and_with_lines_in_range()
     {
-        if (RepoRoot.Corpus is not { } dir)
+        if (RepoRoot.CorpusPrograms is not { } files)
         {
             output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent; nothing to check.");
             return;
         }
 
-        var files = Directory.GetFiles(dir).Where(f => !f.EndsWith(".md") && !f.EndsWith(".tsv")).OrderBy(f => f).ToList();
         files.Should().HaveCount(12);
         var checker = new Checker(MachineProfile.Default);
         foreach (var file in files)
@@ -39,13 +38,13 @@ public class UnmeasuredCheckTests(ITestOutputHelper output)
     [Fact]
     public void Not_measuring_straight_moves_reports_the_same_diagnostics_on_every_corpus_program()
     {
-        if (RepoRoot.Corpus is not { } dir)
+        if (RepoRoot.CorpusPrograms is not { } files)
         {
             output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent; nothing to check.");
             return;
         }
 
-        foreach (var file in Directory.GetFiles(dir).Where(f => !f.EndsWith(".md") && !f.EndsWith(".tsv")).OrderBy(f => f))
+        foreach (var file in files)
         {
             var measured = new List<Diagnostic>();
             var unmeasured = new List<Diagnostic>();

@@ -15,6 +15,15 @@ internal static class RepoRoot
         }
     }
 
+    /// <summary>The corpus's programs (not its README or source list), in name order; null when the corpus is absent.</summary>
+    public static IReadOnlyList<string>? CorpusPrograms =>
+        Corpus is { } dir
+            ? Directory.GetFiles(dir)
+                .Where(f => !f.EndsWith(".md", StringComparison.Ordinal) && !f.EndsWith(".tsv", StringComparison.Ordinal))
+                .OrderBy(f => f, StringComparer.Ordinal)
+                .ToList()
+            : null;
+
     private static string Find()
     {
         var dir = new DirectoryInfo(AppContext.BaseDirectory);

@@ -9,14 +9,12 @@ public class SplitterCorpusTests(ITestOutputHelper output)
     [Fact]
     public void Every_corpus_program_splits_into_valid_chunks()
     {
-        var corpus = Path.GetFullPath(Path.Combine(SplitterTests.RepoRoot(), "..", "shared", "gcode-corpus"));
-        if (!Directory.Exists(corpus))
+        if (PmacStream.Core.Tests.GCode.RepoRoot.CorpusPrograms is not { } files)
         {
-            output.WriteLine($"SKIPPED: corpus folder {corpus} is absent");
+            output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent");
             return;
         }
 
-        var files = Directory.GetFiles(corpus).Where(f => !f.EndsWith(".md", StringComparison.Ordinal) && !f.EndsWith(".tsv", StringComparison.Ordinal)).ToList();
         files.Should().NotBeEmpty();
         foreach (var file in files)
         {
