@@ -241,14 +241,6 @@ public static class StreamBench
     ];
 }
 
-/// <summary>The simulator's virtual clock as the session's clock.</summary>
-internal sealed class SimTimeProvider(PmacSimulator sim) : TimeProvider
-{
-    public override long TimestampFrequency => 1_000_000;
-
-    public override long GetTimestamp() => (long)(sim.Now * 1_000_000);
-}
-
 /// <summary>Measures wall time spent inside the simulator's command handling (subtracted from host CPU).</summary>
 internal sealed class TimedPort(IPmacPortEndpoint inner) : IPmacPortEndpoint
 {

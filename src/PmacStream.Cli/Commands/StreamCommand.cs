@@ -348,7 +348,7 @@ internal static class StreamRunner
             SingleBlock = settings.SingleBlock,
         };
         IMoveTimes? times = source is not null && File.Exists(source) ? StartFromLine.MoveTimes(source) : null;
-        TimeProvider? time = target.Sim is { } sim ? new SimClock(sim) : null;
+        TimeProvider? time = target.Sim is { } sim ? new SimTimeProvider(sim) : null;
         // Chunk files go through the PComm-style facade, as the paper calls it: Download(0, file, true, true, true, true).
         var devices = new PmacDevices();
         devices.Add(options.PmacNumber, target.Connection);
@@ -540,14 +540,4 @@ internal static class StreamRunner
 
         return CliGlobals.Ok;
     }
-}
-
-/// <summary>The simulator's virtual clock as a TimeProvider, so elapsed time and ETA are in machine time.</summary>
-internal sealed class SimClock(PmacSimulator sim) : TimeProvider
-{
-    public override long TimestampFrequency => 1_000_000;
-
-    public override long GetTimestamp() => (long)(sim.Now * 1_000_000);
-
-    public override DateTimeOffset GetUtcNow() => DateTimeOffset.UnixEpoch.AddSeconds(sim.Now);
 }

@@ -7,16 +7,6 @@ using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Hmi;
 
-/// <summary>TimeProvider on the simulator's virtual clock (elapsed and ETA follow simulated time).</summary>
-internal sealed class SimClock(PmacSimulator sim) : TimeProvider
-{
-    public override long TimestampFrequency => 1_000_000;
-
-    public override long GetTimestamp() => (long)(sim.Now * 1_000_000);
-
-    public override DateTimeOffset GetUtcNow() => new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero).AddSeconds(sim.Now);
-}
-
 /// <summary>
 /// The presenter end to end: the real checker, splitter, streaming session and SQLite job store, talking to the simulated
 /// Turbo PMAC in process. The test plays the form: it raises the view's events and calls the tick like timer1 does,
@@ -64,7 +54,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
                 await ControllerSetup.DownloadTolerantAsync(conn, library, ct);
                 return conn;
             },
-            time: new SimClock(_sim),
+            time: new SimTimeProvider(_sim, new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero)),
             jobDatabase: JobDb);
         var view = new FakeView { LinesPerChunk = 1000 };
         var sink = new HmiLogSink();

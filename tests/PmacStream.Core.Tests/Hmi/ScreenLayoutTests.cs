@@ -1,5 +1,6 @@
 using PmacStream.Hmi;
 using PmacStream.Pmac;
+using PmacStream.Sim;
 
 namespace PmacStream.Core.Tests.Hmi;
 
@@ -114,7 +115,7 @@ public sealed class ScreenSketchTests : IAsyncLifetime
                 await ControllerSetup.DownloadTolerantAsync(conn, ControllerSetup.Library(), ct);
                 return conn;
             },
-            time: new SimClock(sim),
+            time: new SimTimeProvider(sim, new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero)),
             jobDatabase: Path.Combine(_dir, "jobs.db"));
         var view = new FakeView { Language = language, LinesPerChunk = 1000 };
         var sink = new HmiLogSink();

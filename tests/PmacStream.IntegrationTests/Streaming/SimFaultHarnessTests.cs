@@ -150,7 +150,7 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
         var faulty = new FaultyConnection(port, r, dt => sim.Advance(TimeSpan.FromSeconds(dt))) { FaultRate = 0.03, KillRate = 0.006 };
         var strategy = (StrategyKind)(seed % 3);
         var options = new StreamingOptions { LineProbeVariable = probe, Strategy = strategy, BufferWords = 8000, PrTargetLines = 20 + r.Next(60), AdaptiveMinLeadSeconds = 0.1 + (r.NextDouble() * 0.4) };
-        var time = new SimTime(sim);
+        var time = new SimTimeProvider(sim, SimRig.TestEpoch);
         var sink = new MemorySinkIt();
         var log = new List<string>();
         StreamingSession NewSession()

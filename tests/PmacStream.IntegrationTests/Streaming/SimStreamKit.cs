@@ -5,19 +5,12 @@ using PmacStream.Streaming;
 
 namespace PmacStream.IntegrationTests.Streaming;
 
-/// <summary>TimeProvider that follows the simulator's virtual clock.</summary>
-public sealed class SimTime(PmacSimulator sim) : TimeProvider
-{
-    public override long TimestampFrequency => 1_000_000;
-
-    public override long GetTimestamp() => (long)(sim.Now * 1_000_000);
-
-    public override DateTimeOffset GetUtcNow() => new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero).AddSeconds(sim.Now);
-}
-
 /// <summary>The real splitter, the real simulator (with a PROG 1000/1001 library) and a deterministic tick loop.</summary>
 public sealed class SimRig : IDisposable
 {
+    /// <summary>Virtual second 0 of every rig's clock, so checkpoint times are the same in every run.</summary>
+    public static readonly DateTimeOffset TestEpoch = new(2026, 1, 1, 0, 0, 0, TimeSpan.Zero);
+
     public static readonly string[] Library =
     [
         "OPEN PROG 1000 CLEAR",
@@ -49,7 +42,7 @@ public sealed class SimRig : IDisposable
         Connection = new InProcessConnection(Port, "sim");
         Connection.DownloadAsync(Library).GetAwaiter().GetResult();
         Options = options;
-        Time = new SimTime(Sim);
+        Time = new SimTimeProvider(Sim, TestEpoch);
         Session = new StreamingSession(Connection, Program, options, Sink, time: Time);
     }
 
@@ -65,7 +58,7 @@ public sealed class SimRig : IDisposable
 
     public StreamingOptions Options { get; }
 
-    public SimTime Time { get; }
+    public SimTimeProvider Time { get; }
 
     public MemorySinkIt Sink { get; } = new();
 

@@ -252,7 +252,7 @@ public class StartKillTests(ITestOutputHelper output)
             using var store = JobStore.Open(db);
             var jobId = store.CreateJob(_source, _program.Manifest.SourceSha256, Path.Combine(_program.Folder, ChunkManifest.FileName), StrategyKind.Chunk, "sim", _plan?.Line, Probe);
             var options = new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 8000 };
-            var time = new SimTime(sim);
+            var time = new SimTimeProvider(sim, SimRig.TestEpoch);
             StreamingSession NewSession(string? probe = "P501") => new(conn, _program, options with { LineProbeVariable = probe }, store.SinkFor(jobId), time: time);
             var what = $"break at {breakAt}, kill at {killAt} ({fraction:0.0})";
 
