@@ -2,9 +2,9 @@ using System.CommandLine;
 using System.Globalization;
 using System.Net;
 using System.Runtime.InteropServices;
+using PmacStream.Pmac;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
-using Serilog;
 
 namespace PmacStream.Cli.Commands;
 
@@ -51,13 +51,16 @@ internal static class SimCommand
                 throw new CliException("nothing to serve: give --tcp HOST:PORT and/or --serial PATH");
             }
 
-            var logPath = parse.GetValue(executedLog);
-            using var sim = new PmacSimulator(options);
-            var engineLock = new object();
-            PmacTcpServer? tcpServer = null;
-            PmacSerialServer? serialServer = null;
+            await using var host = new SimHost(new SimHostOptions
+            {
+                Simulator = options,
+                TcpEndPoint = endPoint,
+                SerialPath = serialPath,
+                Serial = new SerialSettings(parse.GetValue(baud)),
+                ExecutedLogPath = parse.GetValue(executedLog),
+            });
 
-            // SIGTERM and Ctrl-C both end the wait below; the servers then stop and the log is written.
+            // SIGTERM and Ctrl-C both end the wait below; the host then stops and writes the log.
             using var stop = CancellationTokenSource.CreateLinkedTokenSource(ct);
             using var sigterm = PosixSignalRegistration.Create(PosixSignal.SIGTERM, c =>
             {
@@ -71,31 +74,22 @@ internal static class SimCommand
             });
             try
             {
-                sim.StartClock();
-                if (endPoint is not null)
+                try
                 {
-                    // A Turbo PMAC's Ethernet interface is one communication port shared by every connection,
-                    // so a host that reconnects (or a new host after a crash) can CLOSE the buffer the old one opened.
-                    var ethernet = sim.OpenPort("ethernet");
-                    tcpServer = new PmacTcpServer(
-                        () => ethernet,
-                        new PmacTcpServerOptions { EndPoint = endPoint, EngineLock = engineLock });
-                    try
-                    {
-                        tcpServer.Start();
-                    }
-                    catch (System.Net.Sockets.SocketException e)
-                    {
-                        throw new CliException($"cannot listen on {endPoint}: {e.Message}");
-                    }
+                    host.Start();
+                }
+                catch (System.Net.Sockets.SocketException e)
+                {
+                    throw new CliException($"cannot listen on {endPoint}: {e.Message}");
+                }
 
-                    Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: listening on tcp {tcpServer.LocalEndPoint} (port {tcpServer.Port}), speed {options.Speed}"));
+                if (host.TcpEndPoint is { } bound)
+                {
+                    Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: listening on tcp {bound} (port {bound.Port}), speed {options.Speed}"));
                 }
 
                 if (serialPath is not null)
                 {
-                    serialServer = PmacSerialServer.OpenDevice(() => sim.OpenPort("serial"), serialPath, new PmacStream.Pmac.SerialSettings(parse.GetValue(baud)), engineLock);
-                    serialServer.Start();
                     Console.Out.WriteLine($"pmacstream sim: serving serial {serialPath}, speed {options.Speed}");
                 }
 
@@ -111,29 +105,7 @@ internal static class SimCommand
             }
             finally
             {
-                if (tcpServer is not null)
-                {
-                    await tcpServer.DisposeAsync().ConfigureAwait(false);
-                }
-
-                if (serialServer is not null)
-                {
-                    await serialServer.DisposeAsync().ConfigureAwait(false);
-                }
-
-                sim.StopClock();
-                var counters = sim.Counters;
-                Log.Information(
-                    "simulator stopped: {Moves} moves executed, {Underruns} underruns, {Errors} errors, {Lines} lines received",
-                    counters.MovesExecuted,
-                    counters.Underruns,
-                    counters.Errors,
-                    counters.LinesReceived);
-                if (logPath is not null)
-                {
-                    sim.WriteExecutedLog(logPath);
-                }
-
+                var counters = await host.StopAsync().ConfigureAwait(false);
                 Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: stopped ({counters.MovesExecuted} moves, {counters.Underruns} underruns, {counters.Errors} errors)"));
             }
 
