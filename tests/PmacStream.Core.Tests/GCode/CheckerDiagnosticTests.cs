@@ -156,7 +156,7 @@ public class CheckerDiagnosticTests
     [Fact]
     public void Cr_only_program_checks_clean_with_right_line_numbers()
     {
-        var demo = File.ReadAllText(Path.Combine(RepoRoot.Path, "samples", "demo.nc")).Replace("\r\n", "\n");
+        var demo = File.ReadAllText(RepoRoot.DemoProgram).Replace("\r\n", "\n");
         var crOnly = demo.Replace('\n', '\r');
         var (summary, diags) = new Checker(MachineProfile.Default).CheckText(crOnly);
         diags.Should().BeEmpty();
@@ -171,7 +171,7 @@ public class CheckerDiagnosticTests
     [Fact]
     public void Demo_program_checks_clean_under_the_default_profile()
     {
-        var (summary, diags) = new Checker(MachineProfile.Default).CheckText(File.ReadAllText(Path.Combine(RepoRoot.Path, "samples", "demo.nc")));
+        var (summary, diags) = new Checker(MachineProfile.Default).CheckText(File.ReadAllText(RepoRoot.DemoProgram));
         diags.Should().BeEmpty();
         summary.Blocks.Should().BeGreaterThan(3000);
         summary.EstimatedSeconds.Should().BeGreaterThan(0);

@@ -3,18 +3,13 @@ using Xunit.Abstractions;
 
 namespace PmacStream.Core.Tests.GCode;
 
-/// <summary>The twelve real CAM programs in ../shared/gcode-corpus (skipped, saying so, when the folder is absent).</summary>
+/// <summary>The twelve real CAM programs in ../shared/gcode-corpus (reported SKIPPED, with the reason, when the folder is absent).</summary>
 public class CorpusTests(ITestOutputHelper output)
 {
-    [Fact]
+    [SkippableFact]
     public void Checker_reads_every_corpus_program_without_throwing_and_with_lines_in_range()
     {
-        if (RepoRoot.CorpusPrograms is not { } files)
-        {
-            output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent; nothing to check.");
-            return;
-        }
-
+        var files = Requires.Corpus();
         files.Should().HaveCount(12);
         var checker = new Checker(MachineProfile.Default);
         foreach (var file in files)
@@ -33,17 +28,12 @@ public class CorpusTests(ITestOutputHelper output)
 }
 
 /// <summary>The splitter's check skips measuring straight moves; it must not change what is reported.</summary>
-public class UnmeasuredCheckTests(ITestOutputHelper output)
+public class UnmeasuredCheckTests
 {
-    [Fact]
+    [SkippableFact]
     public void Not_measuring_straight_moves_reports_the_same_diagnostics_on_every_corpus_program()
     {
-        if (RepoRoot.CorpusPrograms is not { } files)
-        {
-            output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent; nothing to check.");
-            return;
-        }
-
+        var files = Requires.Corpus();
         foreach (var file in files)
         {
             var measured = new List<Diagnostic>();

@@ -136,7 +136,7 @@ public class InterpreterTests
     [Fact]
     public void Resuming_from_any_block_with_its_prior_state_gives_the_same_blocks()
     {
-        var text = File.ReadAllText(Path.Combine(RepoRoot.Path, "samples", "demo.nc"));
+        var text = File.ReadAllText(RepoRoot.DemoProgram);
         var lines = text.Replace("\r\n", "\n").Split('\n');
         var full = Run(string.Join('\n', lines));
         foreach (var k in new[] { 5, 40, 777, 2000, full.Count - 3 })

@@ -131,7 +131,7 @@ public class PropertyAndFuzzTests
     [Fact]
     public void Checker_never_throws_on_mutated_programs()
     {
-        var demo = File.ReadAllBytes(Path.Combine(RepoRoot.Path, "samples", "demo.nc"))[..6000];
+        var demo = File.ReadAllBytes(RepoRoot.DemoProgram)[..6000];
         const string Interesting = "GMXYZIJKRFSTHDPNO%/();.-+ \t\r\n0123456789@\0é";
         var r = new Random(99);
         var checker = new Checker(MachineProfile.Default);

@@ -26,9 +26,8 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     public Task InitializeAsync()
     {
         Directory.CreateDirectory(_dir);
-        var root = ScreenLayoutTests.RepoRoot() ?? throw new InvalidOperationException("repo root not found");
         _source = Path.Combine(_dir, "demo.nc");
-        File.Copy(Path.Combine(root, "samples", "demo.nc"), _source);
+        File.Copy(RepoRoot.DemoProgram, _source);
         return Task.CompletedTask;
     }
 
@@ -54,7 +53,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
                 await ControllerSetup.DownloadTolerantAsync(conn, library, ct);
                 return conn;
             },
-            time: new SimTimeProvider(_sim, new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero)),
+            time: SimRig.Clock(_sim),
             jobDatabase: JobDb);
         var view = new FakeView { LinesPerChunk = 1000 };
         var sink = new HmiLogSink();
@@ -110,19 +109,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     private List<int> TrackedLines() => ChunkedProgram.Open(Splitter.DefaultOutDir(_source)).TrackedLines().ToList();
 
     /// <summary>Source lines of the executed moves, repeats of one block folded, preamble moves (line 0) left out.</summary>
-    private List<int> ExecutedLines()
-    {
-        var list = new List<int>();
-        foreach (var m in _sim.ExecutedMoves)
-        {
-            if (m.SourceLine > 0 && (list.Count == 0 || list[^1] != m.SourceLine))
-            {
-                list.Add(m.SourceLine);
-            }
-        }
-
-        return list;
-    }
+    private List<int> ExecutedLines() => MoveLines.Fold(_sim.ExecutedMoves.Select(m => m.SourceLine));
 
     [Fact]
     public async Task Open_and_check_a_program_with_errors_lists_them_and_split_is_refused()

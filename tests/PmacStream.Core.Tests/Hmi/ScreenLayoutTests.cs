@@ -44,13 +44,7 @@ public sealed class ScreenLayoutTests
     {
         // MainForm.cs cannot be compiled here (no Windows Desktop targeting pack): check by its source that the
         // sketch and the form place the same controls in the same layout boxes.
-        var root = RepoRoot();
-        if (root is null)
-        {
-            return;
-        }
-
-        var form = File.ReadAllText(Path.Combine(root, "src", "PmacStream.WinForms", "MainForm.cs"));
+        var form = File.ReadAllText(Path.Combine(RepoRoot.Path, "src", "PmacStream.WinForms", "MainForm.cs"));
         var placed = System.Text.RegularExpressions.Regex.Matches(form, @"Place\((\w+), HmiLayout\.(\w+)")
             .Select(m => (Name: m.Groups[1].Value, Box: m.Groups[2].Value)).ToList();
         placed.Should().HaveCountGreaterThan(40);
@@ -61,19 +55,6 @@ public sealed class ScreenLayoutTests
             var expected = typeof(HmiLayout).GetField(box)!.GetValue(null);
             ScreenSketch.Controls.Single(c => c.Name == name).Box.Should().Be((LayoutBox)expected!, name);
         }
-    }
-
-    internal static string? RepoRoot()
-    {
-        for (var d = new DirectoryInfo(AppContext.BaseDirectory); d is not null; d = d.Parent)
-        {
-            if (File.Exists(Path.Combine(d.FullName, "PmacStream.sln")))
-            {
-                return d.FullName;
-            }
-        }
-
-        return null;
     }
 }
 
@@ -99,14 +80,8 @@ public sealed class ScreenSketchTests : IAsyncLifetime
     [InlineData(HmiLanguage.Chinese, "hmi-screen-zh")]
     public async Task Draws_the_screen_mid_job(HmiLanguage language, string name)
     {
-        var root = ScreenLayoutTests.RepoRoot();
-        if (root is null || !File.Exists(Path.Combine(root, "samples", "demo.nc")))
-        {
-            return;
-        }
-
         var source = Path.Combine(_dir, "demo.nc");
-        File.Copy(Path.Combine(root, "samples", "demo.nc"), source);
+        File.Copy(RepoRoot.DemoProgram, source);
         using var sim = new PmacStream.Sim.PmacSimulator();
         var backend = new CoreHmiBackend(
             simulator: async ct =>

@@ -178,19 +178,5 @@ public class LadderParserTests
 
 internal static class PlcTestPaths
 {
-    public static string RepoRoot
-    {
-        get
-        {
-            var dir = new DirectoryInfo(AppContext.BaseDirectory);
-            while (dir is not null && !File.Exists(Path.Combine(dir.FullName, "PmacStream.sln")))
-            {
-                dir = dir.Parent;
-            }
-
-            return dir?.FullName ?? throw new InvalidOperationException("PmacStream.sln not found above " + AppContext.BaseDirectory);
-        }
-    }
-
-    public static string Samples => Path.Combine(RepoRoot, "samples", "plc");
+    public static string Samples => RepoRoot.Sample("plc");
 }

@@ -58,16 +58,4 @@ internal static class PreviewTestKit
 
         return false;
     }
-
-    /// <summary>The folder holding PmacStream.sln.</summary>
-    public static string RepoRoot()
-    {
-        var dir = new DirectoryInfo(AppContext.BaseDirectory);
-        while (dir is not null && !File.Exists(Path.Combine(dir.FullName, "PmacStream.sln")))
-        {
-            dir = dir.Parent;
-        }
-
-        return dir?.FullName ?? throw new InvalidOperationException("PmacStream.sln not found above " + AppContext.BaseDirectory);
-    }
 }

@@ -199,7 +199,7 @@ public class ToolpathRenderTests
     [Fact]
     public void Sample_program_draws_with_its_known_extents_and_legend()
     {
-        var path = Path.Combine(RepoRoot(), "samples", "demo.nc");
+        var path = RepoRoot.DemoProgram;
         var source = new GCodeToolpathSource(path);
         var pic = PreviewRenderer.Render(source, new PreviewOptions { Width = 600, Height = 450 });
         source.IssueCount.Should().Be(0);

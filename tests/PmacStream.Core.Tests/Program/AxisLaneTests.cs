@@ -285,14 +285,10 @@ public class AxisLaneTests
         }
     }
 
-    [Fact]
+    [SkippableFact]
     public void Corpus_programs_split_the_same_through_the_lane()
     {
-        if (PmacStream.Core.Tests.GCode.RepoRoot.CorpusPrograms is not { } files)
-        {
-            return; // SplitterCorpusTests says SKIPPED
-        }
-
+        var files = Requires.Corpus();
         files.Should().HaveCountGreaterThan(10);
         foreach (var file in files)
         {

@@ -58,7 +58,7 @@ public class SplitSinglePassTests
     [Fact]
     public void Checked_and_unchecked_passes_write_the_same_chunks()
     {
-        var demo = Path.Combine(PmacStream.Core.Tests.GCode.RepoRoot.Path, "samples", "demo.nc");
+        var demo = RepoRoot.DemoProgram;
         using var a = new TempProgram(File.ReadAllBytes(demo), "demo.nc");
         using var b = new TempProgram(File.ReadAllBytes(demo), "demo.nc");
         var checkedRun = a.Split(new SplitOptions { CheckProfile = MachineProfile.Default, LinesPerChunk = 97 });

@@ -3,18 +3,13 @@ using Xunit.Abstractions;
 
 namespace PmacStream.Core.Tests.Program;
 
-/// <summary>Real CAM programs from ../shared/gcode-corpus (skipped, saying why, when the folder is absent).</summary>
+/// <summary>Real CAM programs from ../shared/gcode-corpus (reported SKIPPED, with the reason, when the folder is absent).</summary>
 public class SplitterCorpusTests(ITestOutputHelper output)
 {
-    [Fact]
+    [SkippableFact]
     public void Every_corpus_program_splits_into_valid_chunks()
     {
-        if (PmacStream.Core.Tests.GCode.RepoRoot.CorpusPrograms is not { } files)
-        {
-            output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent");
-            return;
-        }
-
+        var files = Requires.Corpus();
         files.Should().NotBeEmpty();
         foreach (var file in files)
         {

@@ -238,23 +238,11 @@ public class SplitterTests
     [Fact]
     public void Demo_sample_splits_into_chunks_of_at_most_1000_blocks()
     {
-        var root = RepoRoot();
-        var sample = Path.Combine(root, "samples", "demo.nc");
+        var sample = RepoRoot.DemoProgram;
         using var tp = new TempProgram(File.ReadAllBytes(sample), "demo.nc");
         var r = tp.Split();
         r.Manifest.Chunks.Should().OnlyContain(c => c.BlockCount <= 1000 && c.ByteSize <= 51200);
         r.Manifest.TotalBlocks.Should().BeGreaterThan(3000);
         r.Manifest.TotalMotionBlocks.Should().Be(ChunkText.Body(r, new SplitOptions()).Count(l => l.StartsWith("M0==", StringComparison.Ordinal)));
-    }
-
-    internal static string RepoRoot()
-    {
-        var dir = new DirectoryInfo(AppContext.BaseDirectory);
-        while (dir != null && !File.Exists(Path.Combine(dir.FullName, "PmacStream.sln")))
-        {
-            dir = dir.Parent;
-        }
-
-        return dir?.FullName ?? throw new InvalidOperationException("PmacStream.sln not found above " + AppContext.BaseDirectory);
     }
 }

@@ -9,7 +9,7 @@ public sealed class ProgramStoreBulkTests : IDisposable
 {
     private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-store-bulk-").FullName;
 
-    private string Demo => Path.Combine(RepoRoot.Path, "samples", "demo.nc");
+    private string Demo => RepoRoot.DemoProgram;
 
     public void Dispose()
     {

@@ -8,7 +8,7 @@ public sealed class ProgramStoreTests : IDisposable
 {
     private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-store-").FullName;
 
-    private string Demo => Path.Combine(RepoRoot.Path, "samples", "demo.nc");
+    private string Demo => RepoRoot.DemoProgram;
 
     public void Dispose()
     {

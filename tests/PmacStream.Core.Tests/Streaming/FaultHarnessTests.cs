@@ -2,7 +2,6 @@ using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Streaming;
 using Xunit.Abstractions;
-using PmacStream.Testing;
 
 namespace PmacStream.Core.Tests.Streaming;
 

@@ -59,21 +59,10 @@ public class JobStoreTests
 
 public class StartFromLineTests
 {
-    private static string Demo()
-    {
-        var d = new DirectoryInfo(AppContext.BaseDirectory);
-        while (d is not null && !File.Exists(Path.Combine(d.FullName, "PmacStream.sln")))
-        {
-            d = d.Parent;
-        }
-
-        return Path.Combine(d!.FullName, "samples", "demo.nc");
-    }
-
     [Fact]
     public void The_plan_restores_modal_state_and_approaches_the_blocks_start_safely()
     {
-        var src = Demo();
+        var src = RepoRoot.DemoProgram;
         var plan = StartFromLine.Plan(src, 500, safeZ: 10);
 
         // Independent replay: the state and position after the last block before the plan's line.
@@ -107,7 +96,7 @@ public class StartFromLineTests
     [Fact]
     public void Move_times_cover_every_motion_block()
     {
-        var src = Demo();
+        var src = RepoRoot.DemoProgram;
         var t = StartFromLine.MoveTimes(src)!;
         t.Count.Should().BeGreaterThan(3000);
         t.TotalSeconds.Should().BeGreaterThan(60);

@@ -1,6 +1,5 @@
 using PmacStream.Pmac;
 using PmacStream.Streaming;
-using PmacStream.Testing;
 
 namespace PmacStream.Core.Tests.Streaming;
 

@@ -3,7 +3,6 @@ using System.Text;
 using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Streaming;
-using PmacStream.Testing;
 
 namespace PmacStream.Core.Tests.Streaming;
 
@@ -19,34 +18,6 @@ public sealed class ManualTime : TimeProvider
     public override DateTimeOffset GetUtcNow() => new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero).AddTicks(_ticks);
 
     public void Advance(double seconds) => _ticks += (long)(seconds * TimeSpan.TicksPerSecond);
-}
-
-/// <summary>Checkpoints kept in memory (the last one, and how many durable writes).</summary>
-public sealed class MemorySink : ICheckpointSink
-{
-    public Checkpoint? Last { get; private set; }
-
-    public int Durable { get; private set; }
-
-    public int Writes { get; private set; }
-
-    public JobStart? Start { get; private set; }
-
-    public void RecordStart(JobStart start) => Start = start;
-
-    /// <summary>The job record a host would read back after dying (what the job store keeps).</summary>
-    public JobRecord Record() => new(1, "p.nc", string.Empty, "manifest.json", StrategyKind.Chunk, "fake", Start?.FromLine, string.Empty, Last,
-        DateTimeOffset.UnixEpoch, Start?.Preamble, Start is null ? "P501" : Start.LineProbeVariable);
-
-    public void Save(Checkpoint checkpoint, bool durable)
-    {
-        Last = checkpoint;
-        Writes++;
-        if (durable)
-        {
-            Durable++;
-        }
-    }
 }
 
 /// <summary>
@@ -191,17 +162,5 @@ public sealed class Rig
     }
 
     /// <summary>Distinct source lines of the executed moves, in execution order (what the demo counts).</summary>
-    public List<int> ExecutedLines()
-    {
-        var list = new List<int>();
-        foreach (var m in Controller.Moves)
-        {
-            if (m.SourceLine > 0 && (list.Count == 0 || list[^1] != m.SourceLine))
-            {
-                list.Add(m.SourceLine);
-            }
-        }
-
-        return list;
-    }
+    public List<int> ExecutedLines() => MoveLines.Fold(Controller.Moves.Select(m => m.SourceLine));
 }

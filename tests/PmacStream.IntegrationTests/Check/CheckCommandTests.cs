@@ -20,20 +20,6 @@ public sealed class CheckCommandTests : IDisposable
         Directory.Delete(_dir, true);
     }
 
-    private static string RepoRoot
-    {
-        get
-        {
-            var dir = new DirectoryInfo(AppContext.BaseDirectory);
-            while (dir != null && !File.Exists(Path.Combine(dir.FullName, "PmacStream.sln")))
-            {
-                dir = dir.Parent;
-            }
-
-            return dir!.FullName;
-        }
-    }
-
     private string Write(string name, byte[] bytes)
     {
         var path = Path.Combine(_dir, name);
@@ -66,7 +52,7 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void Clean_program_exits_0_with_the_summary_line()
     {
-        var (code, output) = Run(Path.Combine(RepoRoot, "samples", "demo.nc"), "--lang", "en");
+        var (code, output) = Run(RepoRoot.DemoProgram, "--lang", "en");
         code.Should().Be(0);
         output.Trim().Should().MatchRegex(@"^0 errors, 0 warnings, \d+ blocks$");
     }
@@ -108,7 +94,7 @@ public sealed class CheckCommandTests : IDisposable
     public void Db_option_stores_every_block()
     {
         var db = Path.Combine(_dir, "store.db");
-        var demo = Path.Combine(RepoRoot, "samples", "demo.nc");
+        var demo = RepoRoot.DemoProgram;
         var (code, output) = Run(demo, "--db", db);
         code.Should().Be(0);
         var blocks = long.Parse(output.Trim().Split(' ')[^2]);
@@ -122,7 +108,7 @@ public sealed class CheckCommandTests : IDisposable
     public void Db_option_appends_to_an_existing_store_and_leaves_nothing_when_it_cannot_write()
     {
         var db = Path.Combine(_dir, "store.db");
-        var demo = Path.Combine(RepoRoot, "samples", "demo.nc");
+        var demo = RepoRoot.DemoProgram;
         Run(demo, "--db", db).Code.Should().Be(0);
         Run(Write("bad.nc", "O1\nG01 X1\n"), "--db", db).Code.Should().Be(1, "the program has an error, and is still stored");
         using (var store = ProgramStore.Open(db))
@@ -198,7 +184,7 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void Cr_only_program_checks_clean()
     {
-        var text = File.ReadAllText(Path.Combine(RepoRoot, "samples", "demo.nc")).Replace("\r\n", "\n").Replace('\n', '\r');
+        var text = File.ReadAllText(RepoRoot.DemoProgram).Replace("\r\n", "\n").Replace('\n', '\r');
         var (code, output) = Run(Write("cr.nc", text));
         code.Should().Be(0);
         output.Should().StartWith("0 errors, 0 warnings");

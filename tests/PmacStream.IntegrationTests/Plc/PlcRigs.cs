@@ -73,21 +73,7 @@ public sealed class EvaluatorRig : IPlcRig
 
 internal static class PlcSamples
 {
-    public static string RepoRoot
-    {
-        get
-        {
-            var dir = new DirectoryInfo(AppContext.BaseDirectory);
-            while (dir is not null && !File.Exists(Path.Combine(dir.FullName, "PmacStream.sln")))
-            {
-                dir = dir.Parent;
-            }
-
-            return dir?.FullName ?? throw new InvalidOperationException("PmacStream.sln not found above " + AppContext.BaseDirectory);
-        }
-    }
-
-    public static string Path_(string file) => Path.Combine(RepoRoot, "samples", "plc", file);
+    public static string Path_(string file) => RepoRoot.Sample("plc", file);
 
     public static (LadderProgram Program, GeneratedPlc Generated) Load(string file)
     {

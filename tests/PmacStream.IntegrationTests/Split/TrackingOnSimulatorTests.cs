@@ -116,13 +116,7 @@ public sealed class TrackingOnSimulatorTests : IDisposable
     [Fact]
     public async Task Demo_sample_executes_one_move_per_counted_motion_block()
     {
-        var dir = new DirectoryInfo(AppContext.BaseDirectory);
-        while (dir != null && !File.Exists(Path.Combine(dir.FullName, "PmacStream.sln")))
-        {
-            dir = dir.Parent;
-        }
-
-        var sample = Path.Combine(dir!.FullName, "samples", "demo.nc");
+        var sample = RepoRoot.DemoProgram;
         var run = await RunAsync(sample, Path.Combine(_folder, "demo"), TrackingPlacement.Exact);
         Folded(run.Moves).Should().HaveCount(run.Split.Manifest.TotalMotionBlocks, "pmacstream demo prints executed N of N from these two numbers");
         Folded(run.Moves).Should().Equal(MotionLines(sample));

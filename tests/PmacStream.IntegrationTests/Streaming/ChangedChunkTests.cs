@@ -11,7 +11,7 @@ public class ChangedChunkTests
     [InlineData(StrategyKind.Adaptive)]
     public async Task A_chunk_changed_after_the_split_faults_the_job_before_any_of_it_is_sent_and_resume_completes_exactly(StrategyKind strategy)
     {
-        using var rig = new SimRig(SimRig.DemoPath, 300, new StreamingOptions { Strategy = strategy, BufferWords = 20_000 });
+        using var rig = new SimRig(RepoRoot.DemoProgram, 300, new StreamingOptions { Strategy = strategy, BufferWords = 20_000 });
         var expected = rig.Program.TrackedLines().ToList();
         var victim = rig.Program.ChunkPath(6);
         var original = File.ReadAllBytes(victim);
@@ -37,7 +37,7 @@ public class ChangedChunkTests
     [Fact]
     public void A_changed_chunk_is_refused_when_it_is_read_naming_the_file()
     {
-        using var rig = new SimRig(SimRig.DemoPath, 300, new StreamingOptions { BufferWords = 20_000 });
+        using var rig = new SimRig(RepoRoot.DemoProgram, 300, new StreamingOptions { BufferWords = 20_000 });
         var victim = rig.Program.ChunkPath(2);
         File.WriteAllBytes(victim, File.ReadAllBytes(victim)[..^20]); // truncated, as by a full disk or an interrupted copy
 

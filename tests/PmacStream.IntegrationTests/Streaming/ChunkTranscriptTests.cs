@@ -27,7 +27,7 @@ public class ChunkTranscriptTests
     [Fact]
     public async Task Chunks_reach_the_controller_framed_annotated_and_in_source_order()
     {
-        using var rig = new SimRig(SimRig.DemoPath, 1000, new StreamingOptions { BufferWords = 20_000 });
+        using var rig = new SimRig(RepoRoot.DemoProgram, 1000, new StreamingOptions { BufferWords = 20_000 });
         var rec = new RecordingPort(rig.Port);
         rig.Connection = new InProcessConnection(rec, "recorded");
         rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, time: rig.Time);

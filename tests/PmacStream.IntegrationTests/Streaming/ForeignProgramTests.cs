@@ -8,7 +8,7 @@ public class ForeignProgramTests
     [Fact]
     public async Task Start_is_refused_while_the_coordinate_system_runs_another_program_and_nothing_is_sent_to_it()
     {
-        using var rig = new SimRig(SimRig.DemoPath, 1000, new StreamingOptions { BufferWords = 20_000 });
+        using var rig = new SimRig(RepoRoot.DemoProgram, 1000, new StreamingOptions { BufferWords = 20_000 });
         var other = rig.Sim.OpenPort("pendant");
         foreach (var line in new[] { "OPEN PROG 7 CLEAR", "LINEAR", "F600", "X100", "X0", "CLOSE", "&1 B7 R" })
         {
@@ -35,7 +35,7 @@ public class ForeignProgramTests
     [Fact]
     public async Task Resuming_a_start_that_broke_off_is_refused_while_another_program_runs()
     {
-        using var rig = new SimRig(SimRig.DemoPath, 1000, new StreamingOptions { BufferWords = 20_000 });
+        using var rig = new SimRig(RepoRoot.DemoProgram, 1000, new StreamingOptions { BufferWords = 20_000 });
         var record = rig.Sink.Record() with { Checkpoint = null };
         var other = rig.Sim.OpenPort("pendant");
         foreach (var line in new[] { "OPEN PROG 7 CLEAR", "LINEAR", "F10", "X100", "CLOSE", "&1 B7 R" })

@@ -22,8 +22,8 @@ public class SimEtaTests(ITestOutputHelper output)
     public async Task Eta_converges_on_real_time_with_a_60x_simulator_clock()
     {
         const double speed = 60;
-        using var rig = new SimRig(SimRig.DemoPath, 1000, new StreamingOptions { BufferWords = 20_000 });
-        var times = StartFromLine.MoveTimes(SimRig.DemoPath)!;
+        using var rig = new SimRig(RepoRoot.DemoProgram, 1000, new StreamingOptions { BufferWords = 20_000 });
+        var times = StartFromLine.MoveTimes(RepoRoot.DemoProgram)!;
         rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, moveTimes: times, time: new AcceleratedWallTime(rig.Sim, speed));
         await rig.Session.StartAsync();
         var samples = new List<(double Wall, double Percent, double Eta, double Old)>();

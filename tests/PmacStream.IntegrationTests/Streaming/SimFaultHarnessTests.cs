@@ -5,7 +5,6 @@ using PmacStream.Program;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 using Xunit.Abstractions;
-using PmacStream.Testing;
 
 namespace PmacStream.IntegrationTests.Streaming;
 
@@ -88,17 +87,6 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
         nonMotion.Repeated.Should().BeGreaterThan(0, "the harness must see the repeat the probe prevents");
     }
 
-    [Fact]
-    public async Task Debug_one_seed()
-    {
-        if (Environment.GetEnvironmentVariable("PMAC_SEED") is not { } seed)
-        {
-            return;
-        }
-
-        await RunOnce(int.Parse(seed, CultureInfo.InvariantCulture), "P501");
-    }
-
     private static string Source(string folder, int blocks, Random r)
     {
         var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nF3000\n");
@@ -151,17 +139,12 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
         var strategy = (StrategyKind)(seed % 3);
         var options = new StreamingOptions { LineProbeVariable = probe, Strategy = strategy, BufferWords = 8000, PrTargetLines = 20 + r.Next(60), AdaptiveMinLeadSeconds = 0.1 + (r.NextDouble() * 0.4) };
         var time = new SimTimeProvider(sim, SimRig.TestEpoch);
-        var sink = new MemorySinkIt();
+        var sink = new MemorySink();
         var log = new List<string>();
         StreamingSession NewSession()
         {
             var ss = new StreamingSession(faulty, program, options, sink, time: time);
             ss.EventRaised += (_, e) => log.Add($"{e.Kind} {e.Message} m0={e.TrackedLine}");
-            if (Environment.GetEnvironmentVariable("PMAC_SEED") is not null)
-            {
-                ss.EventRaised += (_, e) => Console.WriteLine($"EVT t={sim.Now:0.000} {e.Kind} {e.Message} m0={e.TrackedLine}");
-            }
-
             return ss;
         }
 

@@ -13,7 +13,7 @@ public class SimStreamingTests
     [InlineData(StrategyKind.Adaptive, 500, 1.0)]
     public async Task Demo_program_executes_every_block_once_in_order_on_the_simulator(StrategyKind strategy, int chunkLines, double secondsPerTick)
     {
-        using var rig = new SimRig(SimRig.DemoPath, chunkLines, new StreamingOptions { Strategy = strategy, BufferWords = 20_000 });
+        using var rig = new SimRig(RepoRoot.DemoProgram, chunkLines, new StreamingOptions { Strategy = strategy, BufferWords = 20_000 });
         await rig.Session.StartAsync();
         (await rig.RunAsync(secondsPerTick)).Should().BeTrue(rig.Session.Status.Message);
 
@@ -30,7 +30,7 @@ public class SimDownloadOnceTests
     [InlineData(400, 0.3, 0.4, 0.5)]
     public async Task Each_next_chunk_is_downloaded_exactly_once_inside_its_window_on_the_simulator(int chunkLines, double w0, double w1, double secondsPerTick)
     {
-        using var rig = new SimRig(SimRig.DemoPath, chunkLines, new StreamingOptions { Strategy = StrategyKind.Chunk, WindowStart = w0, WindowEnd = w1, BufferWords = 20_000 });
+        using var rig = new SimRig(RepoRoot.DemoProgram, chunkLines, new StreamingOptions { Strategy = StrategyKind.Chunk, WindowStart = w0, WindowEnd = w1, BufferWords = 20_000 });
         var downloads = new List<(StreamingEvent Event, int PortLinesBefore)>();
         rig.Session.EventRaised += (_, e) =>
         {
@@ -60,8 +60,8 @@ public class SimDownloadOnceTests
     public async Task Paper_tracking_placement_lags_one_line_behind_exact_on_the_simulator()
     {
         var opts = new StreamingOptions { BufferWords = 20_000 };
-        using var exact = new SimRig(SimRig.DemoPath, 1000, opts, TrackingPlacement.Exact);
-        using var paper = new SimRig(SimRig.DemoPath, 1000, opts, TrackingPlacement.Paper);
+        using var exact = new SimRig(RepoRoot.DemoProgram, 1000, opts, TrackingPlacement.Exact);
+        using var paper = new SimRig(RepoRoot.DemoProgram, 1000, opts, TrackingPlacement.Paper);
         await exact.Session.StartAsync();
         await paper.Session.StartAsync();
         (await exact.RunAsync(2.0)).Should().BeTrue();

@@ -5,7 +5,6 @@ using PmacStream.Program;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 using Xunit.Abstractions;
-using PmacStream.Testing;
 
 namespace PmacStream.IntegrationTests.Streaming;
 

@@ -32,7 +32,7 @@ public sealed class StartPlanCliHmiTests : IDisposable
     public async Task Cli_and_hmi_plan_the_same_preamble_for_a_line(int line, string mode)
     {
         var src = Path.Combine(_folder, "demo.nc");
-        File.Copy(SimRig.DemoPath, src);
+        File.Copy(RepoRoot.DemoProgram, src);
         var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--from-line", line.ToString(), "--safe-z-mode", mode, "--job-db", Path.Combine(_folder, "jobs.db"));
         code.Should().Be(2, "without --yes the start is refused after showing the plan; " + stderr);
         var shown = stdout.Split('\n').Select(l => l.TrimEnd('\r'));

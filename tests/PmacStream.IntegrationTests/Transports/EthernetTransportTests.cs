@@ -8,7 +8,7 @@ namespace PmacStream.IntegrationTests.Transports;
 /// <summary>EthernetConnection against the simulator's TCP server over real loopback sockets.</summary>
 public sealed class EthernetTransportTests : IAsyncLifetime
 {
-    private readonly TestController _controller = new();
+    private readonly ScriptedController _controller = new();
     private PmacTcpServer _server = null!;
     private EthernetConnection _connection = null!;
 

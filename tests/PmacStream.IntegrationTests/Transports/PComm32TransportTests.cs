@@ -1,6 +1,5 @@
 using PmacStream.Pmac;
 using PmacStream.Sim.Servers;
-using Xunit.Abstractions;
 
 namespace PmacStream.IntegrationTests.Transports;
 
@@ -8,25 +7,28 @@ namespace PmacStream.IntegrationTests.Transports;
 /// PComm32Connection's marshalling, through a stand-in Pcomm32 library built from C by this project (gcc), which
 /// forwards to the simulator's TCP server. All in one class: the library keeps process-wide device state.
 /// </summary>
-public sealed class PComm32TransportTests(ITestOutputHelper output) : IAsyncLifetime
+public sealed class PComm32TransportTests : IAsyncLifetime
 {
-    private static readonly string StandIn = Path.Combine(AppContext.BaseDirectory, "libpcomm32standin.so");
-    private readonly TestController _controller = new();
+    private readonly ScriptedController _controller = new();
     private PmacTcpServer _server = null!;
     private PComm32Connection? _connection;
 
     public Task InitializeAsync()
     {
         _server = _controller.StartTcp();
-        if (OperatingSystem.IsWindows() || !File.Exists(StandIn))
-        {
-            output.WriteLine($"SKIPPED: the PComm32 stand-in {StandIn} was not built (gcc missing or Windows)");
-            return Task.CompletedTask;
-        }
-
-        SetStandInAddress($"127.0.0.1:{_server.Port}");
-        _connection = new PComm32Connection(0, StandIn);
         return Task.CompletedTask;
+    }
+
+    /// <summary>
+    /// The driver API through the stand-in library, pointed at this test's server. Reports the test SKIPPED (a
+    /// fixture's set-up cannot) when the library could not be built here.
+    /// </summary>
+    private PComm32Connection Connect()
+    {
+        var standIn = Requires.PComm32StandIn();
+        SetStandInAddress(standIn, $"127.0.0.1:{_server.Port}");
+        _connection = new PComm32Connection(0, standIn);
+        return _connection;
     }
 
     public async Task DisposeAsync()
@@ -40,9 +42,9 @@ public sealed class PComm32TransportTests(ITestOutputHelper output) : IAsyncLife
     }
 
     /// <summary>.NET on Unix keeps environment changes managed-side, so the address goes in through a test hook.</summary>
-    private static unsafe void SetStandInAddress(string address)
+    private static unsafe void SetStandInAddress(string standIn, string address)
     {
-        var lib = System.Runtime.InteropServices.NativeLibrary.Load(StandIn);
+        var lib = System.Runtime.InteropServices.NativeLibrary.Load(standIn);
         var set = (delegate* unmanaged<byte*, void>)System.Runtime.InteropServices.NativeLibrary.GetExport(lib, "PmacStandInSetAddress");
         var bytes = System.Text.Encoding.ASCII.GetBytes(address + "\0");
         fixed (byte* p = bytes)
@@ -72,23 +74,19 @@ public sealed class PComm32TransportTests(ITestOutputHelper output) : IAsyncLife
         (await act.Should().ThrowAsync<PmacLinkException>()).WithMessage("PComm32 is not available*could not be loaded*");
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task Through_the_driver_api_replies_errors_long_replies_downloads_and_callbacks()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
-        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
-        (await _connection.GetResponseAsync("P7=42")).Should().BeEmpty();
-        (await _connection.GetResponseAsync("P7")).Should().Be("42");
-        (await _connection.GetResponseAsync("LONG 4000")).Should().HaveLength(4000);
-        (await _connection.ControlAsync('\x02')).Should().Be("812000804001\r");
-        await _connection.FlushAsync();
+        var connection = Connect();
+        (await connection.GetResponseAsync("VER")).Should().Be("1.947");
+        (await connection.GetResponseAsync("P7=42")).Should().BeEmpty();
+        (await connection.GetResponseAsync("P7")).Should().Be("42");
+        (await connection.GetResponseAsync("LONG 4000")).Should().HaveLength(4000);
+        (await connection.ControlAsync('\x02')).Should().Be("812000804001\r");
+        await connection.FlushAsync();
         _controller.Flushes.Should().Be(1);
 
-        var error = () => _connection.GetResponseAsync("BAD");
+        var error = () => connection.GetResponseAsync("BAD");
         (await error.Should().ThrowAsync<PmacErrorException>()).Which.Number.Should().Be(3);
 
         while (_controller.Executed.TryDequeue(out _))
@@ -96,7 +94,7 @@ public sealed class PComm32TransportTests(ITestOutputHelper output) : IAsyncLife
         }
 
         var lines = Enumerable.Range(0, 100).Select(i => i == 40 ? "BAD" : $"X{i}").ToArray();
-        var download = () => _connection.DownloadAsync(lines);
+        var download = () => connection.DownloadAsync(lines);
         (await download.Should().ThrowAsync<PmacErrorException>()).Which.LineInBatch.Should().Be(40);
         _controller.Executed.Should().Equal(lines.Take(40));
 
@@ -111,7 +109,7 @@ public sealed class PComm32TransportTests(ITestOutputHelper output) : IAsyncLife
 
             var messages = new List<string>();
             var progress = new List<int>();
-            var ok = await _connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add, progress.Add);
+            var ok = await connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add, progress.Add);
             ok.Should().BeFalse();
             messages.Should().ContainSingle().Which.Should().Be("ERR003 at line 4: BAD");
             progress.Should().Equal(20, 60);
@@ -119,7 +117,7 @@ public sealed class PComm32TransportTests(ITestOutputHelper output) : IAsyncLife
 
             await File.WriteAllLinesAsync(file, ["X1", "X2"]);
             messages.Clear();
-            (await _connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add)).Should().BeTrue();
+            (await connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add)).Should().BeTrue();
             messages.Should().Equal("2 lines downloaded");
         }
         finally
@@ -128,17 +126,13 @@ public sealed class PComm32TransportTests(ITestOutputHelper output) : IAsyncLife
         }
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task A_stopped_controller_becomes_a_link_error()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
-        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
+        var connection = Connect();
+        (await connection.GetResponseAsync("VER")).Should().Be("1.947");
         await _server.StopAsync();
-        var act = () => _connection.GetResponseAsync("VER");
+        var act = () => connection.GetResponseAsync("VER");
         await act.Should().ThrowAsync<PmacLinkException>();
     }
 }

@@ -6,7 +6,7 @@ namespace PmacStream.IntegrationTests.Transports;
 /// <summary>The PComm-style facade: devices by number, GetResponse, and Download with macro/include/log/map/dnld, over TCP.</summary>
 public sealed class PmacDevicesTests : IAsyncLifetime, IDisposable
 {
-    private readonly TestController _controller = new();
+    private readonly ScriptedController _controller = new();
     private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-dl-").FullName;
     private PmacTcpServer _server = null!;
     private PmacDevices _devices = null!;

@@ -7,24 +7,25 @@ namespace PmacStream.IntegrationTests.Transports;
 /// <summary>SerialConnection (System.IO.Ports) against the simulator's serial server through a socat pty pair.</summary>
 public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifetime
 {
-    private readonly TestController _controller = new();
+    private readonly ScriptedController _controller = new();
     private SocatPair? _pair;
     private PmacSerialServer? _server;
     private SerialConnection? _connection;
 
-    public Task InitializeAsync()
-    {
-        _pair = SocatPair.TryStart(out var why);
-        if (_pair is null)
-        {
-            output.WriteLine($"SKIPPED: {why}");
-            return Task.CompletedTask;
-        }
+    public Task InitializeAsync() => Task.CompletedTask;
 
+    /// <summary>
+    /// The pty pair, the simulator's serial server on one end and the transport on the other. Reports the test
+    /// SKIPPED (a fixture's set-up cannot) when socat is not on PATH.
+    /// </summary>
+    private SerialConnection Connect()
+    {
+        _pair = SocatPair.Start();
         _server = PmacSerialServer.OpenDevice(_controller.OpenPort, _pair.A);
         _server.Start();
         _connection = new SerialConnection(new SerialOptions { PortName = _pair.B, Settings = new SerialSettings(115200), Timeout = TimeSpan.FromSeconds(2) });
-        return Task.CompletedTask;
+        output.WriteLine($"pty pair {_pair.A} <-> {_pair.B}");
+        return _connection;
     }
 
     public async Task DisposeAsync()
@@ -43,43 +44,31 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
         _pair?.Dispose();
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task Replies_and_errors_over_the_pty()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
-        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
-        (await _connection.GetResponseAsync("P500=80")).Should().BeEmpty();
-        (await _connection.GetResponseAsync("p500")).Should().Be("80");
-        var act = () => _connection.GetResponseAsync("BAD");
+        var connection = Connect();
+        (await connection.GetResponseAsync("VER")).Should().Be("1.947");
+        (await connection.GetResponseAsync("P500=80")).Should().BeEmpty();
+        (await connection.GetResponseAsync("p500")).Should().Be("80");
+        var act = () => connection.GetResponseAsync("BAD");
         (await act.Should().ThrowAsync<PmacErrorException>()).Which.Number.Should().Be(3);
-        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
+        (await connection.GetResponseAsync("VER")).Should().Be("1.947");
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task Long_reply_is_read_to_its_ack()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
-        (await _connection.GetResponseAsync("LONG 6000")).Should().HaveLength(6000);
+        var connection = Connect();
+        (await connection.GetResponseAsync("LONG 6000")).Should().HaveLength(6000);
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task Download_error_in_the_middle_reports_the_line_and_sends_nothing_after_it()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
+        var connection = Connect();
         var lines = Enumerable.Range(0, 300).Select(i => i == 123 ? "BAD" : $"X{i}").ToArray();
-        var act = () => _connection.DownloadAsync(lines);
+        var act = () => connection.DownloadAsync(lines);
         (await act.Should().ThrowAsync<PmacErrorException>()).Which.LineInBatch.Should().Be(123);
         _controller.Executed.Should().Equal(lines.Take(123));
         await WaitUntil(() => _server!.CommandsServed >= 124);
@@ -87,30 +76,22 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
         _server!.CommandsServed.Should().Be(124, "the refused line was the last one sent");
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task Flush_and_control_characters()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
-        await _connection.FlushAsync();
+        var connection = Connect();
+        await connection.FlushAsync();
         await WaitUntil(() => _controller.Flushes == 1);
         _controller.Flushes.Should().Be(1);
-        (await _connection.ControlAsync('\x02')).Should().Be("812000804001\r");
+        (await connection.ControlAsync('\x02')).Should().Be("812000804001\r");
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task A_slow_controller_times_out_and_the_line_recovers()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
+        var connection = Connect();
         await using var quick = new SerialConnection(SerialPorts.Open(_pair!.B, new SerialSettings(115200)), TimeSpan.FromMilliseconds(300));
-        await _connection.DisposeAsync();
+        await connection.DisposeAsync();
         var act = () => quick.GetResponseAsync("SLEEP 800");
         (await act.Should().ThrowAsync<PmacLinkException>()).WithMessage("*no complete reply*");
 
@@ -120,19 +101,15 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
         (await quick.GetResponseAsync("VER")).Should().Be("1.947", "the late ACK was discarded before the next command");
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task A_timeout_fires_on_time_even_when_the_thread_pool_is_busy()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
+        var connection = Connect();
         // An HMI can keep every pool thread busy. System.IO.Ports on Unix ends timed-out reads from a pool-thread
         // timer, so before SystemIoSerialPort polled for data itself this read waited for the late ACK and took it
         // as the reply to the command that had timed out.
         await using var quick = new SerialConnection(SerialPorts.Open(_pair!.B, new SerialSettings(115200)), TimeSpan.FromMilliseconds(300));
-        await _connection.DisposeAsync();
+        await connection.DisposeAsync();
         using var release = new ManualResetEventSlim();
         ThreadPool.GetMinThreads(out var workers, out _);
         var blockers = Enumerable.Range(0, workers + 4).Select(_ => Task.Run(() => release.Wait())).ToArray();
@@ -154,17 +131,13 @@ public sealed class SerialTransportTests(ITestOutputHelper output) : IAsyncLifet
         (await quick.GetResponseAsync("VER")).Should().Be("1.947");
     }
 
-    [Fact]
+    [SkippableFact]
     public async Task A_pulled_cable_is_a_link_error()
     {
-        if (_connection is null)
-        {
-            return;
-        }
-
-        (await _connection.GetResponseAsync("VER")).Should().Be("1.947");
+        var connection = Connect();
+        (await connection.GetResponseAsync("VER")).Should().Be("1.947");
         _pair!.Kill();
-        var act = () => _connection.GetResponseAsync("VER");
+        var act = () => connection.GetResponseAsync("VER");
         await act.Should().ThrowAsync<PmacLinkException>();
     }
 

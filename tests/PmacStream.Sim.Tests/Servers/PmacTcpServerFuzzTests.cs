@@ -33,7 +33,7 @@ public sealed class PmacTcpServerFuzzTests
     [InlineData(3)]
     public async Task Random_and_mutated_packets_never_stop_the_server(int seed)
     {
-        var controller = new FakeController();
+        var controller = new ScriptedController();
         await FuzzAsync(controller.OpenPort, seed);
     }
 

@@ -7,7 +7,7 @@ namespace PmacStream.Sim.Tests.Servers;
 
 public sealed class PmacTcpServerTests : IAsyncLifetime
 {
-    private readonly FakeController _controller = new();
+    private readonly ScriptedController _controller = new();
     private PmacTcpServer _server = null!;
 
     public Task InitializeAsync()

@@ -2,8 +2,6 @@ using PmacStream.Pmac;
 
 namespace PmacStream.Testing;
 
-// Shared by the Core and Integration test projects (linked into both): the fault-injecting link and the host kill.
-
 /// <summary>Thrown by the fault wrapper to model the host process dying mid-call.</summary>
 public sealed class HostKilledException : Exception
 {
@@ -31,26 +29,8 @@ public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Acti
 
     public string Description => "faulty in-process";
 
-    public static bool Trace { get; set; } = Environment.GetEnvironmentVariable("PMAC_SEED") is not null;
-
     public async Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default)
     {
-        var r = await GetResponseCoreAsync(command, cancellationToken).ConfigureAwait(false);
-        if (Trace)
-        {
-            Console.WriteLine($"CMD {command} -> {r.Replace('\n', ' ')}");
-        }
-
-        return r;
-    }
-
-    private async Task<string> GetResponseCoreAsync(string command, CancellationToken cancellationToken = default)
-    {
-        if (Trace)
-        {
-            Console.WriteLine($"TRY {command}");
-        }
-
         if (Down)
         {
             throw new PmacLinkException("link down");
@@ -90,11 +70,6 @@ public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Acti
         }
 
         var fault = Pick();
-        if (Trace)
-        {
-            Console.WriteLine($"DL fault={fault} {lines.Count} lines: {string.Join(" ; ", lines.Select(l => l.Length > 12 ? l[..12] : l))}");
-        }
-
         if (fault is 0 or 4)
         {
             if (fault == 4)
@@ -107,11 +82,6 @@ public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Acti
         }
 
         var cut = random.Next(lines.Count + 1);
-        if (Trace)
-        {
-            Console.WriteLine($"DL cut={cut}");
-        }
-
         await _inner.DownloadAsync(lines.Take(cut).ToList(), cancellationToken).ConfigureAwait(false);
         switch (fault)
         {

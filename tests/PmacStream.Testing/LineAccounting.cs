@@ -1,7 +1,5 @@
 namespace PmacStream.Testing;
 
-// Shared by the Core and Integration test projects (linked into both): one definition of "lost, repeated, reordered".
-
 /// <summary>Lost, repeated and reordered program lines, for motion and non-motion lines apart.</summary>
 public readonly record struct LineCounts(int Lost, int Repeated, int Reordered)
 {

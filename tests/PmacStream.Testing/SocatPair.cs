@@ -1,12 +1,12 @@
 using System.Diagnostics;
 
-namespace PmacStream.IntegrationTests.Transports;
+namespace PmacStream.Testing;
 
 /// <summary>
 /// A pty pair made by socat (<c>socat -d -d pty,raw,echo=0,link=A pty,raw,echo=0,link=B</c>): the simulator serves
 /// one end, the serial transport opens the other, as a null-modem cable would join them.
 /// </summary>
-internal sealed class SocatPair : IDisposable
+public sealed class SocatPair : IDisposable
 {
     private readonly Process _process;
     private readonly string _dir;
@@ -19,20 +19,19 @@ internal sealed class SocatPair : IDisposable
         B = Path.Combine(dir, "B");
     }
 
+    /// <summary>One end (the simulator's, in these tests).</summary>
     public string A { get; }
 
+    /// <summary>The other end (the host's).</summary>
     public string B { get; }
 
-    /// <summary>Null (and why) when socat is not installed.</summary>
-    public static SocatPair? TryStart(out string why)
+    /// <summary>
+    /// Starts socat. Reports SKIPPED when socat is not on PATH (<see cref="Requires.Socat"/>); throws when socat is
+    /// there but makes no pty pair, which is a failure.
+    /// </summary>
+    public static SocatPair Start()
     {
-        var socat = new[] { "/usr/bin/socat", "/bin/socat", "/usr/local/bin/socat" }.FirstOrDefault(File.Exists);
-        if (socat is null)
-        {
-            why = "socat is not installed (.ci/run installs it): serial transport test skipped";
-            return null;
-        }
-
+        var socat = Requires.Socat();
         var dir = Directory.CreateTempSubdirectory("pmacstream-pty-").FullName;
         var psi = new ProcessStartInfo(socat)
         {
@@ -55,11 +54,10 @@ internal sealed class SocatPair : IDisposable
             Thread.Sleep(10);
         }
 
-        why = File.Exists(pair.A) && File.Exists(pair.B) ? string.Empty : "socat did not create the pty links";
-        if (why.Length > 0)
+        if (!(File.Exists(pair.A) && File.Exists(pair.B)))
         {
             pair.Dispose();
-            return null;
+            throw new InvalidOperationException($"{socat} did not create the pty links in {dir} within 5 s");
         }
 
         return pair;
@@ -75,6 +73,7 @@ internal sealed class SocatPair : IDisposable
         }
     }
 
+    /// <summary>Ends socat and removes the links' folder.</summary>
     public void Dispose()
     {
         Kill();

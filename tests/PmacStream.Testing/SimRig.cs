@@ -1,35 +1,22 @@
+using PmacStream.Hmi;
 using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 
-namespace PmacStream.IntegrationTests.Streaming;
+namespace PmacStream.Testing;
 
-/// <summary>The real splitter, the real simulator (with a PROG 1000/1001 library) and a deterministic tick loop.</summary>
+/// <summary>
+/// The real splitter, the real simulator with the real PROG 1000/1001 library (what the CLI and the HMI download),
+/// and a deterministic tick loop on the simulator's virtual clock.
+/// </summary>
 public sealed class SimRig : IDisposable
 {
     /// <summary>Virtual second 0 of every rig's clock, so checkpoint times are the same in every run.</summary>
     public static readonly DateTimeOffset TestEpoch = new(2026, 1, 1, 0, 0, 0, TimeSpan.Zero);
 
-    public static readonly string[] Library =
-    [
-        "OPEN PROG 1000 CLEAR",
-        "N0 RAPID RET",
-        "N1000 LINEAR RET",
-        "N2000 CIRCLE1 RET",
-        "N3000 CIRCLE2 RET",
-        "N4000 READ(P) DWELL(Q116) RET",
-        "N17000 NORMAL K-1 RET",
-        "N18000 NORMAL J-1 RET",
-        "N19000 NORMAL I-1 RET",
-        "N90000 ABS RET",
-        "N91000 INC RET",
-        "CLOSE",
-        "OPEN PROG 1001 CLEAR",
-        "N3000 M1=1 RET",
-        "N5000 DWELL0 M1=0 RET",
-        "CLOSE",
-    ];
+    /// <summary>The generated PROG 1000/1001 G and M code library for the default machine profile, one line each.</summary>
+    public static IReadOnlyList<string> Library { get; } = ControllerSetup.Library();
 
     public SimRig(string source, int linesPerChunk, StreamingOptions options, TrackingPlacement placement = TrackingPlacement.Exact, SimOptions? simOptions = null)
     {
@@ -40,9 +27,9 @@ public sealed class SimRig : IDisposable
         Sim = new PmacSimulator(simOptions);
         Port = Sim.OpenPort("stream");
         Connection = new InProcessConnection(Port, "sim");
-        Connection.DownloadAsync(Library).GetAwaiter().GetResult();
+        LoadLibrary(Port);
         Options = options;
-        Time = new SimTimeProvider(Sim, TestEpoch);
+        Time = Clock(Sim);
         Session = new StreamingSession(Connection, Program, options, Sink, time: Time);
     }
 
@@ -60,22 +47,16 @@ public sealed class SimRig : IDisposable
 
     public SimTimeProvider Time { get; }
 
-    public MemorySinkIt Sink { get; } = new();
+    public MemorySink Sink { get; } = new();
 
     public StreamingSession Session { get; set; }
 
-    public static string RepoRoot()
-    {
-        var d = new DirectoryInfo(AppContext.BaseDirectory);
-        while (d is not null && !File.Exists(Path.Combine(d.FullName, "PmacStream.sln")))
-        {
-            d = d.Parent;
-        }
+    /// <summary>Downloads <see cref="Library"/> through a port; the simulator accepts every line of it.</summary>
+    public static void LoadLibrary(IPmacPortEndpoint port) =>
+        new InProcessConnection(port, "library").DownloadAsync(Library).GetAwaiter().GetResult();
 
-        return d?.FullName ?? throw new InvalidOperationException("repo root not found");
-    }
-
-    public static string DemoPath => Path.Combine(RepoRoot(), "samples", "demo.nc");
+    /// <summary>The simulator's virtual clock as a TimeProvider starting at <see cref="TestEpoch"/>.</summary>
+    public static SimTimeProvider Clock(PmacSimulator sim) => new(sim, TestEpoch);
 
     public async Task<bool> RunAsync(double virtualSecondsPerTick, int maxTicks = 100_000)
     {
@@ -100,19 +81,7 @@ public sealed class SimRig : IDisposable
     }
 
     /// <summary>Source lines of executed moves, consecutive repeats (one block, several moves) folded, preamble (0) left out.</summary>
-    public List<int> ExecutedLines()
-    {
-        var list = new List<int>();
-        foreach (var m in Sim.ExecutedMoves)
-        {
-            if (m.SourceLine > 0 && (list.Count == 0 || list[^1] != m.SourceLine))
-            {
-                list.Add(m.SourceLine);
-            }
-        }
-
-        return list;
-    }
+    public List<int> ExecutedLines() => MoveLines.Fold(Sim.ExecutedMoves.Select(m => m.SourceLine));
 
     public void Dispose()
     {
@@ -125,19 +94,4 @@ public sealed class SimRig : IDisposable
         {
         }
     }
-}
-
-public sealed class MemorySinkIt : ICheckpointSink
-{
-    public Checkpoint? Last { get; private set; }
-
-    public JobStart? Start { get; private set; }
-
-    public void Save(Checkpoint checkpoint, bool durable) => Last = checkpoint;
-
-    public void RecordStart(JobStart start) => Start = start;
-
-    /// <summary>The job record a host would read back after dying (what the job store keeps).</summary>
-    public JobRecord Record() => new(1, "p.nc", string.Empty, "manifest.json", StrategyKind.Chunk, "sim", Start?.FromLine, string.Empty, Last,
-        DateTimeOffset.UnixEpoch, Start?.Preamble, Start is null ? "P501" : Start.LineProbeVariable);
 }

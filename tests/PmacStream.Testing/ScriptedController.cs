@@ -4,23 +4,28 @@ using System.Text;
 using PmacStream.Pmac;
 using PmacStream.Sim.Servers;
 
-namespace PmacStream.IntegrationTests.Transports;
+namespace PmacStream.Testing;
 
 /// <summary>
-/// A scripted controller behind the real servers, for transport tests: P variables, VER, LONG n (an n-character
+/// A scripted controller behind the real servers, for server and transport tests: P variables, VER, LONG n (an n-character
 /// reply), SLEEP n (answers after n ms: a slow controller), anything containing BAD refused with ERR003, every other
 /// line recorded as executed, in order, across ports (what the controller really ran: server-side evidence).
 /// </summary>
-internal sealed class TestController
+public sealed class ScriptedController
 {
+    /// <summary>Lines run, in order, as received (trimmed).</summary>
     public ConcurrentQueue<string> Executed { get; } = new();
 
+    /// <summary>P variables written so far.</summary>
     public ConcurrentDictionary<int, string> P { get; } = new();
 
+    /// <summary>Ctrl-X flushes received (all ports).</summary>
     public int Flushes;
 
+    /// <summary>A new communication port on this controller (one per server client or serial line).</summary>
     public IPmacPortEndpoint OpenPort() => new Port(this);
 
+    /// <summary>A started TCP server on a free loopback port, a new port per client.</summary>
     public PmacTcpServer StartTcp(TimeSpan? responseDelay = null)
     {
         var server = new PmacTcpServer(OpenPort, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0), ResponseDelay = responseDelay ?? TimeSpan.Zero });
@@ -28,7 +33,7 @@ internal sealed class TestController
         return server;
     }
 
-    private sealed class Port(TestController c) : IPmacPortEndpoint
+    private sealed class Port(ScriptedController c) : IPmacPortEndpoint
     {
         public byte[] Execute(string commandLine)
         {
