@@ -70,6 +70,22 @@ public sealed class SimHostTests : IDisposable
         (await second.GetResponseAsync("CLOSE")).Should().BeEmpty();
     }
 
+    [SkippableFact]
+    public async Task A_serial_line_and_ethernet_reach_the_same_controller()
+    {
+        using var pair = SocatPair.Start();
+        await using var host = new SimHost(Tcp() with { SerialPath = pair.A, Serial = new SerialSettings(115200) });
+        host.Start();
+        await using var eth = new EthernetConnection(new EthernetOptions { Port = host.TcpEndPoint!.Port, Timeout = TimeSpan.FromSeconds(5) });
+        await using var serial = new SerialConnection(new SerialOptions { PortName = pair.B, Settings = new SerialSettings(115200), Timeout = TimeSpan.FromSeconds(5) });
+        (await eth.GetResponseAsync("P500=80")).Should().BeEmpty();
+        (await serial.GetResponseAsync("P500")).Should().Be("80");
+        (await serial.GetResponseAsync("OPEN PROG 7 CLEAR")).Should().BeEmpty();
+        var act = () => eth.GetResponseAsync("OPEN PROG 8 CLEAR");
+        (await act.Should().ThrowAsync<PmacErrorException>()).Which.Number.Should().Be(7, "the serial line has its own port, with a buffer open");
+        (await serial.GetResponseAsync("CLOSE")).Should().BeEmpty();
+    }
+
     [Fact]
     public async Task A_busy_port_is_a_socket_error_and_the_host_still_stops_cleanly()
     {
