@@ -33,10 +33,7 @@ public sealed class TrackingOnSimulatorTests : IDisposable
         using var sim = new PmacSimulator(new SimOptions { Speed = SimSpeed.Instant });
         using var port = sim.OpenPort("split-test");
         var conn = new InProcessConnection(port, "sim");
-        var library = Prog1000Library.Generate(MachineProfile.Default, new Prog1000Options { Comments = false })
-            .Split("\r\n", StringSplitOptions.RemoveEmptyEntries);
-        // The simulator does not implement cutter compensation (CC0/CC1/CC2, ERR003); those routines are left out.
-        await conn.DownloadAsync(library.Where(l => !l.Contains(" CC", StringComparison.Ordinal)).ToList());
+        await conn.DownloadAsync(SimRig.Library);
 
         await conn.GetResponseAsync("&1 DEFINE ROT 200000");
         await conn.GetResponseAsync("&1 B0");

@@ -134,11 +134,11 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
 
         using var sim = new PmacSimulator(new SimOptions { RecordRotaryLines = true });
         var port = sim.OpenPort("host");
-        await new InProcessConnection(port).DownloadAsync(SimRig.Library);
+        SimRig.LoadLibrary(port);
         var faulty = new FaultyConnection(port, r, dt => sim.Advance(TimeSpan.FromSeconds(dt))) { FaultRate = 0.03, KillRate = 0.006 };
         var strategy = (StrategyKind)(seed % 3);
         var options = new StreamingOptions { LineProbeVariable = probe, Strategy = strategy, BufferWords = 8000, PrTargetLines = 20 + r.Next(60), AdaptiveMinLeadSeconds = 0.1 + (r.NextDouble() * 0.4) };
-        var time = new SimTimeProvider(sim, SimRig.TestEpoch);
+        var time = SimRig.Clock(sim);
         var sink = new MemorySink();
         var log = new List<string>();
         StreamingSession NewSession()

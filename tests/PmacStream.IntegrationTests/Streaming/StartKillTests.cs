@@ -245,13 +245,13 @@ public class StartKillTests(ITestOutputHelper output)
         {
             using var sim = new PmacSimulator(new SimOptions { RecordRotaryLines = true });
             var port = sim.OpenPort("host");
-            await new InProcessConnection(port).DownloadAsync(SimRig.Library);
+            SimRig.LoadLibrary(port);
             var conn = new ScriptedConnection(port) { BreakAt = breakAt, KillAt = killAt, KillFraction = fraction };
             var db = Path.Combine(_folder, $"jobs{++_runs}.db");
             using var store = JobStore.Open(db);
             var jobId = store.CreateJob(_source, _program.Manifest.SourceSha256, Path.Combine(_program.Folder, ChunkManifest.FileName), StrategyKind.Chunk, "sim", _plan?.Line, Probe);
             var options = new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 8000 };
-            var time = new SimTimeProvider(sim, SimRig.TestEpoch);
+            var time = SimRig.Clock(sim);
             StreamingSession NewSession(string? probe = "P501") => new(conn, _program, options with { LineProbeVariable = probe }, store.SinkFor(jobId), time: time);
             var what = $"break at {breakAt}, kill at {killAt} ({fraction:0.0})";
 
