@@ -4,7 +4,7 @@ using PmacStream.Plc;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream plc RUNGS-FILE [--plc N] [--out FILE]`: ladder rungs to a downloadable PMAC PLC program (seed 003).</summary>
+/// <summary>`pmacstream plc RUNGS-FILE [--plc N] [--out FILE]`: ladder rungs to a downloadable PMAC PLC program.</summary>
 internal static class PlcCommand
 {
     public static Command Create()

@@ -5,7 +5,7 @@ using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream prog1000 [--profile P] [--out FILE]`: the PROG 1000/1001 G and M code library (seed 003).</summary>
+/// <summary>`pmacstream prog1000 [--profile P] [--out FILE]`: the PROG 1000/1001 G and M code library.</summary>
 internal static class Prog1000Command
 {
     public static Command Create()

@@ -4,7 +4,7 @@ using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream split`: seed 000's splitting step.</summary>
+/// <summary>`pmacstream split`: a program into rotary-buffer chunk files and their manifest.</summary>
 internal static class SplitCommand
 {
     private const int MaxListed = 50;

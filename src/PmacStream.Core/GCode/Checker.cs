@@ -13,7 +13,7 @@ namespace PmacStream.GCode;
 /// <param name="Elapsed">Wall time the check took.</param>
 public sealed record CheckSummary(string File, int Lines, long Blocks, int Errors, int Warnings, long Bytes, double EstimatedSeconds, TimeSpan Elapsed)
 {
-    /// <summary>Seed 002's "exit" level: the program must not run when true.</summary>
+    /// <summary>The "exit" level: the program must not run when true.</summary>
     public bool HasErrors => Errors > 0;
 
     /// <summary>The summary line the CLI prints: <c>N errors, M warnings, B blocks</c>.</summary>
@@ -21,7 +21,7 @@ public sealed record CheckSummary(string File, int Lines, long Blocks, int Error
 }
 
 /// <summary>
-/// The one-pass program checker of seed 002: reads the program once, streamed, and reports every diagnostic (not
+/// The one-pass program checker: reads the program once, streamed, and reports every diagnostic (not
 /// only the first) through a callback, while interpreting each block so that the caller can store it. Memory does
 /// not grow with the program. Never throws on content; I/O errors of the stream propagate.
 /// </summary>

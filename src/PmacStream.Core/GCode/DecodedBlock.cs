@@ -3,8 +3,8 @@ using System.Text;
 namespace PmacStream.GCode;
 
 /// <summary>
-/// One interpreted block (seed 002's table row): source line, modal state after the block, its words, and the
-/// geometry and time it means. Positions are absolute machine coordinates in program units (G90/G91 resolved,
+/// One interpreted block (a row of the program store's blocks table): source line, modal state after the block, its
+/// words, and the geometry and time it means. Positions are absolute machine coordinates in program units (G90/G91 resolved,
 /// work offset added). This is what start-from-line, the ETA, the preview and the program store read.
 /// </summary>
 public sealed record DecodedBlock

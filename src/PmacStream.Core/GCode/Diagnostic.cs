@@ -1,6 +1,6 @@
 namespace PmacStream.GCode;
 
-/// <summary>How serious a finding is. Seed 002: warnings let the program run, errors stop it.</summary>
+/// <summary>How serious a finding is: warnings let the program run, errors stop it.</summary>
 public enum Severity
 {
     /// <summary>The controller can still go on; the programmer should look.</summary>

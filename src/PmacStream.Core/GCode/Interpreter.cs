@@ -3,7 +3,7 @@ using System.Text;
 namespace PmacStream.GCode;
 
 /// <summary>
-/// Interprets blocks one after another into <see cref="DecodedBlock"/> records, keeping the modal state (seed 002's
+/// Interprets blocks one after another into <see cref="DecodedBlock"/> records, keeping the modal state (groups
 /// GA-GI / MA-MC) and the absolute position. Streaming: it holds only the current state, so any program size works.
 /// Semantics are FANUC milling: I/J/K are incremental from the arc start, a negative R means more than 180 degrees,
 /// an arc with I/J/K and no axis words is a full circle, <c>G04 P</c> is in milliseconds (profile switch) and

@@ -57,7 +57,7 @@ public readonly record struct Point3(double X, double Y, double Z)
 }
 
 /// <summary>
-/// The modal state after a block: the code in force in each group (seed 002's GA-GI, MA-MC, as code numbers such as
+/// The modal state after a block: the code in force in each group (GA-GI, MA-MC, as code numbers such as
 /// 1, 21, 90) and the decoded meaning of the ones motion depends on. Immutable; the interpreter shares one instance
 /// between consecutive blocks that change nothing. Non-modal groups (the default profile's GG = G04, GI = G09 and
 /// MA = M00/M30) hold the code only on the block that carries it and are null otherwise.

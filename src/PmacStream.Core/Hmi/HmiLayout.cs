@@ -9,7 +9,7 @@ public readonly record struct LayoutBox(int X, int Y, int Width, int Height);
 
 /// <summary>
 /// The screen's geometry, shared by the WinForms form and the picture drawn of it on machines without Windows, so
-/// the two cannot drift apart. Laid out like the paper's Fig. 4: settings across the top, the chunk files
+/// the two cannot drift apart. Settings across the top, the chunk files
 /// (ListBox1) and the program lines (ListBox2) in the middle, commands and status on the right, diagnostics and the
 /// log at the bottom.
 /// </summary>

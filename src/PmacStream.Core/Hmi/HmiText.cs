@@ -8,7 +8,7 @@ public enum HmiLanguage
     /// <summary>English.</summary>
     English,
 
-    /// <summary>Simplified Chinese (the paper's operators).</summary>
+    /// <summary>Simplified Chinese.</summary>
     Chinese,
 }
 

@@ -57,7 +57,7 @@ public sealed record HmiCheckResult(IReadOnlyList<Diagnostic> Diagnostics, long 
 
 /// <summary>What to split and how.</summary>
 /// <param name="SourcePath">The program.</param>
-/// <param name="LinesPerChunk">Blocks per chunk file (the paper: 1000).</param>
+/// <param name="LinesPerChunk">Blocks per chunk file (1000 by default).</param>
 public sealed record HmiSplitRequest(string SourcePath, int LinesPerChunk);
 
 /// <summary>A split program: its manifest and the folder holding the manifest and chunk files.</summary>

@@ -34,7 +34,7 @@ public sealed record CommandStates(
 /// <param name="Unit">Unit label shown beside the box (<c>P500</c> or <c>%</c>).</param>
 public sealed record FeedScale(double Minimum, double Maximum, string Unit)
 {
-    /// <summary>The paper's F(P500): feed in units per minute.</summary>
+    /// <summary>F(P500): feed in units per minute.</summary>
     public static FeedScale Paper { get; } = new(1, 20000, "P500");
 
     /// <summary>Feed override in percent.</summary>
@@ -58,7 +58,7 @@ public sealed record StatusDisplay(
     string Eta);
 
 /// <summary>
-/// The HMI screen of the paper (Fig. 4) as a passive view: the form raises events and shows what the presenter
+/// The HMI screen as a passive view: the form raises events and shows what the presenter
 /// sets; it holds no logic. Two lists are virtual: they raise <see cref="ProgramLineNeeded"/> and
 /// <see cref="ChunkLineNeeded"/> for the rows on screen, so a 10,000,000-line program is never loaded.
 /// Everything is called on the UI thread.

@@ -7,8 +7,8 @@ using Serilog;
 namespace PmacStream.Hmi;
 
 /// <summary>
-/// All the HMI's logic, driven by the view's events and by <see cref="TickAsync"/> (the form's <c>timer1_Tick</c>,
-/// as in the paper). It owns the open program's line index, the split result, the controller connection and the
+/// All the HMI's logic, driven by the view's events and by <see cref="TickAsync"/> (the form's
+/// <c>timer1_Tick</c>). It owns the open program's line index, the split result, the controller connection and the
 /// running job, and tells the passive <see cref="IMainView"/> what to show. Runs on the UI thread.
 /// </summary>
 public sealed class MainPresenter : IAsyncDisposable
@@ -115,7 +115,7 @@ public sealed class MainPresenter : IAsyncDisposable
     }
 
     /// <summary>
-    /// One timer period (the paper's <c>timer1_Tick</c>): moves log lines to the pane, shows indexing progress,
+    /// One timer period (the form's <c>timer1_Tick</c>): moves log lines to the pane, shows indexing progress,
     /// lets the job stream (read M0, download the next chunk once) and shows its line and status. A tick that
     /// arrives while the previous one is still at work is skipped, so ticks never overlap.
     /// </summary>

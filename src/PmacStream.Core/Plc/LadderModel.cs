@@ -23,7 +23,7 @@ public enum LadderSymbolKind
 public sealed record LadderSymbol(string Name, LadderSymbolKind Kind, int Bit, int MVariable, string? Comment, int Line);
 
 /// <summary>
-/// Where an I/O word and its image live. Seed 003: the physical word is refreshed by the controller, the image is a
+/// Where an I/O word and its image live. The physical word is refreshed by the controller, the image is a
 /// copy in open memory (cleared at power-up/reset) that the logic reads and writes; each bit of the image gets its own
 /// M-variable.
 /// </summary>
@@ -38,10 +38,10 @@ public sealed record LadderSymbol(string Name, LadderSymbolKind Kind, int Bit, i
 public sealed record IoWordConfig(
     int WordAddress, char Memory, int Offset, int Width, int ImageAddress, int WordVariable, int ImageVariable, int BitBase)
 {
-    /// <summary>Seed 003's input side: physical inputs M1000, image M1001, bits M800...</summary>
+    /// <summary>The default input side: physical inputs M1000, image M1001, bits M800...</summary>
     public static IoWordConfig DefaultInputs { get; } = new(0x078800, 'Y', 0, 8, 0x0010F0, 1000, 1001, 800);
 
-    /// <summary>Seed 003's output side: physical outputs M1002, image M1003, bits M900...</summary>
+    /// <summary>The default output side: physical outputs M1002, image M1003, bits M900...</summary>
     public static IoWordConfig DefaultOutputs { get; } = new(0x078801, 'Y', 0, 8, 0x0010F1, 1002, 1003, 900);
 }
 
@@ -56,7 +56,7 @@ public sealed record InternalConfig(int Address, int BitBase)
 
 /// <summary>
 /// One rung: a coil and the contact network that drives it. Contacts in series are an AND, parallel branches an OR,
-/// a normally-closed contact is a NOT (seed 003).
+/// a normally-closed contact is a NOT.
 /// </summary>
 /// <param name="Coil">The coil's symbol (an output or internal relay).</param>
 /// <param name="Network">The contact network.</param>

@@ -9,14 +9,14 @@ public enum TrackingPlacement
     /// <summary><c>M0==i</c> before the move of line i: M0 equals the line whose move is executing.</summary>
     Exact,
 
-    /// <summary>The paper's placement, <c>M0==i</c> at the end of line i: M0 reports i while line i+1 moves.</summary>
+    /// <summary>After the words, <c>M0==i</c> at the end of line i: M0 reports i while line i+1 moves.</summary>
     Paper,
 }
 
 /// <summary>How the programmed feed reaches the controller.</summary>
 public enum FeedMode
 {
-    /// <summary>The paper's <c>F(P500)</c> on every block; programmed F values are carried into P500.</summary>
+    /// <summary><c>F(P500)</c> on every move (a live feed); programmed F values are carried into P500.</summary>
     Paper,
 
     /// <summary>Programmed F words kept; speed changes through the <c>%</c> feed override.</summary>

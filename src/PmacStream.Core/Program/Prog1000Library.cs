@@ -7,7 +7,7 @@ namespace PmacStream.Program;
 /// <summary>Machine outputs the M-code routines drive (M-variables pointing at I/O bits).</summary>
 public sealed record Prog1000Options
 {
-    /// <summary>M-variable of the spindle-on output (seed 003 used M902 for the spindle port).</summary>
+    /// <summary>M-variable of the spindle-on output (default M902, the spindle port).</summary>
     public string SpindleOn { get; init; } = "M902";
 
     /// <summary>M-variable of the spindle direction output (1 = counter-clockwise).</summary>
@@ -30,7 +30,7 @@ public sealed record Prog1000Options
 public sealed record Prog1000Routine(string Code, int Program, int Label, string Body, bool Converted, string Description);
 
 /// <summary>
-/// Seed 003's code conversion and seed 000's table 1: a PMAC treats <c>Gnn</c> in a motion program as a call of
+/// G and M code conversion: a PMAC treats <c>Gnn</c> in a motion program as a call of
 /// PROG 1000 at label <c>N(nn*1000)</c> and <c>Mnn</c> as PROG 1001, so these programs turn machine-tool codes into
 /// PMAC statements. Generated for every G and M code of a machine profile; spindle and coolant stops are preceded by
 /// <c>DWELL0</c> so lookahead cannot stop the spindle before the moves ahead of it have run.

@@ -3,15 +3,16 @@ using PmacStream.GCode;
 namespace PmacStream.Program;
 
 /// <summary>
-/// How <see cref="Splitter"/> cuts a program into rotary-buffer chunks. Defaults follow seed 000: 1000 blocks per
-/// chunk, ~50 KB per chunk, <c>F(P500)</c> feeds, <c>M0==line</c> tracking (placed exactly, not as the paper did).
+/// How <see cref="Splitter"/> cuts a program into rotary-buffer chunks. Defaults: 1000 blocks and ~50 KB per chunk,
+/// <c>F(P500)</c> feeds, the <c>M0==line</c> synchronous assignment before each move's words (M0 names the move
+/// that executes).
 /// </summary>
 public sealed record SplitOptions
 {
-    /// <summary>At most this many source blocks per chunk (the paper's 1000 lines).</summary>
+    /// <summary>At most this many source blocks per chunk.</summary>
     public int LinesPerChunk { get; init; } = 1000;
 
-    /// <summary>The <c>DEFINE ROT</c> size in controller words a chunk must fit in (6400 x 8 bytes = the paper's ~50 KB).</summary>
+    /// <summary>The <c>DEFINE ROT</c> size in controller words a chunk must fit in (6400 x 8 bytes = ~50 KB).</summary>
     public int RotWords { get; init; } = 6400;
 
     /// <summary>
@@ -47,7 +48,7 @@ public sealed record SplitOptions
 
     /// <summary>
     /// Lines appended after the last source block of the last chunk (one line per <c>\n</c>). Default <c>M05</c>;
-    /// the paper's machine used <c>M03 M05</c> (a machine profile setting, not a constant).
+    /// some machines want <c>M03 M05</c> (a machine profile setting, not a constant).
     /// </summary>
     public string ProgramTail { get; init; } = "M05";
 
@@ -58,7 +59,7 @@ public sealed record SplitOptions
     public bool AllowErrors { get; init; }
 
     /// <summary>
-    /// When set (and <see cref="AllowErrors"/> is off), seed 002's checker runs against this machine profile in the
+    /// When set (and <see cref="AllowErrors"/> is off), the checker runs against this machine profile in the
     /// same streamed pass, on the same lexed blocks the splitter consumes; any error it finds refuses the split
     /// (<see cref="SplitException.FromChecker"/>), listing the errors, and nothing is written. When null only the
     /// lexical errors refuse.

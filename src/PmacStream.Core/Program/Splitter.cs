@@ -8,7 +8,7 @@ using Serilog;
 namespace PmacStream.Program;
 
 /// <summary>
-/// Seed 000's first step: cuts a G-code program into rotary-buffer chunk files a Turbo PMAC accepts, streaming the
+/// Cuts a G-code program into rotary-buffer chunk files a Turbo PMAC accepts, streaming the
 /// source (memory does not grow with its size). Each chunk is <c>CLOSE</c>, <c>OPEN ROT</c>, one line per source
 /// block (plus a <c>P500=</c> line where the program sets F), and <c>CLOSE</c>; the last one carries the program
 /// tail. Lines are ASCII with CR LF ends. Output goes to a temporary folder renamed into place at the end, so a
@@ -19,7 +19,7 @@ public static class Splitter
     /// <summary>Chunk files' extension.</summary>
     public const string ChunkExtension = ".pmc";
 
-    /// <summary>First lines of every chunk: close whatever buffer is open, open the rotary buffer (the paper's header).</summary>
+    /// <summary>First lines of every chunk: close whatever buffer is open, open the rotary buffer.</summary>
     public static readonly string Header = "CLOSE\r\nOPEN ROT\r\n";
 
     /// <summary>Last line of every chunk, so online commands (M0 reads, P500 writes) never land in an open buffer.</summary>

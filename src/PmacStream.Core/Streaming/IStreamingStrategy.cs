@@ -40,7 +40,7 @@ public static class StreamingStrategies
 }
 
 /// <summary>
-/// The paper's method: every tick read M0; when M0 lies in the download window of the current chunk (a fraction of
+/// The chunk method: every tick read M0; when M0 lies in the download window of the current chunk (a fraction of
 /// it, 0.6-0.7 by default) download the next chunk file exactly once, guarded by a bool flag that is reset when
 /// execution enters the next chunk. Never early; never without room; once late (with a log) when the window was missed.
 /// </summary>
@@ -53,7 +53,7 @@ public sealed class ChunkStrategy : IStreamingStrategy
     /// <inheritdoc />
     public string Name => "chunk";
 
-    /// <summary>The paper's download-once flag (true once the next chunk was sent in this chunk's window).</summary>
+    /// <summary>The download-once flag (true once the next chunk was sent in this chunk's window).</summary>
     public bool DownloadFlag => _downloaded;
 
     /// <inheritdoc />
@@ -75,7 +75,7 @@ public sealed class ChunkStrategy : IStreamingStrategy
         var current = context.CurrentChunk;
         if (current != _flagChunk)
         {
-            // Execution entered another chunk: the paper resets the flag here.
+            // Execution entered another chunk: the next chunk may be downloaded once again.
             _flagChunk = current;
             _downloaded = false;
             _waitLogged = false;

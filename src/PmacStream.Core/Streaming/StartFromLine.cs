@@ -61,7 +61,7 @@ public sealed record StartPlanOptions
 }
 
 /// <summary>
-/// "Start from any block" (the paper's HMI feature, and resume after an abort): replays the source through the
+/// "Start from any block" (an HMI command, and resume after an abort): replays the source through the
 /// interpreter up to the block, then builds a preamble that restores the modal state and approaches safely:
 /// retract to a safe Z, rapid in XY to the block's start, feed down to its Z, then the distance mode, motion mode and feed.
 /// </summary>

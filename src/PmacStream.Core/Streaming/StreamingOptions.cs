@@ -5,10 +5,10 @@ namespace PmacStream.Streaming;
 /// <summary>The ways of feeding the rotary buffer.</summary>
 public enum StrategyKind
 {
-    /// <summary>The paper's method: whole chunk files, the next one downloaded once when M0 enters the download window.</summary>
+    /// <summary>Whole chunk files, the next one downloaded once when M0 enters the current chunk's download window.</summary>
     Chunk,
 
-    /// <summary>The traditional method the paper compares against: poll <c>PR</c> and top the buffer up line by line.</summary>
+    /// <summary>The traditional method: poll <c>PR</c> and top the rotary buffer up line by line.</summary>
     Pr,
 
     /// <summary>Keep a time-based lead (seconds of motion ahead) from move times and the measured round trip, bounded by buffer words.</summary>
@@ -27,13 +27,13 @@ public sealed record StreamingOptions
     /// <summary>Which strategy feeds the buffer.</summary>
     public StrategyKind Strategy { get; init; } = StrategyKind.Chunk;
 
-    /// <summary>Timer period the host calls <see cref="StreamingSession.TickAsync"/> with (the paper's timer1 interval).</summary>
+    /// <summary>Timer period the host calls <see cref="StreamingSession.TickAsync"/> with (the HMI's timer1 interval).</summary>
     public TimeSpan TickPeriod { get; init; } = TimeSpan.FromMilliseconds(50);
 
-    /// <summary>Start of the download window as a fraction of the current chunk (paper: line 600 of 1000).</summary>
+    /// <summary>Start of the download window as a fraction of the current chunk (0.6: line 600 of a 1000-line chunk).</summary>
     public double WindowStart { get; init; } = 0.6;
 
-    /// <summary>End of the download window as a fraction of the current chunk (paper: line 700 of 1000).</summary>
+    /// <summary>End of the download window as a fraction of the current chunk (0.7: line 700 of a 1000-line chunk).</summary>
     public double WindowEnd { get; init; } = 0.7;
 
     /// <summary>Rotary buffer size in words (what <c>&amp;n DEFINE ROT</c> gave it).</summary>

@@ -22,7 +22,7 @@ public enum SessionState
     Aborted,
 }
 
-/// <summary>What the HMI and CLI show about a session (the paper's status panel).</summary>
+/// <summary>What the HMI and CLI show about a session (the status panel).</summary>
 /// <param name="State">Session state.</param>
 /// <param name="TotalChunks">Chunks in the program.</param>
 /// <param name="TotalBlocks">Motion blocks in the program.</param>

@@ -14,7 +14,7 @@ public class MachineProfileTests
         p.MCodes.Select(c => c.Group).Distinct().Should().BeEquivalentTo(MachineProfile.MGroupNames);
         foreach (var g in new[] { 0, 1, 2, 3, 4, 9, 17, 18, 19, 90, 91 })
         {
-            p.GGroupOf(g).Should().BeGreaterThanOrEqualTo(0, $"G{g:00} is in seed 000's table");
+            p.GGroupOf(g).Should().BeGreaterThanOrEqualTo(0, $"G{g:00} is in the FANUC milling code table");
         }
 
         p.GGroupOf(0).Should().Be(p.GGroupOf(3));

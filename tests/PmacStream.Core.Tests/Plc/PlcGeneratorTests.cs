@@ -4,7 +4,7 @@ namespace PmacStream.Core.Tests.Plc;
 
 public class PlcGeneratorTests
 {
-    // Seed 003's two statements, as printed in the paper (OCR damage 'I' -> '|', '1' -> '|' repaired).
+    // The motor forward/reverse interlock's two published PLC statements (OCR damage 'I' -> '|', '1' -> '|' repaired).
     private const string SeedKm1 = "(M800^1)&(M801|M900)&(M901^1)&(M803^1)";
     private const string SeedKm2 = "(M800^1)&(M802|M901)&(M900^1)&(M803^1)";
 

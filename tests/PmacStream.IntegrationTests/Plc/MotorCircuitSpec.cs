@@ -1,7 +1,7 @@
 namespace PmacStream.IntegrationTests.Plc;
 
 /// <summary>
-/// The relay circuit of seed 003 as an electrician describes it, written independently of the rungs: stop and
+/// The motor forward/reverse relay circuit as an electrician describes it, written independently of the rungs: stop and
 /// thermal trip drop both contactors; a running contactor holds itself in; from rest a start button pulls in its
 /// contactor (forward wins if both are held, as the scan order decides); the other direction is locked out until
 /// stopped. Inputs SB1 bit 0, SB2 bit 1, SB3 bit 2, KR bit 3; outputs KM1 bit 0, KM2 bit 1.

@@ -7,7 +7,7 @@ namespace PmacStream.IntegrationTests.Split;
 
 /// <summary>
 /// The splitter's chunks and PROG 1000/1001 library run on the simulated PMAC: one executed move per counted motion
-/// block, and the tracking placement proven — exact reports the executing move's own line, the paper's placement
+/// block, and the tracking placement proven — exact reports the executing move's own line, the Paper placement
 /// reports the previous motion line (the move of line i runs while M0 still holds the line before it).
 /// </summary>
 public sealed class TrackingOnSimulatorTests : IDisposable

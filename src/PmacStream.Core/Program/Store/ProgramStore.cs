@@ -27,7 +27,7 @@ public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256,
 }
 
 /// <summary>
-/// The relational program store of seed 002 (SQLite): a <c>programs</c> table, a <c>blocks</c> table with one row per
+/// The relational program store (SQLite): a <c>programs</c> table, a <c>blocks</c> table with one row per
 /// interpreted block (<c>Lines, GA..GI, MA..MC, X, Y, Z, I, J, K, R, F, S, T, H, P</c> plus D, the absolute start/end
 /// positions, arc centre, motion kind, length, time and the modal T/H/D/S/F) and a <c>diagnostics</c> table. Single
 /// block, selected blocks and continuous execution (and the preview) read from here. Inserts go through one prepared
