@@ -3,10 +3,10 @@ namespace PmacStream.Testing;
 /// <summary>Finds an external tool the way a shell does, on PATH, so hiding it from PATH hides it from the tests.</summary>
 public static class Tools
 {
-    /// <summary>The full path of an executable named <paramref name="name"/> on PATH, or null.</summary>
-    public static string? Find(string name)
+    /// <summary>The full path of an executable named <paramref name="name"/> on PATH (or on <paramref name="searchPath"/>), or null.</summary>
+    public static string? Find(string name, string? searchPath = null)
     {
-        var path = Environment.GetEnvironmentVariable("PATH") ?? string.Empty;
+        var path = searchPath ?? Environment.GetEnvironmentVariable("PATH") ?? string.Empty;
         foreach (var dir in path.Split(System.IO.Path.PathSeparator, StringSplitOptions.RemoveEmptyEntries))
         {
             string[] candidates = OperatingSystem.IsWindows() ? [name + ".exe", name] : [name];
