@@ -1,4 +1,5 @@
 using System.CommandLine;
+using PmacStream.Jobs;
 using Serilog;
 using Serilog.Events;
 
@@ -70,6 +71,22 @@ internal static class CliGlobals
             await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return e.ExitCode;
         }
+        catch (RunSettingsException e)
+        {
+            // Already FILE:LINE:COL: error CODE: message, as every bad input is reported.
+            await Console.Error.WriteLineAsync(e.Message).ConfigureAwait(false);
+            return UsageOrIo;
+        }
+        catch (ProgramRefusedException e)
+        {
+            await ReportRefusalAsync(prefix, e).ConfigureAwait(false);
+            return Failed;
+        }
+        catch (JobException e)
+        {
+            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+            return e.Kind == JobErrorKind.BadRequest ? UsageOrIo : Failed;
+        }
         catch (Exception e) when (e is IOException or InvalidDataException or UnauthorizedAccessException or Microsoft.Data.Sqlite.SqliteException)
         {
             await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
@@ -87,6 +104,26 @@ internal static class CliGlobals
             await Console.Error.WriteLineAsync($"{prefix}: unexpected error: {e.Message} (run with --log-file for details)").ConfigureAwait(false);
             return Failed;
         }
+    }
+
+    /// <summary>Every error the check found, as <c>FILE:LINE:COL: error CODE: message</c>, then what was (not) done.</summary>
+    private static async Task ReportRefusalAsync(string prefix, ProgramRefusedException e)
+    {
+        var relative = Path.GetRelativePath(Environment.CurrentDirectory, e.SourcePath);
+        var file = relative.StartsWith("..", StringComparison.Ordinal) ? e.SourcePath : relative;
+        foreach (var line in e.Lines(file))
+        {
+            await Console.Error.WriteLineAsync(line).ConfigureAwait(false);
+        }
+
+        if (e.ErrorCount > e.Diagnostics.Count)
+        {
+            await Console.Error.WriteLineAsync($"... and {e.ErrorCount - e.Diagnostics.Count} more").ConfigureAwait(false);
+        }
+
+        await Console.Error.WriteLineAsync(e.ErrorCount > 0
+            ? $"{prefix}: {file}: {e.ErrorCount} error(s); nothing sent to the controller (--force runs it anyway)"
+            : $"{prefix}: {e.Message}; nothing sent to the controller").ConfigureAwait(false);
     }
 
     private static void ConfigureLogging(bool verbose, string? logFile)

@@ -29,7 +29,15 @@ public sealed class PmacDevices : IPmacDevices, IAsyncDisposable
         }
     }
 
-    /// <summary>Configures device <paramref name="pmacNumber"/> from a connection spec (see <see cref="PmacConnections.Create"/>).</summary>
+    /// <summary>A facade with one device configured: <paramref name="connection"/> as <paramref name="pmacNumber"/>.</summary>
+    public static PmacDevices Of(int pmacNumber, IPmacConnection connection)
+    {
+        var devices = new PmacDevices();
+        devices.Add(pmacNumber, connection);
+        return devices;
+    }
+
+    /// <summary>Configures device <paramref name="pmacNumber"/> from a connection spec (see <see cref="ConnectionSpec.Parse"/>).</summary>
     public void AddFromSpec(int pmacNumber, string spec, TimeSpan? timeout = null) => Add(pmacNumber, PmacConnections.Create(spec, timeout));
 
     /// <summary>The configured device numbers.</summary>

@@ -1,5 +1,6 @@
 using System.Globalization;
 using PmacStream.Hmi;
+using PmacStream.Jobs;
 
 namespace PmacStream.WinForms;
 
@@ -36,7 +37,7 @@ internal sealed class MainForm : Form, IMainView
     private readonly Button btnCheck = new();
     private readonly Button btnSplit = new();
     private readonly Label lblLinesPerChunk = new();
-    private readonly NumericUpDown numLinesPerChunk = new() { Minimum = 1, Maximum = 100000, Value = 1000 };
+    private readonly NumericUpDown numLinesPerChunk = new() { Minimum = 1, Maximum = 100000, Value = RunSettings.DefaultLinesPerChunk };
     private readonly Label lblStrategy = new();
     private readonly ComboBox cboStrategy = new() { DropDownStyle = ComboBoxStyle.DropDownList };
     private readonly Label lblLanguage = new();
@@ -191,7 +192,11 @@ internal sealed class MainForm : Form, IMainView
     }
 
     /// <summary>Attaches the presenter whose tick the timer drives; the timer starts when the window shows.</summary>
-    public void Attach(MainPresenter presenter) => _presenter = presenter;
+    public void Attach(MainPresenter presenter)
+    {
+        _presenter = presenter;
+        timer1.Interval = (int)Math.Max(1, presenter.TickPeriod.TotalMilliseconds); // the run settings' tick period
+    }
 
     // ------------------------------------------------------------------ IMainView
 
@@ -213,6 +218,16 @@ internal sealed class MainForm : Form, IMainView
     public event EventHandler? ResumeInterruptedRequested;
     public event EventHandler? SingleBlockChanged;
     public event EventHandler? FeedChanged;
+
+    // The form has no window control yet (the next layout revision adds one); the presenter's window is kept and
+    // shown through this property, and nothing raises the event.
+    public event EventHandler? DownloadWindowChanged
+    {
+        add { }
+        remove { }
+    }
+
+    public (double Start, double End) DownloadWindow { get; set; } = (RunSettings.DefaultWindowStart, RunSettings.DefaultWindowEnd);
 
     IReadOnlyDictionary<TextId, string> IMainView.Texts
     {
@@ -266,7 +281,11 @@ internal sealed class MainForm : Form, IMainView
         }
     }
 
-    public int LinesPerChunk => (int)numLinesPerChunk.Value;
+    public int LinesPerChunk
+    {
+        get => (int)numLinesPerChunk.Value;
+        set => numLinesPerChunk.Value = Math.Clamp(value, numLinesPerChunk.Minimum, numLinesPerChunk.Maximum);
+    }
 
     IReadOnlyList<string> IMainView.Strategies
     {

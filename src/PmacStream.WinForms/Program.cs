@@ -1,4 +1,5 @@
 using PmacStream.Hmi;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Sim;
 using Serilog;
@@ -18,24 +19,38 @@ internal static class Program
         Log.Logger = new LoggerConfiguration().MinimumLevel.Information().WriteTo.Hmi(sink).CreateLogger();
 
         // The built-in simulated Turbo PMAC: created on first connect, its clock in real time, reached through an
-        // in-process port, with the PROG 1000/1001 G/M-code library downloaded as a real controller would need.
+        // in-process port; the job service downloads the PROG 1000/1001 library as a real controller would need.
         PmacSimulator? simulator = null;
-        var backend = new CoreHmiBackend(simulator: async cancellationToken =>
+        var service = new JobService(new JobServiceOptions
         {
-            if (simulator is null)
+            Simulator = _ =>
             {
-                simulator = new PmacSimulator(new SimOptions { Speed = SimSpeed.Realtime });
-                simulator.StartClock();
-            }
+                if (simulator is null)
+                {
+                    simulator = new PmacSimulator(new SimOptions { Speed = SimSpeed.Realtime });
+                    simulator.StartClock();
+                }
 
-            var connection = new InProcessConnection(simulator.OpenPort("hmi"), "simulator (in-process)");
-            await ControllerSetup.DownloadTolerantAsync(connection, ControllerSetup.Library(), cancellationToken);
-            return connection;
+                var connection = new InProcessConnection(simulator.OpenPort("hmi"), "simulator (in-process)");
+                return Task.FromResult(new SimulatorLink(connection, new SimTimeProvider(simulator)));
+            },
         });
+
+        // The run settings the command line reads too (~/.pmacstream/settings.json when it exists).
+        RunSettings settings;
+        try
+        {
+            settings = RunSettingsFile.Load();
+        }
+        catch (Exception e) when (e is RunSettingsException or IOException)
+        {
+            MessageBox.Show(e.Message, "PmacStream", MessageBoxButtons.OK, MessageBoxIcon.Warning);
+            settings = RunSettings.Default;
+        }
 
         using (var form = new MainForm())
         {
-            var presenter = new MainPresenter(form, backend, sink);
+            var presenter = new MainPresenter(form, new CoreHmiBackend(service), sink, settings: settings);
             form.Attach(presenter);
             Application.Run(form);
 

@@ -1,10 +1,12 @@
 using System.CommandLine;
+using PmacStream.Jobs;
+using PmacStream.Pmac;
 using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;
 
 /// <summary>
-/// `pmacstream demo`: the walking skeleton. Splits samples/demo.nc with the paper's method into a temporary folder,
+/// `pmacstream demo`: the walking skeleton. Prepares samples/demo.nc through the job service into a temporary folder,
 /// streams it with the chunk strategy (timer tick reads M0, next chunk downloaded once in the 600-700 window) into the
 /// in-process simulator on a fast virtual clock, and counts executed blocks from the simulator's executed-move log.
 /// </summary>
@@ -13,27 +15,32 @@ internal static class DemoCommand
     public static Command Create()
     {
         var cmd = new Command("demo", "Stream the sample program into the built-in simulator, with progress.");
-        var common = StreamRunner.AddCommonOptions(cmd, forDemo: true);
+        var options = JobOptions.AddTo(cmd, JobFace.Demo);
         cmd.SetAction(async (parse, ct) =>
         {
-            var settings = common.Settings(parse);
+            var settings = options.Settings(parse);
+            var speed = options.SimSpeed(parse);
             var source = FindDemo() ?? throw new CliException("samples/demo.nc not found beside the executable or in the repository");
             var temp = Path.Combine(Path.GetTempPath(), $"pmacstream-demo-{Environment.ProcessId}-{Guid.NewGuid():N}");
             Directory.CreateDirectory(temp);
             try
             {
-                var program = StreamRunner.Prepare(source, Path.Combine(temp, "chunks"), 1000);
-                await using var target = await StreamTarget.OpenAsync("sim", settings.SimSpeed, ct).ConfigureAwait(false);
-                Console.WriteLine($"demo: {Path.GetFileName(source)} split into {program.TotalChunks} chunks of up to 1000 lines ({program.Manifest.TotalMotionBlocks} motion blocks); simulator at {settings.SimSpeed}");
-                var session = StreamRunner.NewSession(target, program, StrategyKind.Chunk, settings, null, source);
-                session.EventRaised += (_, e) =>
+                using var sim = new CliSimulator(speed);
+                var service = new JobService(new JobServiceOptions { Simulator = sim.OpenAsync });
+                var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { OutDir = Path.Combine(temp, "chunks") }, null, ct).ConfigureAwait(false);
+                var program = prepared.Program;
+                await using var controller = await service.ConnectAsync(ConnectionSpec.Simulator, prepared.Profile, ct).ConfigureAwait(false);
+                Console.WriteLine($"demo: {Path.GetFileName(source)} split into {program.TotalChunks} chunks of up to {settings.LinesPerChunk} lines ({program.Manifest.TotalMotionBlocks} motion blocks); simulator at {speed}");
+                await using var job = await service.CreateJobAsync(controller, new JobRequest(program, StrategyKind.Chunk) { Settings = settings, Record = false }, ct)
+                    .ConfigureAwait(false);
+                job.EventRaised += (_, e) =>
                 {
                     if (e.Kind is StreamingEventKind.ChunkDownloaded or StreamingEventKind.ChunkEntered)
                     {
                         Console.WriteLine($"  {e.Message}");
                     }
                 };
-                return await StreamRunner.RunAsync(session, target, null, 0, null, s => s.StartAsync(), ct, "demo", showUnderruns: false).ConfigureAwait(false);
+                return await JobConsole.RunAsync(job, sim, start: true, null, ct, "demo", showUnderruns: false).ConfigureAwait(false);
             }
             finally
             {

@@ -1,5 +1,6 @@
 using System.CommandLine;
 using PmacStream.GCode;
+using PmacStream.Jobs;
 using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;
@@ -13,16 +14,16 @@ internal static class SplitCommand
     {
         var file = new Argument<string>("file") { Description = "The G-code program to split." };
         var outDir = new Option<string?>("--out") { Description = "Output folder (default: <name>_chunks beside the source). Replaced only if it holds a previous split." };
-        var lines = new Option<int>("--lines") { Description = "Most source blocks per chunk.", DefaultValueFactory = _ => 1000 };
-        var rotWords = new Option<int>("--rot-words") { Description = "DEFINE ROT size in words a chunk must fit (byte budget = words x --bytes-per-word).", DefaultValueFactory = _ => 6400 };
+        var lines = new Option<int>("--lines") { Description = "Most source blocks per chunk.", DefaultValueFactory = _ => RunSettings.DefaultLinesPerChunk };
+        var rotWords = new Option<int>("--rot-words") { Description = "DEFINE ROT size in words a chunk must fit (byte budget = words x --bytes-per-word).", DefaultValueFactory = _ => RunSettings.DefaultChunkWords };
         var wordsPerBlock = new Option<int>("--words-per-block") { Description = "Words charged at least per block (estimate).", DefaultValueFactory = _ => 6 };
         var bytesPerWord = new Option<int>("--bytes-per-word") { Description = "Text bytes allowed per rotary word.", DefaultValueFactory = _ => 8 };
-        var trackVar = new Option<string>("--track-var") { Description = "M-variable receiving the executing source line.", DefaultValueFactory = _ => "M0" };
+        var trackVar = new Option<string>("--track-var") { Description = "M-variable receiving the executing source line.", DefaultValueFactory = _ => RunSettings.DefaultTrackVariable };
         var tracking = new Option<string>("--tracking") { Description = "exact: M0==line before the move (M0 = executing line); paper: after it, as the paper does.", DefaultValueFactory = _ => "exact" };
         tracking.AcceptOnlyFromAmong("exact", "paper");
         var feed = new Option<string>("--feed") { Description = "paper: F(P500) on moves, programmed F carried into P500; override: keep F words.", DefaultValueFactory = _ => "paper" };
         feed.AcceptOnlyFromAmong("paper", "override");
-        var feedVar = new Option<string>("--feed-var") { Description = "Variable the feed expression reads.", DefaultValueFactory = _ => "P500" };
+        var feedVar = new Option<string>("--feed-var") { Description = "Variable the feed expression reads.", DefaultValueFactory = _ => RunSettings.DefaultFeedVariable };
         var tail = new Option<string?>("--tail") { Description = "Program tail appended to the last chunk (default: the profile's, M05; the paper's machine: \"M03 M05\")." };
         var profile = new Option<string?>("--profile") { Description = "Machine profile JSON the program is checked against (default: the built-in milling set)." };
         var keepN = new Option<bool>("--keep-n") { Description = "Keep N numbers (a PMAC reads them as labels)." };

@@ -1,4 +1,5 @@
 using PmacStream.GCode;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Program;
 
@@ -33,6 +34,16 @@ public sealed record ConnectionSettings(
     int Baud = 38400,
     int PcommDevice = 0)
 {
+    /// <summary>The link as every face spells it (<c>sim</c>, <c>tcp://host:port</c>, <c>serial:port@baud</c>, <c>pcomm32:n</c>).</summary>
+    /// <exception cref="FormatException">The address or port is not valid.</exception>
+    public ConnectionSpec ToSpec() => Device switch
+    {
+        DeviceKind.Ethernet => ConnectionSpec.Ethernet(EthernetAddress),
+        DeviceKind.Serial => ConnectionSpec.SerialLine(SerialPort, Baud),
+        DeviceKind.Pcomm32 => ConnectionSpec.Pcomm(PcommDevice),
+        _ => ConnectionSpec.Simulator,
+    };
+
     /// <summary>A short description for the log.</summary>
     public override string ToString() => Device switch
     {
@@ -54,11 +65,6 @@ public sealed record HmiCheckResult(IReadOnlyList<Diagnostic> Diagnostics, long 
     public static HmiCheckResult FromList(IReadOnlyList<Diagnostic> diagnostics, long blocks) =>
         new(diagnostics, blocks, diagnostics.Count(d => d.Severity == Severity.Error), diagnostics.Count(d => d.Severity == Severity.Warning));
 }
-
-/// <summary>What to split and how.</summary>
-/// <param name="SourcePath">The program.</param>
-/// <param name="LinesPerChunk">Blocks per chunk file (1000 by default).</param>
-public sealed record HmiSplitRequest(string SourcePath, int LinesPerChunk);
 
 /// <summary>A split program: its manifest and the folder holding the manifest and chunk files.</summary>
 /// <param name="Manifest">The splitter's manifest.</param>
@@ -120,7 +126,8 @@ public sealed record HmiJobStatus(
 /// <param name="FromLine">Start at this source line (with the restore preamble), or null for the beginning.</param>
 /// <param name="SingleBlock">One block per start.</param>
 /// <param name="Feed">Initial feed (P500 value or override percent).</param>
-public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int? FromLine, bool SingleBlock, double Feed);
+/// <param name="Settings">Buffer words, download window, tick period and safe Z of the job.</param>
+public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int? FromLine, bool SingleBlock, double Feed, RunSettings Settings);
 
 /// <summary>A job that stopped before its end, as the job store recorded it.</summary>
 /// <param name="JobId">Job record id.</param>
@@ -161,32 +168,36 @@ public interface IHmiJob : IAsyncDisposable
 }
 
 /// <summary>
-/// What the presenter needs from the rest of PmacStream: the seam between the screen and the checker, splitter,
-/// streaming session, job store and transports. the real one wires the core classes; tests use fakes.
+/// What the presenter needs from the rest of PmacStream: the seam between the screen and the job service. The real
+/// one (<see cref="CoreHmiBackend"/>) maps each call onto <see cref="JobService"/>, the service the command line
+/// calls too; tests of the presenter's own logic use a fake.
 /// </summary>
 public interface IHmiBackend
 {
     /// <summary>Strategy names for the selector, the default first.</summary>
     IReadOnlyList<string> Strategies { get; }
 
-    /// <summary>Opens a controller link.</summary>
-    Task<IPmacConnection> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default);
+    /// <summary>Opens a controller link (the library is downloaded to the built-in simulator).</summary>
+    Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default);
 
     /// <summary>Checks a program (every diagnostic, in the language asked).</summary>
     Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default);
 
-    /// <summary>Splits a program into chunk files (refuses one with errors, saying which).</summary>
-    Task<HmiSplitResult> SplitAsync(HmiSplitRequest request, CancellationToken cancellationToken = default);
+    /// <summary>
+    /// Checks and splits a program with the job's settings (reusing a matching earlier split); a program with errors is
+    /// refused with <see cref="ProgramRefusedException"/> listing them, whether or not a check ran first.
+    /// </summary>
+    Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default);
 
-    /// <summary>The controller lines that restore the machine state before starting at a source line.</summary>
-    Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default);
+    /// <summary>The G-code preamble that restores the machine state before starting at a source line (what is shown and sent).</summary>
+    Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default);
 
     /// <summary>Prepares the controller, downloads the first chunk and starts execution (<c>&amp;1R</c>).</summary>
-    Task<IHmiJob> StartAsync(IPmacConnection connection, HmiJobRequest request, CancellationToken cancellationToken = default);
+    Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default);
 
     /// <summary>The newest unfinished job recorded for a program, or null.</summary>
     Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default);
 
     /// <summary>Continues an interrupted job from its checkpoint, without losing or repeating a block.</summary>
-    Task<IHmiJob> ResumeInterruptedAsync(IPmacConnection connection, HmiInterruptedJob job, double feed, CancellationToken cancellationToken = default);
+    Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default);
 }

@@ -107,8 +107,17 @@ public interface IMainView
     /// <summary>A diagnostic row was double-clicked (its index).</summary>
     event EventHandler<int>? DiagnosticActivated;
 
-    /// <summary>Blocks per chunk file (numeric box).</summary>
-    int LinesPerChunk { get; }
+    /// <summary>Blocks per chunk file (numeric box); the presenter shows the run settings' value first.</summary>
+    int LinesPerChunk { get; set; }
+
+    /// <summary>
+    /// The download window of the chunk strategy: start and end as fractions of the executing chunk (the paper's lines
+    /// 600-700 of 1000 are 0.6 and 0.7). The presenter shows the run settings' window; setting it raises no event.
+    /// </summary>
+    (double Start, double End) DownloadWindow { get; set; }
+
+    /// <summary>The operator changed the download window (it applies to the next job started).</summary>
+    event EventHandler? DownloadWindowChanged;
 
     /// <summary>Split clicked.</summary>
     event EventHandler? SplitRequested;

@@ -1,6 +1,6 @@
 using System.Globalization;
 using PmacStream.GCode;
-using PmacStream.Pmac;
+using PmacStream.Jobs;
 using PmacStream.Program;
 using Serilog;
 
@@ -16,7 +16,6 @@ public sealed class MainPresenter : IAsyncDisposable
     /// <summary>Lines indexed before a newly opened program is shown (more than any screen holds).</summary>
     public const int FirstScreenLines = 256;
 
-
     private readonly ILogger _log;
     private readonly IMainView _view;
     private readonly IHmiBackend _backend;
@@ -25,7 +24,7 @@ public sealed class MainPresenter : IAsyncDisposable
     private readonly CancellationTokenSource _life = new();
 
     private HmiLanguage _language;
-    private IPmacConnection? _connection;
+    private ControllerLink? _connection;
     private bool _connecting;
     private int _busy;
     private bool _ticking;
@@ -40,13 +39,17 @@ public sealed class MainPresenter : IAsyncDisposable
     private int _shownExecutingLine;
     private double _feed;
     private FeedScale _feedScale = FeedScale.Paper;
+    private RunSettings _settings;
 
     /// <summary>
     /// Wires the presenter to a view and the core. <paramref name="logSink"/> feeds the log pane (the application
-    /// adds it to the global Serilog logger); <paramref name="logger"/> replaces the global logger for job events.
+    /// adds it to the global Serilog logger); <paramref name="logger"/> replaces the global logger for job events;
+    /// <paramref name="settings"/> are the run settings the controls start from (the command line's, from the same
+    /// settings file; default <see cref="RunSettings.Default"/>).
     /// </summary>
-    public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null, ILogger? logger = null)
+    public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null, ILogger? logger = null, RunSettings? settings = null)
     {
+        _settings = settings ?? RunSettings.Default;
         _log = logger ?? Serilog.Log.ForContext<MainPresenter>();
         _view = view;
         _backend = backend;
@@ -72,12 +75,15 @@ public sealed class MainPresenter : IAsyncDisposable
         view.AbortRequested += (_, _) => Run(() => JobCommandAsync(j => j.AbortAsync(_life.Token), "abort"));
         view.SingleBlockChanged += (_, _) => Run(SingleBlockChangedAsync);
         view.FeedChanged += (_, _) => Run(FeedChangedAsync);
+        view.DownloadWindowChanged += (_, _) => Run(DownloadWindowChangedAsync);
 
         view.Texts = HmiText.All(_language);
         view.Strategies = backend.Strategies;
         view.ConnectionState = T(TextId.StateDisconnected);
         view.FeedScale = _feedScale;
         view.Feed = _feed;
+        view.LinesPerChunk = _settings.LinesPerChunk;
+        view.DownloadWindow = (_settings.WindowStart, _settings.WindowEnd);
         view.ProgramLineCount = 0;
         view.ChunkLineCount = 0;
         RefreshCommands();
@@ -89,6 +95,12 @@ public sealed class MainPresenter : IAsyncDisposable
 
     /// <summary>The running or last job's status.</summary>
     public HmiJobStatus? JobStatus => _lastStatus;
+
+    /// <summary>The run settings the next job starts with (lines per chunk and window as the controls last set them).</summary>
+    public RunSettings Settings => _settings;
+
+    /// <summary>The timer period the form ticks with (<see cref="TickAsync"/>).</summary>
+    public TimeSpan TickPeriod => _settings.TickPeriod;
 
     /// <summary>True while a job is running or held.</summary>
     public bool JobActive => _job is not null;
@@ -331,11 +343,16 @@ public sealed class MainPresenter : IAsyncDisposable
     {
         var program = _program ?? throw new InvalidOperationException("Open a program first.");
         var result = await _backend.CheckAsync(program.Path, _language, _life.Token).ConfigureAwait(true);
+        ShowDiagnostics(result);
+        _log.Information("Checked {Path:l}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
+    }
+
+    private void ShowDiagnostics(HmiCheckResult result)
+    {
         _check = result;
         _view.Diagnostics = result.Diagnostics
             .Select(d => string.Create(CultureInfo.InvariantCulture, $"{d.Line}:{d.Column}  {(d.Severity == Severity.Error ? "E" : "W")}  {d.Code}  {d.Message}"))
             .ToList();
-        _log.Information("Checked {Path:l}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
     }
 
     private void JumpToDiagnostic(int index)
@@ -349,17 +366,42 @@ public sealed class MainPresenter : IAsyncDisposable
     private async Task SplitAsync()
     {
         var program = _program ?? throw new InvalidOperationException("Open a program first.");
-        if (_check is { Errors: > 0 } c)
+        _settings = _settings with { LinesPerChunk = Math.Max(1, _view.LinesPerChunk) };
+        HmiSplitResult split;
+        try
         {
-            var first = c.Diagnostics.First(d => d.Severity == Severity.Error);
-            throw new InvalidOperationException(F(TextId.ProgramHasErrors, first.Format(Path.GetFileName(program.Path))));
+            // The job service's gate: the program is checked under the machine profile whether or not Check ran.
+            split = await _backend.PrepareAsync(program.Path, _settings, _life.Token).ConfigureAwait(true);
+        }
+        catch (ProgramRefusedException e)
+        {
+            ShowDiagnostics(HmiCheckResult.FromList(e.Diagnostics, 0));
+            var first = e.Diagnostics.FirstOrDefault(d => d.Severity == Severity.Error);
+            throw new InvalidOperationException(first is null ? e.Message : F(TextId.ProgramHasErrors, first.Format(Path.GetFileName(program.Path))), e);
         }
 
-        var linesPerChunk = Math.Max(1, _view.LinesPerChunk);
-        var split = await _backend.SplitAsync(new HmiSplitRequest(program.Path, linesPerChunk), _life.Token).ConfigureAwait(true);
         SetSplit(split);
         _log.Information("Split {Path:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
             program.Path, split.Manifest.Chunks.Count, split.Manifest.TotalBlocks, split.Directory);
+    }
+
+    private Task DownloadWindowChangedAsync()
+    {
+        var (start, end) = _view.DownloadWindow;
+        var next = _settings with { WindowStart = start, WindowEnd = end };
+        try
+        {
+            next.Validate();
+        }
+        catch (ArgumentException e)
+        {
+            _view.DownloadWindow = (_settings.WindowStart, _settings.WindowEnd);
+            throw new InvalidOperationException(e.Message, e);
+        }
+
+        _settings = next;
+        _log.Information("Download window set to {Window:l} of a chunk{When:l}", next.Window, _job is null ? string.Empty : " (from the next job)");
+        return Task.CompletedTask;
     }
 
     private void SetSplit(HmiSplitResult split)
@@ -427,7 +469,7 @@ public sealed class MainPresenter : IAsyncDisposable
             throw new InvalidOperationException(T(TextId.SelectLineFirst));
         }
 
-        var preamble = await _backend.BuildPreambleAsync(split, line, _life.Token).ConfigureAwait(true);
+        var preamble = await _backend.BuildPreambleAsync(split, line, _settings, _life.Token).ConfigureAwait(true);
         var ok = await _view.ConfirmAsync(T(TextId.ConfirmStartTitle), F(TextId.ConfirmStartText, line, string.Join(Environment.NewLine, preamble))).ConfigureAwait(true);
         if (!ok)
         {
@@ -441,7 +483,7 @@ public sealed class MainPresenter : IAsyncDisposable
     private async Task StartAsync(int? fromLine)
     {
         var split = RequireReady();
-        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feed);
+        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feed, _settings);
         var job = await _backend.StartAsync(_connection!, request, _life.Token).ConfigureAwait(true);
         BeginJob(job);
         _log.Information("Job started{From:l} with strategy {Strategy:l}, feed {Feed} {Unit:l}",
@@ -459,7 +501,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var connection = _connection ?? throw new InvalidOperationException("Connect to a controller first.");
         var interrupted = await _backend.FindInterruptedAsync(program.Path, _life.Token).ConfigureAwait(true)
             ?? throw new InvalidOperationException(T(TextId.NoInterruptedJob));
-        var preamble = await _backend.BuildPreambleAsync(interrupted.Program, interrupted.ResumeLine, _life.Token).ConfigureAwait(true);
+        var preamble = await _backend.BuildPreambleAsync(interrupted.Program, interrupted.ResumeLine, _settings, _life.Token).ConfigureAwait(true);
         var text = F(TextId.ConfirmResumeText, interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk, string.Join(Environment.NewLine, preamble));
         if (!await _view.ConfirmAsync(T(TextId.ConfirmResumeTitle), text).ConfigureAwait(true))
         {
@@ -472,7 +514,7 @@ public sealed class MainPresenter : IAsyncDisposable
             SetSplit(interrupted.Program);
         }
 
-        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feed, _life.Token).ConfigureAwait(true);
+        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feed, _settings, _life.Token).ConfigureAwait(true);
         BeginJob(job);
         _log.Information("Job {Job} resumed at line {Line} (chunk {Chunk})", interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk);
     }

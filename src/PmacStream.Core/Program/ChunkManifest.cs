@@ -81,6 +81,15 @@ public sealed record ChunkManifest(
     /// <summary>True when N numbers were kept in the chunks.</summary>
     public bool KeepN { get; init; }
 
+    /// <summary>True when block delete was on (<c>/</c> blocks left out); manifests of older versions read as on.</summary>
+    public bool BlockDelete { get; init; } = true;
+
+    /// <summary>
+    /// The machine profile the program was checked against while it was split, as <see cref="SplitOptions.CheckedProfile"/>
+    /// names it (profile name and digest); null when it was not checked (forced, or no profile given).
+    /// </summary>
+    public string? CheckedProfile { get; init; }
+
     /// <summary>Reads a manifest.</summary>
     public static ChunkManifest Load(string path)
     {
@@ -142,6 +151,16 @@ public sealed record ChunkManifest(
         }
 
         w.WriteBoolean("keepN", KeepN);
+        w.WriteBoolean("blockDelete", BlockDelete);
+        if (CheckedProfile == null)
+        {
+            w.WriteNull("checkedProfile");
+        }
+        else
+        {
+            w.WriteString("checkedProfile", CheckedProfile);
+        }
+
         w.WriteEndObject();
     }
 

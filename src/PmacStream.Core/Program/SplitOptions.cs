@@ -10,10 +10,10 @@ namespace PmacStream.Program;
 public sealed record SplitOptions
 {
     /// <summary>At most this many source blocks per chunk.</summary>
-    public int LinesPerChunk { get; init; } = 1000;
+    public int LinesPerChunk { get; init; } = Jobs.RunSettings.DefaultLinesPerChunk;
 
     /// <summary>The <c>DEFINE ROT</c> size in controller words a chunk must fit in (6400 x 8 bytes = ~50 KB).</summary>
-    public int RotWords { get; init; } = 6400;
+    public int RotWords { get; init; } = Jobs.RunSettings.DefaultChunkWords;
 
     /// <summary>
     /// Explicit words-per-block estimate: every emitted block is charged at least this many rotary-buffer words
@@ -29,7 +29,7 @@ public sealed record SplitOptions
     public long MaxChunkBytes => (long)RotWords * BytesPerWord;
 
     /// <summary>The M-variable that receives the executing source line (<c>M0==line</c>).</summary>
-    public string TrackVariable { get; init; } = "M0";
+    public string TrackVariable { get; init; } = Jobs.RunSettings.DefaultTrackVariable;
 
     /// <summary>Where the tracking assignment goes (exact: before the move; paper: after it).</summary>
     public TrackingPlacement Tracking { get; init; } = TrackingPlacement.Exact;
@@ -38,7 +38,7 @@ public sealed record SplitOptions
     public FeedMode Feed { get; init; } = FeedMode.Paper;
 
     /// <summary>The variable the feed expression reads (<c>F(P500)</c>).</summary>
-    public string FeedVariable { get; init; } = "P500";
+    public string FeedVariable { get; init; } = Jobs.RunSettings.DefaultFeedVariable;
 
     /// <summary>Keep <c>N</c> numbers (a PMAC reads them as labels, so they are dropped by default).</summary>
     public bool KeepN { get; init; }
@@ -65,6 +65,13 @@ public sealed record SplitOptions
     /// lexical errors refuse.
     /// </summary>
     public MachineProfile? CheckProfile { get; init; }
+
+    /// <summary>
+    /// The profile the split is checked against, named for the manifest and for reusing a split: the profile's name
+    /// and the start of the SHA-256 of its JSON (two profiles of one name but other codes differ); null when the split
+    /// does not check (<see cref="AllowErrors"/>, or no <see cref="CheckProfile"/>).
+    /// </summary>
+    public string? CheckedProfile => CheckProfile is null || AllowErrors ? null : ProfileIdentity(CheckProfile);
 
     /// <summary>How many errors a refusal lists (the total is always counted).</summary>
     public int MaxReportedErrors { get; init; } = 50;
@@ -108,6 +115,14 @@ public sealed record SplitOptions
                 throw new ArgumentException($"program tail must be plain ASCII (got '{ProgramTail}')");
             }
         }
+    }
+
+    /// <summary>A machine profile's name and digest (see <see cref="CheckedProfile"/>).</summary>
+    public static string ProfileIdentity(MachineProfile profile)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        var digest = System.Security.Cryptography.SHA256.HashData(System.Text.Encoding.UTF8.GetBytes(profile.ToJson()));
+        return $"{profile.Name}@{Convert.ToHexStringLower(digest.AsSpan(0, 8))}";
     }
 
     /// <summary>P, Q or M followed by 1-4 digits (no Regex: it would load an assembly for one check).</summary>

@@ -1,6 +1,5 @@
 using System.Runtime.CompilerServices;
 using System.Runtime.InteropServices;
-using System.Security.Cryptography;
 using System.Text;
 using PmacStream.GCode;
 using Serilog;
@@ -99,12 +98,17 @@ public static class Splitter
         foreach (var f in Directory.EnumerateFileSystemEntries(outDir))
         {
             var name = Path.GetFileName(f);
-            if (!(name == ChunkManifest.FileName || name.EndsWith(ChunkExtension, StringComparison.OrdinalIgnoreCase)) || Directory.Exists(f))
+            if (!(name == ChunkManifest.FileName || name.EndsWith(ChunkExtension, StringComparison.OrdinalIgnoreCase) || IsDownloadReport(f)) || Directory.Exists(f))
             {
                 throw new IOException($"{outDir}: folder exists and holds other files ({name}); choose another --out");
             }
         }
     }
+
+    /// <summary>The <c>.log</c> and <c>.map</c> a PComm-style download writes beside a chunk file are part of the split.</summary>
+    private static bool IsDownloadReport(string path) =>
+        (path.EndsWith(".log", StringComparison.OrdinalIgnoreCase) || path.EndsWith(".map", StringComparison.OrdinalIgnoreCase))
+        && File.Exists(Path.ChangeExtension(path, ChunkExtension));
 
     private static void Publish(string temp, string outDir)
     {
@@ -272,7 +276,7 @@ public static class Splitter
             long size;
             _totalBytes = new FileInfo(_source).Length;
             // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
-            var sourceHash = Task.Run(() => HashFile(_source), _ct);
+            var sourceHash = Task.Run(() => (Sha: FileHash.Sha256Hex(_source, out var hashed), Size: hashed), _ct);
             using var stop = CancellationTokenSource.CreateLinkedTokenSource(_ct);
             using var full = new HandOff<LineBatch>(QueueDepth, stop.Token);
             using var free = new HandOff<LineBatch>(QueueDepth + 2, stop.Token);
@@ -334,6 +338,8 @@ public static class Splitter
                 MaxChunkBytes = _o.MaxChunkBytes,
                 ProgramTail = _o.ProgramTail,
                 KeepN = _o.KeepN,
+                BlockDelete = _o.BlockDelete,
+                CheckedProfile = _o.CheckedProfile,
             };
             return (manifest, _warnings);
         }
@@ -553,13 +559,6 @@ public static class Splitter
             }
 
             Flush(last: true);
-        }
-
-        private static (string Sha, long Size) HashFile(string path)
-        {
-            using var fs = new FileStream(path, FileMode.Open, FileAccess.Read, FileShare.Read, 1 << 20, FileOptions.SequentialScan);
-            var sha = Convert.ToHexStringLower(SHA256.HashData(fs));
-            return (sha, fs.Length);
         }
 
         private void Collect(GBlock b)

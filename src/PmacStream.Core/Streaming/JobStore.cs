@@ -17,7 +17,8 @@ namespace PmacStream.Streaming;
 /// <param name="Created">When the job was created.</param>
 /// <param name="Preamble">The PMAC lines the (latest) start sent before its block, or null (none, or not recorded).</param>
 /// <param name="LineProbeVariable">The line-probe variable the job's lines carry (null: none); records of older versions read as <c>P501</c>.</param>
-public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created, IReadOnlyList<string>? Preamble = null, string? LineProbeVariable = "P501")
+/// <param name="Settings">The run settings the job started with, as JSON (<c>Jobs.RunSettingsFile</c>); null in records of older versions.</param>
+public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created, IReadOnlyList<string>? Preamble = null, string? LineProbeVariable = "P501", string? Settings = null)
 {
     /// <summary>True when the job has not completed (it can be resumed).</summary>
     public bool Unfinished => Checkpoint?.State is not SessionState.Completed;
@@ -62,6 +63,7 @@ public sealed class JobStore : IDisposable
         ("line_probe", "TEXT NOT NULL DEFAULT 'P501'"),
         ("preamble", "TEXT"),
         ("cp_loaded", "INTEGER"),
+        ("settings", "TEXT"),
     ];
 
     private static readonly ILogger Logger = Log.ForContext<JobStore>();
@@ -132,16 +134,20 @@ public sealed class JobStore : IDisposable
         }
     }
 
-    /// <summary>Records a new job and returns its id; <paramref name="lineProbe"/> is the line-probe variable its lines carry (null: none).</summary>
-    public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe = "P501")
+    /// <summary>
+    /// Records a new job and returns its id; <paramref name="lineProbe"/> is the line-probe variable its lines carry
+    /// (null: none), <paramref name="settings"/> the run settings it starts with (JSON).
+    /// </summary>
+    public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe = "P501", string? settings = null)
     {
         lock (_lock)
         {
             using var cmd = _db.CreateCommand();
             cmd.CommandText = """
-                INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe)
-                VALUES ($c, $p, $h, $m, $s, $conn, $f, $lp); SELECT last_insert_rowid();
+                INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe, settings)
+                VALUES ($c, $p, $h, $m, $s, $conn, $f, $lp, $set); SELECT last_insert_rowid();
                 """;
+            cmd.Parameters.AddWithValue("$set", (object?)settings ?? DBNull.Value);
             cmd.Parameters.AddWithValue("$lp", lineProbe ?? string.Empty);
             cmd.Parameters.AddWithValue("$c", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
             cmd.Parameters.AddWithValue("$p", System.IO.Path.GetFullPath(programPath));
@@ -270,7 +276,7 @@ public sealed class JobStore : IDisposable
         {
             using var cmd = _db.CreateCommand();
             cmd.CommandText = "SELECT id, created, program_path, program_sha256, manifest_path, strategy, connection, from_line, message, "
-                + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded FROM jobs " + where;
+                + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded, settings FROM jobs " + where;
             foreach (var (n, v) in args)
             {
                 cmd.Parameters.AddWithValue(n, v);
@@ -301,7 +307,8 @@ public sealed class JobStore : IDisposable
                     cp,
                     DateTimeOffset.Parse(r.GetString(1), CultureInfo.InvariantCulture),
                     r.IsDBNull(19) ? null : r.GetString(19).Split('\n'),
-                    r.GetString(18) is { Length: > 0 } probe ? probe : null));
+                    r.GetString(18) is { Length: > 0 } probe ? probe : null,
+                    r.IsDBNull(21) ? null : r.GetString(21)));
             }
         }
 

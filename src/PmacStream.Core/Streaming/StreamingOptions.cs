@@ -28,22 +28,22 @@ public sealed record StreamingOptions
     public StrategyKind Strategy { get; init; } = StrategyKind.Chunk;
 
     /// <summary>Timer period the host calls <see cref="StreamingSession.TickAsync"/> with (the HMI's timer1 interval).</summary>
-    public TimeSpan TickPeriod { get; init; } = TimeSpan.FromMilliseconds(50);
+    public TimeSpan TickPeriod { get; init; } = Jobs.RunSettings.DefaultTickPeriod;
 
     /// <summary>Start of the download window as a fraction of the current chunk (0.6: line 600 of a 1000-line chunk).</summary>
-    public double WindowStart { get; init; } = 0.6;
+    public double WindowStart { get; init; } = Jobs.RunSettings.DefaultWindowStart;
 
     /// <summary>End of the download window as a fraction of the current chunk (0.7: line 700 of a 1000-line chunk).</summary>
-    public double WindowEnd { get; init; } = 0.7;
+    public double WindowEnd { get; init; } = Jobs.RunSettings.DefaultWindowEnd;
 
     /// <summary>Rotary buffer size in words (what <c>&amp;n DEFINE ROT</c> gave it).</summary>
-    public int BufferWords { get; init; } = 30_000;
+    public int BufferWords { get; init; } = Jobs.RunSettings.DefaultBufferWords;
 
     /// <summary>When set, the session defines the rotary buffer with this many words before starting (<c>DEL GAT</c>, <c>DEF ROT</c>).</summary>
     public bool DefineBuffer { get; init; }
 
     /// <summary>Words kept free as a margin against the splitter's estimate.</summary>
-    public int SafetyWords { get; init; } = 64;
+    public int SafetyWords { get; init; } = Jobs.RunSettings.BufferMarginWords;
 
     /// <summary><c>pr</c> strategy: lines kept ahead in the buffer.</summary>
     public int PrTargetLines { get; init; } = 200;

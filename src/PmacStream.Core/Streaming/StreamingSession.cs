@@ -88,9 +88,9 @@ public sealed class StreamingSession
         _etaOrigin = _startTimestamp;
     }
 
-    /// <summary>Creates a session on a bare connection (chunk downloads are sent over it line by line).</summary>
+    /// <summary>Creates a session on a bare connection, configured as the options' device in the one PComm-style facade.</summary>
     public StreamingSession(IPmacConnection connection, ChunkedProgram program, StreamingOptions options, ICheckpointSink? checkpoints = null, IMoveTimes? moveTimes = null, TimeProvider? time = null, IStreamingStrategy? strategy = null)
-        : this(new ConnectionDevices(connection), program, options with { PmacNumber = options.PmacNumber }, checkpoints, moveTimes, time, strategy)
+        : this(PmacDevices.Of(options.PmacNumber, connection), program, options, checkpoints, moveTimes, time, strategy)
     {
     }
 

@@ -1,0 +1,32 @@
+using PmacStream.Jobs;
+using PmacStream.Pmac;
+using PmacStream.Sim;
+
+namespace PmacStream.Cli.Commands;
+
+/// <summary>
+/// The built-in simulator of one command: made when the job service connects to <c>sim</c>, its virtual clock stepped
+/// by the job's tick loop (deterministic; <c>instant</c> means as fast as sensible), its executed-move log counted at the end.
+/// </summary>
+internal sealed class CliSimulator(SimSpeed speed) : IDisposable
+{
+    /// <summary>The simulator once opened, else null.</summary>
+    public PmacSimulator? Sim { get; private set; }
+
+    /// <summary>Opens a new simulator (a fresh controller: it holds no earlier job).</summary>
+    public Task<SimulatorLink> OpenAsync(CancellationToken cancellationToken)
+    {
+        Sim?.Dispose();
+        var sim = Sim = new PmacSimulator(new SimOptions { Speed = speed });
+        var connection = new InProcessConnection(sim.OpenPort("stream"), "sim");
+        return Task.FromResult(new SimulatorLink(connection, new SimTimeProvider(sim))
+        {
+            Step = sim.Advance,
+            ClockFactor = speed.IsInstant ? 1000 : speed.Multiplier,
+            Fresh = true,
+        });
+    }
+
+    /// <inheritdoc />
+    public void Dispose() => Sim?.Dispose();
+}

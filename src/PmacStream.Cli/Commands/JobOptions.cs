@@ -1,0 +1,201 @@
+using System.CommandLine;
+using System.Globalization;
+using PmacStream.Jobs;
+using PmacStream.Pmac;
+using PmacStream.Sim;
+
+namespace PmacStream.Cli.Commands;
+
+/// <summary>Which command the job options are for (each takes the options that make sense for it).</summary>
+internal enum JobFace
+{
+    /// <summary><c>stream</c>: a program, a controller, every run setting.</summary>
+    Stream,
+
+    /// <summary><c>resume</c>: a recorded job; its split stays as it was made.</summary>
+    Resume,
+
+    /// <summary><c>demo</c>: the sample program on the built-in simulator.</summary>
+    Demo,
+}
+
+/// <summary>
+/// The options stream, resume and demo share, bound to one <see cref="RunSettings"/>: the settings file (or the
+/// job's recorded settings, or the defaults) first, then only the options given on the command line.
+/// </summary>
+internal sealed class JobOptions
+{
+    private static readonly RunSettings D = RunSettings.Default;
+
+    private readonly Option<bool> _sim = new("--sim") { Description = "Stream into the built-in simulator." };
+    private readonly Option<string?> _tcp = new("--tcp") { Description = "Stream to a controller over Ethernet: HOST[:PORT] (port 1025 by default)." };
+    private readonly Option<string?> _serial = new("--serial") { Description = "Stream over RS-232: DEV[,BAUD] (38400 by default)." };
+    private readonly Option<bool> _yes = new("--yes", "-y") { Description = "Confirm a start from a line / restart without asking." };
+    private readonly Option<string?> _jobDb = new("--job-db") { Description = "Job database (SQLite) for crash-safe resume; default $PMACSTREAM_JOB_DB or ~/.pmacstream/jobs.db." };
+    private readonly Option<string?> _settings = new("--settings") { Description = "Run settings file (JSON); default $PMACSTREAM_SETTINGS or ~/.pmacstream/settings.json when it exists." };
+    private readonly Option<int?> _lines = new("--lines") { Description = $"Source lines per chunk when splitting (default {D.LinesPerChunk})." };
+    private readonly Option<int?> _bufferWords = new("--buffer-words") { Description = $"Rotary buffer size in words (default {D.BufferWords}; the simulator's is defined to this)." };
+    private readonly Option<int?> _tickMs = new("--tick-ms") { Description = $"Timer period (the paper's timer1 interval), milliseconds (default {D.TickPeriod.TotalMilliseconds:0})." };
+    private readonly Option<string?> _window = new("--window") { Description = $"Download window of the chunk strategy, as fractions of a chunk (default {D.Window}: the paper's lines 600-700 of 1000) or percent (60-70%)." };
+    private readonly Option<double?> _safeZ = new("--safe-z") { Description = $"Safe Z (work coordinates) for the approach when starting from a line (default {D.SafeZ}; --safe-z-mode fixed, and the fallback of highest)." };
+    private readonly Option<string?> _safeZMode = new("--safe-z-mode") { Description = "Safe Z when starting from a line: fixed (--safe-z, the default) or highest (the highest Z reached so far plus --clearance). The HMI plans the same way." };
+    private readonly Option<double?> _clearance = new("--clearance") { Description = $"Added to the highest Z so far with --safe-z-mode highest (default {D.Clearance})." };
+    private readonly Option<string> _simSpeed;
+
+    private JobOptions(JobFace face)
+    {
+        _simSpeed = new Option<string>("--sim-speed") { Description = "Simulator clock: realtime, Nx (e.g. 20x) or instant.", DefaultValueFactory = _ => face == JobFace.Demo ? "60x" : "20x" };
+    }
+
+    /// <summary>Adds the options for <paramref name="face"/> to <paramref name="cmd"/>.</summary>
+    public static JobOptions AddTo(Command cmd, JobFace face)
+    {
+        var o = new JobOptions(face);
+        var options = new List<Option>();
+        if (face != JobFace.Demo)
+        {
+            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance]);
+        }
+
+        if (face == JobFace.Stream)
+        {
+            options.Add(o._lines);
+        }
+
+        options.AddRange([o._settings, o._simSpeed, o._bufferWords, o._tickMs, o._window]);
+        foreach (var option in options)
+        {
+            cmd.Options.Add(option);
+        }
+
+        return o;
+    }
+
+    /// <summary>True when the operator confirmed starts from a line with <c>--yes</c>.</summary>
+    public bool Yes(ParseResult parse) => parse.GetValue(_yes);
+
+    /// <summary>The job database named with <c>--job-db</c>, or null for the default.</summary>
+    public string? JobDatabase(ParseResult parse) => parse.GetValue(_jobDb);
+
+    /// <summary>The simulator's clock.</summary>
+    public SimSpeed SimSpeed(ParseResult parse)
+    {
+        try
+        {
+            return Sim.SimSpeed.Parse(parse.GetValue(_simSpeed)!);
+        }
+        catch (FormatException e)
+        {
+            throw new CliException(e.Message);
+        }
+    }
+
+    /// <summary>The controller chosen (<c>--sim</c>, <c>--tcp</c>, <c>--serial</c>), or null.</summary>
+    public ConnectionSpec? Target(ParseResult parse)
+    {
+        var chosen = new List<ConnectionSpec>();
+        try
+        {
+            if (parse.GetValue(_sim))
+            {
+                chosen.Add(ConnectionSpec.Simulator);
+            }
+
+            if (parse.GetValue(_tcp) is { Length: > 0 } tcp)
+            {
+                chosen.Add(ConnectionSpec.Ethernet(tcp));
+            }
+
+            if (parse.GetValue(_serial) is { Length: > 0 } serial)
+            {
+                var comma = serial.IndexOf(',');
+                chosen.Add(comma < 0 ? ConnectionSpec.Parse("serial:" + serial) : ConnectionSpec.Parse($"serial:{serial[..comma]}@{serial[(comma + 1)..]}"));
+            }
+        }
+        catch (FormatException e)
+        {
+            throw new CliException(e.Message);
+        }
+
+        return chosen.Count switch
+        {
+            0 => null,
+            1 => chosen[0],
+            _ => throw new CliException("choose one of --sim, --tcp and --serial"),
+        };
+    }
+
+    /// <summary>
+    /// The run settings: <c>--settings FILE</c> when given, else <paramref name="recorded"/> (a resumed job's own),
+    /// else the default settings file or the defaults; then the options given on the command line.
+    /// </summary>
+    public RunSettings Settings(ParseResult parse, RunSettings? recorded = null)
+    {
+        var s = parse.GetValue(_settings) is { } file ? RunSettingsFile.Load(file) : recorded ?? RunSettingsFile.Load();
+        if (parse.GetValue(_lines) is { } lines)
+        {
+            s = s with { LinesPerChunk = lines >= 1 ? lines : throw new CliException("--lines must be 1 or more") };
+        }
+
+        if (parse.GetValue(_bufferWords) is { } words)
+        {
+            s = s with { BufferWords = words };
+        }
+
+        if (parse.GetValue(_tickMs) is { } tick)
+        {
+            s = s with { TickPeriod = tick is >= 5 and <= 10_000 ? TimeSpan.FromMilliseconds(tick) : throw new CliException("--tick-ms must be between 5 and 10000") };
+        }
+
+        if (parse.GetValue(_window) is { } window)
+        {
+            try
+            {
+                var (start, end) = RunSettings.ParseWindow(window);
+                s = s with { WindowStart = start, WindowEnd = end };
+            }
+            catch (FormatException e)
+            {
+                throw new CliException("--" + e.Message);
+            }
+        }
+
+        if (parse.GetValue(_safeZMode) is { } mode)
+        {
+            try
+            {
+                s = s with { SafeZMode = RunSettingsFile.ParseSafeZMode(mode) };
+            }
+            catch (FormatException e)
+            {
+                throw new CliException("--safe-z-mode: " + e.Message);
+            }
+        }
+
+        s = parse.GetValue(_safeZ) is { } z ? s with { SafeZ = z } : s;
+        s = parse.GetValue(_clearance) is { } c ? s with { Clearance = c } : s;
+        try
+        {
+            s.Validate();
+        }
+        catch (ArgumentException e)
+        {
+            throw new CliException(e.Message);
+        }
+
+        return s;
+    }
+
+    /// <summary>The connection spec of a job record, as <c>resume</c> reopens it.</summary>
+    public static ConnectionSpec RecordedTarget(string spec)
+    {
+        try
+        {
+            return ConnectionSpec.Parse(spec);
+        }
+        catch (FormatException e)
+        {
+            throw new CliException(string.Create(CultureInfo.InvariantCulture, $"the job's connection cannot be reopened ({e.Message}): give --sim, --tcp or --serial"));
+        }
+    }
+}

@@ -1,0 +1,190 @@
+using System.Globalization;
+using PmacStream.Pmac;
+using PmacStream.Program;
+using PmacStream.Streaming;
+using Serilog;
+
+namespace PmacStream.Jobs;
+
+/// <summary>How a job's tick loop ended.</summary>
+public enum JobOutcome
+{
+    /// <summary>Every block executed.</summary>
+    Completed,
+
+    /// <summary>Stopped by a fault or an abort; resumable from its checkpoint.</summary>
+    Stopped,
+
+    /// <summary>The host stopped ticking (Ctrl-C); the controller keeps what it holds; resumable.</summary>
+    Interrupted,
+}
+
+/// <summary>
+/// One job on one controller: its streaming session, its record and checkpoints in the job store, and the operator's
+/// commands. <see cref="RunAsync"/> is the tick loop of a host without a timer of its own (the command line); a
+/// screen calls <see cref="TickAsync"/> from its timer instead.
+/// </summary>
+public sealed class Job : IAsyncDisposable
+{
+    private static readonly ILogger Log = Serilog.Log.ForContext<Job>();
+    private readonly JobStore? _store;
+    private readonly double? _feed;
+
+    internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feed, JobStore? store, long? id)
+    {
+        Controller = controller;
+        Session = session;
+        Settings = settings;
+        Plan = plan;
+        _feed = feed;
+        _store = store;
+        Id = id;
+    }
+
+    /// <summary>The job record's id; null when the job is not recorded.</summary>
+    public long? Id { get; }
+
+    /// <summary>The controller it runs on.</summary>
+    public ControllerLink Controller { get; }
+
+    /// <summary>The streaming session (status, events, checkpoint).</summary>
+    public StreamingSession Session { get; }
+
+    /// <summary>The settings it runs with.</summary>
+    public RunSettings Settings { get; }
+
+    /// <summary>The start plan (preamble) of a start from a line, or null.</summary>
+    public StartPlan? Plan { get; }
+
+    /// <summary>The split program.</summary>
+    public ChunkedProgram Program => Session.Program;
+
+    /// <summary>The status after the last tick or command.</summary>
+    public StreamingStatus Status => Session.Status;
+
+    /// <summary>Job events: downloads, late windows, chunk changes, faults, completion.</summary>
+    public event EventHandler<StreamingEvent>? EventRaised
+    {
+        add => Session.EventRaised += value;
+        remove => Session.EventRaised -= value;
+    }
+
+    /// <summary>
+    /// Starts the job: when a feed is given, first makes sure the coordinate system runs nothing (the feed of a running
+    /// program is not touched) and sets it; then the session's start (buffer, preamble, first chunk, run command).
+    /// A failure is kept as the job's message and thrown.
+    /// </summary>
+    public async Task StartAsync(CancellationToken cancellationToken = default)
+    {
+        try
+        {
+            if (_feed is { } feed)
+            {
+                await Session.EnsureIdleAsync(cancellationToken).ConfigureAwait(false);
+                await SetFeedBeforeStartAsync(feed, cancellationToken).ConfigureAwait(false);
+            }
+
+            await Session.StartAsync(Plan?.Line, Plan?.PmacLines, cancellationToken).ConfigureAwait(false);
+        }
+        catch (Exception e) when (e is PmacLinkException or PmacErrorException or InvalidOperationException)
+        {
+            SetMessage(e.Message);
+            throw;
+        }
+
+        Log.Information("Job {Job} started on {Device:l}: {Chunks} chunks, strategy {Strategy:l}{From:l}", Id, Controller.Description,
+            Program.TotalChunks, Session.Options.Strategy.ToString().ToLowerInvariant(), Plan is { } p ? $", from line {p.Line}" : string.Empty);
+    }
+
+    /// <summary>One timer period of streaming work (read M0, download the next chunk once, write the checkpoint).</summary>
+    public Task TickAsync(CancellationToken cancellationToken = default) => Session.TickAsync(cancellationToken);
+
+    /// <summary>Feed hold.</summary>
+    public Task HoldAsync(CancellationToken cancellationToken = default) => Session.HoldAsync(cancellationToken);
+
+    /// <summary>Resume after a hold, or the next block in single-block mode.</summary>
+    public Task ResumeMotionAsync(CancellationToken cancellationToken = default) =>
+        Session.SingleBlock && Session.State == SessionState.Running ? Session.StepAsync(cancellationToken) : Session.ResumeMotionAsync(cancellationToken);
+
+    /// <summary>Abort; the job stays resumable from its checkpoint.</summary>
+    public Task AbortAsync(CancellationToken cancellationToken = default) => Session.AbortAsync(cancellationToken);
+
+    /// <summary>Live feed change.</summary>
+    public Task SetFeedAsync(double value, CancellationToken cancellationToken = default) => Session.SetFeedAsync(value, cancellationToken);
+
+    /// <summary>Single-block mode on or off.</summary>
+    public void SetSingleBlock(bool on) => Session.SetSingleBlock(on);
+
+    /// <summary>
+    /// The timer loop (the paper's timer1_Tick) for a host without a timer: tick, report, wait one period and, when the
+    /// host steps the simulator's clock, advance it by the tick's virtual time. Ends when the job completes or stops, or
+    /// when <paramref name="cancellationToken"/> fires (sending stops; the controller keeps the lines it holds).
+    /// </summary>
+    public async Task<JobOutcome> RunAsync(Action<StreamingStatus>? onTick = null, CancellationToken cancellationToken = default)
+    {
+        var step = Controller.Simulator?.Step;
+        var outcome = JobOutcome.Interrupted;
+        while (true)
+        {
+            await Session.TickAsync(CancellationToken.None).ConfigureAwait(false);
+            var s = Session.Status;
+            onTick?.Invoke(s);
+            if (s.State is SessionState.Completed or SessionState.Faulted or SessionState.Aborted)
+            {
+                outcome = s.State == SessionState.Completed ? JobOutcome.Completed : JobOutcome.Stopped;
+                break;
+            }
+
+            if (cancellationToken.IsCancellationRequested)
+            {
+                break;
+            }
+
+            try
+            {
+                await Task.Delay(Settings.TickPeriod, cancellationToken).ConfigureAwait(false);
+            }
+            catch (OperationCanceledException)
+            {
+                break;
+            }
+
+            step?.Invoke(Session.Options.TickPeriod);
+        }
+
+        SetMessage(Session.Status.Message);
+        Log.Information("Job {Job} {Outcome} at line {Line}: {Executed} of {Total} blocks", Id, outcome, Session.Status.CurrentLine,
+            Session.Status.ExecutedBlocks, Session.Status.TotalBlocks);
+        return outcome;
+    }
+
+    /// <summary>Keeps the reason the job stopped with its record and closes the job store.</summary>
+    public ValueTask DisposeAsync()
+    {
+        SetMessage(Session.Status.Message);
+        _store?.Dispose();
+        return ValueTask.CompletedTask;
+    }
+
+    internal void SetMessage(string message)
+    {
+        if (_store is not null && Id is { } id && !string.IsNullOrEmpty(message))
+        {
+            _store.SetMessage(id, message);
+        }
+    }
+
+    /// <summary>The operator's feed is in force before the first block is calculated (no buffer is open then).</summary>
+    private async Task SetFeedBeforeStartAsync(double feed, CancellationToken cancellationToken)
+    {
+        var connection = Controller.Connection;
+        var value = feed.ToString("0.###", CultureInfo.InvariantCulture);
+        await connection.GetResponseAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+        var manifest = Program.Manifest;
+        var variable = string.IsNullOrWhiteSpace(manifest.FeedVariable) ? RunSettings.DefaultFeedVariable : manifest.FeedVariable.Trim();
+        var command = (Session.Options.Feed ?? manifest.Feed) == FeedMode.Paper
+            ? $"{variable}={value}"
+            : string.Create(CultureInfo.InvariantCulture, $"&{Session.Options.CoordinateSystem} %{value}");
+        await connection.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
+    }
+}

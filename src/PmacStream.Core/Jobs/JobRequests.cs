@@ -1,0 +1,102 @@
+using PmacStream.GCode;
+using PmacStream.Streaming;
+
+namespace PmacStream.Jobs;
+
+/// <summary>What to prepare: a program, the run settings to cut it with and the machine profile to check it against.</summary>
+/// <param name="SourcePath">The G-code program.</param>
+/// <param name="Settings">Lines per chunk, chunk words, tracking and feed variables.</param>
+public sealed record PrepareRequest(string SourcePath, RunSettings Settings)
+{
+    /// <summary>The machine profile the program is checked against (and whose tail ends the last chunk).</summary>
+    public MachineProfile Profile { get; init; } = MachineProfile.Default;
+
+    /// <summary>Go on although the check found errors (what is not G-code is dropped), as <c>split --force</c> does.</summary>
+    public bool Force { get; init; }
+
+    /// <summary>Folder of the chunks; null: <c>&lt;name&gt;_chunks</c> beside the source, shared by every face.</summary>
+    public string? OutDir { get; init; }
+
+    /// <summary>Most errors a refusal lists (all are counted).</summary>
+    public int MaxListedErrors { get; init; } = 10_000;
+}
+
+/// <summary>A checked, split program ready to run.</summary>
+/// <param name="SourcePath">Full path of the source.</param>
+/// <param name="Program">The chunks and their manifest.</param>
+/// <param name="Profile">The profile it was checked against (start plans interpret with it).</param>
+/// <param name="Reused">True when an earlier split with the same bytes and options was taken as it was.</param>
+/// <param name="Warnings">Lexical warnings of a new split (0 when reused).</param>
+public sealed record PreparedProgram(string SourcePath, ChunkedProgram Program, MachineProfile Profile, bool Reused, int Warnings);
+
+/// <summary>A check's findings for the screen.</summary>
+/// <param name="Diagnostics">Findings in line order (a huge list is cut; the counts are not).</param>
+/// <param name="Blocks">Blocks in the program.</param>
+/// <param name="Errors">Findings that stop the program.</param>
+/// <param name="Warnings">Findings that let it run.</param>
+/// <param name="EstimatedSeconds">Run time at programmed feeds.</param>
+public sealed record ProgramCheck(IReadOnlyList<Diagnostic> Diagnostics, long Blocks, int Errors, int Warnings, double EstimatedSeconds);
+
+/// <summary>A job to start on an open controller.</summary>
+/// <param name="Program">The split program.</param>
+/// <param name="Strategy">How the rotary buffer is fed.</param>
+public sealed record JobRequest(ChunkedProgram Program, StrategyKind Strategy)
+{
+    /// <summary>Buffer words, window, tick period (and the safe Z the plan was made with).</summary>
+    public RunSettings Settings { get; init; } = RunSettings.Default;
+
+    /// <summary>Start at a block behind this plan's preamble (<see cref="JobService.PlanStart"/>); null: from the top.</summary>
+    public StartPlan? Plan { get; init; }
+
+    /// <summary>Single-block mode.</summary>
+    public bool SingleBlock { get; init; }
+
+    /// <summary>The feed to set before the start (P500 value or override percent), once the coordinate system is known idle; null leaves it.</summary>
+    public double? Feed { get; init; }
+
+    /// <summary>The machine profile of the program (the move times of the ETA are interpreted with it).</summary>
+    public MachineProfile Profile { get; init; } = MachineProfile.Default;
+
+    /// <summary>Record the job and its checkpoints in the job store (resumable); the demo does not.</summary>
+    public bool Record { get; init; } = true;
+}
+
+/// <summary>An unfinished job whose program is unchanged and whose split is readable.</summary>
+/// <param name="Record">The job as recorded.</param>
+/// <param name="Program">Its split.</param>
+/// <param name="RestartLine">Where a restart starts behind a preamble: the block that was executing, else the job's own start line; null: from the top.</param>
+/// <param name="Chunk">The chunk holding that line.</param>
+/// <param name="Settings">The run settings the job started with; null in records of older versions.</param>
+public sealed record ResumableJob(JobRecord Record, ChunkedProgram Program, int? RestartLine, int Chunk, RunSettings? Settings)
+{
+    /// <summary>The first line not known to have executed (what the screen shows).</summary>
+    public int ResumeLine => RestartLine ?? Program.Manifest.Chunks[0].FirstSourceLine;
+}
+
+/// <summary>How a resume goes on.</summary>
+public enum ResumeKind
+{
+    /// <summary>The controller still holds the job: sending continues where it stopped; the job runs.</summary>
+    Continued,
+
+    /// <summary>The job's start had not finished loading: it was cleared and loaded again; the job runs.</summary>
+    Reloaded,
+
+    /// <summary>The controller lost the job: a new start at <see cref="ResumableJob.RestartLine"/>; call <see cref="Job.StartAsync"/>.</summary>
+    Restart,
+
+    /// <summary>The operator declined the restart; nothing was sent.</summary>
+    Declined,
+}
+
+/// <summary>What a resume did.</summary>
+/// <param name="Kind">How it goes on.</param>
+/// <param name="Job">The job (null when declined).</param>
+/// <param name="Reason">Why the controller could not continue (restarts), else null.</param>
+public sealed record ResumeResult(ResumeKind Kind, Job? Job, string? Reason = null);
+
+/// <summary>A restart the operator is asked about: its plan (null: from the top) and why the job cannot simply continue.</summary>
+/// <param name="Line">The line it restarts at, null from the top.</param>
+/// <param name="Plan">The start plan with its preamble.</param>
+/// <param name="Reason">Why the controller could not continue, when it was asked.</param>
+public sealed record RestartProposal(int? Line, StartPlan? Plan, string? Reason);

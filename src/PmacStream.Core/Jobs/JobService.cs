@@ -1,0 +1,393 @@
+using System.Text;
+using System.Text.Json;
+using PmacStream.GCode;
+using PmacStream.Pmac;
+using PmacStream.Program;
+using PmacStream.Streaming;
+using Serilog;
+
+namespace PmacStream.Jobs;
+
+/// <summary>What a job service needs from its host.</summary>
+public sealed record JobServiceOptions
+{
+    /// <summary>The SQLite job store; null: <see cref="JobStore.DefaultPath"/> (shared by the command line and the HMI).</summary>
+    public string? JobDatabase { get; init; }
+
+    /// <summary>Opens the built-in simulator (the host owns it); null: this host has none.</summary>
+    public Func<CancellationToken, Task<SimulatorLink>>? Simulator { get; init; }
+
+    /// <summary>Clock of sessions on real controllers; null: the system clock.</summary>
+    public TimeProvider? Time { get; init; }
+}
+
+/// <summary>
+/// The one job workflow every face calls (the command line's stream, resume and demo, the HMI presenter through its
+/// adapter): prepare (check under a machine profile, split or reuse a split), connect (one spec parser, one device
+/// facade, the library), plan a start from a line, start and run a job, find and resume an interrupted one.
+/// See <c>Jobs/README.md</c>.
+/// </summary>
+public sealed class JobService
+{
+    private static readonly ILogger Log = Serilog.Log.ForContext<JobService>();
+    private readonly JobServiceOptions _options;
+    private readonly MoveTimeCache _moveTimes = new();
+
+    /// <summary>Creates the service.</summary>
+    public JobService(JobServiceOptions? options = null)
+    {
+        _options = options ?? new JobServiceOptions();
+        JobDatabase = Path.GetFullPath(_options.JobDatabase ?? JobStore.DefaultPath);
+    }
+
+    /// <summary>The job store's file.</summary>
+    public string JobDatabase { get; }
+
+    /// <summary>Strategy names, the default first.</summary>
+    public static IReadOnlyList<string> Strategies { get; } = ["chunk", "pr", "adaptive"];
+
+    /// <summary>
+    /// Checks a program under <paramref name="profile"/> and lists what it finds (at most <paramref name="maxListed"/>;
+    /// the counts are exact). Keeps the interpreter's move times for the ETA of a job started on it later.
+    /// </summary>
+    public ProgramCheck Check(string path, MachineProfile profile, int maxListed = 10_000, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        var diagnostics = new List<Diagnostic>();
+        var summary = new Checker(profile).CheckFile(
+            path,
+            d =>
+            {
+                if (diagnostics.Count < maxListed)
+                {
+                    diagnostics.Add(d);
+                }
+            },
+            null,
+            cancellationToken);
+        Log.Information("Checked {Path:l}: {Summary:l}, estimated run time {Seconds:0} s", path, summary.ToString(), summary.EstimatedSeconds);
+        return new ProgramCheck(diagnostics, summary.Blocks, summary.Errors, summary.Warnings, summary.EstimatedSeconds);
+    }
+
+    /// <summary>
+    /// Checks and splits a program: reuses the split beside it when the source and every split option match
+    /// (<see cref="SplitCache"/>), else splits with the check in the same pass. Refuses a program with errors under the
+    /// profile unless forced, listing every error; nothing is written then.
+    /// </summary>
+    /// <exception cref="ProgramRefusedException">The check found errors, or a block fits no chunk.</exception>
+    /// <exception cref="JobException">Bad settings or no such file (<see cref="JobErrorKind.BadRequest"/>).</exception>
+    public Task<PreparedProgram> PrepareAsync(PrepareRequest request, IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(request);
+        return Task.Run(() => Prepare(request, progress, cancellationToken), cancellationToken);
+    }
+
+    /// <summary>
+    /// Opens a controller: the built-in simulator through the host, anything else through <see cref="PmacConnections"/>;
+    /// proves the link (<c>VERSION</c>) and downloads the PROG 1000/1001 library to the simulator (which starts empty).
+    /// </summary>
+    /// <exception cref="JobException">No simulator in this host, or the controller cannot be reached.</exception>
+    public async Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile = null, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(spec);
+        SimulatorLink? sim = null;
+        IPmacConnection connection;
+        if (spec.IsSimulator)
+        {
+            var open = _options.Simulator ?? throw new JobException(
+                "no built-in simulator in this build: run `pmacstream sim` and connect over Ethernet to 127.0.0.1:1025", JobErrorKind.BadRequest);
+            sim = await open(cancellationToken).ConfigureAwait(false);
+            connection = sim.Connection;
+        }
+        else
+        {
+            connection = PmacConnections.Create(spec);
+        }
+
+        try
+        {
+            // Proves the link: any reply (even an ERR) means a controller is there; a link failure throws.
+            string version;
+            try
+            {
+                version = (await connection.GetResponseAsync("VERSION", cancellationToken).ConfigureAwait(false)).Trim();
+            }
+            catch (PmacErrorException e)
+            {
+                version = $"(VERSION answered ERR{e.Number:000})";
+            }
+
+            if (sim is not null)
+            {
+                await ControllerLibrary.DownloadTolerantAsync(connection, ControllerLibrary.Lines(profile), cancellationToken).ConfigureAwait(false);
+            }
+
+            Log.Information("Connected to {Device:l} ({Spec:l}), firmware {Version:l}", connection.Description, spec.ToString(), version);
+            return new ControllerLink(spec, connection, sim);
+        }
+        catch (PmacLinkException e)
+        {
+            await connection.DisposeAsync().ConfigureAwait(false);
+            throw new JobException($"cannot reach the controller at {spec}: {e.Message}", JobErrorKind.Failed, e);
+        }
+        catch
+        {
+            await connection.DisposeAsync().ConfigureAwait(false);
+            throw;
+        }
+    }
+
+    /// <summary>
+    /// Plans a start at the block of <paramref name="line"/>: modal state restored, a safe approach (the settings' safe
+    /// Z rule), shown before it runs. The one planner of every face.
+    /// </summary>
+    /// <exception cref="JobException">The line is out of the program or has no block after it (<see cref="JobErrorKind.BadRequest"/>).</exception>
+    public StartPlan PlanStart(ChunkedProgram program, int line, RunSettings settings, MachineProfile? profile = null, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(program);
+        ArgumentNullException.ThrowIfNull(settings);
+        if (line < 1)
+        {
+            throw new JobException($"start line must be 1 or more (got {line})", JobErrorKind.BadRequest);
+        }
+
+        StartPlan plan;
+        try
+        {
+            plan = StartFromLine.Plan(program.Manifest.SourcePath, line, settings.ToStartPlanOptions(program.Manifest, profile ?? MachineProfile.Default), cancellationToken);
+        }
+        catch (ArgumentOutOfRangeException e)
+        {
+            throw new JobException(e.Message.Split(Environment.NewLine)[0], JobErrorKind.BadRequest, e);
+        }
+
+        return program.PositionOfBlock(plan.Line) is null
+            ? throw new JobException($"line {line}: no block to start at after it", JobErrorKind.BadRequest)
+            : plan;
+    }
+
+    /// <summary>
+    /// A new job on an open controller, recorded in the job store unless <see cref="JobRequest.Record"/> is off;
+    /// nothing is sent until <see cref="Job.StartAsync"/>.
+    /// </summary>
+    public async Task<Job> CreateJobAsync(ControllerLink controller, JobRequest request, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(controller);
+        ArgumentNullException.ThrowIfNull(request);
+        var program = request.Program;
+        var times = await MoveTimesAsync(program.Manifest.SourcePath, request.Profile, cancellationToken).ConfigureAwait(false);
+        var store = request.Record ? JobStore.Open(JobDatabase) : null;
+        try
+        {
+            var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1);
+            var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
+                request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings));
+            var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
+            return new Job(controller, session, request.Settings, request.Plan, request.Feed, store, id);
+        }
+        catch
+        {
+            store?.Dispose();
+            throw;
+        }
+    }
+
+    /// <summary>A recorded job: by id, or the newest unfinished one.</summary>
+    /// <exception cref="JobException">No job database, or no such job (<see cref="JobErrorKind.BadRequest"/>).</exception>
+    public JobRecord FindJob(long? id)
+    {
+        using var store = OpenExistingStore();
+        return id is { } n
+            ? store.Get(n) ?? throw new JobException($"no job {n} in {store.Path}", JobErrorKind.BadRequest)
+            : store.LatestUnfinished() ?? throw new JobException($"no unfinished job in {store.Path}", JobErrorKind.BadRequest);
+    }
+
+    /// <summary>The newest job recorded for a program, whoever started it, when it did not complete; else null.</summary>
+    public ResumableJob? FindInterrupted(string sourcePath, RunSettings? settings = null)
+    {
+        if (!File.Exists(JobDatabase))
+        {
+            return null;
+        }
+
+        JobRecord? record;
+        using (var store = JobStore.Open(JobDatabase))
+        {
+            var full = Path.GetFullPath(sourcePath);
+            var comparison = OperatingSystem.IsWindows() ? StringComparison.OrdinalIgnoreCase : StringComparison.Ordinal;
+            record = store.List().FirstOrDefault(j => string.Equals(j.ProgramPath, full, comparison));
+        }
+
+        return record is { Unfinished: true } ? OpenResumable(record) : null;
+    }
+
+    /// <summary>
+    /// Checks that an unfinished job can go on: its program unchanged (SHA-256), its split readable and of that
+    /// program; says where a restart would start.
+    /// </summary>
+    /// <exception cref="JobException">It cannot (<see cref="JobErrorKind.Failed"/>), with what to do instead.</exception>
+    public ResumableJob OpenResumable(JobRecord record, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(record);
+        if (!File.Exists(record.ProgramPath))
+        {
+            throw new JobException($"job {record.Id}: the program {record.ProgramPath} is gone");
+        }
+
+        if (!FileHash.SameDigest(FileHash.Sha256Hex(record.ProgramPath, cancellationToken), record.ProgramSha256))
+        {
+            throw new JobException($"job {record.Id}: {record.ProgramPath} changed since the job started (SHA-256 differs); refusing to resume. Start it again (split it and start from a line).");
+        }
+
+        ChunkedProgram program;
+        try
+        {
+            program = ChunkedProgram.Open(record.ManifestPath);
+        }
+        catch (Exception e) when (e is IOException or JsonException or InvalidDataException)
+        {
+            throw new JobException($"job {record.Id}: its split ({record.ManifestPath}) cannot be read ({e.Message}): split the program again and start from a line", JobErrorKind.Failed, e);
+        }
+
+        if (!FileHash.SameDigest(program.Manifest.SourceSha256, record.ProgramSha256))
+        {
+            throw new JobException($"job {record.Id}: the split in {program.Folder} does not match the program: split it again and start from a line");
+        }
+
+        var cp = record.Checkpoint;
+        var restart = cp is { LastExecutedLine: > 0 } ? cp.LastExecutedLine : record.FromLine;
+        var chunk = cp?.CurrentChunk ?? (restart is { } r ? program.PositionOfBlock(r)?.Chunk : null) ?? 1;
+        return new ResumableJob(record, program, restart, chunk, RecordedSettings(record));
+    }
+
+    /// <summary>
+    /// Resumes a job. When the controller may still hold it (a checkpoint, not aborted, and not a simulator made
+    /// for this link), sending continues exactly where it stopped (or a start that broke off while loading is loaded
+    /// again) and the job runs. Otherwise it restarts at <see cref="ResumableJob.RestartLine"/> behind a preamble,
+    /// once <paramref name="confirmRestart"/> agrees: the job is returned ready for <see cref="Job.StartAsync"/>.
+    /// </summary>
+    /// <exception cref="JobException">The controller could not be asked (link or ERR).</exception>
+    public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumableJob job, RunSettings settings, Func<RestartProposal, Task<bool>> confirmRestart,
+        double? feed = null, MachineProfile? profile = null, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(controller);
+        ArgumentNullException.ThrowIfNull(job);
+        ArgumentNullException.ThrowIfNull(confirmRestart);
+        var record = job.Record;
+        var times = await MoveTimesAsync(record.ProgramPath, profile ?? MachineProfile.Default, cancellationToken).ConfigureAwait(false);
+        var store = OpenExistingStore();
+        try
+        {
+            var options = settings.ToStreamingOptions(record.Strategy, singleBlock: false, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1);
+            StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
+            string? reason = null;
+            if (record.Checkpoint is { State: not SessionState.Aborted } cp && controller.Simulator?.Fresh != true)
+            {
+                var session = NewSession();
+                try
+                {
+                    // From the record: its line probe, and a start that broke off while loading is loaded again.
+                    await session.ResumeAsync(record, cancellationToken).ConfigureAwait(false);
+                    var reloaded = cp is { Loaded: false, Started: false };
+                    Log.Information("Job {Job} resumed from its checkpoint at line {Line}{How:l}", record.Id, cp.LastExecutedLine, reloaded ? " (its start loaded again)" : string.Empty);
+                    return new ResumeResult(reloaded ? ResumeKind.Reloaded : ResumeKind.Continued, new Job(controller, session, settings, null, feed, store, record.Id));
+                }
+                catch (InvalidOperationException e)
+                {
+                    reason = e.Message;
+                    Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.Id, e.Message, job.RestartLine);
+                }
+                catch (Exception e) when (e is PmacLinkException or PmacErrorException)
+                {
+                    throw new JobException($"cannot resume job {record.Id}: {e.Message}", JobErrorKind.Failed, e);
+                }
+            }
+
+            var plan = job.RestartLine is { } line ? PlanStart(job.Program, line, settings, profile, cancellationToken) : null;
+            if (!await confirmRestart(new RestartProposal(job.RestartLine, plan, reason)).ConfigureAwait(false))
+            {
+                Log.Information("Restart of job {Job} declined", record.Id);
+                store.Dispose();
+                return new ResumeResult(ResumeKind.Declined, null, reason);
+            }
+
+            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), settings, plan, feed, store, record.Id), reason);
+        }
+        catch
+        {
+            store.Dispose();
+            throw;
+        }
+    }
+
+    private PreparedProgram Prepare(PrepareRequest request, IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
+    {
+        var source = Path.GetFullPath(request.SourcePath);
+        if (!File.Exists(source))
+        {
+            throw new JobException($"{request.SourcePath}: no such file", JobErrorKind.BadRequest);
+        }
+
+        SplitOptions options;
+        try
+        {
+            request.Settings.Validate();
+            options = request.Settings.ToSplitOptions(request.Profile, request.OutDir, request.Force) with { MaxReportedErrors = request.MaxListedErrors };
+            options.Validate();
+        }
+        catch (ArgumentException e)
+        {
+            throw new JobException(e.Message, JobErrorKind.BadRequest, e);
+        }
+
+        var outDir = Path.GetFullPath(options.OutDir ?? Splitter.DefaultOutDir(source));
+        if (SplitCache.TryOpen(source, outDir, options, cancellationToken) is { } reused)
+        {
+            Log.Information("Prepared {Source:l}: the split in {Folder:l} matches the program and the options; reused", source, outDir);
+            return new PreparedProgram(source, reused, request.Profile, true, 0);
+        }
+
+        try
+        {
+            var result = Splitter.Split(source, options with { OutDir = outDir }, progress, cancellationToken);
+            return new PreparedProgram(source, ChunkedProgram.FromManifest(result.Manifest, result.OutputDirectory), request.Profile, false, result.Warnings);
+        }
+        catch (SplitException e)
+        {
+            var why = e.FromChecker || e.ErrorCount > 0 ? $"{e.ErrorCount} error(s) under the {request.Profile.Name} profile" : e.Message;
+            Log.Information("Refused {Source:l}: {Why:l}; nothing split, nothing sent", source, why);
+            throw new ProgramRefusedException(source, e.Diagnostics, e.ErrorCount, e.Message, e);
+        }
+    }
+
+    private async Task<IMoveTimes?> MoveTimesAsync(string sourcePath, MachineProfile profile, CancellationToken cancellationToken) =>
+        File.Exists(sourcePath) ? await Task.Run(() => _moveTimes.Get(sourcePath, profile), cancellationToken).ConfigureAwait(false) : null;
+
+    private TimeProvider? TimeOf(ControllerLink controller) => controller.Simulator?.Time ?? _options.Time;
+
+    private JobStore OpenExistingStore()
+    {
+        // Reading jobs must not leave an empty database (and its folders) behind a mistyped path.
+        return File.Exists(JobDatabase)
+            ? JobStore.Open(JobDatabase)
+            : throw new JobException($"{JobDatabase}: no job database there; jobs are recorded when they start", JobErrorKind.BadRequest);
+    }
+
+    private static RunSettings? RecordedSettings(JobRecord record)
+    {
+        if (record.Settings is not { Length: > 0 } json)
+        {
+            return null;
+        }
+
+        try
+        {
+            return RunSettingsFile.Read(RunSettings.Default, Encoding.UTF8.GetBytes(json), $"job {record.Id}");
+        }
+        catch (RunSettingsException e)
+        {
+            Log.Warning("Job {Job}: its recorded settings cannot be read ({Message:l}); the current settings apply", record.Id, e.Message);
+            return null;
+        }
+    }
+}

@@ -1,0 +1,178 @@
+using System.Globalization;
+using PmacStream.GCode;
+using PmacStream.Program;
+using PmacStream.Streaming;
+
+namespace PmacStream.Jobs;
+
+/// <summary>
+/// How a job is cut and run, the same for every face: the command line binds its options to it, the HMI its
+/// controls, a JSON settings file (<see cref="RunSettingsFile"/>) overrides the defaults, and the job record keeps
+/// the settings a job started with. The defaults live here and nowhere else.
+/// </summary>
+public sealed record RunSettings
+{
+    /// <summary>Source blocks per chunk: the paper's 1000-line files.</summary>
+    public const int DefaultLinesPerChunk = 1000;
+
+    /// <summary>Rotary buffer words (<c>&amp;1 DEFINE ROT</c>): room for the executing chunk's rest and the next whole chunk.</summary>
+    public const int DefaultBufferWords = 16_000;
+
+    /// <summary>Words one chunk may take: 6400 words x 8 bytes is the paper's ~50 KB chunk file.</summary>
+    public const int DefaultChunkWords = 6400;
+
+    /// <summary>The paper's download window opens at line 600 of a 1000-line chunk.</summary>
+    public const double DefaultWindowStart = 0.6;
+
+    /// <summary>The paper's download window closes at line 700 of a 1000-line chunk.</summary>
+    public const double DefaultWindowEnd = 0.7;
+
+    /// <summary>The M-variable the synchronous tracking assignment writes (<c>M0==line</c>).</summary>
+    public const string DefaultTrackVariable = "M0";
+
+    /// <summary>The live feed variable moves read (<c>F(P500)</c>).</summary>
+    public const string DefaultFeedVariable = "P500";
+
+    /// <summary>Words the session keeps free in the rotary buffer against the splitter's estimate.</summary>
+    public const int BufferMarginWords = 64;
+
+    /// <summary>The timer period (the paper's timer1 interval).</summary>
+    public static readonly TimeSpan DefaultTickPeriod = TimeSpan.FromMilliseconds(50);
+
+    /// <summary>Every setting at its default.</summary>
+    public static RunSettings Default { get; } = new();
+
+    /// <summary>Most source blocks per chunk file.</summary>
+    public int LinesPerChunk { get; init; } = DefaultLinesPerChunk;
+
+    /// <summary>Rotary buffer size in words; the built-in simulator's buffer is defined to it.</summary>
+    public int BufferWords { get; init; } = DefaultBufferWords;
+
+    /// <summary>Estimated words one chunk may take (the splitter's budget; bytes = words x 8).</summary>
+    public int ChunkWords { get; init; } = DefaultChunkWords;
+
+    /// <summary>Start of the download window, as a fraction of the executing chunk.</summary>
+    public double WindowStart { get; init; } = DefaultWindowStart;
+
+    /// <summary>End of the download window, as a fraction of the executing chunk.</summary>
+    public double WindowEnd { get; init; } = DefaultWindowEnd;
+
+    /// <summary>Tracking variable written by each move's synchronous assignment.</summary>
+    public string TrackVariable { get; init; } = DefaultTrackVariable;
+
+    /// <summary>Feed variable of <c>F(...)</c> on moves.</summary>
+    public string FeedVariable { get; init; } = DefaultFeedVariable;
+
+    /// <summary>Timer period of the streaming tick.</summary>
+    public TimeSpan TickPeriod { get; init; } = DefaultTickPeriod;
+
+    /// <summary>Safe Z rule of a start from a line.</summary>
+    public SafeZMode SafeZMode { get; init; } = SafeZMode.Fixed;
+
+    /// <summary>Safe Z in work coordinates (fixed mode, and the fallback of highest).</summary>
+    public double SafeZ { get; init; } = 10;
+
+    /// <summary>Added to the highest Z so far in highest mode.</summary>
+    public double Clearance { get; init; } = 5;
+
+    /// <summary>The window as <c>0.6-0.7</c>.</summary>
+    public string Window => string.Create(CultureInfo.InvariantCulture, $"{WindowStart:0.###}-{WindowEnd:0.###}");
+
+    /// <summary>
+    /// Parses a download window: <c>START-END</c> as fractions of a chunk (<c>0.6-0.7</c>) or percentages
+    /// (<c>60-70%</c>). Throws <see cref="FormatException"/> naming the forms.
+    /// </summary>
+    public static (double Start, double End) ParseWindow(string text)
+    {
+        ArgumentNullException.ThrowIfNull(text);
+        var t = text.Trim();
+        var percent = t.EndsWith('%');
+        var parts = t.TrimEnd('%').Split('-', StringSplitOptions.TrimEntries);
+        if (parts.Length != 2
+            || !double.TryParse(parts[0].TrimEnd('%'), NumberStyles.Float, CultureInfo.InvariantCulture, out var start)
+            || !double.TryParse(parts[1], NumberStyles.Float, CultureInfo.InvariantCulture, out var end))
+        {
+            throw new FormatException($"window '{text}': expected START-END as fractions of a chunk (0.6-0.7) or percent (60-70%)");
+        }
+
+        return percent ? (start / 100, end / 100) : (start, end);
+    }
+
+    /// <summary>Throws <see cref="ArgumentException"/> naming the first setting that cannot work.</summary>
+    public void Validate()
+    {
+        if (LinesPerChunk < 1)
+        {
+            throw new ArgumentException($"lines per chunk must be at least 1 (got {LinesPerChunk})");
+        }
+
+        if (ChunkWords < 1 || BufferWords < 1)
+        {
+            throw new ArgumentException($"buffer words and chunk words must be positive (got {BufferWords}, {ChunkWords})");
+        }
+
+        if (ChunkWords > BufferWords - BufferMarginWords)
+        {
+            throw new ArgumentException($"a chunk of {ChunkWords} words does not fit a rotary buffer of {BufferWords} words (less the {BufferMarginWords}-word margin)");
+        }
+
+        if (!(WindowStart >= 0 && WindowStart < WindowEnd && WindowEnd <= 1))
+        {
+            throw new ArgumentException($"download window {Window}: expected 0 <= start < end <= 1");
+        }
+
+        if (TickPeriod < TimeSpan.FromMilliseconds(5) || TickPeriod > TimeSpan.FromSeconds(10))
+        {
+            throw new ArgumentException($"tick period must be between 5 ms and 10 s (got {TickPeriod.TotalMilliseconds:0.###} ms)");
+        }
+
+        if (double.IsNaN(SafeZ) || double.IsInfinity(SafeZ) || !(Clearance >= 0) || double.IsInfinity(Clearance))
+        {
+            throw new ArgumentException($"safe Z must be a number and clearance 0 or more (got {SafeZ}, {Clearance})");
+        }
+
+        // The variables' rules are the splitter's.
+        ToSplitOptions(MachineProfile.Default, outDir: null, force: true).Validate();
+    }
+
+    /// <summary>
+    /// The split these settings make: the chunk budgets and variables from here, the tail from the machine profile,
+    /// checked against that profile in the same pass unless <paramref name="force"/>.
+    /// </summary>
+    public SplitOptions ToSplitOptions(MachineProfile profile, string? outDir, bool force)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        return new SplitOptions
+        {
+            LinesPerChunk = LinesPerChunk,
+            RotWords = ChunkWords,
+            TrackVariable = TrackVariable.Trim().ToUpperInvariant(),
+            FeedVariable = FeedVariable.Trim().ToUpperInvariant(),
+            ProgramTail = profile.ProgramTail,
+            OutDir = outDir,
+            CheckProfile = profile,
+            AllowErrors = force,
+        };
+    }
+
+    /// <summary>
+    /// The streaming session's options. <paramref name="clockFactor"/> is virtual seconds per real second when the
+    /// host steps a simulator's clock (the session reasons in machine time); <paramref name="defineBuffer"/> defines
+    /// the rotary buffer to <see cref="BufferWords"/> before the start.
+    /// </summary>
+    public StreamingOptions ToStreamingOptions(StrategyKind strategy, bool singleBlock, bool defineBuffer, double clockFactor = 1) => new()
+    {
+        Strategy = strategy,
+        BufferWords = BufferWords,
+        SafetyWords = BufferMarginWords,
+        DefineBuffer = defineBuffer,
+        WindowStart = WindowStart,
+        WindowEnd = WindowEnd,
+        TickPeriod = TickPeriod * clockFactor,
+        SingleBlock = singleBlock,
+    };
+
+    /// <summary>How a start from a line is planned for a split program (its feed mode and variable, this safe Z).</summary>
+    public StartPlanOptions ToStartPlanOptions(ChunkManifest manifest, MachineProfile profile) =>
+        StartPlanOptions.For(manifest, new StartPlanOptions { SafeZMode = SafeZMode, SafeZ = SafeZ, Clearance = Clearance, Profile = profile });
+}
