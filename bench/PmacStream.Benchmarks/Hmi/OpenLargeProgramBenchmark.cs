@@ -1,7 +1,7 @@
 using BenchmarkDotNet.Attributes;
 using PmacStream.Benchmarks.Generators;
 using PmacStream.Hmi;
-using PmacStream.Pmac;
+using PmacStream.Jobs;
 
 namespace PmacStream.Benchmarks.Hmi;
 
@@ -76,13 +76,13 @@ public class OpenLargeProgramBenchmark
     private sealed class NoBackend : IHmiBackend
     {
         public IReadOnlyList<string> Strategies { get; } = ["chunk"];
-        public Task<IPmacConnection> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<HmiSplitResult> SplitAsync(HmiSplitRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IHmiJob> StartAsync(IPmacConnection connection, HmiJobRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IHmiJob> ResumeInterruptedAsync(IPmacConnection connection, HmiInterruptedJob job, double feed, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
     }
 
     private sealed class NullView : IMainView
@@ -93,7 +93,8 @@ public class OpenLargeProgramBenchmark
         public string ConnectionState { set { } }
         public string ProgramPath { set { } }
         public IReadOnlyList<string> Diagnostics { set { } }
-        public int LinesPerChunk => 1000;
+        public int LinesPerChunk { get; set; }
+        public (double Start, double End) DownloadWindow { get; set; }
         public IReadOnlyList<string> Strategies { set { } }
         public string SelectedStrategy => "chunk";
         public IReadOnlyList<string> ChunkFiles { set { } }
@@ -126,6 +127,7 @@ public class OpenLargeProgramBenchmark
         public event EventHandler? ResumeInterruptedRequested;
         public event EventHandler? SingleBlockChanged;
         public event EventHandler? FeedChanged;
+        public event EventHandler? DownloadWindowChanged;
 #pragma warning restore CS0067
         public void AppendLog(IReadOnlyList<string> lines) { }
         public Task<bool> ConfirmAsync(string title, string text) => Task.FromResult(false);

@@ -678,64 +678,14 @@ public sealed class MainPresenter : IAsyncDisposable
             ResumeInterrupted: connected && open && !running);
     }
 
-    private void RefreshStatus()
-    {
-        var s = _lastStatus;
-        var manifest = _split?.Manifest;
-        string programLines;
-        if (_program is null)
-        {
-            programLines = "-";
-        }
-        else if (_program.IsComplete)
-        {
-            programLines = _program.IndexedLines.ToString("N0", CultureInfo.InvariantCulture);
-        }
-        else
-        {
-            programLines = F(TextId.Indexing, _program.IndexedLines);
-        }
-
-        var currentFile = "-";
-        if (s is not null && manifest is not null && s.CurrentChunk >= 1 && s.CurrentChunk <= manifest.Chunks.Count)
-        {
-            currentFile = $"{s.CurrentChunk}/{manifest.Chunks.Count}  {manifest.Chunks[s.CurrentChunk - 1].FileName}";
-        }
-
-        var state = s is null ? T(TextId.StateIdle) : T(s.State switch
-        {
-            HmiJobState.Running => TextId.StateRunning,
-            HmiJobState.Held => TextId.StateHeld,
-            HmiJobState.Completed => TextId.StateCompleted,
-            HmiJobState.Aborted => TextId.StateAborted,
-            HmiJobState.Failed => TextId.StateFailed,
-            _ => TextId.StateIdle,
-        });
-
-        var percent = s is null ? 0 : Math.Clamp(s.Percent, 0, 100);
-        _view.Status = new StatusDisplay(
-            State: state,
-            TotalFiles: manifest is null ? "-" : manifest.Chunks.Count.ToString(CultureInfo.InvariantCulture),
-            ProgramLines: programLines,
-            CurrentFile: currentFile,
-            CurrentLine: s is null || s.CurrentLine == 0 ? "-" : s.CurrentLine.ToString("N0", CultureInfo.InvariantCulture),
-            ProgressPercent: (int)Math.Round(percent),
-            Progress: percent.ToString("0.0", CultureInfo.InvariantCulture) + " %",
-            Feed: ShownFeed(s).ToString("0.#", CultureInfo.InvariantCulture) + " " + _feedScale.Unit,
-            Elapsed: s is null ? "-" : Clock(s.Elapsed),
-            Eta: s?.Eta is { } eta ? Clock(eta) : "-");
-    }
+    private void RefreshStatus() =>
+        _view.Status = StatusStrip.Show(_lastStatus, _split?.Manifest, _program, ShownFeed(_lastStatus), _feedScale, _language);
 
     /// <summary>
     /// The feed in force: the job's status carries what the controller holds (P500 as the program's F values set it,
     /// or the override), unclamped by the slider's range; the panel's value when no job runs or it is unknown.
     /// </summary>
     private double ShownFeed(HmiJobStatus? s) => _job is not null && s is { Feed: > 0 } ? s.Feed : _feed;
-
-    private static string Clock(TimeSpan t) =>
-        t.TotalHours >= 1
-            ? string.Create(CultureInfo.InvariantCulture, $"{(int)t.TotalHours}:{t.Minutes:00}:{t.Seconds:00}")
-            : string.Create(CultureInfo.InvariantCulture, $"{t.Minutes:00}:{t.Seconds:00}");
 
     private void CloseProgram()
     {

@@ -80,7 +80,12 @@ public static class RunSettingsFile
                     s = Apply(s, name, ref reader) ?? throw Fault(source, bytes, at, UnknownCode,
                         $"unknown setting '{name}' (known: linesPerChunk, bufferWords, chunkWords, windowStart, windowEnd, trackVariable, feedVariable, tickMs, safeZMode, safeZ, clearance)");
                 }
-                catch (Exception e) when (e is InvalidOperationException or FormatException or ArgumentException)
+                catch (InvalidOperationException)
+                {
+                    var expected = name is "trackVariable" or "feedVariable" or "safeZMode" ? "a string" : "a number";
+                    throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: expected {expected}, got {reader.TokenType.ToString().ToLowerInvariant()}");
+                }
+                catch (Exception e) when (e is FormatException or ArgumentException)
                 {
                     throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: {e.Message}");
                 }

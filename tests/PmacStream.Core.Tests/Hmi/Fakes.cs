@@ -1,6 +1,7 @@
 using System.Text;
 using PmacStream.GCode;
 using PmacStream.Hmi;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Program;
 
@@ -15,7 +16,8 @@ internal sealed class FakeView : IMainView
     public string ConnectionState { get; set; } = string.Empty;
     public string ProgramPath { get; set; } = string.Empty;
     public IReadOnlyList<string> Diagnostics { get; set; } = [];
-    public int LinesPerChunk { get; set; } = 1000;
+    public int LinesPerChunk { get; set; }
+    public (double Start, double End) DownloadWindow { get; set; }
     public IReadOnlyList<string> Strategies { get; set; } = [];
     public string SelectedStrategy { get; set; } = "chunk";
     public IReadOnlyList<string> ChunkFiles { get; set; } = [];
@@ -53,6 +55,7 @@ internal sealed class FakeView : IMainView
     public event EventHandler? ResumeInterruptedRequested;
     public event EventHandler? SingleBlockChanged;
     public event EventHandler? FeedChanged;
+    public event EventHandler? DownloadWindowChanged;
 
     public void AppendLog(IReadOnlyList<string> lines) => Log.AddRange(lines);
 
@@ -81,6 +84,7 @@ internal sealed class FakeView : IMainView
     public void ClickResumeInterrupted() => ResumeInterruptedRequested?.Invoke(this, EventArgs.Empty);
     public void ToggleSingleBlock(bool on) { SingleBlock = on; SingleBlockChanged?.Invoke(this, EventArgs.Empty); }
     public void MoveFeed(double v) { Feed = v; FeedChanged?.Invoke(this, EventArgs.Empty); }
+    public void SetWindow(double start, double end) { DownloadWindow = (start, end); DownloadWindowChanged?.Invoke(this, EventArgs.Empty); }
 
     public string ProgramRow(int line)
     {
@@ -118,11 +122,13 @@ internal sealed class FakeBackend : IHmiBackend
     public int LinesPerTick { get; set; } = 7;
     public FeedMode Feed { get; set; } = FeedMode.Paper;
     public List<HmiJobRequest> Started { get; } = [];
+    public List<RunSettings> Prepared { get; } = [];
+    public List<RunSettings> Resumed { get; } = [];
     public List<FakeJob> Jobs { get; } = [];
     public HmiInterruptedJob? Interrupted { get; set; }
     public FakeConnection? Connection { get; private set; }
 
-    public Task<IPmacConnection> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default)
+    public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default)
     {
         if (settings.Device == DeviceKind.Ethernet && settings.EthernetAddress == "unreachable")
         {
@@ -130,7 +136,7 @@ internal sealed class FakeBackend : IHmiBackend
         }
 
         Connection = new FakeConnection();
-        return Task.FromResult<IPmacConnection>(Connection);
+        return Task.FromResult(new ControllerLink(ConnectionSpec.Simulator, Connection));
     }
 
     public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default)
@@ -156,16 +162,29 @@ internal sealed class FakeBackend : IHmiBackend
         return Task.FromResult(HmiCheckResult.FromList(diags, blocks));
     }
 
-    public Task<HmiSplitResult> SplitAsync(HmiSplitRequest request, CancellationToken cancellationToken = default)
+    /// <summary>Refuses a program with a "BAD" line (the service's gate), else writes chunk files of <see cref="RunSettings.LinesPerChunk"/> lines.</summary>
+    public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default)
     {
-        var lines = File.ReadAllLines(request.SourcePath);
-        var dir = Path.Combine(Path.GetDirectoryName(request.SourcePath)!, Path.GetFileNameWithoutExtension(request.SourcePath) + "_chunks");
+        Prepared.Add(settings);
+        var check = await CheckAsync(sourcePath, HmiLanguage.English, cancellationToken);
+        if (check.Errors > 0)
+        {
+            throw new ProgramRefusedException(sourcePath, check.Diagnostics, check.Errors, $"{check.Errors} error(s)");
+        }
+
+        return Split(sourcePath, settings.LinesPerChunk);
+    }
+
+    public HmiSplitResult Split(string sourcePath, int linesPerChunk)
+    {
+        var lines = File.ReadAllLines(sourcePath);
+        var dir = Path.Combine(Path.GetDirectoryName(sourcePath)!, Path.GetFileNameWithoutExtension(sourcePath) + "_chunks");
         Directory.CreateDirectory(dir);
         var chunks = new List<ChunkInfo>();
-        for (int first = 1, index = 1; first <= lines.Length; first += request.LinesPerChunk, index++)
+        for (int first = 1, index = 1; first <= lines.Length; first += linesPerChunk, index++)
         {
-            var last = Math.Min(lines.Length, first + request.LinesPerChunk - 1);
-            var name = $"{Path.GetFileNameWithoutExtension(request.SourcePath)}_{index:0000}.pmc";
+            var last = Math.Min(lines.Length, first + linesPerChunk - 1);
+            var name = $"{Path.GetFileNameWithoutExtension(sourcePath)}_{index:0000}.pmc";
             var sb = new StringBuilder("CLOSE\nOPEN ROT\n");
             for (var i = first; i <= last; i++)
             {
@@ -177,14 +196,14 @@ internal sealed class FakeBackend : IHmiBackend
             chunks.Add(new ChunkInfo(index, name, first, last, last - first + 1, last - first + 1, sb.Length, 0, ""));
         }
 
-        var manifest = new ChunkManifest(request.SourcePath, 0, "", lines.Length, lines.Length, "M0", TrackingPlacement.Exact, Feed, "P500", chunks);
-        return Task.FromResult(new HmiSplitResult(manifest, dir));
+        var manifest = new ChunkManifest(sourcePath, 0, "", lines.Length, lines.Length, "M0", TrackingPlacement.Exact, Feed, "P500", chunks);
+        return new HmiSplitResult(manifest, dir);
     }
 
-    public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, CancellationToken cancellationToken = default) =>
+    public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) =>
         Task.FromResult<IReadOnlyList<string>>(["G21 G17 G90 G54", $"RAPID Z50 (to line {line})"]);
 
-    public Task<IHmiJob> StartAsync(IPmacConnection connection, HmiJobRequest request, CancellationToken cancellationToken = default)
+    public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         Started.Add(request);
         var job = new FakeJob(request.Program.Manifest, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.Feed);
@@ -195,8 +214,9 @@ internal sealed class FakeBackend : IHmiBackend
     public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
         Task.FromResult(Interrupted is { } j && j.Program.Manifest.SourcePath == sourcePath ? j : null);
 
-    public Task<IHmiJob> ResumeInterruptedAsync(IPmacConnection connection, HmiInterruptedJob job, double feed, CancellationToken cancellationToken = default)
+    public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default)
     {
+        Resumed.Add(settings);
         var j = new FakeJob(job.Program.Manifest, job.ResumeLine, LinesPerTick, false, feed);
         Jobs.Add(j);
         return Task.FromResult<IHmiJob>(j);

@@ -1,5 +1,6 @@
 using PmacStream.GCode;
 using PmacStream.Hmi;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Sim;
@@ -45,16 +46,14 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     /// <summary>A fresh "process": backend, presenter and view, with the simulator as its controller.</summary>
     private (MainPresenter P, FakeView V) NewHmi()
     {
-        var library = ControllerSetup.Library();
-        var backend = new CoreHmiBackend(
-            simulator: async ct =>
-            {
-                var conn = new InProcessConnection(_sim.OpenPort("hmi"), "simulator (in-process)");
-                await ControllerSetup.DownloadTolerantAsync(conn, library, ct);
-                return conn;
-            },
-            time: SimRig.Clock(_sim),
-            jobDatabase: JobDb);
+        // The job service the command line calls, with this test's simulator as the built-in one (its clock advanced by the test).
+        var backend = new CoreHmiBackend(new JobService(new JobServiceOptions
+        {
+            Simulator = _ => Task.FromResult(new SimulatorLink(
+                new InProcessConnection(_sim.OpenPort("hmi"), "simulator (in-process)"),
+                SimRig.Clock(_sim))),
+            JobDatabase = JobDb,
+        }));
         var view = new FakeView { LinesPerChunk = 1000 };
         var sink = new HmiLogSink();
         var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();
@@ -129,6 +128,24 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         await Do(p, v.ClickSplit);
         v.Errors.Should().ContainSingle().Which.Should().Contain("bad.nc:4:");
         Directory.Exists(Splitter.DefaultOutDir(bad)).Should().BeFalse("nothing is split");
+    }
+
+    [Fact]
+    public async Task Split_refuses_a_program_with_profile_errors_although_no_check_ran()
+    {
+        // Two codes of one modal group in a block and an unknown code: errors under the machine profile only.
+        var bad = Path.Combine(_dir, "bad.nc");
+        File.WriteAllText(bad, "G21 G90\nG01 X10 Y10 F500\nG00 G01 X20\nG77 X30\nM30\n");
+        var (p, v) = NewHmi();
+        await Do(p, () => v.ChooseFile(bad));
+        await Do(p, v.ClickConnect);
+        await Do(p, v.ClickSplit);
+
+        v.Errors.Should().ContainSingle().Which.Should().Contain("bad.nc:3:");
+        v.Diagnostics.Should().HaveCount(2).And.Contain(d => d.StartsWith("3:", StringComparison.Ordinal)).And.Contain(d => d.StartsWith("4:", StringComparison.Ordinal) && d.Contains("E104"));
+        Directory.Exists(Splitter.DefaultOutDir(bad)).Should().BeFalse("nothing is split");
+        v.Commands.Execute.Should().BeFalse("nothing to run");
+        _sim.ExecutedMoves.Should().BeEmpty();
     }
 
     [Fact]

@@ -66,7 +66,7 @@ public sealed class HmiTextAndLogTests
     }
 }
 
-public sealed class ControllerSetupTests
+public sealed class ControllerLibraryTests
 {
     private sealed class RefusingConnection(string refuse) : PmacStream.Pmac.IPmacConnection
     {
@@ -87,12 +87,12 @@ public sealed class ControllerSetupTests
     [Fact]
     public async Task Library_download_goes_on_past_a_refused_line_and_reports_it()
     {
-        var library = ControllerSetup.Library();
+        var library = PmacStream.Jobs.ControllerLibrary.Lines();
         library.Should().Contain(l => l.StartsWith("OPEN PROG 1000", StringComparison.Ordinal)).And.Contain("CLOSE");
         var refuse = library.First(l => l.StartsWith("N1000", StringComparison.Ordinal));
         var conn = new RefusingConnection(refuse);
 
-        var refused = await ControllerSetup.DownloadTolerantAsync(conn, library);
+        var refused = await PmacStream.Jobs.ControllerLibrary.DownloadTolerantAsync(conn, library);
 
         refused.Should().Equal(refuse);
         conn.Received.Should().Equal(library, "every line was offered, in order, the refused one included");

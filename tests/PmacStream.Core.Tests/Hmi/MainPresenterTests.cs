@@ -1,5 +1,6 @@
 using System.Text;
 using PmacStream.Hmi;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Program;
 
@@ -117,6 +118,55 @@ public sealed class MainPresenterTests : IAsyncLifetime
         await Do(_view.ClickSplit);
         _view.Errors.Should().ContainSingle().Which.Should().Contain("part.nc:12:7: error E101");
         _view.ChunkFiles.Should().BeEmpty();
+    }
+
+    [Fact]
+    public async Task Split_without_a_check_is_refused_by_the_gate_with_the_errors_listed()
+    {
+        await Do(() => _view.ChooseFile(Program(50, i => i == 12 ? "G1 X1 BAD" : $"G1 X{i}")));
+        await Do(_view.ClickSplit);
+
+        _view.Errors.Should().ContainSingle().Which.Should().Contain("part.nc:12:7: error E101");
+        _view.Diagnostics.Should().Equal("12:7  E  E101  illegal character 'B'");
+        await Do(() => _view.DoubleClickDiagnostic(0));
+        _view.FocusedLine.Should().Be(12, "the refusal's list works like the check's");
+        _view.ChunkFiles.Should().BeEmpty();
+        Directory.Exists(Path.Combine(_dir, "part_chunks")).Should().BeFalse();
+    }
+
+    [Fact]
+    public async Task Lines_per_chunk_and_window_start_from_the_settings_and_bind_to_the_next_job()
+    {
+        await _p.DisposeAsync();
+        var view = new FakeView();
+        var settings = RunSettings.Default with { LinesPerChunk = 40, WindowStart = 0.5, WindowEnd = 0.8, TickPeriod = TimeSpan.FromMilliseconds(25) };
+        _p = new MainPresenter(view, _backend, _sink, Logger(), settings);
+        view.LinesPerChunk.Should().Be(40);
+        view.DownloadWindow.Should().Be((0.5, 0.8));
+        _p.TickPeriod.Should().Be(TimeSpan.FromMilliseconds(25), "the form's timer ticks with the settings' period");
+
+        await Do(() => view.ChooseFile(Program(100)));
+        await Do(view.ClickConnect);
+        view.LinesPerChunk = 25;
+        await Do(view.ClickSplit);
+        _backend.Prepared.Single().LinesPerChunk.Should().Be(25);
+        view.ChunkFiles.Should().HaveCount(4);
+
+        await Do(() => view.SetWindow(0.65, 0.75));
+        view.Errors.Should().BeEmpty();
+        await Do(view.ClickExecute);
+        var started = _backend.Started.Single().Settings;
+        (started.WindowStart, started.WindowEnd, started.LinesPerChunk, started.TickPeriod).Should().Be((0.65, 0.75, 25, TimeSpan.FromMilliseconds(25)));
+        view.Log.Should().Contain(l => l.Contains("Download window set to 0.65-0.75"));
+    }
+
+    [Fact]
+    public async Task A_window_that_cannot_work_is_refused_and_the_control_shows_the_one_in_force()
+    {
+        await Do(() => _view.SetWindow(0.8, 0.7));
+        _view.Errors.Should().ContainSingle().Which.Should().Contain("0.8-0.7");
+        _view.DownloadWindow.Should().Be((0.6, 0.7));
+        _p.Settings.Should().Be(RunSettings.Default);
     }
 
     [Fact]
@@ -267,7 +317,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
         // The store recorded line 64 (chunk 3); the host restarts and the operator resumes.
         var manifest = _backend.Jobs[0].Status;
         manifest.CurrentLine.Should().Be(63);
-        var split = await _backend.SplitAsync(new HmiSplitRequest(Path.Combine(_dir, "part.nc"), 30));
+        var split = _backend.Split(Path.Combine(_dir, "part.nc"), 30);
         _backend.Interrupted = new HmiInterruptedJob(7, split, 64, 3, "chunk", DateTimeOffset.UtcNow);
         await _p.DisposeAsync();
         var view2 = new FakeView();

@@ -1,4 +1,5 @@
 using PmacStream.Hmi;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Sim;
 
@@ -83,15 +84,13 @@ public sealed class ScreenSketchTests : IAsyncLifetime
         var source = Path.Combine(_dir, "demo.nc");
         File.Copy(RepoRoot.DemoProgram, source);
         using var sim = new PmacStream.Sim.PmacSimulator();
-        var backend = new CoreHmiBackend(
-            simulator: async ct =>
-            {
-                var conn = new InProcessConnection(sim.OpenPort("hmi"), "simulator (in-process)");
-                await ControllerSetup.DownloadTolerantAsync(conn, ControllerSetup.Library(), ct);
-                return conn;
-            },
-            time: new SimTimeProvider(sim, new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero)),
-            jobDatabase: Path.Combine(_dir, "jobs.db"));
+        var backend = new CoreHmiBackend(new JobService(new JobServiceOptions
+        {
+            Simulator = _ => Task.FromResult(new SimulatorLink(
+                new InProcessConnection(sim.OpenPort("hmi"), "simulator (in-process)"),
+                new SimTimeProvider(sim, new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero)))),
+            JobDatabase = Path.Combine(_dir, "jobs.db"),
+        }));
         var view = new FakeView { Language = language, LinesPerChunk = 1000 };
         var sink = new HmiLogSink();
         var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();

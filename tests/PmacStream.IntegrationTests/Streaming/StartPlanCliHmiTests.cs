@@ -1,4 +1,5 @@
 using PmacStream.Hmi;
+using PmacStream.Jobs;
 using PmacStream.Program;
 using PmacStream.Streaming;
 
@@ -41,8 +42,9 @@ public sealed class StartPlanCliHmiTests : IDisposable
 
         var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(_folder, "hmi-split") });
         var options = new StartPlanOptions { SafeZMode = mode == "fixed" ? SafeZMode.Fixed : SafeZMode.HighestSoFar };
-        var backend = new CoreHmiBackend(jobDatabase: Path.Combine(_folder, "hmi.db"), startPlan: options);
-        var hmi = await backend.BuildPreambleAsync(new HmiSplitResult(split.Manifest, split.OutputDirectory), line);
+        var backend = new CoreHmiBackend(new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_folder, "hmi.db") }));
+        var settings = RunSettings.Default with { SafeZMode = options.SafeZMode };
+        var hmi = await backend.BuildPreambleAsync(new HmiSplitResult(split.Manifest, split.OutputDirectory), line, settings);
 
         hmi.Should().Equal(cli, "the HMI shows exactly the preamble the CLI shows for the same line");
         var plan = StartFromLine.Plan(src, line, StartPlanOptions.For(split.Manifest, options));

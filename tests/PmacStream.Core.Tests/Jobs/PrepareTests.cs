@@ -1,0 +1,126 @@
+using System.Text;
+using PmacStream.Core.Tests.Program;
+using PmacStream.GCode;
+using PmacStream.Jobs;
+using PmacStream.Program;
+
+namespace PmacStream.Core.Tests.Jobs;
+
+/// <summary>The job service's prepare step: the check gate under the machine profile and the split cache.</summary>
+public sealed class PrepareTests : IDisposable
+{
+    private readonly TempProgram _clean = new(Program(2500));
+    private readonly JobService _service = new(new JobServiceOptions { JobDatabase = Path.Combine(Path.GetTempPath(), "pmacstream-prep-" + Guid.NewGuid().ToString("N"), "jobs.db") });
+
+    public void Dispose() => _clean.Dispose();
+
+    private static string Program(int moves, string? extra = null)
+    {
+        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nG01 F1200\n");
+        for (var i = 1; i <= moves; i++)
+        {
+            sb.Append("G01 X").Append(i % 40).Append(" Y").Append(i / 40).Append('\n');
+            if (i == moves / 2 && extra is not null)
+            {
+                sb.Append(extra).Append('\n');
+            }
+        }
+
+        return sb.Append("M30\n").ToString();
+    }
+
+    private Task<PreparedProgram> Prepare(TempProgram p, RunSettings settings, bool force = false, MachineProfile? profile = null) =>
+        _service.PrepareAsync(new PrepareRequest(p.SourcePath, settings) { Force = force, Profile = profile ?? MachineProfile.Default });
+
+    [Fact]
+    public async Task Fewer_lines_per_chunk_than_the_earlier_split_splits_again()
+    {
+        var first = await Prepare(_clean, RunSettings.Default);
+        first.Reused.Should().BeFalse();
+        first.Program.Manifest.Chunks.Should().HaveCount(3);
+
+        var second = await Prepare(_clean, RunSettings.Default with { LinesPerChunk = 500 });
+        second.Reused.Should().BeFalse("the cached split was made with 1000 lines per chunk");
+        second.Program.Manifest.Chunks.Should().OnlyContain(c => c.BlockCount <= 500).And.HaveCount(6);
+        ChunkManifest.Load(Path.Combine(second.Program.Folder, ChunkManifest.FileName)).LinesPerChunk.Should().Be(500, "the split on disk is the new one");
+    }
+
+    [Fact]
+    public async Task The_same_source_and_options_reuse_the_split_and_any_difference_does_not()
+    {
+        await Prepare(_clean, RunSettings.Default);
+        (await Prepare(_clean, RunSettings.Default)).Reused.Should().BeTrue();
+        (await Prepare(_clean, RunSettings.Default, force: true)).Reused.Should().BeTrue("a checked split of the same bytes is what a forced one would be");
+
+        (await Prepare(_clean, RunSettings.Default with { ChunkWords = 5000 })).Reused.Should().BeFalse("another word budget");
+        (await Prepare(_clean, RunSettings.Default with { ChunkWords = 5000 })).Reused.Should().BeTrue();
+        (await Prepare(_clean, RunSettings.Default with { ChunkWords = 5000, FeedVariable = "P600" })).Reused.Should().BeFalse("another feed variable");
+        var tail = MachineProfile.Parse(MachineProfile.Default.ToJson().Replace("\"programTail\": \"M05\"", "\"programTail\": \"M03 M05\"", StringComparison.Ordinal), "paper.json");
+        (await Prepare(_clean, RunSettings.Default with { ChunkWords = 5000, FeedVariable = "P600" }, profile: tail)).Reused.Should().BeFalse("another profile (and tail)");
+
+        File.AppendAllText(_clean.SourcePath, "G01 X1 Y1\n");
+        (await Prepare(_clean, RunSettings.Default with { ChunkWords = 5000, FeedVariable = "P600" }, profile: tail)).Reused.Should().BeFalse("the source changed");
+    }
+
+    [Fact]
+    public async Task A_program_with_profile_errors_is_refused_with_every_error_and_nothing_is_written()
+    {
+        using var bad = new TempProgram(Program(300, "G00 G01 X5\nG77 X3\nG01 X4 U2"));
+        var expected = new List<Diagnostic>();
+        new Checker(MachineProfile.Default).CheckFile(bad.SourcePath, d =>
+        {
+            if (d.Severity == Severity.Error)
+            {
+                expected.Add(d);
+            }
+        });
+        expected.Should().HaveCountGreaterThanOrEqualTo(3, "two codes of one group, an unknown code and an unknown axis word");
+
+        var act = () => Prepare(bad, RunSettings.Default);
+        var refused = (await act.Should().ThrowAsync<ProgramRefusedException>()).Which;
+        refused.ErrorCount.Should().Be(expected.Count);
+        refused.Lines("bad.nc").Should().Equal(expected.Select(d => d.Format("bad.nc")));
+        Directory.Exists(Splitter.DefaultOutDir(bad.SourcePath)).Should().BeFalse("a refused program leaves no chunks");
+    }
+
+    [Fact]
+    public async Task A_forced_split_is_not_reused_without_force_the_check_refuses_again()
+    {
+        using var bad = new TempProgram(Program(300, "G77 X3"));
+        var forced = await Prepare(bad, RunSettings.Default, force: true);
+        forced.Program.Manifest.CheckedProfile.Should().BeNull("a forced split was not checked");
+
+        var act = () => Prepare(bad, RunSettings.Default);
+        (await act.Should().ThrowAsync<ProgramRefusedException>()).Which.Diagnostics.Should().ContainSingle(d => d.Code == "E104");
+        (await Prepare(bad, RunSettings.Default, force: true)).Reused.Should().BeTrue("forcing again takes the forced split");
+    }
+
+    [Fact]
+    public async Task Bad_settings_and_missing_programs_are_bad_requests()
+    {
+        var noFile = () => _service.PrepareAsync(new PrepareRequest(Path.Combine(_clean.Folder, "none.nc"), RunSettings.Default));
+        (await noFile.Should().ThrowAsync<JobException>()).Which.Kind.Should().Be(JobErrorKind.BadRequest);
+        var badWindow = () => Prepare(_clean, RunSettings.Default with { WindowStart = 0.9 });
+        (await badWindow.Should().ThrowAsync<JobException>().WithMessage("*window*")).Which.Kind.Should().Be(JobErrorKind.BadRequest);
+    }
+
+    [Fact]
+    public async Task A_start_plan_needs_a_block_at_or_after_its_line()
+    {
+        var prepared = await Prepare(_clean, RunSettings.Default);
+        _service.PlanStart(prepared.Program, 1200, RunSettings.Default).Line.Should().BeGreaterThanOrEqualTo(1200);
+        var act = () => _service.PlanStart(prepared.Program, 99_999, RunSettings.Default);
+        act.Should().Throw<JobException>().Which.Kind.Should().Be(JobErrorKind.BadRequest);
+    }
+
+    [Fact]
+    public async Task Connecting_to_the_simulator_needs_a_host_that_has_one_and_reading_jobs_needs_a_database()
+    {
+        var act = () => _service.ConnectAsync(PmacStream.Pmac.ConnectionSpec.Simulator);
+        (await act.Should().ThrowAsync<JobException>().WithMessage("*no built-in simulator*")).Which.Kind.Should().Be(JobErrorKind.BadRequest);
+        var find = () => _service.FindJob(null);
+        find.Should().Throw<JobException>().WithMessage("*no job database*");
+        File.Exists(_service.JobDatabase).Should().BeFalse("reading jobs creates no database");
+        _service.FindInterrupted(_clean.SourcePath).Should().BeNull();
+    }
+}
