@@ -54,7 +54,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
                 SimRig.Clock(_sim))),
             JobDatabase = JobDb,
         }));
-        var view = new FakeView { LinesPerChunk = 1000 };
+        var view = new FakeView();
         var sink = new HmiLogSink();
         var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();
         var p = new MainPresenter(view, backend, sink, log);

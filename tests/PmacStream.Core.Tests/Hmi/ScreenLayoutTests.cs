@@ -91,7 +91,7 @@ public sealed class ScreenSketchTests : IAsyncLifetime
                 new SimTimeProvider(sim, new DateTimeOffset(2026, 1, 1, 0, 0, 0, TimeSpan.Zero)))),
             JobDatabase = Path.Combine(_dir, "jobs.db"),
         }));
-        var view = new FakeView { Language = language, LinesPerChunk = 1000 };
+        var view = new FakeView { Language = language };
         var sink = new HmiLogSink();
         var log = new Serilog.LoggerConfiguration().WriteTo.Hmi(sink).CreateLogger().ForContext<MainPresenter>();
         await using var p = new MainPresenter(view, backend, sink, log);
