@@ -1,4 +1,4 @@
-using PmacStream.Hmi;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Sim;
@@ -16,7 +16,7 @@ public sealed class SimRig : IDisposable
     public static readonly DateTimeOffset TestEpoch = new(2026, 1, 1, 0, 0, 0, TimeSpan.Zero);
 
     /// <summary>The generated PROG 1000/1001 G and M code library for the default machine profile, one line each.</summary>
-    public static IReadOnlyList<string> Library { get; } = ControllerSetup.Library();
+    public static IReadOnlyList<string> Library { get; } = ControllerLibrary.Lines();
 
     public SimRig(string source, int linesPerChunk, StreamingOptions options, TrackingPlacement placement = TrackingPlacement.Exact, SimOptions? simOptions = null)
     {

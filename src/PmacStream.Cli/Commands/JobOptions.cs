@@ -35,8 +35,8 @@ internal sealed class JobOptions
     private readonly Option<string?> _settings = new("--settings") { Description = "Run settings file (JSON); default $PMACSTREAM_SETTINGS or ~/.pmacstream/settings.json when it exists." };
     private readonly Option<int?> _lines = new("--lines") { Description = $"Source lines per chunk when splitting (default {D.LinesPerChunk})." };
     private readonly Option<int?> _bufferWords = new("--buffer-words") { Description = $"Rotary buffer size in words (default {D.BufferWords}; the simulator's is defined to this)." };
-    private readonly Option<int?> _tickMs = new("--tick-ms") { Description = $"Timer period (the paper's timer1 interval), milliseconds (default {D.TickPeriod.TotalMilliseconds:0})." };
-    private readonly Option<string?> _window = new("--window") { Description = $"Download window of the chunk strategy, as fractions of a chunk (default {D.Window}: the paper's lines 600-700 of 1000) or percent (60-70%)." };
+    private readonly Option<int?> _tickMs = new("--tick-ms") { Description = $"Timer period of the streaming tick, milliseconds (default {D.TickPeriod.TotalMilliseconds:0})." };
+    private readonly Option<string?> _window = new("--window") { Description = $"Download window of the chunk strategy, as fractions of a chunk (default {D.Window}: lines 600-700 of a 1000-line chunk) or percent (60-70%)." };
     private readonly Option<double?> _safeZ = new("--safe-z") { Description = $"Safe Z (work coordinates) for the approach when starting from a line (default {D.SafeZ}; --safe-z-mode fixed, and the fallback of highest)." };
     private readonly Option<string?> _safeZMode = new("--safe-z-mode") { Description = "Safe Z when starting from a line: fixed (--safe-z, the default) or highest (the highest Z reached so far plus --clearance). The HMI plans the same way." };
     private readonly Option<double?> _clearance = new("--clearance") { Description = $"Added to the highest Z so far with --safe-z-mode highest (default {D.Clearance})." };

@@ -10,7 +10,7 @@ internal static class StreamCommand
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "G-code program to run." };
-        var strategy = new Option<string>("--strategy") { Description = "chunk (the paper's method), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "chunk" };
+        var strategy = new Option<string>("--strategy") { Description = "chunk (the chunk method: the next chunk once, in the download window), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "chunk" };
         var fromLine = new Option<int?>("--from-line") { Description = "Start at the block of this source line, with a preamble restoring modal state and a safe approach." };
         var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped), as split --force does." };
         var cmd = new Command("stream", "Check, split and stream a program to a controller or the simulator.");

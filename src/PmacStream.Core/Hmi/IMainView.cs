@@ -111,8 +111,8 @@ public interface IMainView
     int LinesPerChunk { get; set; }
 
     /// <summary>
-    /// The download window of the chunk strategy: start and end as fractions of the executing chunk (the paper's lines
-    /// 600-700 of 1000 are 0.6 and 0.7). The presenter shows the run settings' window; setting it raises no event.
+    /// The download window of the chunk strategy: start and end as fractions of the executing chunk (lines 600-700
+    /// of a 1000-line chunk are 0.6 and 0.7). The presenter shows the run settings' window; setting it raises no event.
     /// </summary>
     (double Start, double End) DownloadWindow { get; set; }
 

@@ -116,7 +116,7 @@ public sealed class Job : IAsyncDisposable
     public void SetSingleBlock(bool on) => Session.SetSingleBlock(on);
 
     /// <summary>
-    /// The timer loop (the paper's timer1_Tick) for a host without a timer: tick, report, wait one period and, when the
+    /// The timer loop (timer1_Tick of the HMI) for a host without a timer: tick, report, wait one period and, when the
     /// host steps the simulator's clock, advance it by the tick's virtual time. Ends when the job completes or stops, or
     /// when <paramref name="cancellationToken"/> fires (sending stops; the controller keeps the lines it holds).
     /// </summary>

@@ -12,19 +12,19 @@ namespace PmacStream.Jobs;
 /// </summary>
 public sealed record RunSettings
 {
-    /// <summary>Source blocks per chunk: the paper's 1000-line files.</summary>
+    /// <summary>Source blocks per chunk: 1000-line chunk files.</summary>
     public const int DefaultLinesPerChunk = 1000;
 
     /// <summary>Rotary buffer words (<c>&amp;1 DEFINE ROT</c>): room for the executing chunk's rest and the next whole chunk.</summary>
     public const int DefaultBufferWords = 16_000;
 
-    /// <summary>Words one chunk may take: 6400 words x 8 bytes is the paper's ~50 KB chunk file.</summary>
+    /// <summary>Words one chunk may take: 6400 words x 8 bytes is a ~50 KB chunk file, what one motion program buffer holds.</summary>
     public const int DefaultChunkWords = 6400;
 
-    /// <summary>The paper's download window opens at line 600 of a 1000-line chunk.</summary>
+    /// <summary>The download window opens at line 600 of a 1000-line chunk.</summary>
     public const double DefaultWindowStart = 0.6;
 
-    /// <summary>The paper's download window closes at line 700 of a 1000-line chunk.</summary>
+    /// <summary>The download window closes at line 700 of a 1000-line chunk.</summary>
     public const double DefaultWindowEnd = 0.7;
 
     /// <summary>The M-variable the synchronous tracking assignment writes (<c>M0==line</c>).</summary>
@@ -36,7 +36,7 @@ public sealed record RunSettings
     /// <summary>Words the session keeps free in the rotary buffer against the splitter's estimate.</summary>
     public const int BufferMarginWords = 64;
 
-    /// <summary>The timer period (the paper's timer1 interval).</summary>
+    /// <summary>The timer period (timer1's interval).</summary>
     public static readonly TimeSpan DefaultTickPeriod = TimeSpan.FromMilliseconds(50);
 
     /// <summary>Every setting at its default.</summary>

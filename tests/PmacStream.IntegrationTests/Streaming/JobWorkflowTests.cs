@@ -155,7 +155,7 @@ public sealed class JobWorkflowTests : IDisposable
     public async Task Cli_and_hmi_start_the_same_job_with_the_same_buffer_window_and_preamble(bool settingsFile)
     {
         var src = Path.Combine(_folder, "demo.nc");
-        File.Copy(SimRig.DemoPath, src);
+        File.Copy(RepoRoot.DemoProgram, src);
         var file = Path.Combine(_folder, "settings.json");
         File.WriteAllText(file, """{ "bufferWords": 24000, "windowStart": 0.55, "windowEnd": 0.65, "safeZMode": "highest" }""");
         var args = new List<string> { "stream", src, "--sim", "--from-line", "1500", "--yes", "--sim-speed", "instant", "--job-db", Db };
