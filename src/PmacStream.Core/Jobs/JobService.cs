@@ -203,7 +203,7 @@ public sealed class JobService
     }
 
     /// <summary>The newest job recorded for a program, whoever started it, when it did not complete; else null.</summary>
-    public ResumableJob? FindInterrupted(string sourcePath, RunSettings? settings = null)
+    public ResumableJob? FindInterrupted(string sourcePath)
     {
         if (!File.Exists(JobDatabase))
         {
