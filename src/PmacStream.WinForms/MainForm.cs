@@ -9,7 +9,7 @@ namespace PmacStream.WinForms;
 /// <see cref="IMainView"/> events and shows what the <see cref="MainPresenter"/> sets. No logic lives here; the
 /// only code is wiring, and <c>timer1_Tick</c> calling the presenter's tick as in the paper.
 /// </summary>
-internal sealed class MainForm : Form, IMainView
+internal sealed partial class MainForm : Form, IMainView
 {
     private static readonly Color ExecutingBack = Color.Gold;
 
@@ -72,7 +72,7 @@ internal sealed class MainForm : Form, IMainView
     private readonly Label lblDiagnostics = new();
     private readonly ListBox lstDiagnostics = new() { IntegralHeight = false, HorizontalScrollbar = true };
     private readonly Label lblLog = new();
-    private readonly TextBox txtLog = new() { Multiline = true, ReadOnly = true, ScrollBars = ScrollBars.Both, WordWrap = false, Font = new Font(FontFamily.GenericMonospace, 8.5f) };
+    private readonly TextBox txtLog = new() { Multiline = true, ReadOnly = true, ScrollBars = ScrollBars.Both, WordWrap = false, Font = MonospaceFont(8.5f) };
 
     private readonly StatusStrip statusStrip = new();
     private readonly ToolStripStatusLabel stsConnection = new() { Spring = false };
@@ -198,304 +198,6 @@ internal sealed class MainForm : Form, IMainView
         timer1.Interval = (int)Math.Max(1, presenter.TickPeriod.TotalMilliseconds); // the run settings' tick period
     }
 
-    // ------------------------------------------------------------------ IMainView
-
-    public event EventHandler? LanguageChanged;
-    public event EventHandler? ConnectRequested;
-    public event EventHandler? DisconnectRequested;
-    public event EventHandler<string>? OpenRequested;
-    public event EventHandler? CheckRequested;
-    public event EventHandler<int>? DiagnosticActivated;
-    public event EventHandler? SplitRequested;
-    public event EventHandler<int>? ChunkSelected;
-    public event EventHandler<LineRequestEventArgs>? ChunkLineNeeded;
-    public event EventHandler<LineRequestEventArgs>? ProgramLineNeeded;
-    public event EventHandler? ExecuteRequested;
-    public event EventHandler? HoldRequested;
-    public event EventHandler? ResumeRequested;
-    public event EventHandler? AbortRequested;
-    public event EventHandler? StartFromLineRequested;
-    public event EventHandler? ResumeInterruptedRequested;
-    public event EventHandler? SingleBlockChanged;
-    public event EventHandler? FeedChanged;
-
-    // The form has no window control yet (the next layout revision adds one); the presenter's window is kept and
-    // shown through this property, and nothing raises the event.
-    public event EventHandler? DownloadWindowChanged
-    {
-        add { }
-        remove { }
-    }
-
-    public (double Start, double End) DownloadWindow { get; set; } = (RunSettings.DefaultWindowStart, RunSettings.DefaultWindowEnd);
-
-    IReadOnlyDictionary<TextId, string> IMainView.Texts
-    {
-        set
-        {
-            _texts = value;
-            ApplyTexts();
-        }
-    }
-
-    public HmiLanguage Language => cboLanguage.SelectedIndex == 1 ? HmiLanguage.Chinese : HmiLanguage.English;
-
-    public ConnectionSettings ConnectionSettings => new(
-        (DeviceKind)Math.Max(0, cboDevice.SelectedIndex),
-        txtIp.Text.Trim(),
-        cboPort.Text.Trim(),
-        int.TryParse(cboBaud.Text, NumberStyles.Integer, CultureInfo.InvariantCulture, out var baud) ? baud : 38400,
-        (int)numDeviceNumber.Value);
-
-    string IMainView.ConnectionState
-    {
-        set
-        {
-            lblConnectionState.Text = value;
-            stsConnection.Text = value;
-        }
-    }
-
-    string IMainView.ProgramPath
-    {
-        set
-        {
-            _programFile = Path.GetFileName(value);
-            lblPath.Text = _programFile;
-            ApplyTitle();
-        }
-    }
-
-    IReadOnlyList<string> IMainView.Diagnostics
-    {
-        set
-        {
-            lstDiagnostics.BeginUpdate();
-            lstDiagnostics.Items.Clear();
-            foreach (var d in value)
-            {
-                lstDiagnostics.Items.Add(d);
-            }
-
-            lstDiagnostics.EndUpdate();
-        }
-    }
-
-    public int LinesPerChunk
-    {
-        get => (int)numLinesPerChunk.Value;
-        set => numLinesPerChunk.Value = Math.Clamp(value, numLinesPerChunk.Minimum, numLinesPerChunk.Maximum);
-    }
-
-    IReadOnlyList<string> IMainView.Strategies
-    {
-        set
-        {
-            cboStrategy.Items.Clear();
-            foreach (var s in value)
-            {
-                cboStrategy.Items.Add(s);
-            }
-
-            if (cboStrategy.Items.Count > 0)
-            {
-                cboStrategy.SelectedIndex = 0;
-            }
-        }
-    }
-
-    public string SelectedStrategy => cboStrategy.SelectedItem as string ?? string.Empty;
-
-    IReadOnlyList<string> IMainView.ChunkFiles
-    {
-        set
-        {
-            // Re-filling (a language change) keeps the selection and must not look like the operator's click.
-            _updating = true;
-            try
-            {
-                var selected = listBox1.SelectedIndex;
-                listBox1.BeginUpdate();
-                listBox1.Items.Clear();
-                foreach (var row in value)
-                {
-                    listBox1.Items.Add(row);
-                }
-
-                listBox1.EndUpdate();
-                if (selected >= 0 && selected < listBox1.Items.Count)
-                {
-                    listBox1.SelectedIndex = selected;
-                }
-            }
-            finally
-            {
-                _updating = false;
-            }
-        }
-    }
-
-    int IMainView.ChunkLineCount
-    {
-        set
-        {
-            lvChunkLines.VirtualListSize = Math.Max(0, value);
-            lvChunkLines.Invalidate();
-        }
-    }
-
-    int IMainView.ProgramLineCount
-    {
-        set
-        {
-            _programLineCount = Math.Max(0, value);
-            listBox2.VirtualListSize = _programLineCount;
-            listBox2.Invalidate();
-        }
-    }
-
-    int IMainView.ExecutingLine
-    {
-        set
-        {
-            var old = _executingLine;
-            _executingLine = value;
-            RedrawLine(old);
-            if (value >= 1 && value <= _programLineCount)
-            {
-                // Kept in view as in the paper (ListBox2's index follows M0).
-                listBox2.EnsureVisible(value - 1);
-                RedrawLine(value);
-            }
-        }
-    }
-
-    int IMainView.FocusedLine
-    {
-        set
-        {
-            if (value < 1 || value > _programLineCount)
-            {
-                return;
-            }
-
-            listBox2.SelectedIndices.Clear();
-            listBox2.SelectedIndices.Add(value - 1);
-            listBox2.EnsureVisible(value - 1);
-            listBox2.Focus();
-        }
-    }
-
-    public int SelectedLine => listBox2.SelectedIndices.Count > 0 ? listBox2.SelectedIndices[0] + 1 : 0;
-
-    CommandStates IMainView.Commands
-    {
-        set
-        {
-            btnConnect.Enabled = value.Connect;
-            cboDevice.Enabled = txtIp.Enabled = cboPort.Enabled = cboBaud.Enabled = numDeviceNumber.Enabled = value.Connect;
-            btnDisconnect.Enabled = value.Disconnect;
-            btnOpen.Enabled = value.Open;
-            btnCheck.Enabled = value.Check;
-            btnSplit.Enabled = value.Split;
-            numLinesPerChunk.Enabled = value.Split;
-            btnExecute.Enabled = value.Execute;
-            cboStrategy.Enabled = value.Execute;
-            btnHold.Enabled = value.Hold;
-            btnResume.Enabled = value.Resume;
-            btnAbort.Enabled = value.Abort;
-            btnStartFromLine.Enabled = value.StartFromLine;
-            btnResumeInterrupted.Enabled = value.ResumeInterrupted;
-        }
-    }
-
-    public bool SingleBlock => chkSingleBlock.Checked;
-
-    FeedScale IMainView.FeedScale
-    {
-        set
-        {
-            _updating = true;
-            try
-            {
-                // Widen first so no intermediate range is empty, then narrow; both controls clamp their value.
-                trkFeed.Minimum = Math.Min(trkFeed.Minimum, (int)value.Minimum);
-                trkFeed.Maximum = Math.Max(trkFeed.Maximum, (int)value.Maximum);
-                trkFeed.Minimum = (int)value.Minimum;
-                trkFeed.Maximum = (int)value.Maximum;
-                trkFeed.TickFrequency = Math.Max(1, (int)((value.Maximum - value.Minimum) / 20));
-                trkFeed.LargeChange = Math.Max(1, (int)((value.Maximum - value.Minimum) / 10));
-                trkFeed.SmallChange = Math.Max(1, (int)((value.Maximum - value.Minimum) / 100));
-                numFeed.Minimum = Math.Min(numFeed.Minimum, (decimal)value.Minimum);
-                numFeed.Maximum = Math.Max(numFeed.Maximum, (decimal)value.Maximum);
-                numFeed.Minimum = (decimal)value.Minimum;
-                numFeed.Maximum = (decimal)value.Maximum;
-                numFeed.Increment = value.Unit == "%" ? 5 : 50;
-                lblFeedUnit.Text = value.Unit;
-            }
-            finally
-            {
-                _updating = false;
-            }
-        }
-    }
-
-    double IMainView.Feed
-    {
-        get => (double)numFeed.Value;
-        set
-        {
-            _updating = true;
-            try
-            {
-                var v = Math.Clamp((decimal)value, numFeed.Minimum, numFeed.Maximum);
-                numFeed.Value = v;
-                trkFeed.Value = Math.Clamp((int)Math.Round(v), trkFeed.Minimum, trkFeed.Maximum);
-            }
-            finally
-            {
-                _updating = false;
-            }
-        }
-    }
-
-    StatusDisplay IMainView.Status
-    {
-        set
-        {
-            string[] values = [value.State, value.TotalFiles, value.ProgramLines, value.CurrentFile, value.CurrentLine, value.Progress, value.Feed, value.Elapsed, value.Eta];
-            for (var row = 0; row < lblStatusValues.Length && row < values.Length; row++)
-            {
-                lblStatusValues[row].Text = values[row];
-            }
-
-            progressBar.Value = Math.Clamp(value.ProgressPercent, progressBar.Minimum, progressBar.Maximum);
-            stsState.Text = $"{value.State}   {value.CurrentLine}   {value.Progress}";
-        }
-    }
-
-    public void AppendLog(IReadOnlyList<string> lines)
-    {
-        if (lines.Count == 0)
-        {
-            return;
-        }
-
-        // The pane keeps the recent past only; the full log is Serilog's business.
-        if (txtLog.TextLength > 200_000)
-        {
-            txtLog.Text = txtLog.Text[^100_000..];
-        }
-
-        txtLog.AppendText(string.Join(Environment.NewLine, lines) + Environment.NewLine);
-    }
-
-    public Task<bool> ConfirmAsync(string title, string text) =>
-        Task.FromResult(MessageBox.Show(this, text, title, MessageBoxButtons.YesNo, MessageBoxIcon.Question, MessageBoxDefaultButton.Button2) == DialogResult.Yes);
-
-    public void ShowError(string message) =>
-        MessageBox.Show(this, message, _texts[TextId.Title], MessageBoxButtons.OK, MessageBoxIcon.Error);
-
     // ------------------------------------------------------------------ the paper's timer
 
     private async void timer1_Tick(object? sender, EventArgs e)
@@ -507,6 +209,7 @@ internal sealed class MainForm : Form, IMainView
 
         try
         {
+            _ticks++;
             await _presenter.TickAsync();
         }
         catch (Exception ex)
@@ -631,8 +334,20 @@ internal sealed class MainForm : Form, IMainView
         {
             Filter = "G-code (*.nc;*.ngc;*.gcode;*.tap;*.cnc;*.txt)|*.nc;*.ngc;*.gcode;*.tap;*.cnc;*.txt|All files (*.*)|*.*",
             CheckFileExists = true,
+            Title = _texts[TextId.Open].TrimEnd('…'),
         };
-        if (dialog.ShowDialog(this) == DialogResult.OK)
+        _dialog = (dialog.Title, string.Empty);
+        DialogResult answer;
+        try
+        {
+            answer = dialog.ShowDialog(this);
+        }
+        finally
+        {
+            _dialog = null;
+        }
+
+        if (answer == DialogResult.OK)
         {
             OpenRequested?.Invoke(this, dialog.FileName);
         }
@@ -732,11 +447,27 @@ internal sealed class MainForm : Form, IMainView
             MultiSelect = false,
             HideSelection = false,
             HeaderStyle = ColumnHeaderStyle.Nonclickable,
-            Font = new Font(FontFamily.GenericMonospace, 9f),
+            Font = MonospaceFont(9f),
         };
         list.Columns.Add("Line", HmiLayout.LineNumberColumnWidth, HorizontalAlignment.Right);
         list.Columns.Add("Block", 2000);
         return list;
+    }
+
+    /// <summary>
+    /// GDI+'s generic monospace family (Courier New on Windows, Liberation Mono under Wine); the default font where
+    /// neither is installed, rather than no screen at all.
+    /// </summary>
+    private static Font MonospaceFont(float size)
+    {
+        try
+        {
+            return new Font(FontFamily.GenericMonospace, size);
+        }
+        catch (ArgumentException)
+        {
+            return new Font(SystemFonts.DefaultFont.FontFamily, size);
+        }
     }
 
     private static void Place(Control control, LayoutBox box, Control parent)

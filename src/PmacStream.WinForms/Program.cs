@@ -6,20 +6,59 @@ using Serilog;
 
 namespace PmacStream.WinForms;
 
-/// <summary>Entry point of the HMI: composes the form, the presenter and the core, as in the paper's Fig. 4.</summary>
+/// <summary>
+/// Entry point of the HMI: composes the form, the presenter and the core, as in the paper's Fig. 4.
+/// Options: <c>--sim-speed realtime|Nx</c> (the built-in simulator's clock, realtime by default) and
+/// <c>--ui-test DIR</c> (the automated UI test's snapshot and command folder).
+/// </summary>
 internal static class Program
 {
     [STAThread]
-    private static void Main()
+    private static int Main(string[] args)
     {
-        ApplicationConfiguration.Initialize();
+        var simSpeed = SimSpeed.Realtime;
+        string? uiTestDirectory = null;
+        for (var i = 0; i < args.Length; i++)
+        {
+            var value = i + 1 < args.Length ? args[i + 1] : null;
+            switch (args[i])
+            {
+                case "--sim-speed" when value is not null:
+                    try
+                    {
+                        simSpeed = SimSpeed.Parse(value);
+                    }
+                    catch (Exception e) when (e is FormatException or ArgumentException)
+                    {
+                        Console.Error.WriteLine($"PmacStream.WinForms: --sim-speed {value}: {e.Message}");
+                        return 2;
+                    }
+
+                    i++;
+                    break;
+                case "--ui-test" when value is not null:
+                    uiTestDirectory = value;
+                    i++;
+                    break;
+                default:
+                    Console.Error.WriteLine($"PmacStream.WinForms: unknown option '{args[i]}' (use --sim-speed realtime|Nx, --ui-test DIR)");
+                    return 2;
+            }
+        }
+
+        // What the WinForms SDK's generated ApplicationConfiguration.Initialize() does, written out so the project also
+        // compiles against the runtime pack (no generator there).
+        Application.SetHighDpiMode(HighDpiMode.SystemAware);
+        Application.EnableVisualStyles();
+        Application.SetCompatibleTextRenderingDefault(false);
 
         // Everything the core logs at Information and above appears in the form's log pane.
         var sink = new HmiLogSink();
         Log.Logger = new LoggerConfiguration().MinimumLevel.Information().WriteTo.Hmi(sink).CreateLogger();
 
-        // The built-in simulated Turbo PMAC: created on first connect, its clock in real time, reached through an
-        // in-process port; the job service downloads the PROG 1000/1001 library as a real controller would need.
+        // The built-in simulated Turbo PMAC: created on first connect, its clock at --sim-speed (real time by default),
+        // reached through an in-process port; the job service downloads the PROG 1000/1001 library as a real controller
+        // would need.
         PmacSimulator? simulator = null;
         var service = new JobService(new JobServiceOptions
         {
@@ -27,7 +66,7 @@ internal static class Program
             {
                 if (simulator is null)
                 {
-                    simulator = new PmacSimulator(new SimOptions { Speed = SimSpeed.Realtime });
+                    simulator = new PmacSimulator(new SimOptions { Speed = simSpeed });
                     simulator.StartClock();
                 }
 
@@ -52,6 +91,7 @@ internal static class Program
         {
             var presenter = new MainPresenter(form, new CoreHmiBackend(service), sink, settings: settings);
             form.Attach(presenter);
+            using var uiTest = uiTestDirectory is null ? null : new UiTestChannel(form, uiTestDirectory);
             Application.Run(form);
 
             // The message loop has ended: release the job, the connection and the line index off the UI thread,
@@ -68,5 +108,6 @@ internal static class Program
 
         simulator?.Dispose();
         Log.CloseAndFlush();
+        return 0;
     }
 }

@@ -1,0 +1,139 @@
+using System.Globalization;
+using PmacStream.Hmi;
+
+namespace PmacStream.WinForms;
+
+/// <summary>
+/// What the automated UI test needs from the form beyond real input: a snapshot of what the screen shows, and a
+/// scripted mode that presses the real controls (<see cref="Button.PerformClick"/>, the selection an operator's
+/// click makes). Nothing here decides anything: the presenter still does all the work through the view's events.
+/// </summary>
+internal sealed partial class MainForm
+{
+    private const int LogTailLines = 40;
+
+    private readonly List<string> _errorsShown = [];
+    private (string Title, string Text)? _dialog;
+    private int _ticks;
+
+    /// <summary>The controls a test may read or press, by their field names.</summary>
+    private IEnumerable<(string Name, Control Control)> NamedControls() =>
+    [
+        (nameof(cboDevice), cboDevice), (nameof(btnConnect), btnConnect), (nameof(btnDisconnect), btnDisconnect),
+        (nameof(lblConnectionState), lblConnectionState), (nameof(btnOpen), btnOpen), (nameof(lblPath), lblPath),
+        (nameof(btnCheck), btnCheck), (nameof(btnSplit), btnSplit), (nameof(numLinesPerChunk), numLinesPerChunk),
+        (nameof(cboStrategy), cboStrategy), (nameof(cboLanguage), cboLanguage), (nameof(numFeed), numFeed),
+        (nameof(lblFeedUnit), lblFeedUnit), (nameof(chkSingleBlock), chkSingleBlock), (nameof(btnExecute), btnExecute),
+        (nameof(btnHold), btnHold), (nameof(btnResume), btnResume), (nameof(btnAbort), btnAbort),
+        (nameof(btnStartFromLine), btnStartFromLine), (nameof(btnResumeInterrupted), btnResumeInterrupted),
+        (nameof(grpStatus), grpStatus), (nameof(lblProgramLines), lblProgramLines),
+    ];
+
+    /// <summary>What the screen shows now.</summary>
+    internal UiSnapshot Snapshot(long sequence, int lastCommand, string? commandError)
+    {
+        var origin = PointToScreen(Point.Empty);
+        var top = listBox2.VirtualListSize > 0 ? listBox2.TopItem?.Index ?? -1 : -1;
+        var rowHeight = top >= 0 ? listBox2.GetItemRect(top).Height : 0;
+        var executingText = string.Empty;
+        if (_executingLine >= 1 && _executingLine <= _programLineCount)
+        {
+            var request = new LineRequestEventArgs(_executingLine);
+            ProgramLineNeeded?.Invoke(this, request);
+            executingText = request.Text;
+        }
+
+        return new UiSnapshot
+        {
+            Sequence = sequence,
+            Ticks = _ticks,
+            Title = Text,
+            ClientX = origin.X,
+            ClientY = origin.Y,
+            ClientWidth = ClientSize.Width,
+            ClientHeight = ClientSize.Height,
+            Controls = NamedControls().ToDictionary(c => c.Name, c => new UiControl(ShownText(c.Control), c.Control.Enabled)),
+            ChunkFiles = listBox1.Items.Cast<object>().Select(o => o.ToString() ?? string.Empty).ToList(),
+            ChunkLineCount = lvChunkLines.VirtualListSize,
+            ProgramLineCount = _programLineCount,
+            ExecutingLine = _executingLine,
+            ExecutingRowText = executingText,
+            SelectedLine = SelectedLine,
+            TopLine = top + 1,
+            VisibleLines = rowHeight > 0 ? (listBox2.ClientSize.Height / rowHeight) - 1 : 0,
+            Status = lblStatusValues.Select(l => l.Text).ToList(),
+            ProgressPercent = progressBar.Value,
+            Diagnostics = lstDiagnostics.Items.Cast<object>().Select(o => o.ToString() ?? string.Empty).ToList(),
+            LogTail = txtLog.Lines.Where(l => l.Length > 0).TakeLast(LogTailLines).ToList(),
+            DialogTitle = _dialog?.Title,
+            DialogText = _dialog?.Text,
+            Errors = [.. _errorsShown],
+            LastCommand = lastCommand,
+            CommandError = commandError,
+        };
+    }
+
+    /// <summary>
+    /// Carries out one scripted command the way the operator's input would: <c>click NAME</c>, <c>select-chunk INDEX</c>, <c>select-line N</c>,
+    /// <c>language N</c> (the selector's index), <c>feed VALUE</c>, <c>open PATH</c> (as chosen in the open dialog),
+    /// <c>close</c>.
+    /// </summary>
+    internal void RunScripted(string command)
+    {
+        var space = command.IndexOf(' ', StringComparison.Ordinal);
+        var verb = space < 0 ? command : command[..space];
+        var argument = space < 0 ? string.Empty : command[(space + 1)..].Trim();
+        switch (verb)
+        {
+            case "click":
+                var control = NamedControls().FirstOrDefault(c => c.Name == argument).Control
+                    ?? throw new ArgumentException($"no control named {argument}");
+                if (!control.Enabled)
+                {
+                    throw new InvalidOperationException($"{argument} is disabled");
+                }
+
+                if (control is Button button)
+                {
+                    button.PerformClick();
+                }
+                else if (control is CheckBox check)
+                {
+                    check.Checked = !check.Checked;
+                }
+                else
+                {
+                    throw new ArgumentException($"{argument} cannot be clicked");
+                }
+
+                break;
+            case "select-chunk":
+                listBox1.SelectedIndex = int.Parse(argument, CultureInfo.InvariantCulture);
+                break;
+            case "select-line":
+                ((IMainView)this).FocusedLine = int.Parse(argument, CultureInfo.InvariantCulture);
+                break;
+            case "language":
+                cboLanguage.SelectedIndex = int.Parse(argument, CultureInfo.InvariantCulture);
+                break;
+            case "feed":
+                numFeed.Value = decimal.Parse(argument, CultureInfo.InvariantCulture);
+                break;
+            case "open":
+                OpenRequested?.Invoke(this, argument);
+                break;
+            case "close":
+                Close();
+                break;
+            default:
+                throw new ArgumentException($"unknown command '{command}'");
+        }
+    }
+
+    private static string ShownText(Control control) => control switch
+    {
+        NumericUpDown n => n.Value.ToString(CultureInfo.InvariantCulture),
+        CheckBox c => c.Checked ? "checked" : "unchecked",
+        _ => control.Text,
+    };
+}

@@ -1,0 +1,226 @@
+using System.Diagnostics;
+using PmacStream.Hmi;
+using Xunit.Abstractions;
+
+namespace PmacStream.WinForms.UiTests;
+
+/// <summary>
+/// The operator's session on the real form: the win-x64 HMI under Wine in Xvfb, its real message loop and its real
+/// <c>timer1</c> streaming <c>samples/demo.nc</c> into the built-in simulator (clock at 20x). The main path is
+/// driven by real X input at the places <see cref="HmiLayout"/> gives; selecting a line or a chunk uses the form's
+/// scripted mode. Every step waits (bounded) for what the screen shows and saves a screenshot.
+/// </summary>
+public sealed class HmiUnderWineTests(ITestOutputHelper output)
+{
+    private static readonly IReadOnlyDictionary<TextId, string> En = HmiText.All(HmiLanguage.English);
+    private static readonly IReadOnlyDictionary<TextId, string> Zh = HmiText.All(HmiLanguage.Chinese);
+
+    /// <summary>Gold, the executing row's background (MainForm.ExecutingBack).</summary>
+    private const string ExecutingColour = "#FFD700";
+
+    [Fact]
+    public void The_operator_runs_holds_restarts_and_resumes_a_program_on_the_real_form()
+    {
+        var setup = UiTestSetup.Find();
+        if (setup.MissingReason is { } why)
+        {
+            if (UiTestSetup.Required)
+            {
+                throw new InvalidOperationException($"PMACSTREAM_UI_TEST_REQUIRED=1 but the UI test cannot run: {why}");
+            }
+
+            output.WriteLine($"SKIPPED: {why}");
+            return;
+        }
+
+        var total = Stopwatch.StartNew();
+        var work = Directory.CreateTempSubdirectory("pmacstream-ui-").FullName;
+        try
+        {
+            Walkthrough(setup, work);
+            output.WriteLine($"UI test: {total.Elapsed.TotalSeconds:0} s in all");
+        }
+        finally
+        {
+            Directory.Delete(work, recursive: true);
+        }
+    }
+
+    private void Walkthrough(UiTestSetup setup, string work)
+    {
+        var shots = Environment.GetEnvironmentVariable("PMACSTREAM_UI_SCREENSHOTS") is { Length: > 0 } dir
+            ? Path.GetFullPath(dir)
+            : Path.Combine(setup.RepoRoot, "artifacts", "ui-test");
+        Directory.CreateDirectory(shots);
+        foreach (var old in Directory.EnumerateFiles(shots, "*.png"))
+        {
+            File.Delete(old);
+        }
+
+        var program = Path.Combine(work, "demo.nc");
+        File.Copy(Path.Combine(setup.RepoRoot, "samples", "demo.nc"), program);
+        var lines = File.ReadAllLines(program);
+        var channel = Path.Combine(work, "channel");
+        Directory.CreateDirectory(channel);
+
+        using var x = XServer.Start();
+        var prefix = WineHmi.EnsurePrefix(x.Display);
+        output.WriteLine($"X display {x.Display}; Wine prefix {WineHmi.Prefix} {(prefix == TimeSpan.Zero ? "reused" : $"created in {prefix.TotalSeconds:0} s")}; screenshots in {shots}");
+        var clock = Stopwatch.StartNew();
+        using var hmi = WineHmi.Start(setup.HmiExe, x.Display, channel, Path.Combine(work, "jobs.db"), "20x");
+        var screen = new HmiScreen(channel, x.Display, shots, output);
+
+        Step("the form comes up, its timer ticking");
+        var s = screen.WaitFor("timer1 ticking", v => v.Ticks > 5, TimeSpan.FromMinutes(3));
+        output.WriteLine($"  form up {clock.Elapsed.TotalSeconds:0.0} s after wine started");
+        var window = screen.WaitForWindow(En[TextId.Title]);
+        (window.Width, window.Height).Should().Be((HmiLayout.ClientWidth, HmiLayout.ClientHeight + HmiLayout.StatusStripHeight), "the X window is the form's client area (no window manager, no frame)");
+        (s.ClientX, s.ClientY).Should().Be((window.X, window.Y), "the form's client origin is where X put its window");
+        s.Controls["btnConnect"].Enabled.Should().BeTrue();
+        s.Controls["btnExecute"].Should().Be(new UiControl(En[TextId.Execute], false));
+        s.Status[0].Should().Be(En[TextId.StateIdle]);
+        screen.Screenshot("01-start");
+
+        Step("connect to the built-in simulator (real click)");
+        screen.Click(HmiLayout.ConnectButton, HmiLayout.ConnectionGroup);
+        s = screen.WaitFor("connected", v => v.Controls["btnDisconnect"].Enabled && !v.Controls["btnConnect"].Enabled);
+        s.Controls["lblConnectionState"].Text.Should().Contain("simulator");
+        screen.Screenshot("02-connected");
+
+        Step("open samples/demo.nc through the open dialog (real click, typed path, Return)");
+        screen.Click(HmiLayout.OpenButton, HmiLayout.ProgramGroup);
+        var title = screen.WaitFor("the open dialog", v => v.DialogTitle == En[TextId.Open].TrimEnd('…')).DialogTitle!;
+        var dialog = screen.WaitForWindow(title);
+        screen.PointAt(dialog.X + (dialog.Width / 2), dialog.Y + (dialog.Height / 2));
+        screen.Type(WineHmi.WindowsPath(program));
+        screen.Key("Return");
+        s = screen.WaitFor("the program's lines listed", v => v.ProgramLineCount == lines.Length && v.Controls["lblPath"].Text == "demo.nc");
+        s.Controls["btnCheck"].Enabled.Should().BeTrue();
+        s.Status[2].Should().Be(lines.Length.ToString("N0", System.Globalization.CultureInfo.InvariantCulture));
+        screen.Screenshot("03-opened");
+
+        Step("check (real click)");
+        screen.Click(HmiLayout.CheckButton, HmiLayout.ProgramGroup);
+        s = screen.WaitFor("the check's summary in the log", v => v.LogTail.Any(l => l.Contains("Checked", StringComparison.Ordinal)) && v.Controls["btnSplit"].Enabled);
+        s.Diagnostics.Should().NotContain(d => d.Contains("  E  ", StringComparison.Ordinal), "demo.nc has no errors");
+
+        Step("split into 1000-block chunk files (real click)");
+        screen.Click(HmiLayout.SplitButton, HmiLayout.ProgramGroup);
+        s = screen.WaitFor("four chunk files in ListBox1", v => v.ChunkFiles.Count == 4);
+        s.ChunkFiles[0].Should().StartWith("demo_0001.pmc");
+        s.Controls["btnExecute"].Enabled.Should().BeTrue();
+        screen.Script("select-chunk 1");
+        s = screen.WaitFor("the second chunk's lines", v => v.ChunkLineCount > 1000);
+        screen.Screenshot("04-split");
+
+        Step("execute (real click) and follow the highlighted line");
+        screen.Click(HmiLayout.ExecuteButton);
+        s = screen.WaitFor("running", v => v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine > 0);
+        var seen = new List<int>();
+        s = screen.WaitFor("execution in the second chunk, past line 1480", v =>
+        {
+            if (v.ExecutingLine > 0 && (seen.Count == 0 || seen[^1] != v.ExecutingLine))
+            {
+                v.ExecutingLine.Should().BeGreaterThanOrEqualTo(seen.LastOrDefault(), "the executing line never goes back");
+                v.ExecutingLine.Should().BeInRange(v.TopLine, v.TopLine + v.VisibleLines, "the executing line is kept in view");
+                v.ExecutingRowText.Should().Be(lines[v.ExecutingLine - 1], "the highlighted row shows that line of the program");
+                seen.Add(v.ExecutingLine);
+            }
+
+            return v.ExecutingLine >= 1480;
+        }, TimeSpan.FromSeconds(90));
+        seen.Count.Should().BeGreaterThan(10, "the highlight followed M0 through many lines");
+        s.Status[3].Should().StartWith("2/4", "the current chunk file is the second");
+        var shot = screen.Screenshot("05-executing");
+        HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted on the screen");
+        File.Copy(shot, Path.Combine(shots, "hmi-screen.png"), overwrite: true);
+
+        Step("hold (real click): the line stops");
+        screen.Click(HmiLayout.HoldButton);
+        s = screen.WaitFor("held", v => v.Status[0] == En[TextId.StateHeld] && v.Controls["btnResume"].Enabled);
+        var held = screen.WaitTicks(10).ExecutingLine;
+        screen.WaitTicks(20).ExecutingLine.Should().Be(held, "nothing moves while held (20 more ticks of timer1)");
+        screen.Screenshot("06-held");
+
+        Step("resume (real click): the line moves on");
+        screen.Click(HmiLayout.ResumeButton);
+        screen.WaitFor("running past the held line", v => v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine > held);
+
+        Step("change the feed (real typing in the feed box)");
+        screen.Click(HmiLayout.FeedBox, HmiLayout.FeedGroup);
+        screen.Key("End", "BackSpace", "BackSpace", "BackSpace", "BackSpace", "BackSpace", "BackSpace");
+        screen.Type("800");
+        screen.Key("Return");
+        screen.WaitFor("the feed sent to the controller", v => v.LogTail.Any(l => l.Contains("Feed set to 800 P500", StringComparison.Ordinal)));
+        screen.Screenshot("07-feed");
+
+        Step("abort (real click)");
+        screen.Click(HmiLayout.AbortButton);
+        s = screen.WaitFor("aborted", v => v.Status[0] == En[TextId.StateAborted] && v.Controls["btnExecute"].Enabled);
+        output.WriteLine($"  aborted at line {s.ExecutingLine}");
+
+        Step("start from a selected line: the preamble is shown and confirmed (real click, real key)");
+        screen.Script("select-line 2000");
+        screen.WaitFor("line 2000 selected and in view", v => v.SelectedLine == 2000 && v.TopLine <= 2000 && 2000 <= v.TopLine + v.VisibleLines);
+        screen.Click(HmiLayout.StartFromLineButton);
+        s = screen.WaitFor("the confirmation", v => v.DialogTitle == En[TextId.ConfirmStartTitle]);
+        s.DialogText.Should().Contain("2000").And.Contain("G21").And.Contain("S6000 M03", "the preamble restores units, spindle and the approach");
+        screen.Screenshot("08-start-from-line");
+        Confirm(screen, En[TextId.ConfirmStartTitle]);
+        s = screen.WaitFor("running from line 2000", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= 2000);
+        screen.Script("click btnAbort");
+        s = screen.WaitFor("aborted again", v => v.Status[0] == En[TextId.StateAborted]);
+        var interrupted = s.ExecutingLine;
+        output.WriteLine($"  interrupted at line {interrupted}");
+
+        Step("resume after interruption: the checkpoint's preamble shown and confirmed");
+        screen.Click(HmiLayout.ResumeInterruptedButton);
+        s = screen.WaitFor("the resume confirmation", v => v.DialogTitle == En[TextId.ConfirmResumeTitle]);
+        s.DialogText.Should().Contain("G21");
+        screen.Screenshot("09-resume-after-interruption");
+        Confirm(screen, En[TextId.ConfirmResumeTitle]);
+        screen.WaitFor("running again from the checkpoint", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= 2000);
+
+        Step("switch to 简体中文 (real click on the language selector, Down, Return)");
+        screen.Click(HmiLayout.LanguageCombo, HmiLayout.ProgramGroup);
+        screen.Key("Down");
+        screen.Key("Return");
+        s = screen.WaitFor("Chinese texts", v => v.Controls["btnExecute"].Text == Zh[TextId.Execute] && v.Controls["cboLanguage"].Text == "简体中文");
+        s.Status[0].Should().BeOneOf(Zh[TextId.StateRunning], Zh[TextId.StateCompleted]);
+        s.Controls["btnResumeInterrupted"].Text.Should().Be(Zh[TextId.ResumeInterrupted]);
+        shot = screen.Screenshot("10-chinese");
+        if (s.Status[0] == Zh[TextId.StateRunning])
+        {
+            HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted");
+        }
+
+        File.Copy(shot, Path.Combine(shots, "hmi-screen-zh.png"), overwrite: true);
+
+        Step("the resumed job runs to the end");
+        s = screen.WaitFor("completed", v => v.Status[0] == Zh[TextId.StateCompleted], TimeSpan.FromSeconds(90));
+        s.ExecutingLine.Should().BeGreaterThan(3200, "the last moves of the program ran");
+        s.Errors.Should().BeEmpty();
+        screen.Screenshot("11-completed");
+
+        Step("close");
+        screen.Send("close");
+        hmi.WaitForExit(TimeSpan.FromSeconds(30)).Should().BeTrue("the form closes when no job runs");
+
+        if (Environment.GetEnvironmentVariable("PMACSTREAM_UI_DOCS") == "1")
+        {
+            // The README's pictures: taken here, copied into docs/ on request only (CI leaves the tree alone).
+            File.Copy(Path.Combine(shots, "hmi-screen.png"), Path.Combine(setup.RepoRoot, "docs", "hmi-screen.png"), overwrite: true);
+            File.Copy(Path.Combine(shots, "hmi-screen-zh.png"), Path.Combine(setup.RepoRoot, "docs", "hmi-screen-zh.png"), overwrite: true);
+        }
+    }
+
+    /// <summary>Answers Yes to the open message box with a real key press (Y), the pointer over the box so it has the keyboard.</summary>
+    private static void Confirm(HmiScreen screen, string title)
+    {
+        var box = screen.WaitForWindow(title);
+        screen.PointAt(box.X + (box.Width / 2), box.Y + 20);
+        screen.Key("y");
+    }
+
+    private void Step(string what) => output.WriteLine($"step: {what}");
+}
