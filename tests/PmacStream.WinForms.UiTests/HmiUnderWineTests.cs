@@ -18,20 +18,16 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
     /// <summary>Gold, the executing row's background (MainForm.ExecutingBack).</summary>
     private const string ExecutingColour = "#FFD700";
 
-    [Fact]
+    [SkippableFact]
     public void The_operator_runs_holds_restarts_and_resumes_a_program_on_the_real_form()
     {
         var setup = UiTestSetup.Find();
-        if (setup.MissingReason is { } why)
+        if (setup.MissingReason is { } why && UiTestSetup.Required)
         {
-            if (UiTestSetup.Required)
-            {
-                throw new InvalidOperationException($"PMACSTREAM_UI_TEST_REQUIRED=1 but the UI test cannot run: {why}");
-            }
-
-            output.WriteLine($"SKIPPED: {why}");
-            return;
+            throw new InvalidOperationException($"PMACSTREAM_UI_TEST_REQUIRED=1 but the UI test cannot run: {why}");
         }
+
+        Skip.If(setup.MissingReason is not null, setup.MissingReason);
 
         var total = Stopwatch.StartNew();
         var work = Directory.CreateTempSubdirectory("pmacstream-ui-").FullName;
@@ -50,7 +46,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
     {
         var shots = Environment.GetEnvironmentVariable("PMACSTREAM_UI_SCREENSHOTS") is { Length: > 0 } dir
             ? Path.GetFullPath(dir)
-            : Path.Combine(setup.RepoRoot, "artifacts", "ui-test");
+            : Path.Combine(RepoRoot.Path, "artifacts", "ui-test");
         Directory.CreateDirectory(shots);
         foreach (var old in Directory.EnumerateFiles(shots, "*.png"))
         {
@@ -58,7 +54,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         }
 
         var program = Path.Combine(work, "demo.nc");
-        File.Copy(Path.Combine(setup.RepoRoot, "samples", "demo.nc"), program);
+        File.Copy(RepoRoot.DemoProgram, program);
         var lines = File.ReadAllLines(program);
         var channel = Path.Combine(work, "channel");
         Directory.CreateDirectory(channel);
@@ -209,8 +205,8 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         if (Environment.GetEnvironmentVariable("PMACSTREAM_UI_DOCS") == "1")
         {
             // The README's pictures: taken here, copied into docs/ on request only (CI leaves the tree alone).
-            File.Copy(Path.Combine(shots, "hmi-screen.png"), Path.Combine(setup.RepoRoot, "docs", "hmi-screen.png"), overwrite: true);
-            File.Copy(Path.Combine(shots, "hmi-screen-zh.png"), Path.Combine(setup.RepoRoot, "docs", "hmi-screen-zh.png"), overwrite: true);
+            File.Copy(Path.Combine(shots, "hmi-screen.png"), Path.Combine(RepoRoot.Path, "docs", "hmi-screen.png"), overwrite: true);
+            File.Copy(Path.Combine(shots, "hmi-screen-zh.png"), Path.Combine(RepoRoot.Path, "docs", "hmi-screen-zh.png"), overwrite: true);
         }
     }
 

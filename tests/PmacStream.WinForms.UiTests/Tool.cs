@@ -5,12 +5,6 @@ namespace PmacStream.WinForms.UiTests;
 /// <summary>Runs a command-line tool (xdotool, xwininfo, ImageMagick, wine) with a bound on its time.</summary>
 internal static class Tool
 {
-    /// <summary>True when <paramref name="name"/> is on the PATH.</summary>
-    public static bool Exists(string name) =>
-        (Environment.GetEnvironmentVariable("PATH") ?? string.Empty)
-            .Split(Path.PathSeparator, StringSplitOptions.RemoveEmptyEntries)
-            .Any(dir => File.Exists(Path.Combine(dir, name)));
-
     /// <summary>Runs the tool and returns its standard output; throws when it fails or outlives <paramref name="timeout"/>.</summary>
     public static string Run(string file, IEnumerable<string> args, TimeSpan timeout, IDictionary<string, string>? environment = null)
     {

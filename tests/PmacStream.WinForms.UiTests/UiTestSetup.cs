@@ -1,7 +1,7 @@
 namespace PmacStream.WinForms.UiTests;
 
 /// <summary>
-/// Where the UI test finds what it needs: the repository, the HMI published for win-x64 and the tools of the
+/// Where the UI test finds what it needs: the HMI published for win-x64 and the tools of the
 /// screen (wine, Xvfb, xdotool, xwininfo, ImageMagick). <see cref="MissingReason"/> says what is absent.
 /// </summary>
 internal sealed class UiTestSetup
@@ -19,15 +19,11 @@ internal sealed class UiTestSetup
         ("/usr/share/fonts/truetype/liberation/LiberationMono-Regular.ttf", "fonts-liberation"),
     ];
 
-    private UiTestSetup(string repoRoot, string hmiExe, string? missing)
+    private UiTestSetup(string hmiExe, string? missing)
     {
-        RepoRoot = repoRoot;
         HmiExe = hmiExe;
         MissingReason = missing;
     }
-
-    /// <summary>The repository's root (where PmacStream.sln is).</summary>
-    public string RepoRoot { get; }
 
     /// <summary>The published PmacStream.WinForms.exe.</summary>
     public string HmiExe { get; }
@@ -37,28 +33,18 @@ internal sealed class UiTestSetup
 
     /// <summary>
     /// True when a missing prerequisite must fail the test instead of skipping it (<c>.ci/run</c> sets
-    /// <c>PMACSTREAM_UI_TEST_REQUIRED=1</c> after installing everything).
+    /// <c>PMACSTREAM_UI_TEST_REQUIRED=1</c> after installing everything and publishing the exe).
     /// </summary>
     public static bool Required => Environment.GetEnvironmentVariable("PMACSTREAM_UI_TEST_REQUIRED") == "1";
 
     /// <summary>Looks for everything; <c>PMACSTREAM_HMI_EXE</c> overrides the published exe's default place.</summary>
     public static UiTestSetup Find()
     {
-        var root = AppContext.BaseDirectory;
-        for (var d = new DirectoryInfo(root); d is not null; d = d.Parent)
-        {
-            if (File.Exists(Path.Combine(d.FullName, "PmacStream.sln")))
-            {
-                root = d.FullName;
-                break;
-            }
-        }
-
         var exe = Environment.GetEnvironmentVariable("PMACSTREAM_HMI_EXE") is { Length: > 0 } e
             ? Path.GetFullPath(e)
-            : Path.Combine(root, "artifacts", "hmi", "win-x64", "PmacStream.WinForms.exe");
+            : Path.Combine(RepoRoot.Path, "artifacts", "hmi", "win-x64", "PmacStream.WinForms.exe");
         string? missing = null;
-        var tools = Tools.Where(t => !Tool.Exists(t.Tool)).Select(t => (Name: t.Tool, t.Package))
+        var tools = Tools.Where(t => PmacStream.Testing.Tools.Find(t.Tool) is null).Select(t => (Name: t.Tool, t.Package))
             .Concat(Fonts.Where(f => !File.Exists(f.File)).Select(f => (Name: f.File, f.Package))).ToList();
         if (!OperatingSystem.IsLinux())
         {
@@ -73,6 +59,6 @@ internal sealed class UiTestSetup
             missing = $"{exe} is not there: publish the HMI first (dotnet publish src/PmacStream.WinForms -c Release -r win-x64 --self-contained -o artifacts/hmi/win-x64)";
         }
 
-        return new UiTestSetup(root, exe, missing);
+        return new UiTestSetup(exe, missing);
     }
 }
