@@ -170,7 +170,7 @@ internal sealed partial class MainForm
             RedrawLine(old);
             if (value >= 1 && value <= _programLineCount)
             {
-                // Kept in view as in the paper (ListBox2's index follows M0).
+                // Kept in view: ListBox2's index follows M0, the synchronous assignment of the executing block.
                 listBox2.EnsureVisible(value - 1);
                 RedrawLine(value);
             }

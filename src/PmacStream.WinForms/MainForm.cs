@@ -5,15 +5,15 @@ using PmacStream.Jobs;
 namespace PmacStream.WinForms;
 
 /// <summary>
-/// The paper's screen (Fig. 4) as a passive view: it builds its controls from <see cref="HmiLayout"/>, raises
+/// The operator screen as a passive view: it builds its controls from <see cref="HmiLayout"/>, raises
 /// <see cref="IMainView"/> events and shows what the <see cref="MainPresenter"/> sets. No logic lives here; the
-/// only code is wiring, and <c>timer1_Tick</c> calling the presenter's tick as in the paper.
+/// only code is wiring, and <c>timer1_Tick</c> calling the presenter's tick (the chunk method's timer).
 /// </summary>
 internal sealed partial class MainForm : Form, IMainView
 {
     private static readonly Color ExecutingBack = Color.Gold;
 
-    // The paper's timer: it drives streaming (read M0, download the next chunk once) and the display.
+    // The chunk method's timer: it drives streaming (read M0, download the next chunk once) and the display.
     private readonly System.Windows.Forms.Timer timer1 = new() { Interval = 50 };
 
     private readonly GroupBox grpConnection = new();
@@ -198,7 +198,7 @@ internal sealed partial class MainForm : Form, IMainView
         timer1.Interval = (int)Math.Max(1, presenter.TickPeriod.TotalMilliseconds); // the run settings' tick period
     }
 
-    // ------------------------------------------------------------------ the paper's timer
+    // ------------------------------------------------------------------ timer1, the chunk method's timer
 
     private async void timer1_Tick(object? sender, EventArgs e)
     {

@@ -7,7 +7,7 @@ using Serilog;
 namespace PmacStream.WinForms;
 
 /// <summary>
-/// Entry point of the HMI: composes the form, the presenter and the core, as in the paper's Fig. 4.
+/// Entry point of the HMI: composes the form, the presenter and the core.
 /// Options: <c>--sim-speed realtime|Nx</c> (the built-in simulator's clock, realtime by default) and
 /// <c>--ui-test DIR</c> (the automated UI test's snapshot and command folder).
 /// </summary>

@@ -8,7 +8,7 @@ namespace PmacStream.Hmi;
 public readonly record struct LayoutBox(int X, int Y, int Width, int Height);
 
 /// <summary>
-/// The screen's geometry, shared by the WinForms form and the picture drawn of it on machines without Windows, so
+/// The screen's geometry: the WinForms form places its controls here, and its UI test clicks at these places, so
 /// the two cannot drift apart. Settings across the top, the chunk files
 /// (ListBox1) and the program lines (ListBox2) in the middle, commands and status on the right, diagnostics and the
 /// log at the bottom.
