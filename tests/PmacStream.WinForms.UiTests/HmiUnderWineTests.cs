@@ -99,6 +99,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.Click(HmiLayout.CheckButton, HmiLayout.ProgramGroup);
         s = screen.WaitFor("the check's summary in the log", v => v.LogTail.Any(l => l.Contains("Checked", StringComparison.Ordinal)) && v.Controls["btnSplit"].Enabled);
         s.Diagnostics.Should().NotContain(d => d.Contains("  E  ", StringComparison.Ordinal), "demo.nc has no errors");
+        screen.Screenshot("04-checked");
 
         Step("split into 1000-block chunk files (real click)");
         screen.Click(HmiLayout.SplitButton, HmiLayout.ProgramGroup);
@@ -107,7 +108,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s.Controls["btnExecute"].Enabled.Should().BeTrue();
         screen.Script("select-chunk 1");
         s = screen.WaitFor("the second chunk's lines", v => v.ChunkLineCount > 1000);
-        screen.Screenshot("04-split");
+        screen.Screenshot("05-split");
 
         Step("execute (real click) and follow the highlighted line");
         screen.Click(HmiLayout.ExecuteButton);
@@ -127,7 +128,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         }, TimeSpan.FromSeconds(90));
         seen.Count.Should().BeGreaterThan(10, "the highlight followed M0 through many lines");
         s.Status[3].Should().StartWith("2/4", "the current chunk file is the second");
-        var shot = screen.Screenshot("05-executing");
+        var shot = screen.Screenshot("06-executing");
         HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted on the screen");
         File.Copy(shot, Path.Combine(shots, "hmi-screen.png"), overwrite: true);
 
@@ -136,11 +137,12 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("held", v => v.Status[0] == En[TextId.StateHeld] && v.Controls["btnResume"].Enabled);
         var held = screen.WaitTicks(10).ExecutingLine;
         screen.WaitTicks(20).ExecutingLine.Should().Be(held, "nothing moves while held (20 more ticks of timer1)");
-        screen.Screenshot("06-held");
+        screen.Screenshot("07-held");
 
         Step("resume (real click): the line moves on");
         screen.Click(HmiLayout.ResumeButton);
         screen.WaitFor("running past the held line", v => v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine > held);
+        screen.Screenshot("08-resumed");
 
         Step("change the feed (real typing in the feed box)");
         screen.Click(HmiLayout.FeedBox, HmiLayout.FeedGroup);
@@ -148,12 +150,13 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.Type("800");
         screen.Key("Return");
         screen.WaitFor("the feed sent to the controller", v => v.LogTail.Any(l => l.Contains("Feed set to 800 P500", StringComparison.Ordinal)));
-        screen.Screenshot("07-feed");
+        screen.Screenshot("09-feed");
 
         Step("abort (real click)");
         screen.Click(HmiLayout.AbortButton);
         s = screen.WaitFor("aborted", v => v.Status[0] == En[TextId.StateAborted] && v.Controls["btnExecute"].Enabled);
         output.WriteLine($"  aborted at line {s.ExecutingLine}");
+        screen.Screenshot("10-aborted");
 
         Step("start from a selected line: the preamble is shown and confirmed (real click, real key)");
         screen.Script("select-line 2000");
@@ -161,9 +164,10 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.Click(HmiLayout.StartFromLineButton);
         s = screen.WaitFor("the confirmation", v => v.DialogTitle == En[TextId.ConfirmStartTitle]);
         s.DialogText.Should().Contain("2000").And.Contain("G21").And.Contain("S6000 M03", "the preamble restores units, spindle and the approach");
-        screen.Screenshot("08-start-from-line");
+        screen.Screenshot("11-start-from-line-confirmation");
         Confirm(screen, En[TextId.ConfirmStartTitle]);
         s = screen.WaitFor("running from line 2000", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= 2000);
+        screen.Screenshot("12-started-from-line");
         screen.Script("click btnAbort");
         s = screen.WaitFor("aborted again", v => v.Status[0] == En[TextId.StateAborted]);
         var interrupted = s.ExecutingLine;
@@ -173,9 +177,10 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.Click(HmiLayout.ResumeInterruptedButton);
         s = screen.WaitFor("the resume confirmation", v => v.DialogTitle == En[TextId.ConfirmResumeTitle]);
         s.DialogText.Should().Contain("G21");
-        screen.Screenshot("09-resume-after-interruption");
+        screen.Screenshot("13-resume-confirmation");
         Confirm(screen, En[TextId.ConfirmResumeTitle]);
         screen.WaitFor("running again from the checkpoint", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= 2000);
+        screen.Screenshot("14-resumed-after-interruption");
 
         Step("switch to 简体中文 (real click on the language selector, Down, Return)");
         screen.Click(HmiLayout.LanguageCombo, HmiLayout.ProgramGroup);
@@ -184,7 +189,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("Chinese texts", v => v.Controls["btnExecute"].Text == Zh[TextId.Execute] && v.Controls["cboLanguage"].Text == "简体中文");
         s.Status[0].Should().BeOneOf(Zh[TextId.StateRunning], Zh[TextId.StateCompleted]);
         s.Controls["btnResumeInterrupted"].Text.Should().Be(Zh[TextId.ResumeInterrupted]);
-        shot = screen.Screenshot("10-chinese");
+        shot = screen.Screenshot("15-chinese");
         if (s.Status[0] == Zh[TextId.StateRunning])
         {
             HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted");
@@ -196,7 +201,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("completed", v => v.Status[0] == Zh[TextId.StateCompleted], TimeSpan.FromSeconds(90));
         s.ExecutingLine.Should().BeGreaterThan(3200, "the last moves of the program ran");
         s.Errors.Should().BeEmpty();
-        screen.Screenshot("11-completed");
+        screen.Screenshot("16-completed");
 
         Step("close");
         screen.Send("close");
