@@ -177,9 +177,11 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.Click(HmiLayout.ResumeInterruptedButton);
         s = screen.WaitFor("the resume confirmation", v => v.DialogTitle == En[TextId.ConfirmResumeTitle]);
         s.DialogText.Should().Contain("G21");
+        var resumeAt = int.Parse(System.Text.RegularExpressions.Regex.Match(s.DialogText!, @"line (\d+)").Groups[1].Value, System.Globalization.CultureInfo.InvariantCulture);
+        resumeAt.Should().BeInRange(2000, interrupted, "the checkpoint resumes where the interrupted job was, never past it");
         screen.Screenshot("13-resume-confirmation");
         Confirm(screen, En[TextId.ConfirmResumeTitle]);
-        screen.WaitFor("running again from the checkpoint", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= 2000);
+        screen.WaitFor("running again from the checkpoint", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= resumeAt);
         screen.Screenshot("14-resumed-after-interruption");
 
         Step("switch to 简体中文 (real click on the language selector, Down, Return)");
