@@ -17,7 +17,7 @@ public sealed class PreviewPicture : IDisposable
         Warnings = warnings;
     }
 
-    /// <summary>The picture: 8-bit RGBA, opaque (draw on <see cref="WithMarker"/>'s copy to keep it clean).</summary>
+    /// <summary>The picture: 32 bits a pixel in the platform's order, opaque (draw on <see cref="WithMarker"/>'s copy to keep it clean).</summary>
     public SKBitmap Image { get; }
 
     /// <summary>Coordinates to pixels, for markers and hit tests.</summary>

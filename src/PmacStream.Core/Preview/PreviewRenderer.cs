@@ -104,7 +104,9 @@ public static class PreviewRenderer
         var palette = options.Palette;
         var layout = PreviewLayout.For(options);
         var projection = new ViewProjection(options.View, min, max, layout.PlotLeft, layout.PlotTop, layout.PlotWidth, layout.PlotHeight);
-        var image = new SKBitmap(new SKImageInfo(options.Width, options.Height, SKColorType.Rgba8888, SKAlphaType.Premul));
+        // The platform's pixel order (BGRA on x64): Skia's fast blitters; other orders go through its slower general
+        // pipeline (a third more CPU on a dense 1 GB program).
+        var image = new SKBitmap(new SKImageInfo(options.Width, options.Height, SKImageInfo.PlatformColorType, SKAlphaType.Premul));
         var warnings = new List<string>();
         ExecutionReport? report = null;
         try
