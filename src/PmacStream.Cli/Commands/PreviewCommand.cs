@@ -77,6 +77,11 @@ internal static class PreviewCommand
         {
             throw new CliException(e.Message, CliGlobals.Failed);
         }
+        catch (Exception e) when (MissingNativeLibrary(e) is { } missing)
+        {
+            throw new CliException(
+                $"cannot draw: the native drawing library did not load ({missing}). The preview needs libSkiaSharp, which ships with pmacstream, and fontconfig (Debian/Ubuntu: apt-get install libfontconfig1)");
+        }
 
         using var drawn = picture;
         drawn.WritePng(output);
@@ -147,6 +152,24 @@ internal static class PreviewCommand
         {
             Console.Out.WriteLine($"  ... ({runs.Count - MaxListed}{(runs.Count >= ExecutionReport.MaxRuns ? "+" : string.Empty)} more runs)");
         }
+    }
+
+    /// <summary>
+    /// When Skia's native library (or one it needs, such as libfontconfig) did not load: the loader's first reason,
+    /// which names the file (its first line is only general advice).
+    /// </summary>
+    private static string? MissingNativeLibrary(Exception e)
+    {
+        for (Exception? x = e; x is not null; x = x.InnerException)
+        {
+            if (x is DllNotFoundException dll)
+            {
+                var lines = dll.Message.Split('\n', StringSplitOptions.TrimEntries | StringSplitOptions.RemoveEmptyEntries);
+                return lines.Length > 1 ? lines[1] : lines.FirstOrDefault() ?? dll.GetType().Name;
+            }
+        }
+
+        return null;
     }
 
     internal static (int Width, int Height) ParseSize(string text)
