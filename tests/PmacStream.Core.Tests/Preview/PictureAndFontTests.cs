@@ -51,15 +51,11 @@ public class PictureAndFontTests(ITestOutputHelper output)
         font.CanDraw("\u0378").Should().BeFalse("U+0378 is unassigned: no font has it, and CanDraw says so");
     }
 
-    [Fact]
+    [SkippableFact]
     public void Chinese_text_falls_back_to_a_font_with_chinese_glyphs()
     {
         using var font = new LegendFont(20);
-        if (!font.CanDraw("进给"))
-        {
-            output.WriteLine("SKIPPED: no installed font has Chinese glyphs (install fonts-noto-cjk; .ci/run does)");
-            return;
-        }
+        Skip.If(!font.CanDraw("进给"), "no installed font has Chinese glyphs (apt-get install fonts-noto-cjk; .ci/run installs it)");
 
         font.Fallbacks.Should().NotBeEmpty("the Latin family lacks CJK glyphs, so a fallback was matched");
         output.WriteLine($"legend font {font.Family}, Chinese from {string.Join(", ", font.Fallbacks)}");
@@ -70,7 +66,7 @@ public class PictureAndFontTests(ITestOutputHelper output)
     [Fact]
     public void Chinese_legend_is_drawn_when_a_chinese_font_is_installed_and_english_with_a_warning_otherwise()
     {
-        var path = Path.Combine(RepoRoot(), "samples", "demo.nc");
+        var path = RepoRoot.DemoProgram;
         using var en = PreviewRenderer.Render(new GCodeToolpathSource(path), new PreviewOptions { Width = 600, Height = 450 });
         using var zh = PreviewRenderer.Render(new GCodeToolpathSource(path), new PreviewOptions { Width = 600, Height = 450, Culture = CultureInfo.GetCultureInfo("zh-CN") });
         using var font = new LegendFont(20);
