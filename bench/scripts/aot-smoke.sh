@@ -77,6 +77,7 @@ run plc 0 plc "$R/samples/plc/motor-fwd-rev.ladder" && same plc plc.out
 run plc2 0 plc "$R/samples/plc/sand-mould-spindle.ladder" -o plc2.pmc && same plc2 plc2.pmc
 run preview 0 preview "$R/samples/demo.nc" --png demo.png --size 400x300 && same preview demo.png
 run preview-iso 0 preview "$R/samples/demo.nc" --png iso.png --size 300x200 --view iso && same preview-iso iso.png
+run preview-zh 0 preview "$R/samples/demo.nc" --png zh.png --size 600x450 --lang zh-CN && same preview-zh zh.png preview-zh.err
 run stream-sim 0 stream "$WORK/demo.nc" --sim --sim-speed instant --job-db jobs.db && echo "PASS stream-sim"
 run stream-sim-from-line 0 stream "$WORK/demo.nc" --sim --sim-speed instant --from-line 1500 -y --job-db jobs.db && echo "PASS stream-sim-from-line"
 run resume-none 2 resume --sim --job-db missing.db && same resume-none resume-none.err

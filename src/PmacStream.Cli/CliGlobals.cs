@@ -1,4 +1,5 @@
 using System.CommandLine;
+using System.Globalization;
 using PmacStream.Jobs;
 using Serilog;
 using Serilog.Events;
@@ -125,6 +126,14 @@ internal static class CliGlobals
             ? $"{prefix}: {file}: {e.ErrorCount} error(s); nothing sent to the controller (--force runs it anyway)"
             : $"{prefix}: {e.Message}; nothing sent to the controller").ConfigureAwait(false);
     }
+
+    /// <summary>The culture of a <c>--lang</c> value: en or zh-CN (and their usual spellings).</summary>
+    public static CultureInfo ParseLanguage(string lang) => lang.ToLowerInvariant() switch
+    {
+        "en" or "en-us" or "en-gb" => CultureInfo.GetCultureInfo("en"),
+        "zh" or "zh-cn" or "zh-hans" => CultureInfo.GetCultureInfo("zh-CN"),
+        _ => throw new CliException($"--lang {lang}: expected en or zh-CN"),
+    };
 
     private static void ConfigureLogging(bool verbose, string? logFile)
     {

@@ -15,5 +15,6 @@ root.Subcommands.Add(SimCommand.Create());
 root.Subcommands.Add(Prog1000Command.Create());
 root.Subcommands.Add(PlcCommand.Create());
 root.Subcommands.Add(PreviewCommand.Create());
+BuildInfo.Apply(root);
 
 return await CliGlobals.RunAsync(root, args).ConfigureAwait(false);

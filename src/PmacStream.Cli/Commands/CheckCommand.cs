@@ -42,12 +42,7 @@ internal static class CheckCommand
     {
         if (lang != null)
         {
-            DiagnosticText.Culture = lang.ToLowerInvariant() switch
-            {
-                "en" or "en-us" or "en-gb" => CultureInfo.GetCultureInfo("en"),
-                "zh" or "zh-cn" or "zh-hans" => CultureInfo.GetCultureInfo("zh-CN"),
-                _ => throw new CliException($"--lang {lang}: expected en or zh-CN"),
-            };
+            DiagnosticText.Culture = CliGlobals.ParseLanguage(lang);
         }
 
         if (Directory.Exists(file))

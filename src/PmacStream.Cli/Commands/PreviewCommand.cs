@@ -6,9 +6,9 @@ using PmacStream.Preview;
 namespace PmacStream.Cli.Commands;
 
 /// <summary>
-/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG]`: draws the
-/// toolpath (two streaming passes, bounded memory) and, with a simulator executed-move log, overlays what ran and
-/// lists the lines that ran zero or several times. Exit 0 when drawn (and, with a log, every move ran exactly once),
+/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN]`:
+/// draws the toolpath (two streaming passes, bounded memory) and, with a simulator executed-move log, overlays what
+/// ran and lists the lines that ran zero or several times. Exit 0 when drawn (and, with a log, every move ran exactly once),
 /// 1 when the program had blocks that could not be drawn or the log shows gaps or repeats, 2 for usage and I/O errors.
 /// </summary>
 internal static class PreviewCommand
@@ -23,6 +23,7 @@ internal static class PreviewCommand
         var view = new Option<string>("--view") { Description = "View: xy, xz, yz or iso.", DefaultValueFactory = _ => "xy" };
         view.AcceptOnlyFromAmong("xy", "xz", "yz", "iso");
         var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV: sequence,line,start_s,end_s,x,y,z,kind) to overlay; lists lines run zero or several times.", HelpName = "LOG.csv" };
+        var lang = new Option<string?>("--lang") { Description = "Legend language: en or zh-CN (default: the UI culture). Chinese needs a font with Chinese glyphs, e.g. fonts-noto-cjk." };
 
         var cmd = new Command("preview", "Draw the toolpath of a program to a PNG (rapids dashed, feeds solid, arcs as arcs). Exit 1 when the program has errors or the executed log shows moves run zero or several times.");
         cmd.Arguments.Add(file);
@@ -30,17 +31,20 @@ internal static class PreviewCommand
         cmd.Options.Add(size);
         cmd.Options.Add(view);
         cmd.Options.Add(executed);
-        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, ct));
+        cmd.Options.Add(lang);
+        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, lang, ct));
         return cmd;
     }
 
     private static async Task<int> RunAsync(
-        ParseResult parse, Argument<string> file, Option<string> png, Option<string> size, Option<string> view, Option<string?> executed, CancellationToken ct)
+        ParseResult parse, Argument<string> file, Option<string> png, Option<string> size, Option<string> view, Option<string?> executed, Option<string?> lang,
+        CancellationToken ct)
     {
         var path = parse.GetValue(file)!;
         var output = parse.GetValue(png)!;
         var (width, height) = ParseSize(parse.GetValue(size)!);
         var log = parse.GetValue(executed);
+        var culture = parse.GetValue(lang) is { } l ? CliGlobals.ParseLanguage(l) : CultureInfo.CurrentUICulture;
         if (!File.Exists(path))
         {
             throw new CliException($"{path}: no such file");
@@ -64,7 +68,7 @@ internal static class PreviewCommand
             picture = await CliProgress.RunAsync("preview", report => Task.Run(
                 () => PreviewRenderer.Render(
                     source,
-                    new PreviewOptions { Width = width, Height = height, View = ParseView(parse.GetValue(view)!), Progress = (f, s) => report(f, s) },
+                    new PreviewOptions { Width = width, Height = height, View = ParseView(parse.GetValue(view)!), Culture = culture, Progress = (f, s) => report(f, s) },
                     log,
                     ct),
                 ct)).ConfigureAwait(false);
@@ -73,8 +77,19 @@ internal static class PreviewCommand
         {
             throw new CliException(e.Message, CliGlobals.Failed);
         }
+        catch (Exception e) when (MissingNativeLibrary(e) is { } missing)
+        {
+            throw new CliException(
+                $"cannot draw: the native drawing library did not load ({missing}). The preview needs libSkiaSharp, which ships with pmacstream, and fontconfig (Debian/Ubuntu: apt-get install libfontconfig1)");
+        }
 
-        PngEncoder.WriteFile(picture.Image, output);
+        using var drawn = picture;
+        drawn.WritePng(output);
+        foreach (var warning in drawn.Warnings)
+        {
+            Console.Error.WriteLine($"{output}: warning: {warning}");
+        }
+
         var exit = CliGlobals.Ok;
         var ci = CultureInfo.InvariantCulture;
         var x = picture.Extents;
@@ -137,6 +152,24 @@ internal static class PreviewCommand
         {
             Console.Out.WriteLine($"  ... ({runs.Count - MaxListed}{(runs.Count >= ExecutionReport.MaxRuns ? "+" : string.Empty)} more runs)");
         }
+    }
+
+    /// <summary>
+    /// When Skia's native library (or one it needs, such as libfontconfig) did not load: the loader's first reason,
+    /// which names the file (its first line is only general advice).
+    /// </summary>
+    private static string? MissingNativeLibrary(Exception e)
+    {
+        for (Exception? x = e; x is not null; x = x.InnerException)
+        {
+            if (x is DllNotFoundException dll)
+            {
+                var lines = dll.Message.Split('\n', StringSplitOptions.TrimEntries | StringSplitOptions.RemoveEmptyEntries);
+                return lines.Length > 1 ? lines[1] : lines.FirstOrDefault() ?? dll.GetType().Name;
+            }
+        }
+
+        return null;
     }
 
     internal static (int Width, int Height) ParseSize(string text)

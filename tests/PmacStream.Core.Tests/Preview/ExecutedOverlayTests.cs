@@ -30,7 +30,7 @@ public class ExecutedOverlayTests
         var log = WriteLog((2, 0, 0), (3, 40, 0), (4, 40, 40), (5, 0, 40), (6, 0, 0));
         try
         {
-            var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
+            using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
             pic.Execution!.IsExact.Should().BeTrue();
             pic.Execution.LogRows.Should().Be(5);
             PixelsOf(pic.Image, Palette.Missing).Should().BeEmpty();
@@ -39,9 +39,9 @@ public class ExecutedOverlayTests
             // The band lies under the program line: 2 pixels beside each edge's middle is executed green,
             // while the edge itself stays in the feed colour on top.
             var (mx, my) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
-            pic.Image[(int)Math.Round(mx), (int)Math.Round(my)].Should().Be(Palette.Feed);
-            pic.Image[(int)Math.Round(mx), (int)Math.Round(my) - 2].Should().Be(Palette.Executed);
-            pic.Image[(int)Math.Round(mx), (int)Math.Round(my) + 2].Should().Be(Palette.Executed);
+            Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my), Palette.Feed, Palette.Executed).Should().BeTrue("the edge is drawn over the band");
+            Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) - 2, Palette.Executed).Should().BeTrue("the band is wider than the line");
+            Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) + 2, Palette.Executed).Should().BeTrue();
         }
         finally
         {
@@ -56,7 +56,7 @@ public class ExecutedOverlayTests
         var log = WriteLog((2, 0, 0), (3, 40, 0), (5, 0, 40), (6, 0, 0), (5, 0, 40));
         try
         {
-            var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
+            using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
             var report = pic.Execution!;
             report.IsExact.Should().BeFalse();
             report.MissingLines.Should().Be(1);
@@ -66,14 +66,14 @@ public class ExecutedOverlayTests
 
             // The never-executed right edge is drawn in the missing colour.
             var (rx, ry) = pic.Projection.ToPixel(new Point3D(40, 20, 0));
-            pic.Image[(int)Math.Round(rx), (int)Math.Round(ry)].Should().Be(Palette.Missing);
+            Is(pic.Image, (int)Math.Round(rx), (int)Math.Round(ry), Palette.Missing).Should().BeTrue();
             // Having skipped line 4, the machine went straight from (40, 0) to (0, 40) for line 5: that executed
             // move, of a line run twice, is a repeated-colour band across the square where the program has nothing.
             var (tx, ty) = pic.Projection.ToPixel(new Point3D(20, 20, 0));
-            pic.Image[(int)Math.Round(tx), (int)Math.Round(ty)].Should().Be(Palette.Repeated);
+            Is(pic.Image, (int)Math.Round(tx), (int)Math.Round(ty), Palette.Repeated).Should().BeTrue();
             // The bottom edge ran once.
             var (bx, by) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
-            pic.Image[(int)Math.Round(bx), (int)Math.Round(by) + 2].Should().Be(Palette.Executed);
+            Is(pic.Image, (int)Math.Round(bx), (int)Math.Round(by) + 2, Palette.Executed).Should().BeTrue();
         }
         finally
         {
@@ -88,7 +88,7 @@ public class ExecutedOverlayTests
         var log = WriteLog((2, 20, 0), (3, -20, 0));
         try
         {
-            var pic = RenderGCode("G21 G90 G17\nG0 X20 Y0 Z0\nG3 X-20 Y0 I-20 J0 F100\n", PreviewView.XY, 300, 300, log: log);
+            using var pic = RenderGCode("G21 G90 G17\nG0 X20 Y0 Z0\nG3 X-20 Y0 I-20 J0 F100\n", PreviewView.XY, 300, 300, log: log);
             var proj = pic.Projection;
             var (cx, cy) = proj.ToPixel(new Point3D(0, 0, 0));
             var rpx = 20 * proj.Scale;
@@ -100,7 +100,7 @@ public class ExecutedOverlayTests
                 Near(pic.Image, bx, by, Palette.Executed, 1).Should().BeTrue($"the band runs along the arc at {deg} degrees");
             }
 
-            pic.Image[(int)Math.Round(cx), (int)Math.Round(cy) - 2].Should().Be(Palette.Background, "no chord is drawn through the centre");
+            pic.Image.GetPixel((int)Math.Round(cx), (int)Math.Round(cy) - 2).Should().Be(Palette.Background, "no chord is drawn through the centre");
             pic.Execution!.IsExact.Should().BeTrue();
         }
         finally
@@ -124,7 +124,7 @@ public class ExecutedOverlayTests
         var log = WriteLog(rows.ToArray());
         try
         {
-            var pic = RenderGCode(program, PreviewView.XY, 200, 200, log: log);
+            using var pic = RenderGCode(program, PreviewView.XY, 200, 200, log: log);
             pic.Execution!.Missing.Should().Equal(new LineRun(6, 9, 0));
             pic.Execution.MissingLines.Should().Be(4);
             pic.Execution.Repeated.Should().Equal(new LineRun(10, 10, 2), new LineRun(11, 11, 3), new LineRun(12, 12, 2));
@@ -143,7 +143,7 @@ public class ExecutedOverlayTests
         var log = WriteLog((3, 40, 0), (4, 200, 200));
         try
         {
-            var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
+            using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
             var (x, y) = pic.Projection.ToPixel(new Point3D(200, 200, 0));
             x.Should().BeInRange(0, 299);
             y.Should().BeInRange(0, 299);

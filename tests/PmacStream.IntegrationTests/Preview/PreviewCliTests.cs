@@ -34,6 +34,26 @@ public sealed class PreviewCliTests : IDisposable
     }
 
     [Fact]
+    public void Chinese_legend_is_asked_for_with_lang_and_an_unknown_language_is_a_usage_error()
+    {
+        var png = Path.Combine(_dir, "zh.png");
+        var (code, stdout, stderr) = CliProcess.Run("preview", Program(Square), "--png", png, "--lang", "zh-CN");
+        code.Should().Be(0, stderr);
+        File.Exists(png).Should().BeTrue(stdout);
+        // Without a font with Chinese glyphs the legend is English and the command says why.
+        if (stderr.Length > 0)
+        {
+            stderr.Should().Contain("warning").And.Contain("fonts-noto-cjk");
+        }
+
+        var bad = Path.Combine(_dir, "fr.png");
+        (code, _, stderr) = CliProcess.Run("preview", Program(Square), "--png", bad, "--lang", "fr");
+        code.Should().Be(2);
+        stderr.Should().Contain("--lang fr: expected en or zh-CN");
+        File.Exists(bad).Should().BeFalse("nothing is written for a bad command line");
+    }
+
+    [Fact]
     public void Missing_program_is_a_usage_error_and_writes_nothing()
     {
         var png = Path.Combine(_dir, "none.png");
