@@ -16,5 +16,6 @@ root.Subcommands.Add(Prog1000Command.Create());
 root.Subcommands.Add(PlcCommand.Create());
 root.Subcommands.Add(PreviewCommand.Create());
 BuildInfo.Apply(root);
+root.Subcommands.Add(ProfilesCommand.Create());
 
 return await CliGlobals.RunAsync(root, args).ConfigureAwait(false);

@@ -8,7 +8,7 @@ using PmacStream.Program.Store;
 namespace PmacStream.Cli.Commands;
 
 /// <summary>
-/// `pmacstream check FILE [--profile P.json] [--json] [--db PATH] [--lang en|zh-CN]`: one streamed pass that lists
+/// `pmacstream check FILE [--profile NAME|FILE] [--json] [--db PATH] [--lang en|zh-CN]`: one streamed pass that lists
 /// every diagnostic (<c>FILE:LINE:COL: error E104: ...</c>) and a summary line, optionally storing every block.
 /// Exit 0 without errors, 1 with errors, 2 for usage or I/O problems.
 /// </summary>
@@ -23,7 +23,7 @@ internal static class CheckCommand
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "G-code program to check." };
-        var profile = new Option<string?>("--profile") { Description = "Machine profile JSON (default: the built-in FANUC-style milling set)." };
+        var profile = CliProfiles.Option();
         var json = new Option<bool>("--json") { Description = "Print one JSON object instead of text lines." };
         var db = new Option<string?>("--db") { Description = "Store every interpreted block and diagnostic in this SQLite file." };
         var lang = new Option<string?>("--lang") { Description = "Message language: en or zh-CN (default: the UI culture)." };
@@ -55,15 +55,7 @@ internal static class CheckCommand
             throw new CliException($"{file}: no such file");
         }
 
-        MachineProfile machine;
-        try
-        {
-            machine = profilePath == null ? MachineProfile.Default : MachineProfile.Load(profilePath);
-        }
-        catch (Exception e) when (e is InvalidDataException or IOException or UnauthorizedAccessException)
-        {
-            throw new CliException(e is InvalidDataException ? e.Message : $"{profilePath}: {e.Message}");
-        }
+        var machine = CliProfiles.Load(profilePath);
 
         // Buffered: a program with an error on every line must not cost a write call per line.
         using var stdout = OutputOverride ?? new StreamWriter(Console.OpenStandardOutput(), new UTF8Encoding(false), 1 << 16) { AutoFlush = false };
@@ -99,7 +91,7 @@ internal static class CheckCommand
         }
         else
         {
-            stdout.WriteLine(summary.ToString());
+            stdout.WriteLine(summary.ToLocalizedString());
         }
 
         stdout.Flush();

@@ -6,7 +6,7 @@ using PmacStream.Preview;
 namespace PmacStream.Cli.Commands;
 
 /// <summary>
-/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN]`:
+/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN] [--profile NAME|FILE]`:
 /// draws the toolpath (two streaming passes, bounded memory) and, with a simulator executed-move log, overlays what
 /// ran and lists the lines that ran zero or several times. Exit 0 when drawn (and, with a log, every move ran exactly once),
 /// 1 when the program had blocks that could not be drawn or the log shows gaps or repeats, 2 for usage and I/O errors.
@@ -24,6 +24,7 @@ internal static class PreviewCommand
         view.AcceptOnlyFromAmong("xy", "xz", "yz", "iso");
         var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV: sequence,line,start_s,end_s,x,y,z,kind) to overlay; lists lines run zero or several times.", HelpName = "LOG.csv" };
         var lang = new Option<string?>("--lang") { Description = "Legend language: en or zh-CN (default: the UI culture). Chinese needs a font with Chinese glyphs, e.g. fonts-noto-cjk." };
+        var profile = CliProfiles.Option();
 
         var cmd = new Command("preview", "Draw the toolpath of a program to a PNG (rapids dashed, feeds solid, arcs as arcs). Exit 1 when the program has errors or the executed log shows moves run zero or several times.");
         cmd.Arguments.Add(file);
@@ -32,14 +33,16 @@ internal static class PreviewCommand
         cmd.Options.Add(view);
         cmd.Options.Add(executed);
         cmd.Options.Add(lang);
-        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, lang, ct));
+        cmd.Options.Add(profile);
+        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, lang, profile, ct));
         return cmd;
     }
 
     private static async Task<int> RunAsync(
         ParseResult parse, Argument<string> file, Option<string> png, Option<string> size, Option<string> view, Option<string?> executed, Option<string?> lang,
-        CancellationToken ct)
+        Option<string?> profile, CancellationToken ct)
     {
+        var machine = CliProfiles.Load(parse.GetValue(profile));
         var path = parse.GetValue(file)!;
         var output = parse.GetValue(png)!;
         var (width, height) = ParseSize(parse.GetValue(size)!);
@@ -61,7 +64,7 @@ internal static class PreviewCommand
             throw new CliException($"{output}: the folder {outDir} does not exist");
         }
 
-        var source = new GCodeToolpathSource(path);
+        var source = new GCodeToolpathSource(path, machine);
         PreviewPicture picture;
         try
         {

@@ -5,12 +5,12 @@ using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream prog1000 [--profile P] [--out FILE]`: the PROG 1000/1001 G and M code library.</summary>
+/// <summary>`pmacstream prog1000 [--profile NAME|FILE] [--out FILE]`: the PROG 1000/1001 G and M code library.</summary>
 internal static class Prog1000Command
 {
     public static Command Create()
     {
-        var profile = new Option<string?>("--profile") { Description = "Machine profile JSON (default: the built-in FANUC-style milling set)." };
+        var profile = CliProfiles.Option();
         var outFile = new Option<string?>("--out") { Description = "Write the library to this file (default: standard output)." };
         var noComments = new Option<bool>("--no-comments") { Description = "Leave out the ; comment lines." };
         var cmd = new Command("prog1000", "Write the PROG 1000/1001 G and M code library.");
@@ -19,7 +19,7 @@ internal static class Prog1000Command
         cmd.Options.Add(noComments);
         cmd.SetAction((parse, _) =>
         {
-            var machine = LoadProfile(parse.GetValue(profile));
+            var machine = CliProfiles.Load(parse.GetValue(profile));
             string text;
             try
             {
@@ -43,25 +43,9 @@ internal static class Prog1000Command
             File.WriteAllText(temp, text, Encoding.ASCII);
             File.Move(temp, full, overwrite: true);
             var routines = Prog1000Library.Routines(machine);
-            Console.Out.WriteLine($"{routines.Count} routines ({routines.Count(r => !r.Converted)} without conversion) written to {full}");
+            Console.Out.WriteLine($"{routines.Count(r => r.Converted)} routines written to {full}; {routines.Count(r => !r.Converted)} codes of profile '{machine.Name}' are not run on the controller yet (no routine)");
             return Task.FromResult(CliGlobals.Ok);
         });
         return cmd;
-    }
-
-    internal static MachineProfile LoadProfile(string? path)
-    {
-        try
-        {
-            return path == null ? MachineProfile.Default : MachineProfile.Load(path);
-        }
-        catch (InvalidDataException e)
-        {
-            throw new CliException(e.Message, CliGlobals.UsageOrIo);
-        }
-        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
-        {
-            throw new CliException($"{path}: {e.Message}", CliGlobals.UsageOrIo);
-        }
     }
 }

@@ -25,7 +25,7 @@ internal static class SplitCommand
         feed.AcceptOnlyFromAmong("paper", "override");
         var feedVar = new Option<string>("--feed-var") { Description = "Variable the feed expression reads.", DefaultValueFactory = _ => RunSettings.DefaultFeedVariable };
         var tail = new Option<string?>("--tail") { Description = "Program tail appended to the last chunk (default: the profile's, M05; the paper's machine: \"M03 M05\")." };
-        var profile = new Option<string?>("--profile") { Description = "Machine profile JSON the program is checked against (default: the built-in milling set)." };
+        var profile = CliProfiles.Option();
         var keepN = new Option<bool>("--keep-n") { Description = "Keep N numbers (a PMAC reads them as labels)." };
         var noBlockDelete = new Option<bool>("--no-block-delete") { Description = "Block delete off: emit / blocks instead of skipping them." };
         var force = new Option<bool>("--force") { Description = "Split even if the program has errors (what is not G-code is dropped)." };
@@ -40,7 +40,7 @@ internal static class SplitCommand
         cmd.SetAction(async (parse, ct) =>
         {
             var path = parse.GetValue(file)!;
-            var machine = Prog1000Command.LoadProfile(parse.GetValue(profile));
+            var machine = CliProfiles.Load(parse.GetValue(profile));
             var options = new SplitOptions
             {
                 OutDir = parse.GetValue(outDir),
@@ -117,6 +117,13 @@ internal static class SplitCommand
             if (result.Warnings > 0)
             {
                 Console.Out.WriteLine($"{result.Warnings} warning(s); see pmacstream check");
+            }
+
+            if (result.NotYetCodes is { Count: > 0 } notYet)
+            {
+                // The chunks keep these codes; the manifest lists them so that a job gate refuses to stream the split.
+                Console.Out.WriteLine($"not runnable on the controller yet under profile '{machine.Name}' (a job using this split is refused): " +
+                    string.Join(", ", notYet.OrderBy(c => c.Value).Select(c => $"{c.Key} (line {c.Value})")));
             }
 
             return CliGlobals.Ok;

@@ -16,8 +16,17 @@ public sealed record CheckSummary(string File, int Lines, long Blocks, int Error
     /// <summary>The "exit" level: the program must not run when true.</summary>
     public bool HasErrors => Errors > 0;
 
-    /// <summary>The summary line the CLI prints: <c>N errors, M warnings, B blocks</c>.</summary>
-    public override string ToString() => $"{Errors} errors, {Warnings} warnings, {Blocks} blocks";
+    /// <summary>
+    /// The codes the program uses that the controller cannot run yet (<see cref="ControllerSupport.NotYet"/>), with
+    /// the line of their first use: a job gate refuses such a program.
+    /// </summary>
+    public IReadOnlyDictionary<string, int> NotYetCodes { get; init; } = new Dictionary<string, int>();
+
+    /// <summary>The summary in English, as logs and the program store keep it: <c>N errors, M warnings, B blocks</c>.</summary>
+    public override string ToString() => DiagnosticText.Format(System.Globalization.CultureInfo.InvariantCulture, DiagnosticText.SummaryKey, Errors, Warnings, Blocks);
+
+    /// <summary>The summary line in <see cref="DiagnosticText.Culture"/> (what <c>pmacstream check --lang</c> prints).</summary>
+    public string ToLocalizedString() => DiagnosticText.Format(DiagnosticText.SummaryKey, Errors, Warnings, Blocks);
 }
 
 /// <summary>
@@ -78,7 +87,12 @@ public sealed class Checker
             run.Line(block);
         }
 
-        return run.Finish(fileName, reader.Position, sw.Elapsed);
+        if (reader.TextAfterTapeEnd)
+        {
+            run.TextAfterTapeEnd(reader.TapeEndLine);
+        }
+
+        return run.Finish(fileName, reader.Position, sw.Elapsed, reader.LineNumber);
     }
 
     /// <summary>Checks program text held in memory (tests, the HMI editor) and returns the diagnostics with the summary.</summary>
@@ -101,6 +115,7 @@ internal sealed class CheckRun
     private readonly Action<DecodedBlock>? _onBlock;
     private readonly Action<Interpreter>? _onInterpreted;
     private readonly Interpreter _interp;
+    private readonly bool _programNumbers;
     // Until the first N is seen we cannot know whether un-numbered blocks deserve W002 ("only when the program
     // numbers some blocks"), so diagnostics are held (bounded) and released in line order once it is known.
     private readonly List<Diagnostic> _held = [];
@@ -116,6 +131,7 @@ internal sealed class CheckRun
     private int _heldLines;
     private bool _undecidedOverflow;
     private bool _reportedNul;
+    private int _tapeEnd;
 
     public CheckRun(MachineProfile profile, bool measureMoves, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
         Action<Interpreter>? onInterpreted)
@@ -124,6 +140,7 @@ internal sealed class CheckRun
         _onBlock = onBlock;
         _onInterpreted = onInterpreted;
         _interp = new Interpreter(profile) { MeasureMoves = measureMoves, RecordBlocks = onBlock != null || onInterpreted != null };
+        _programNumbers = profile.TakesProgramNumbers;
     }
 
     /// <summary>The interpreter the check runs (tests compare its state).</summary>
@@ -272,24 +289,40 @@ internal sealed class CheckRun
         }
     }
 
-    /// <summary>The end of the program: the whole-program findings, and the totals.</summary>
-    public CheckSummary Finish(string fileName, long bytes, TimeSpan elapsed)
+    /// <summary>The reader ended the tape at a <c>%</c> on <paramref name="line"/> with text after it: that text is ignored (W007).</summary>
+    public void TextAfterTapeEnd(int line)
     {
+        _tapeEnd = line;
+    }
+
+    /// <summary>The end of the program: the whole-program findings, and the totals.</summary>
+    public CheckSummary Finish(string fileName, long bytes, TimeSpan elapsed, int linesRead = 0)
+    {
+        // Lines after the end of the tape were read, not checked: they still count as the file's lines.
+        _lines = Math.Max(_lines, linesRead);
         if (!_sawSequence)
         {
             ReleaseWithoutW002();
+        }
+
+        if (_tapeEnd > 0)
+        {
+            Make(DiagnosticCodes.TextAfterTapeEnd, _tapeEnd, 1);
         }
 
         if (_blocks == 0)
         {
             Make(DiagnosticCodes.EmptyProgram, Math.Max(1, _lines), 1);
         }
-        else if (!_sawProgramNumber)
+        else if (!_sawProgramNumber && _programNumbers)
         {
             Make(DiagnosticCodes.NoProgramNumber, _firstBlockLine, 1);
         }
 
-        return new CheckSummary(fileName, _lines, _blocks, _errors, _warnings, bytes, _seconds, elapsed);
+        return new CheckSummary(fileName, _lines, _blocks, _errors, _warnings, bytes, _seconds, elapsed)
+        {
+            NotYetCodes = new Dictionary<string, int>(_interp.NotYetCodes),
+        };
     }
 
     private void Emit(Diagnostic d)

@@ -92,6 +92,24 @@ public static class DiagnosticCodes
     /// <summary>The file is UTF-16 (BOM found); G-code must be ASCII or UTF-8.</summary>
     public const string Utf16File = "E122";
 
+    /// <summary>A <c>(</c> inside a comment: comments do not nest.</summary>
+    public const string NestedComment = "E123";
+
+    /// <summary>A code without a word it cannot go without (<c>G10</c> without L, a drilling cycle without Z).</summary>
+    public const string RequiredWordMissing = "E124";
+
+    /// <summary>A word whose value the code does not take (<c>G10 L5</c>, <c>G54.1 P0</c>, a peck depth Q of 0).</summary>
+    public const string ValueNotAllowed = "E125";
+
+    /// <summary>Axis words while no motion mode is in force (after G80 where G80 ends the motion mode).</summary>
+    public const string NoMotionMode = "E126";
+
+    /// <summary>A code the profile knows but the controller cannot run yet (reported at its first use).</summary>
+    public const string NotYetOnController = "W006";
+
+    /// <summary>Text after the <c>%</c> that ends the tape: ignored.</summary>
+    public const string TextAfterTapeEnd = "W007";
+
     /// <summary>The program has no program number (O word).</summary>
     public const string NoProgramNumber = "W001";
 
@@ -111,6 +129,7 @@ public static class DiagnosticCodes
         DecimalCode, ModalGroupConflict, NoFunction, DuplicateWord, MotionWithoutAxes, ArcWithoutCenter, LineTooLong,
         ArcRadiusMismatch, FeedMoveWithoutFeed, UnsupportedLetter, EmptyProgram, NulByte, Utf16File,
         NoProgramNumber, NoSequenceNumber, UnusedWord, LowercaseLetter, MissingWord,
+        NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

@@ -35,7 +35,17 @@ public static class DiagnosticText
         [DiagnosticCodes.NoSequenceNumber] = ("block has no sequence number while other blocks are numbered", "此程序段没有指定段号（其他程序段有段号）"),
         [DiagnosticCodes.UnusedWord] = ("word {0} is not used by this block and is ignored", "指令后续参数不匹配：字 {0} 在本段中无用，将被忽略"),
         [DiagnosticCodes.MissingWord] = ("{0} without {1}: {2}", "{0} 缺少 {1}：{3}"),
+        [DiagnosticCodes.NestedComment] = ("'(' inside a comment: comments do not nest", "注释中出现 '('：注释不能嵌套"),
+        [DiagnosticCodes.RequiredWordMissing] = ("{0} without {1}: {2}", "{0} 缺少 {1}：{3}"),
+        [DiagnosticCodes.ValueNotAllowed] = ("value out of range: {0}{1} with {2}: expected {3}", "参数值超出范围：{2} 的 {0}{1}：应为 {3}"),
+        [DiagnosticCodes.NoMotionMode] = ("axis words but no motion mode in force: expected G00, G01, G02 or G03 first", "有坐标字但没有有效的运动方式：应先指定 G00、G01、G02 或 G03"),
+        [DiagnosticCodes.NotYetOnController] = ("{0} ({1}) is accepted by profile '{2}' but the controller cannot run it yet: a job using it is refused", "机床配置 '{2}' 接受 {0}，但控制器尚不能执行它：使用它的作业将被拒绝"),
+        [DiagnosticCodes.TextAfterTapeEnd] = ("text after the closing '%' is ignored: the program ends at this line", "结束符 '%' 之后的内容被忽略：程序在此行结束"),
+        [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };
+
+    /// <summary>The key of the check's summary line (<c>N errors, M warnings, B blocks</c>) in the table.</summary>
+    internal const string SummaryKey = "summary";
 
     private static readonly CultureInfo DefaultCulture = CultureInfo.CurrentUICulture;
     private static readonly AsyncLocal<CultureInfo?> FlowCulture = new();

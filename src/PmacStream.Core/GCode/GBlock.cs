@@ -40,6 +40,15 @@ public sealed class GBlock
     /// <summary>The line is a <c>%</c> tape mark.</summary>
     public bool IsTapeMark { get; internal set; }
 
+    /// <summary>
+    /// Index in <see cref="Words"/> of the first word after a <c>/</c> inside the block (FANUC's optional block skip from
+    /// there to the end of the block), or -1 when the block has none.
+    /// </summary>
+    public int SkipFrom { get; internal set; } = -1;
+
+    /// <summary>1-based column of the <c>/</c> inside the block (see <see cref="SkipFrom"/>), 0 when none.</summary>
+    public int SkipColumn { get; internal set; }
+
     /// <summary>Nothing but white space and comments (or empty).</summary>
     public bool IsEmpty => WordList.Count == 0 && !IsTapeMark;
 

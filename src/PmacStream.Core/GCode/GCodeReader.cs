@@ -32,6 +32,8 @@ public sealed class GCodeReader : IDisposable
     private long _rawOffset;
     private int _rawStart;
     private int _rawLength;
+    private bool _sawBlock;     // a line with words came before: a '%' line now ends the tape
+    private bool _ended;        // the closing '%' was read: nothing after it is program text
 
     /// <summary>Reads from a stream (which the reader disposes unless <paramref name="leaveOpen"/>).</summary>
     public GCodeReader(Stream stream, bool leaveOpen = false, int bufferSize = 1 << 16)
@@ -54,15 +56,26 @@ public sealed class GCodeReader : IDisposable
     /// <summary>The current block after <see cref="Read"/> returned true. The same instance every time.</summary>
     public GBlock Current => _block;
 
-    /// <summary>Reads the next line. Returns false at the end of the input.</summary>
+    /// <summary>
+    /// Line of the <c>%</c> that ended the tape (a <c>%</c> line after the first block), 0 while none did. FANUC reads a
+    /// program between the first <c>%</c> and the next; RS274/NGC ignores what follows the second percent line. The
+    /// reader ends its input there.
+    /// </summary>
+    public int TapeEndLine { get; private set; }
+
+    /// <summary>Something other than blanks follows the <c>%</c> that ended the tape (it is ignored; the checker says so).</summary>
+    public bool TextAfterTapeEnd { get; private set; }
+
+    /// <summary>Reads the next line. Returns false at the end of the input (or after the <c>%</c> that ends the tape).</summary>
     public bool Read()
     {
-        if (!ReadLine())
+        if (_ended || !ReadLine())
         {
             return false;
         }
 
         Lex(_block);
+        Note(_block);
         return true;
     }
 
@@ -78,6 +91,13 @@ public sealed class GCodeReader : IDisposable
     /// </summary>
     internal bool ReadRaw(out byte[] data, out int start, out int length)
     {
+        if (_ended)
+        {
+            data = _block.Buffer;
+            start = length = 0;
+            return false;
+        }
+
         SkipLfAfterCr();
 
         if (!_pendingCrLf && _chunkPos < _chunkLen)
@@ -94,6 +114,7 @@ public sealed class GCodeReader : IDisposable
                 _pendingCrLf = span[end] == (byte)'\r';
                 _chunkPos += end + 1;
                 _lineNumber++;
+                NoteRaw(span[..end]);
                 return true;
             }
         }
@@ -117,6 +138,7 @@ public sealed class GCodeReader : IDisposable
         data = b.Buffer;
         start = 0;
         length = b.Length;
+        NoteRaw(b.Buffer.AsSpan(0, b.Length));
         return true;
     }
 
@@ -133,7 +155,7 @@ public sealed class GCodeReader : IDisposable
         data = _chunk;
         position = _chunkPos;
         end = _chunkLen;
-        return !_pendingCrLf && _chunkPos < _chunkLen;
+        return !_ended && !_pendingCrLf && _chunkPos < _chunkLen;
     }
 
     /// <summary>
@@ -152,6 +174,7 @@ public sealed class GCodeReader : IDisposable
         _pendingCrLf = terminator == (byte)'\r';
         _chunkPos += length + 1;
         _lineNumber++;
+        _sawBlock = true; // the caller's scan found words on it
     }
 
     /// <summary>A CR ended the last line: an LF right after it belongs to that line end, when the buffer shows it yet.</summary>
@@ -186,7 +209,73 @@ public sealed class GCodeReader : IDisposable
         }
 
         Lex(b);
+        Note(b);
         return b;
+    }
+
+    /// <summary>
+    /// A raw line that a caller may take without lexing: until the first block, one that starts with a letter is
+    /// taken as a block, so that a later <c>%</c> ends the tape (lines that are lexed are judged by their words).
+    /// </summary>
+    private void NoteRaw(ReadOnlySpan<byte> line)
+    {
+        if (_sawBlock)
+        {
+            return;
+        }
+
+        var i = SkipBlanks(line, 0);
+        _sawBlock = i < line.Length && (uint)((line[i] | 0x20) - 'a') <= 'z' - 'a';
+    }
+
+    /// <summary>A lexed line: a block with words, or the <c>%</c> that ends the tape (the rest of the input is then only counted).</summary>
+    private void Note(GBlock b)
+    {
+        if (b.WordList.Count > 0)
+        {
+            _sawBlock = true;
+        }
+        else if (b.IsTapeMark && _sawBlock)
+        {
+            _ended = true;
+            TapeEndLine = b.LineNumber;
+            SkipToEnd();
+        }
+    }
+
+    /// <summary>Reads the rest of the input after the tape's end: its lines are counted, and whether it holds text.</summary>
+    private void SkipToEnd()
+    {
+        var lineOpen = false;
+        while (_chunkPos < _chunkLen || Fill())
+        {
+            var c = _chunk[_chunkPos++];
+            if (_pendingCrLf)
+            {
+                _pendingCrLf = false;
+                if (c == (byte)'\n')
+                {
+                    continue;
+                }
+            }
+
+            if (c is (byte)'\n' or (byte)'\r')
+            {
+                _lineNumber++;
+                _pendingCrLf = c == (byte)'\r';
+                lineOpen = false;
+                continue;
+            }
+
+            lineOpen = true;
+            // Blanks and a DOS end-of-file mark are not text.
+            TextAfterTapeEnd |= c is not ((byte)' ' or (byte)'\t' or 0x1A);
+        }
+
+        if (lineOpen)
+        {
+            _lineNumber++; // a last line without a line end
+        }
     }
 
     /// <summary>Reads every block of a file, yielding the shared instance (copy what you keep).</summary>
@@ -351,6 +440,8 @@ public sealed class GCodeReader : IDisposable
         b.CommentList.Clear();
         b.BlockDelete = false;
         b.IsTapeMark = false;
+        b.SkipFrom = -1;
+        b.SkipColumn = 0;
         var line = b.Buffer.AsSpan(0, b.Length);
         var i = SkipBlanks(line, 0);
         var reportedLowercase = false;
@@ -382,7 +473,14 @@ public sealed class GCodeReader : IDisposable
             var c = line[i];
             if (c == (byte)'(')
             {
-                var close = line[(i + 1)..].IndexOf((byte)')');
+                var close = line[(i + 1)..].IndexOfAny((byte)')', (byte)'(');
+                if (close >= 0 && line[i + 1 + close] == (byte)'(')
+                {
+                    // Comments do not nest (FANUC, RS274/NGC): say so once, and end the comment at its matching ')'.
+                    Add(b, Severity.Error, DiagnosticCodes.NestedComment, i + 2 + close);
+                    close = MatchingClose(line, i);
+                }
+
                 if (close < 0)
                 {
                     b.CommentList.Add((i, line.Length - i));
@@ -408,8 +506,28 @@ public sealed class GCodeReader : IDisposable
                 break;
             }
 
+            if (c == (byte)'/' && b.WordList.Count > 0)
+            {
+                // FANUC's optional block skip inside a block: the rest of the block is skipped when block delete is
+                // on. Whether the dialect allows it is the profile's to say (the interpreter reports it otherwise).
+                if (b.SkipFrom < 0)
+                {
+                    b.SkipFrom = b.WordList.Count;
+                    b.SkipColumn = i + 1;
+                }
+
+                i++;
+                if (i < line.Length && line[i] is >= (byte)'1' and <= (byte)'9')
+                {
+                    i++;
+                }
+
+                continue;
+            }
+
             var isLower = c is >= (byte)'a' and <= (byte)'z';
-            if ((c is >= (byte)'A' and <= (byte)'Z') || isLower || c == (byte)':')
+            // ':' is the ISO program number address, so only the first word of a block (FANUC's ":1234" for O1234).
+            if ((c is >= (byte)'A' and <= (byte)'Z') || isLower || (c == (byte)':' && b.WordList.Count == 0))
             {
                 var letter = c == (byte)':' ? 'O' : (char)(c & 0xDF);
                 if (isLower && !reportedLowercase)
@@ -511,6 +629,25 @@ public sealed class GCodeReader : IDisposable
                 i++;
             }
         }
+    }
+
+    /// <summary>The offset after <paramref name="open"/>+1 of the ')' that closes the comment opened there (counting nested ones), or -1.</summary>
+    private static int MatchingClose(ReadOnlySpan<byte> line, int open)
+    {
+        var depth = 0;
+        for (var j = open; j < line.Length; j++)
+        {
+            if (line[j] == (byte)'(')
+            {
+                depth++;
+            }
+            else if (line[j] == (byte)')' && --depth == 0)
+            {
+                return j - open - 1;
+            }
+        }
+
+        return -1;
     }
 
     private static bool IsTokenStart(byte c) =>

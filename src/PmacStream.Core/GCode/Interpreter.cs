@@ -1,35 +1,47 @@
+using System.Runtime.CompilerServices;
 using System.Text;
 
 namespace PmacStream.GCode;
 
 /// <summary>
-/// Interprets blocks one after another into <see cref="DecodedBlock"/> records, keeping the modal state (groups
-/// GA-GI / MA-MC) and the absolute position. Streaming: it holds only the current state, so any program size works.
-/// Semantics are FANUC milling: I/J/K are incremental from the arc start, a negative R means more than 180 degrees,
-/// an arc with I/J/K and no axis words is a full circle, <c>G04 P</c> is in milliseconds (profile switch) and
-/// <c>G04 X</c> in seconds. Cutter radius and tool length compensation are recorded, not applied to the path.
+/// Interprets blocks one after another into <see cref="DecodedBlock"/> records, keeping the modal state (one value per
+/// modal group of the profile) and the absolute position. Streaming: it holds only the current state, so any
+/// program size works. Semantics are FANUC milling, with the profile's dialect facts: I/J/K are incremental from the
+/// arc start (absolute after G90.1), a negative R means more than 180 degrees, an arc with I/J/K and no axis words
+/// is a full circle, <c>G04 P</c> is in milliseconds or seconds as the profile says and <c>G04 X</c> in seconds,
+/// drilling cycles run hole by hole (<see cref="CannedCycle"/>), G28/G30 pass their point to the reference position,
+/// G53 moves in machine coordinates, G10/G52/G92 set offsets (<see cref="WorkCoordinates"/>). Cutter radius and tool
+/// length compensation are recorded, not applied to the path; rotary axes (A/B/C) are accepted and not tracked.
 /// </summary>
-public sealed class Interpreter
+public sealed partial class Interpreter
 {
-    private const int GroupCount = 9;
-    private const int MGroupCount = 3;
+    private const int Parameters = 1 << ('I' - 'A') | 1 << ('J' - 'A') | 1 << ('K' - 'A') | 1 << ('R' - 'A') |
+        1 << ('P' - 'A') | 1 << ('Q' - 'A') | 1 << ('L' - 'A') | 1 << ('E' - 'A');
 
     private readonly MachineProfile _profile;
-    private readonly double?[] _g = new double?[GroupCount];
-    private readonly double?[] _m = new double?[MGroupCount];
-    private readonly bool[] _gNonModal = new bool[GroupCount];
-    private readonly bool[] _mNonModal = new bool[MGroupCount];
+    private readonly int _gCount;
+    private readonly int _mCount;
+    private readonly double?[] _g;
+    private readonly double?[] _m;
+    private readonly bool[] _gNonModal;
+    private readonly bool[] _mNonModal;
+    private readonly Dictionary<int, CodeInfo> _gInfo = new();
+    private readonly Dictionary<int, CodeInfo> _mInfo = new();
+    private readonly int _motionGroup;  // the group of G01, -1 when the profile has none
+    private readonly int _cycleGroup;   // the group of G81, -1 when the profile has no cycles
+    private readonly WorkCoordinates _coords;
+    private readonly CannedCycle _cycle = new();
+    private readonly Dictionary<string, int> _notYet = new(StringComparer.Ordinal);
     private LengthUnits _units = LengthUnits.Millimetres;
     private int _plane = 17;
     private bool _absolute = true;
-    private int _wcs = 54;
-    private Point3? _wcsOffset;
+    private bool _arcAbsolute;
+    private bool _returnToR;
+    private int _feedMode = 94;
     private int _tool;
     private int _h;
     private int _d;
-    private int _spindle = 5;
     private double _speed;
-    private int _coolant = 9;
     private double? _feed;
     private Point3 _pos;
     private ModalState? _snapshot;
@@ -55,19 +67,20 @@ public sealed class Interpreter
     public Interpreter(MachineProfile profile)
     {
         _profile = profile;
-        ClassifyGroups();
-        var startup = GCodeReader.LexLine(profile.Startup);
-        foreach (var w in startup.WordList)
+        (_gCount, _mCount) = (profile.GGroups.Count, profile.MGroups.Count);
+        (_g, _m, _gNonModal, _mNonModal) = (new double?[_gCount], new double?[_mCount], new bool[_gCount], new bool[_mCount]);
+        _coords = new WorkCoordinates(profile, 54);
+        (_motionGroup, _cycleGroup) = ClassifyGroups();
+        foreach (var w in GCodeReader.LexLine(profile.Startup).WordList)
         {
             if (w.Letter == 'G' && profile.GGroupOf(w.Value) is var gg and >= 0)
             {
                 _g[gg] = w.Value;
-                ApplyG(MachineProfile.Key(w.Value));
+                ApplyG(MachineProfile.Key(w.Value), null);
             }
             else if (w.Letter == 'M' && profile.MGroupOf(w.Value) is var mg and >= 0)
             {
                 _m[mg] = w.Value;
-                ApplyM(MachineProfile.Key(w.Value));
             }
         }
 
@@ -79,31 +92,31 @@ public sealed class Interpreter
     public Interpreter(MachineProfile profile, ModalState state, Point3 position)
     {
         _profile = profile;
-        ClassifyGroups();
-        for (var i = 0; i < GroupCount; i++)
+        (_gCount, _mCount) = (profile.GGroups.Count, profile.MGroups.Count);
+        (_g, _m, _gNonModal, _mNonModal) = (new double?[_gCount], new double?[_mCount], new bool[_gCount], new bool[_mCount]);
+        _coords = new WorkCoordinates(profile, state.WorkOffset);
+        (_motionGroup, _cycleGroup) = ClassifyGroups();
+        for (var i = 0; i < _gCount; i++)
         {
             _g[i] = state.GetG(i);
+            if (_g[i] is { } v)
+            {
+                ApplyG(MachineProfile.Key(v), null);
+            }
         }
 
-        for (var i = 0; i < MGroupCount; i++)
+        for (var i = 0; i < _mCount; i++)
         {
             _m[i] = state.GetM(i);
         }
 
         ClearNonModal();
-        _units = state.Units;
-        _plane = state.Plane;
-        _absolute = state.Absolute;
-        _wcs = state.WorkOffset;
-        _wcsOffset = null;
-        _tool = state.Tool;
-        _h = state.LengthOffset;
-        _d = state.CutterComp;
-        _spindle = state.Spindle;
-        _speed = state.SpindleSpeed;
-        _coolant = state.Coolant;
-        _feed = state.Feed;
-        _pos = position;
+        (_tool, _h, _d, _speed, _feed, _pos) = (state.Tool, state.LengthOffset, state.CutterComp, state.SpindleSpeed, state.Feed, position);
+        if (state.Cycle is { } cycle)
+        {
+            _cycle.Enter(MachineProfile.Key(cycle), position.Z);
+        }
+
         UpdateLane();
     }
 
@@ -123,8 +136,11 @@ public sealed class Interpreter
         }
     }
 
-    /// <summary>When true, blocks starting with <c>/</c> are skipped (the operator's block-delete switch).</summary>
+    /// <summary>When true, blocks starting with <c>/</c> are skipped (the operator's block-delete switch), and with it the part of a block after a <c>/</c> inside it where the profile allows that.</summary>
     public bool BlockDeleteEnabled { get; set; }
+
+    /// <summary>The codes used so far that the controller cannot run yet (<see cref="ControllerSupport.NotYet"/>), with the line of their first use.</summary>
+    public IReadOnlyDictionary<string, int> NotYetCodes => _notYet;
 
     /// <summary>
     /// Whether straight moves get their length (and so a duration). A caller that only wants the diagnostics (the
@@ -157,9 +173,9 @@ public sealed class Interpreter
     }
 
     /// <summary>
-    /// Interprets one block. Returns null for empty, comment-only, tape-mark and program-number-only lines (and for
-    /// deleted blocks when <see cref="BlockDeleteEnabled"/>). Never throws on content: what cannot be executed is
-    /// skipped here and reported by the checker.
+    /// Interprets one block. Returns null for empty, comment-only, tape-mark, label (N and a comment) and
+    /// program-number-only lines (and for deleted blocks when <see cref="BlockDeleteEnabled"/>). Never throws on
+    /// content: what cannot be executed is skipped here and reported by the checker.
     /// </summary>
     public DecodedBlock? Step(GBlock block) => Step(block, null);
 
@@ -192,8 +208,8 @@ public sealed class Interpreter
     /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    [System.Runtime.CompilerServices.SkipLocalsInit]
+    [MethodImpl(MethodImplOptions.AggressiveOptimization)]
+    [SkipLocalsInit]
     internal bool StepCore(GBlock block, List<Diagnostic>? diags)
     {
         // Before anything here changes the mode or the work offset the lane's values were written under.
@@ -205,28 +221,41 @@ public sealed class Interpreter
             return false;
         }
 
+        var line = block.LineNumber;
+        var wordSpan = System.Runtime.InteropServices.CollectionsMarshal.AsSpan(words);
+        if (block.SkipFrom >= 0)
+        {
+            if (!_profile.SlashInBlock)
+            {
+                Add(diags, DiagnosticCodes.IllegalCharacter, line, block.SkipColumn, "/");
+            }
+            else if (BlockDeleteEnabled)
+            {
+                wordSpan = wordSpan[..block.SkipFrom];
+            }
+        }
+
         var sawO = false;
         var anyG = false;                              // most CAM blocks carry no G or M word: skip the group loops
         var anyM = false;
-
-        var line = block.LineNumber;
         Span<int> col = stackalloc int[26];          // column of the first word of each letter, 0 = absent
         Span<double> val = stackalloc double[26];
-        Span<double> gIn = stackalloc double[GroupCount];
-        Span<int> gCol = stackalloc int[GroupCount];
-        Span<double> mIn = stackalloc double[MGroupCount];
-        Span<int> mCol = stackalloc int[MGroupCount];
+        Span<double> gIn = stackalloc double[_gCount];
+        Span<int> gCol = stackalloc int[_gCount];
+        Span<double> mIn = stackalloc double[_mCount];
+        Span<int> mCol = stackalloc int[_mCount];
         col.Clear();                                   // SkipLocalsInit: only the "seen" markers need zeroing
         gCol.Clear();
         mCol.Clear();
         var onlyO = true;
+        var onlyN = true;
         var effective = false;
-        var wordSpan = System.Runtime.InteropServices.CollectionsMarshal.AsSpan(words);
         var letterKinds = _letterKinds;
         for (var i = 0; i < wordSpan.Length; i++)
         {
             ref readonly var w = ref wordSpan[i];
             var li = w.Letter - 'A';
+            onlyN &= w.Letter == 'N';
             if (w.Letter != 'O')
             {
                 onlyO = false;
@@ -247,8 +276,7 @@ public sealed class Interpreter
             {
                 effective = true;
                 var isG = letterKind == LetterKind.G;
-                var group = isG ? _profile.GGroupOf(w.Value) : _profile.MGroupOf(w.Value);
-                if (group < 0)
+                if (!(isG ? _gInfo : _mInfo).TryGetValue(w.CodeTimesTen, out var info))
                 {
                     if (diags != null)
                     {
@@ -266,13 +294,14 @@ public sealed class Interpreter
                     continue;
                 }
 
+                var group = info.Group;
                 var slotCol = isG ? gCol : mCol;
                 if (slotCol[group] != 0)
                 {
                     if (diags != null)
                     {
-                        var names = isG ? MachineProfile.GGroupNames : MachineProfile.MGroupNames;
-                        Add(diags, DiagnosticCodes.ModalGroupConflict, line, w.Column, w.Letter, CodeText(isG ? gIn[group] : mIn[group]), CodeText(w.Value), names[group]);
+                        var name = (isG ? _profile.GGroups : _profile.MGroups)[group].Name;
+                        Add(diags, DiagnosticCodes.ModalGroupConflict, line, w.Column, w.Letter, CodeText(isG ? gIn[group] : mIn[group]), CodeText(w.Value), name);
                     }
 
                     continue;
@@ -297,47 +326,48 @@ public sealed class Interpreter
         }
 
         LastHadProgramNumber = sawO;
-        if (onlyO)
+        if (onlyO || (onlyN && block.CommentList.Count > 0))
         {
+            // A program number, or a label: a sequence number naming the comment after it (N10 (FACE1)), not a block.
             return false;
         }
 
+        [MethodImpl(MethodImplOptions.AggressiveInlining)]
+        static double? Word(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
+        static int ColOf(char c, Span<int> col) => col[c - 'A'];
+
         // Modal groups first (units, plane, distance, offsets), so that motion in the same block uses them.
         ClearNonModal();
-        var dwell = false;
-        var motionInBlock = -1;
-        for (var gi = 0; anyG && gi < GroupCount; gi++)
+        var codes = default(BlockCodes);
+        for (var gi = 0; anyG && gi < _gCount; gi++)
         {
-            if (gCol[gi] == 0)
+            if (gCol[gi] != 0)
             {
-                continue;
-            }
-
-            var key = MachineProfile.Key(gIn[gi]);
-            SetG(gi, gIn[gi]);
-            ApplyG(key);
-            if (key == 40)
-            {
-                dwell = true;
-            }
-            else if (key is 0 or 10 or 20 or 30)
-            {
-                motionInBlock = key / 10;
+                var key = MachineProfile.Key(gIn[gi]);
+                var info = _gInfo[key];
+                SetG(gi, gIn[gi]);
+                ApplyG(key, Word('P', col, val));
+                codes.Add(info, key, gCol[gi]);
+                CheckCode(info, col, val, diags, line, gCol[gi]);
             }
         }
 
-        for (var mi = 0; anyM && mi < MGroupCount; mi++)
+        for (var mi = 0; anyM && mi < _mCount; mi++)
         {
             if (mCol[mi] != 0)
             {
+                var key = MachineProfile.Key(mIn[mi]);
+                var info = _mInfo[key];
                 SetM(mi, mIn[mi]);
-                ApplyM(MachineProfile.Key(mIn[mi]));
+                codes.Read |= info.WordMask;
+                CheckCode(info, col, val, diags, line, mCol[mi]);
             }
         }
 
-        [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-        static double? Word(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
-        static int ColOf(char c, Span<int> col) => col[c - 'A'];
+        if (anyG)
+        {
+            UpdateCycle(ref codes);
+        }
 
         // Values and their ranges.
         var f = Word('F', col, val);
@@ -440,7 +470,7 @@ public sealed class Interpreter
         var usedArcWords = false;
         var usedP = false;
 
-        if (dwell)
+        if (codes.Dwell)
         {
             kind = MotionKind.Dwell;
             usedP = p.HasValue;
@@ -454,7 +484,7 @@ public sealed class Interpreter
             }
             else if (!p.HasValue && !x.HasValue)
             {
-                Add(diags, DiagnosticCodes.MissingWord, line, gCol[IndexOfGroupWithKey(40)], "G04", "P", "dwell of 0 s", "暂停 0 秒");
+                Add(diags, DiagnosticCodes.MissingWord, line, codes.DwellColumn, "G04", "P", "dwell of 0 s", "暂停 0 秒");
             }
 
             if (y.HasValue)
@@ -472,60 +502,68 @@ public sealed class Interpreter
                 Add(diags, DiagnosticCodes.UnusedWord, line, ColOf('X', col), 'X');
             }
         }
-        else if (hasAxes || ((motionInBlock is 2 or 3) && (i0.HasValue || j0.HasValue || k0.HasValue)))
+        else if (codes.Data != 0)
         {
-            end = Target(start, x, y, z);
-            var mode = MotionMode();
-            var modeCol = motionInBlock >= 0 ? gCol[0] : words[0].Column;
+            // The axis words are data: offsets change, nothing moves.
+            SetData(codes.Data, x, y, z, Word('L', col, val), p);
+        }
+        else if (codes.Reference != 0)
+        {
+            // Through the programmed point to the reference position, on the axes named.
+            var via = Target(start, x, y, z);
+            var home = codes.Reference is 280 or 300 ? _profile.ReferencePosition(codes.Reference / 10) : via;
+            end = new Point3(x.HasValue ? home.X : start.X, y.HasValue ? home.Y : start.Y, z.HasValue ? home.Z : start.Z);
+            kind = hasAxes ? MotionKind.Rapid : MotionKind.None;
+            length = MeasureMoves ? start.DistanceTo(via) + via.DistanceTo(end) : 0;
+            seconds = RapidTime(length);
+        }
+        else if (hasAxes && _cycle.Active && !codes.MachineCoordinates)
+        {
+            (end, kind, length, seconds) = Holes(start, x, y, z, r, col, val, diags, line, ref codes);
+        }
+        else if (hasAxes || ((codes.MotionInBlock is 2 or 3) && (i0.HasValue || j0.HasValue || k0.HasValue)))
+        {
+            end = codes.MachineCoordinates ? MachineTarget(start, x, y, z) : Target(start, x, y, z);
+            var mode = codes.OtherMotion ? 4 : MotionMode();
+            var modeCol = codes.MotionInBlock >= 0 ? codes.MotionColumn : words[0].Column;
             switch (mode)
             {
                 case 0:
                     kind = MotionKind.Rapid;
                     length = MeasureMoves ? start.DistanceTo(end) : 0;
-                    seconds = length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
+                    seconds = RapidTime(length);
                     break;
                 case 1:
+                case 4:
                     kind = MotionKind.Linear;
                     length = MeasureMoves ? start.DistanceTo(end) : 0;
-                    seconds = FeedTime(length, diags, line, modeCol, 1);
+                    seconds = FeedTime(length, f.HasValue, diags, line, modeCol, 1);
                     break;
                 case 2:
                 case 3:
                     kind = mode == 2 ? MotionKind.ArcCw : MotionKind.ArcCcw;
                     usedArcWords = true;
-                    (center, length) = Arc(mode == 2, start, end, i0, j0, k0, r, diags, line, modeCol, col);
-                    seconds = FeedTime(length, diags, line, modeCol, mode);
+                    codes.Read |= MotionWords();
+                    (center, length) = ArcGeometry.Solve(mode == 2, _plane, start, end, i0, j0, k0, r, _arcAbsolute, _coords.Active,
+                        _profile.ArcTolerance, diags, line, modeCol, col);
+                    seconds = FeedTime(length, f.HasValue, diags, line, modeCol, mode);
                     break;
                 default:
-                    // Axis words with no motion mode in force: the startup codes of the profile set none.
-                    Add(diags, DiagnosticCodes.MotionWithoutAxes, line, words[0].Column, "00/G01");
+                    // Axis words with no motion mode in force (G80 where it ends the motion mode, or none at power-on).
+                    Add(diags, DiagnosticCodes.NoMotionMode, line, words[0].Column);
                     end = start;
                     break;
             }
         }
-        else if (motionInBlock is 2 or 3)
+        else if (codes.MotionInBlock is 2 or 3)
         {
-            Add(diags, DiagnosticCodes.MotionWithoutAxes, line, gCol[0], motionInBlock == 2 ? "02" : "03");
+            Add(diags, DiagnosticCodes.MotionWithoutAxes, line, codes.MotionColumn, codes.MotionInBlock == 2 ? "02" : "03");
             usedArcWords = true;
         }
 
         if (diags != null)
         {
-            if (!usedArcWords && (col['I' - 'A'] | col['J' - 'A'] | col['K' - 'A'] | col['R' - 'A']) != 0)
-            {
-                foreach (var c in "IJKR")
-                {
-                    if (col[c - 'A'] != 0)
-                    {
-                        Add(diags, DiagnosticCodes.UnusedWord, line, col[c - 'A'], c);
-                    }
-                }
-            }
-
-            if (p.HasValue && !usedP && effective)
-            {
-                Add(diags, DiagnosticCodes.UnusedWord, line, ColOf('P', col), 'P');
-            }
+            ReportUnusedWords(col, codes.Read, usedArcWords, usedP || (codes.Read & (1 << ('P' - 'A'))) != 0, effective, diags, line);
         }
 
         _pos = end;
@@ -567,213 +605,154 @@ public sealed class Interpreter
         return true;
     }
 
-    /// <summary>
-    /// Interprets an <see cref="AxisLine"/> (N, the motion code in force, X/Y/Z), whose text is at
-    /// <paramref name="textStart"/> of <paramref name="text"/>, when that is sure to raise no diagnostic and to do
-    /// nothing but move: absolute G00 (with a rapid rate) or G01 with a feed, no non-modal code pending, neither
-    /// lengths nor records wanted. The state then ends as <see cref="StepCore"/> leaves it (<see cref="Last"/> is
-    /// not filled: nobody reads it without records); otherwise nothing changes and the answer is false.
-    /// </summary>
-    internal bool TryStepAxisLine(in AxisLine a, byte[] text, int textStart)
+    /// <summary>The holes of a positioning block while a cycle is in force (see <see cref="CannedCycle"/>).</summary>
+    private (Point3 End, MotionKind Kind, double Length, double Seconds) Holes(Point3 start, double? x, double? y, double? z, double? r,
+        Span<int> col, Span<double> val, List<Diagnostic>? diags, int line, ref BlockCodes codes)
     {
-        if (!_laneOpen || (a.HasG && a.G != _g[0]))
+        var key = _cycle.Code;
+        var info = _gInfo.TryGetValue(key, out var ci) ? ci : default;
+        codes.Read |= info.WordMask;
+        var column = codes.CycleColumn != 0 ? codes.CycleColumn : col['X' - 'A'] | col['Y' - 'A'] | col['Z' - 'A'];
+        if (z is null && !_cycle.HasBottom)
         {
-            return false;
+            Add(diags, DiagnosticCodes.RequiredWordMissing, line, column == 0 ? 1 : column, "G" + CodeText(key / 10.0), "Z", "where the hole ends", "孔底位置");
         }
 
-        if (!ReferenceEquals(text, _pendingText))
+        // A repeat count: FANUC writes K, RS274/NGC L; 0 keeps the data without drilling.
+        var repeats = info.Reads('K') && col['K' - 'A'] != 0 ? val['K' - 'A'] : info.Reads('L') && col['L' - 'A'] != 0 ? val['L' - 'A'] : 1;
+        var (end, rapid, feed, holes) = _cycle.Run(start, x, y, z, r, (int)Math.Max(0, repeats), _absolute, _returnToR, _coords.Active);
+        if (holes == 0)
         {
-            // Values left in another array (a grown or earlier batch) are read while it is still intact.
-            Resolve();
-            _pendingText = text;
+            return (start, MotionKind.None, 0, 0);
         }
 
-        var axes = a.Axes;
-        for (var axis = 0; axis < 3; axis++)
+        var seconds = RapidTime(rapid) + FeedTime(feed, col['F' - 'A'] != 0, diags, line, column == 0 ? 1 : column, key / 10);
+        return (end, MotionKind.Cycle, rapid + feed, seconds);
+    }
+
+    /// <summary>Cycles begin with their code and end with G80 or a motion code later in the block (FANUC cancels a cycle with a group 01 code).</summary>
+    private void UpdateCycle(ref BlockCodes codes)
+    {
+        if (codes.Cycle != 0 && !(codes.MotionInBlock >= 0 && codes.MotionColumn > codes.CycleColumn))
         {
-            if ((axes & (AxisLine.XBit << axis)) != 0)
+            _cycle.Enter(codes.Cycle, _pos.Z);
+        }
+        else if (_cycle.Active && (codes.CycleCancel || codes.MotionInBlock >= 0))
+        {
+            _cycle.Cancel();
+            if (!codes.CycleCancel && _cycleGroup >= 0 && _cycleGroup != _motionGroup && _profile.GGroupOf(80) == _cycleGroup)
             {
-                _pendingAt[axis] = textStart + a.At[axis];
-                _pendingSize[axis] = a.Size[axis];
+                SetG(_cycleGroup, 80);
+            }
+        }
+    }
+
+    /// <summary>The offsets a data code sets from its words.</summary>
+    private void SetData(int key, double? x, double? y, double? z, double? l, double? p)
+    {
+        switch (key)
+        {
+            case 920:
+                _coords.SetShift(x, y, z, _pos);
+                break;
+            case 921 or 922:
+                _coords.ClearShift();
+                break;
+            case 520:
+                _coords.SetLocal(x, y, z);
+                break;
+            case 100 when l is 2 or 20 && p is { } n && n >= 0:
+                // L2 sets an offset to the values; L20 sets FANUC's extended offsets, or (RS274/NGC, grbl) the offset
+                // that makes the current position read as the values.
+                var extended = l == 20 && _profile.ExtendedWorkOffsets;
+                _coords.SetOffset((int)n, extended, fromPosition: l == 20 && !extended, x, y, z, _pos);
+                break;
+            default:
+                return;
+        }
+
+        _dirty = true;
+    }
+
+    /// <summary>Required words (E124), allowed values (E125) and "not yet on the controller" (W006) of one code of the block.</summary>
+    private void CheckCode(in CodeInfo info, Span<int> col, Span<double> val, List<Diagnostic>? diags, int line, int column)
+    {
+        var def = info.Def;
+        if (def.Controller == ControllerSupport.NotYet && _notYet.TryAdd(def.Code, line))
+        {
+            Add(diags, DiagnosticCodes.NotYetOnController, line, column, def.Code, def.Description, _profile.Name);
+        }
+
+        if (diags == null || (info.RequiresMask == 0 && def.Values.Count == 0))
+        {
+            return;
+        }
+
+        foreach (var c in def.Requires)
+        {
+            if (col[c - 'A'] == 0)
+            {
+                Add(diags, DiagnosticCodes.RequiredWordMissing, line, column, def.Code, c.ToString(), "the code needs it", "该代码需要它");
             }
         }
 
-        _pendingAxes |= axes;
-        LastHadProgramNumber = false;
-        return true;
-    }
-
-    /// <summary>Whether <see cref="TryStepAxisLine"/> can take a line at all now (false in G91, G02/G03, without a feed, ...).</summary>
-    internal bool AxisLaneOpen => _laneOpen;
-
-    /// <summary>
-    /// The caller is about to reuse <paramref name="text"/> (an <see cref="AxisLine"/>'s text array given to
-    /// <see cref="TryStepAxisLine"/>): values still held there are read now.
-    /// </summary>
-    internal void ReleaseText(byte[] text)
-    {
-        if (ReferenceEquals(text, _pendingText))
+        foreach (var (c, set) in def.Values)
         {
-            Resolve();
-            _pendingText = null;
-        }
-    }
-
-    /// <summary>Converts the axis values lane lines left as text into the position.</summary>
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-    private void Resolve()
-    {
-        if (_pendingAxes != 0)
-        {
-            ResolvePending();
-        }
-    }
-
-    private void ResolvePending()
-    {
-        // The lane only takes lines in absolute mode, and nothing changed the mode or the work offset since: the
-        // block's own target computation gives the same position the full path would have.
-        var axes = _pendingAxes;
-        _pendingAxes = 0;
-        _pos = Target(_pos, PendingValue(axes, 0), PendingValue(axes, 1), PendingValue(axes, 2));
-    }
-
-    private double? PendingValue(int axes, int axis) =>
-        (axes & (AxisLine.XBit << axis)) != 0 ? AxisLine.Value(_pendingText.AsSpan(_pendingAt[axis], _pendingSize[axis])) : null;
-
-    /// <summary>Whether an <see cref="AxisLine"/> would only move in the state reached (recomputed whenever it may change).</summary>
-    private void UpdateLane()
-    {
-        var mode = MotionMode();
-        _laneOpen = !_nonModalSet && _absolute && !_recordBlocks && !_measureMoves && _axisLineLetters &&
-            (mode == 1 ? _feed > 0 : mode == 0 && _profile.RapidRate > 0);
-    }
-
-    // The motion mode (0..3 for G00..G03, -1 when none) of group GA, recomputed only when GA changes.
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-    private int MotionMode()
-    {
-        var ga = _g[0];
-        if (ga != _motionFor)
-        {
-            _motionFor = ga;
-            _motion = ga is { } v ? MachineProfile.Key(v) / 10 : -1;
-        }
-
-        return _motion;
-    }
-
-    private int IndexOfGroupWithKey(int key)
-    {
-        for (var i = 0; i < GroupCount; i++)
-        {
-            if (_g[i] is { } v && MachineProfile.Key(v) == key)
+            if (col[c - 'A'] != 0 && !set.Contains(val[c - 'A']))
             {
-                return i;
+                Add(diags, DiagnosticCodes.ValueNotAllowed, line, col[c - 'A'], c, ModalState.Num(val[c - 'A']), def.Code, set.Text);
             }
         }
-
-        return 0;
     }
 
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-    private double FeedTime(double length, List<Diagnostic>? diags, int line, int column, int mode) =>
-        _feed is { } feed && feed > 0 ? length / feed * 60.0 : NoFeed(diags, line, column, mode);
-
-    private double NoFeed(List<Diagnostic>? diags, int line, int column, int mode)
+    /// <summary>W003 for parameter words (I J K R P Q L E) no code of the block reads.</summary>
+    private static void ReportUnusedWords(Span<int> col, int read, bool usedArcWords, bool usedP, bool effective, List<Diagnostic> diags, int line)
     {
-        Add(diags, DiagnosticCodes.FeedMoveWithoutFeed, line, column, "0" + mode);
-        return 0;
-    }
-
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-    private Point3 Target(Point3 start, double? x, double? y, double? z)
-    {
-        if (_absolute)
+        foreach (var c in "IJKRQLEP")
         {
-            // The offset of the active work coordinate system, looked up once per G54..G59 change, not per block.
-            var o = _wcsOffset ??= _profile.WorkOffset(_wcs);
-            return new Point3(x is { } ax ? ax + o.X : start.X, y is { } ay ? ay + o.Y : start.Y, z is { } az ? az + o.Z : start.Z);
+            var bit = 1 << (c - 'A');
+            if (col[c - 'A'] == 0 || (read & bit) != 0)
+            {
+                continue;
+            }
+
+            // I/J/K/R are arc words whatever else the block does; the others only count in a block that does something.
+            var unused = c is 'I' or 'J' or 'K' or 'R' ? !usedArcWords : effective && (c != 'P' || !usedP);
+            if (unused)
+            {
+                Add(diags, DiagnosticCodes.UnusedWord, line, col[c - 'A'], c);
+            }
+        }
+    }
+
+    /// <summary>The parameter words the motion code in force reads (an arc's I/J/K/R, LinuxCNC's P turns).</summary>
+    private int MotionWords() =>
+        _motionGroup >= 0 && _g[_motionGroup] is { } v && _gInfo.TryGetValue(MachineProfile.Key(v), out var info) && info.WordMask != 0
+            ? info.WordMask
+            : 1 << ('I' - 'A') | 1 << ('J' - 'A') | 1 << ('K' - 'A') | 1 << ('R' - 'A');
+
+    [MethodImpl(MethodImplOptions.AggressiveInlining)]
+    private double RapidTime(double length) => length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
+
+    [MethodImpl(MethodImplOptions.AggressiveInlining)]
+    private double FeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode)
+    {
+        if (_feed is not { } feed || feed <= 0 || (_feedMode == 93 && !fInBlock))
+        {
+            // Inverse time (G93) wants the F of every feed move in its own block.
+            Add(diags, DiagnosticCodes.FeedMoveWithoutFeed, line, column, mode < 10 ? "0" + mode : mode.ToString(System.Globalization.CultureInfo.InvariantCulture));
+            return 0;
         }
 
-        return new Point3(start.X + (x ?? 0), start.Y + (y ?? 0), start.Z + (z ?? 0));
-    }
-
-    private (Point3? Center, double Length) Arc(bool cw, Point3 start, Point3 end, double? i, double? j, double? k, double? r,
-        List<Diagnostic>? diags, int line, int column, Span<int> col)
-    {
-        // Map the plane to (first, second, linear) axes; G18 is ZX so that G02/G03 keep the right-hand rule.
-        (double s1, double s2, double sl, double e1, double e2, double el, double? o1, double? o2, string names) = _plane switch
+        return _feedMode switch
         {
-            18 => (start.Z, start.X, start.Y, end.Z, end.X, end.Y, k, i, "I/K"),
-            19 => (start.Y, start.Z, start.X, end.Y, end.Z, end.X, j, k, "J/K"),
-            _ => (start.X, start.Y, start.Z, end.X, end.Y, end.Z, i, j, "I/J"),
+            93 => 60.0 / feed,                                   // F is moves per minute
+            95 => _speed > 0 ? length / (feed * _speed) * 60.0 : 0, // F per spindle revolution
+            _ => length / feed * 60.0,
         };
-
-        double c1, c2;
-        var tol = _profile.ArcTolerance;
-        if (r is { } radius)
-        {
-            var dx = e1 - s1;
-            var dy = e2 - s2;
-            var chord = Math.Sqrt((dx * dx) + (dy * dy));
-            var half = chord / 2;
-            var rr = Math.Abs(radius);
-            if (chord < 1e-12 || half - rr > tol)
-            {
-                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, col['R' - 'A'], ModalState.Num(Math.Round(rr, 4)),
-                    ModalState.Num(Math.Round(half, 4)), ModalState.Num(tol));
-                return (null, start.DistanceTo(end));
-            }
-
-            var hgt = Math.Sqrt(Math.Max(0, (rr * rr) - (half * half)));
-            var sign = (cw ? -1 : 1) * (radius < 0 ? -1 : 1);
-            c1 = s1 + (dx / 2) + (-dy / chord * hgt * sign);
-            c2 = s2 + (dy / 2) + (dx / chord * hgt * sign);
-        }
-        else if (o1.HasValue || o2.HasValue)
-        {
-            c1 = s1 + (o1 ?? 0);
-            c2 = s2 + (o2 ?? 0);
-            var r0 = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
-            var r1 = Math.Sqrt(((e1 - c1) * (e1 - c1)) + ((e2 - c2) * (e2 - c2)));
-            if (Math.Abs(r0 - r1) > tol && Math.Abs(r0 - r1) > 0.001 * Math.Max(r0, r1))
-            {
-                var firstOffset = _plane switch { 18 => Min(col['K' - 'A'], col['I' - 'A']), 19 => Min(col['J' - 'A'], col['K' - 'A']), _ => Min(col['I' - 'A'], col['J' - 'A']) };
-                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, firstOffset, ModalState.Num(Math.Round(r0, 4)),
-                    ModalState.Num(Math.Round(r1, 4)), ModalState.Num(tol));
-            }
-        }
-        else
-        {
-            Add(diags, DiagnosticCodes.ArcWithoutCenter, line, column, cw ? "02" : "03", names, _plane);
-            return (null, start.DistanceTo(end));
-        }
-
-        var a0 = Math.Atan2(s2 - c2, s1 - c1);
-        var a1 = Math.Atan2(e2 - c2, e1 - c1);
-        var sweep = cw ? a0 - a1 : a1 - a0;
-        while (sweep <= 1e-12)
-        {
-            sweep += 2 * Math.PI;
-        }
-
-        var rad = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
-        var planar = rad * sweep;
-        var helix = el - sl;
-        var len = Math.Sqrt((planar * planar) + (helix * helix));
-        var centre = _plane switch
-        {
-            18 => new Point3(c2, start.Y, c1),
-            19 => new Point3(start.X, c1, c2),
-            _ => new Point3(c1, c2, start.Z),
-        };
-        return (centre, len);
     }
 
-    private static int Min(int a, int b) => a == 0 ? b : b == 0 ? a : Math.Min(a, b);
-
-    private void ClassifyGroups()
+    private (int Motion, int Cycle) ClassifyGroups()
     {
         // One table lookup per word instead of the profile's letter set plus the letter tests in the hot loop.
         for (var c = 'A'; c <= 'Z'; c++)
@@ -781,40 +760,35 @@ public sealed class Interpreter
             _letterKinds[c - 'A'] = !_profile.AcceptsLetter(c) ? LetterKind.Unsupported
                 : c == 'G' ? LetterKind.G
                 : c == 'M' ? LetterKind.M
-                : c is 'N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L' ? LetterKind.Parameter
+                : c is 'N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L' or 'E' ? LetterKind.Parameter
                 : LetterKind.Effective;
         }
 
-        // A group is non-modal when every code in it is one that acts only in its own block.
-        int[] nonModalG = [40, 90, 100, 280, 300, 530, 650, 920];
-        int[] nonModalM = [0, 10, 20, 300, 60, 980, 990];
-        Classify(_profile.GCodes, MachineProfile.GGroupNames, nonModalG, _gNonModal);
-        Classify(_profile.MCodes, MachineProfile.MGroupNames, nonModalM, _mNonModal);
-        _axisLineLetters = _letterKinds['N' - 'A'] == LetterKind.Parameter && _letterKinds['G' - 'A'] == LetterKind.G &&
-            _letterKinds['X' - 'A'] == LetterKind.Effective && _letterKinds['Y' - 'A'] == LetterKind.Effective &&
-            _letterKinds['Z' - 'A'] == LetterKind.Effective && !_gNonModal[0];
-    }
-
-    private static void Classify(IReadOnlyList<CodeDefinition> codes, IReadOnlyList<string> names, int[] nonModal, bool[] result)
-    {
-        for (var gi = 0; gi < names.Count; gi++)
+        for (var i = 0; i < _gCount; i++)
         {
-            var any = false;
-            var all = true;
-            foreach (var c in codes)
-            {
-                if (!string.Equals(c.Group, names[gi], StringComparison.OrdinalIgnoreCase))
-                {
-                    continue;
-                }
-
-                any = true;
-                var key = MachineProfile.Key(double.Parse(c.Code.AsSpan(1), System.Globalization.CultureInfo.InvariantCulture));
-                all &= Array.IndexOf(nonModal, key) >= 0;
-            }
-
-            result[gi] = any && all;
+            _gNonModal[i] = !_profile.GGroups[i].Modal;
         }
+
+        for (var i = 0; i < _mCount; i++)
+        {
+            _mNonModal[i] = !_profile.MGroups[i].Modal;
+        }
+
+        foreach (var def in _profile.GCodes)
+        {
+            _gInfo[def.Key] = new CodeInfo(def, _profile.GGroupOf(def.Number), CodeRoles.OfG(def.Key));
+        }
+
+        foreach (var def in _profile.MCodes)
+        {
+            _mInfo[def.Key] = new CodeInfo(def, _profile.MGroupOf(def.Number), GRole.Mode);
+        }
+
+        var motion = _profile.GGroupOf(1);
+        _axisLineLetters = motion >= 0 && _letterKinds['N' - 'A'] == LetterKind.Parameter && _letterKinds['G' - 'A'] == LetterKind.G &&
+            _letterKinds['X' - 'A'] == LetterKind.Effective && _letterKinds['Y' - 'A'] == LetterKind.Effective &&
+            _letterKinds['Z' - 'A'] == LetterKind.Effective && !_gNonModal[motion];
+        return (motion, _profile.GGroupOf(81));
     }
 
     private void ClearNonModal()
@@ -826,7 +800,7 @@ public sealed class Interpreter
         }
 
         _nonModalSet = false;
-        for (var i = 0; i < GroupCount; i++)
+        for (var i = 0; i < _gCount; i++)
         {
             if (_gNonModal[i] && _g[i] != null)
             {
@@ -835,7 +809,7 @@ public sealed class Interpreter
             }
         }
 
-        for (var i = 0; i < MGroupCount; i++)
+        for (var i = 0; i < _mCount; i++)
         {
             if (_mNonModal[i] && _m[i] != null)
             {
@@ -865,7 +839,7 @@ public sealed class Interpreter
         }
     }
 
-    private void ApplyG(int key)
+    private void ApplyG(int key, double? p)
     {
         switch (key)
         {
@@ -874,19 +848,12 @@ public sealed class Interpreter
             case 210: _units = LengthUnits.Millimetres; break;
             case 900: _absolute = true; break;
             case 910: _absolute = false; break;
-            case >= 540 and <= 590 when key % 10 == 0: _wcs = key / 10; _wcsOffset = null; break;
-            default: return;
-        }
-
-        _dirty = true;
-    }
-
-    private void ApplyM(int key)
-    {
-        switch (key)
-        {
-            case 30 or 40 or 50: _spindle = key / 10; break;
-            case 70 or 80 or 90: _coolant = key / 10; break;
+            case 901: _arcAbsolute = true; break;
+            case 911: _arcAbsolute = false; break;
+            case 930 or 940 or 950: _feedMode = key / 10; break;
+            case 980: _returnToR = false; break;
+            case 990: _returnToR = true; break;
+            case (>= 540 and <= 590) or 591 or 592 or 593 or 541 or 1540: _coords.Select(key, p); break;
             default: return;
         }
 
@@ -899,10 +866,9 @@ public sealed class Interpreter
         {
             _snapshot = new ModalState
             {
-                GA = _g[0], GB = _g[1], GC = _g[2], GD = _g[3], GE = _g[4], GF = _g[5], GG = _g[6], GH = _g[7], GI = _g[8],
-                MA = _m[0], MB = _m[1], MC = _m[2],
-                Units = _units, Plane = _plane, Absolute = _absolute, WorkOffset = _wcs, Tool = _tool, LengthOffset = _h,
-                CutterComp = _d, Spindle = _spindle, SpindleSpeed = _speed, Coolant = _coolant, Feed = _feed,
+                G = CodeValues.CopyOf(_g),
+                M = CodeValues.CopyOf(_m),
+                Tool = _tool, LengthOffset = _h, CutterComp = _d, SpindleSpeed = _speed, Feed = _feed,
             };
             _dirty = false;
         }
@@ -925,8 +891,92 @@ public sealed class Interpreter
         Unsupported,
         G,
         M,
-        Parameter,   // N, O, I, J, K, R, P, Q, L: not an effective function on their own
+        Parameter,   // N, O, I, J, K, R, P, Q, L, E: not an effective function on their own
         Effective,   // axes, F, S, T, H, D...: the block does something
+    }
+
+    /// <summary>A profile code as the interpreter uses it: its group, role and the letters it reads and needs as bit masks.</summary>
+    private readonly struct CodeInfo(CodeDefinition def, int group, GRole role)
+    {
+        public CodeDefinition Def { get; } = def;
+
+        public int Group { get; } = group;
+
+        public GRole Role { get; } = role;
+
+        public int WordMask { get; } = Mask(def.Words);
+
+        public int RequiresMask { get; } = Mask(def.Requires);
+
+        public bool Reads(char letter) => (WordMask & (1 << (letter - 'A'))) != 0;
+
+        private static int Mask(string letters)
+        {
+            var m = 0;
+            foreach (var c in letters)
+            {
+                m |= 1 << (c - 'A');
+            }
+
+            return m;
+        }
+    }
+
+    /// <summary>What the G codes of one block ask for, collected while they are applied.</summary>
+    private struct BlockCodes
+    {
+        public bool Dwell;
+        public int DwellColumn;
+        public int MotionInBlock;   // 0..3 for G00..G03 in the block, -1 when none
+        public int MotionColumn;
+        public bool OtherMotion;    // G31, G38.x ...: this block moves to its point at feed
+        public int Cycle;           // the cycle code's key in the block, 0 when none
+        public int CycleColumn;
+        public bool CycleCancel;
+        public int Reference;       // G27/G28/G29/G30 key, 0 when none
+        public bool MachineCoordinates;
+        public int Data;            // the first axis-data code's key (G10, G52, G92 ...), 0 when none
+        public int Read;            // parameter letters the block's codes read
+
+        public BlockCodes()
+        {
+            MotionInBlock = -1;
+        }
+
+        public void Add(in CodeInfo info, int key, int column)
+        {
+            Read |= info.WordMask;
+            switch (info.Role)
+            {
+                case GRole.Dwell:
+                    Dwell = true;
+                    DwellColumn = column;
+                    break;
+                case GRole.Motion when key is 0 or 10 or 20 or 30:
+                    MotionInBlock = key / 10;
+                    MotionColumn = column;
+                    break;
+                case GRole.Motion:
+                    OtherMotion = true;
+                    break;
+                case GRole.Cycle:
+                    Cycle = key;
+                    CycleColumn = column;
+                    break;
+                case GRole.CycleCancel:
+                    CycleCancel = true;
+                    break;
+                case GRole.Reference:
+                    Reference = key;
+                    break;
+                case GRole.MachineCoordinates:
+                    MachineCoordinates = true;
+                    break;
+                case GRole.AxisData when Data == 0:
+                    Data = key;
+                    break;
+            }
+        }
     }
 
     /// <summary>The fields of a decoded block without the allocation.</summary>

@@ -1,35 +1,38 @@
 using System.Globalization;
-using System.Text.Json;
 
 namespace PmacStream.GCode;
 
-/// <summary>One G or M code a machine supports.</summary>
-/// <param name="Code">The code as written, e.g. <c>G01</c>, <c>G64.1</c>, <c>M30</c>.</param>
-/// <param name="Group">Modal group: <c>GA</c>..<c>GI</c> for G codes, <c>MA</c>..<c>MC</c> for M codes (seed 002).</param>
-/// <param name="Description">What the code does, for people.</param>
-public sealed record CodeDefinition(string Code, string Group, string Description);
-
 /// <summary>
-/// What a machine understands: its G and M codes and their modal groups, tool count, rapid rate and the tail the
-/// splitter appends. Loaded from JSON; <see cref="Default"/> is the embedded FANUC-style milling set of seed 002
-/// (24 G codes in GA-GI, 7 M codes in MA-MC). Immutable after loading, so one instance can be shared by threads.
+/// What a machine understands: its G and M codes in any number of modal groups, what runs each code on the
+/// controller, the words each code reads, the dialect's facts (G04 P units, block skip inside a block), tool count,
+/// rapid rate and the tail the splitter appends. Loaded from JSON (<see cref="ProfileJson"/>); four are built in
+/// (<see cref="BuiltInNames"/>), <see cref="Default"/> is <c>fanuc-mill</c>. Immutable after loading, so one
+/// instance can be shared by threads.
 /// </summary>
 public sealed class MachineProfile
 {
-    /// <summary>Names of the nine G groups, in store column order.</summary>
+    /// <summary>The store's columns for the first nine G groups (seed 002's GA-GI), in order.</summary>
     public static readonly IReadOnlyList<string> GGroupNames = ["GA", "GB", "GC", "GD", "GE", "GF", "GG", "GH", "GI"];
 
-    /// <summary>Names of the three M groups, in store column order.</summary>
+    /// <summary>The store's columns for the first three M groups (seed 002's MA-MC), in order.</summary>
     public static readonly IReadOnlyList<string> MGroupNames = ["MA", "MB", "MC"];
 
-    private static readonly Lazy<MachineProfile> DefaultProfile = new(() => LoadEmbedded("default-mill.json"));
+    /// <summary>The built-in profiles, default first.</summary>
+    public static readonly IReadOnlyList<string> BuiltInNames = ["fanuc-mill", "linuxcnc-mill", "grbl", "paper-24g7m"];
+
+    /// <summary>The name of the default profile.</summary>
+    public const string DefaultName = "fanuc-mill";
+
+    private static readonly Dictionary<string, Lazy<MachineProfile>> BuiltIns =
+        BuiltInNames.ToDictionary(n => n, n => new Lazy<MachineProfile>(() => LoadEmbedded(n + ".json")), StringComparer.OrdinalIgnoreCase);
 
     private readonly Dictionary<int, (CodeDefinition Def, int Group)> _g = new();
     private readonly Dictionary<int, (CodeDefinition Def, int Group)> _m = new();
     private readonly bool[] _letters = new bool[26];
     private readonly Dictionary<int, Point3> _offsets = new();
+    private readonly Dictionary<int, Point3> _references = new();
 
-    private MachineProfile(Dto dto, string source)
+    internal MachineProfile(ProfileJson.Dto dto, string source)
     {
         Name = string.IsNullOrWhiteSpace(dto.Name) ? Path.GetFileNameWithoutExtension(source) : dto.Name;
         Description = dto.Description ?? string.Empty;
@@ -37,10 +40,13 @@ public sealed class MachineProfile
         RapidRate = dto.RapidRate ?? 15000;
         ArcTolerance = dto.ArcTolerance ?? 0.002;
         DwellPInMilliseconds = dto.DwellPInMilliseconds ?? true;
+        SlashInBlock = dto.SlashInBlock ?? false;
+        ExtendedWorkOffsets = dto.ExtendedWorkOffsets ?? false;
         ProgramTail = dto.ProgramTail ?? "M05";
         Startup = dto.Startup ?? "G00 G21 G90 G54 G17 G49 G40 M05 M09";
         Letters = (dto.Letters ?? "NOGMXYZIJKRFSTHDP").ToUpperInvariant();
         WorkOffsets = dto.WorkOffsets ?? new Dictionary<string, double[]>();
+        ReferencePositions = dto.ReferencePositions ?? new Dictionary<string, double[]>();
 
         if (ToolCount < 0)
         {
@@ -62,29 +68,21 @@ public sealed class MachineProfile
             _letters[c - 'A'] = true;
         }
 
-        foreach (var (key, value) in WorkOffsets)
-        {
-            if (value is not { Length: 3 })
-            {
-                throw Bad(source, $"workOffsets.{key}: expected [x, y, z]");
-            }
-
-            if (key.Length < 2 || char.ToUpperInvariant(key[0]) != 'G' || !int.TryParse(key.AsSpan(1), NumberStyles.None, CultureInfo.InvariantCulture, out var code))
-            {
-                throw Bad(source, $"workOffsets.{key}: expected a work offset code such as G54");
-            }
-
-            _offsets[code] = new Point3(value[0], value[1], value[2]);
-        }
-
-        AddCodes(dto.GCodes, 'G', GGroupNames, _g, source);
-        AddCodes(dto.MCodes, 'M', MGroupNames, _m, source);
+        ReadPoints(WorkOffsets, "workOffsets", _offsets, source);
+        ReadPoints(ReferencePositions, "referencePositions", _references, source);
         GCodes = dto.GCodes ?? [];
         MCodes = dto.MCodes ?? [];
+        GGroups = Groups(dto.GGroups, GCodes, 'G', source);
+        MGroups = Groups(dto.MGroups, MCodes, 'M', source);
+        AddCodes(GCodes, 'G', GGroups, _g, source);
+        AddCodes(MCodes, 'M', MGroups, _m, source);
     }
 
-    /// <summary>The embedded default profile (seed 002 FANUC-style milling set).</summary>
-    public static MachineProfile Default => DefaultProfile.Value;
+    /// <summary>The default profile: <c>fanuc-mill</c>, what FANUC/Haas-style milling posts write.</summary>
+    public static MachineProfile Default => BuiltIns[DefaultName].Value;
+
+    /// <summary>The checking paper's 24 G and 7 M codes in GA-GI / MA-MC, unchanged (<c>paper-24g7m</c>).</summary>
+    public static MachineProfile Paper => BuiltIns["paper-24g7m"].Value;
 
     /// <summary>Short name.</summary>
     public string Name { get; }
@@ -92,7 +90,7 @@ public sealed class MachineProfile
     /// <summary>What this profile describes.</summary>
     public string Description { get; }
 
-    /// <summary>Tools in the magazine; a T word above this is an error.</summary>
+    /// <summary>Highest tool number; a T word above it is an error.</summary>
     public int ToolCount { get; }
 
     /// <summary>Rapid traverse rate in millimetres per minute, for move-time estimates of G00.</summary>
@@ -101,8 +99,20 @@ public sealed class MachineProfile
     /// <summary>Largest difference (program units) between an arc's start and end radius that is still accepted.</summary>
     public double ArcTolerance { get; }
 
-    /// <summary>FANUC reads <c>G04 P</c> in milliseconds; false means seconds (LinuxCNC).</summary>
+    /// <summary>FANUC reads <c>G04 P</c> in milliseconds; false means seconds (LinuxCNC, grbl).</summary>
     public bool DwellPInMilliseconds { get; }
+
+    /// <summary>
+    /// FANUC's optional block skip inside a block: a <c>/</c> after the first word skips the rest of the block when
+    /// block delete is on. False (LinuxCNC, grbl): <c>/</c> is block delete only at the start of a line.
+    /// </summary>
+    public bool SlashInBlock { get; }
+
+    /// <summary>
+    /// FANUC's extended work offsets: <c>G54.1 P</c> selects one and <c>G10 L20 P</c> sets one. False (LinuxCNC, grbl):
+    /// <c>G10 L20 P</c> sets work offset P so that the current position reads as the values given.
+    /// </summary>
+    public bool ExtendedWorkOffsets { get; }
 
     /// <summary>Code the splitter appends after the last chunk (seed 000's machine used <c>M03 M05</c>).</summary>
     public string ProgramTail { get; }
@@ -110,11 +120,20 @@ public sealed class MachineProfile
     /// <summary>The modal codes in force at power-on, e.g. <c>G00 G21 G90 G54 G17 G49 G40 M05 M09</c>.</summary>
     public string Startup { get; }
 
-    /// <summary>Address letters the machine accepts (others are errors).</summary>
+    /// <summary>Address letters the machine accepts (others are errors); which code reads which is per code.</summary>
     public string Letters { get; }
 
     /// <summary>Work offsets by code (<c>G54</c>..<c>G59</c>) as [x, y, z]; missing ones are zero.</summary>
     public IReadOnlyDictionary<string, double[]> WorkOffsets { get; }
+
+    /// <summary>Where <c>G28</c> and <c>G30</c> send the axes (machine coordinates) as [x, y, z]; missing ones are zero.</summary>
+    public IReadOnlyDictionary<string, double[]> ReferencePositions { get; }
+
+    /// <summary>The G modal groups in profile order (the first nine are the store's GA-GI columns).</summary>
+    public IReadOnlyList<ModalGroup> GGroups { get; }
+
+    /// <summary>The M modal groups in profile order (the first three are the store's MA-MC columns).</summary>
+    public IReadOnlyList<ModalGroup> MGroups { get; }
 
     /// <summary>The supported G codes.</summary>
     public IReadOnlyList<CodeDefinition> GCodes { get; }
@@ -122,130 +141,68 @@ public sealed class MachineProfile
     /// <summary>The supported M codes.</summary>
     public IReadOnlyList<CodeDefinition> MCodes { get; }
 
+    /// <summary>True when the machine takes O program numbers (W001 is only reported then).</summary>
+    public bool TakesProgramNumbers => AcceptsLetter('O');
+
+    /// <summary>A built-in profile by name (<see cref="BuiltInNames"/>), or null.</summary>
+    public static MachineProfile? Named(string name) => BuiltIns.TryGetValue(name.Trim(), out var p) ? p.Value : null;
+
+    /// <summary>
+    /// A built-in profile by name, else a profile file: what <c>--profile NAME|FILE</c> takes; null gives the default.
+    /// Throws <see cref="InvalidDataException"/> (invalid file, or neither a name nor a file) or an I/O exception.
+    /// </summary>
+    public static MachineProfile Resolve(string? nameOrPath)
+    {
+        if (string.IsNullOrWhiteSpace(nameOrPath))
+        {
+            return Default;
+        }
+
+        if (Named(nameOrPath) is { } builtIn)
+        {
+            return builtIn;
+        }
+
+        if (!File.Exists(nameOrPath))
+        {
+            throw new InvalidDataException(
+                $"{nameOrPath}: not a built-in profile ({string.Join(", ", BuiltInNames)}) and no such file");
+        }
+
+        return Load(nameOrPath);
+    }
+
     /// <summary>Loads a profile from a JSON file. Throws <see cref="InvalidDataException"/> with the reason when it is not valid.</summary>
     public static MachineProfile Load(string path) => Parse(File.ReadAllText(path), path);
 
     /// <summary>Parses profile JSON. Throws <see cref="InvalidDataException"/> with the reason when it is not valid.</summary>
-    public static MachineProfile Parse(string json, string source = "profile")
-    {
-        // JsonDocument and a hand mapping rather than the reflection serializer: the profile is read at every
-        // start of the CLI, and warming up the serializer cost more than checking a 3,000-line program.
-        Dto dto;
-        try
-        {
-            using var doc = JsonDocument.Parse(json, new JsonDocumentOptions { CommentHandling = JsonCommentHandling.Skip, AllowTrailingCommas = true });
-            if (doc.RootElement.ValueKind != JsonValueKind.Object)
-            {
-                throw Bad(source, "expected a JSON object");
-            }
-
-            dto = ReadDto(doc.RootElement, source);
-        }
-        catch (JsonException e)
-        {
-            throw Bad(source, $"not valid JSON at line {(e.LineNumber ?? 0) + 1}: {e.Message}");
-        }
-
-        return new MachineProfile(dto, source);
-    }
+    public static MachineProfile Parse(string json, string source = "profile") => new(ProfileJson.Read(json, source), source);
 
     /// <summary>The profile as JSON (the same shape <see cref="Parse"/> reads).</summary>
-    public string ToJson()
-    {
-        using var ms = new MemoryStream();
-        using (var w = new Utf8JsonWriter(ms, new JsonWriterOptions { Indented = true, Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
-        {
-            w.WriteStartObject();
-            w.WriteString("name", Name);
-            w.WriteString("description", Description);
-            w.WriteNumber("toolCount", ToolCount);
-            w.WriteNumber("rapidRate", RapidRate);
-            w.WriteNumber("arcTolerance", ArcTolerance);
-            w.WriteBoolean("dwellPInMilliseconds", DwellPInMilliseconds);
-            w.WriteString("programTail", ProgramTail);
-            w.WriteString("startup", Startup);
-            w.WriteString("letters", Letters);
-            w.WriteStartObject("workOffsets");
-            foreach (var (key, v) in WorkOffsets)
-            {
-                w.WriteStartArray(key);
-                foreach (var x in v)
-                {
-                    w.WriteNumberValue(x);
-                }
+    public string ToJson() => ProfileJson.Write(this);
 
-                w.WriteEndArray();
-            }
-
-            w.WriteEndObject();
-            foreach (var (name, list) in new[] { ("gCodes", GCodes), ("mCodes", MCodes) })
-            {
-                w.WriteStartArray(name);
-                foreach (var c in list)
-                {
-                    w.WriteStartObject();
-                    w.WriteString("code", c.Code);
-                    w.WriteString("group", c.Group);
-                    w.WriteString("description", c.Description);
-                    w.WriteEndObject();
-                }
-
-                w.WriteEndArray();
-            }
-
-            w.WriteEndObject();
-        }
-
-        return System.Text.Encoding.UTF8.GetString(ms.ToArray());
-    }
-
-    private static Dto ReadDto(JsonElement root, string source)
-    {
-        var dto = new Dto();
-        foreach (var prop in root.EnumerateObject())
-        {
-            var v = prop.Value;
-            try
-            {
-                switch (prop.Name.ToLowerInvariant())
-                {
-                    case "name": dto.Name = v.GetString(); break;
-                    case "description": dto.Description = v.GetString(); break;
-                    case "toolcount": dto.ToolCount = v.GetInt32(); break;
-                    case "rapidrate": dto.RapidRate = v.GetDouble(); break;
-                    case "arctolerance": dto.ArcTolerance = v.GetDouble(); break;
-                    case "dwellpinmilliseconds": dto.DwellPInMilliseconds = v.GetBoolean(); break;
-                    case "programtail": dto.ProgramTail = v.GetString(); break;
-                    case "startup": dto.Startup = v.GetString(); break;
-                    case "letters": dto.Letters = v.GetString(); break;
-                    case "workoffsets":
-                        dto.WorkOffsets = v.EnumerateObject().ToDictionary(o => o.Name, o => o.Value.EnumerateArray().Select(x => x.GetDouble()).ToArray());
-                        break;
-                    case "gcodes": dto.GCodes = ReadCodes(v); break;
-                    case "mcodes": dto.MCodes = ReadCodes(v); break;
-                    default: throw Bad(source, $"unknown setting '{prop.Name}'");
-                }
-            }
-            catch (Exception e) when (e is InvalidOperationException or FormatException)
-            {
-                throw Bad(source, $"'{prop.Name}' has the wrong type: {e.Message}");
-            }
-        }
-
-        return dto;
-    }
-
-    private static List<CodeDefinition> ReadCodes(JsonElement array) =>
-        array.EnumerateArray().Select(e => new CodeDefinition(
-            e.TryGetProperty("code", out var c) ? c.GetString() ?? string.Empty : string.Empty,
-            e.TryGetProperty("group", out var g) ? g.GetString() ?? string.Empty : string.Empty,
-            e.TryGetProperty("description", out var d) ? d.GetString() ?? string.Empty : string.Empty)).ToList();
-
-    /// <summary>Looks up a G code by its number (1, 64.1). Returns the group index 0..8 (GA..GI) or -1 when unknown.</summary>
+    /// <summary>Looks up a G code by its number (1, 64.1). Returns its group's index in <see cref="GGroups"/>, or -1 when unknown.</summary>
     public int GGroupOf(double number) => _g.TryGetValue(Key(number), out var e) ? e.Group : -1;
 
-    /// <summary>Looks up an M code by its number. Returns the group index 0..2 (MA..MC) or -1 when unknown.</summary>
+    /// <summary>Looks up an M code by its number. Returns its group's index in <see cref="MGroups"/>, or -1 when unknown.</summary>
     public int MGroupOf(double number) => _m.TryGetValue(Key(number), out var e) ? e.Group : -1;
+
+    /// <summary>The definition of a G or M code, or null when the profile does not know it.</summary>
+    public CodeDefinition? Find(char letter, double number) =>
+        (char.ToUpperInvariant(letter) == 'M' ? _m : _g).TryGetValue(Key(number), out var e) ? e.Def : null;
+
+    /// <summary>Looks up a code by its key (number x 10): definition and group index, or false.</summary>
+    internal bool TryGet(char letter, int key, out CodeDefinition definition, out int group)
+    {
+        if ((letter == 'M' ? _m : _g).TryGetValue(key, out var e))
+        {
+            (definition, group) = e;
+            return true;
+        }
+
+        (definition, group) = (null!, -1);
+        return false;
+    }
 
     /// <summary>True when the profile knows some G (or M) code with this integer part and a decimal (G64.1).</summary>
     public bool HasDecimalVariant(char letter, double number)
@@ -269,16 +226,85 @@ public sealed class MachineProfile
     /// <summary>The work offset of G54..G59 (zero when the profile does not set it).</summary>
     public Point3 WorkOffset(int code) => _offsets.TryGetValue(code, out var v) ? v : default;
 
+    /// <summary>Where G28 (<paramref name="code"/> 28) or G30 (30) sends the axes, in machine coordinates (zero when not set).</summary>
+    public Point3 ReferencePosition(int code) => _references.TryGetValue(code, out var v) ? v : default;
+
     internal static int Key(double number) => (int)Math.Round(number * 10.0);
 
-    private static void AddCodes(List<CodeDefinition>? codes, char letter, IReadOnlyList<string> groups,
+    private static void ReadPoints(IReadOnlyDictionary<string, double[]> points, string setting, Dictionary<int, Point3> into, string source)
+    {
+        foreach (var (key, value) in points)
+        {
+            if (value is not { Length: 3 })
+            {
+                throw Bad(source, $"{setting}.{key}: expected [x, y, z]");
+            }
+
+            if (key.Length < 2 || char.ToUpperInvariant(key[0]) != 'G' || !int.TryParse(key.AsSpan(1), NumberStyles.None, CultureInfo.InvariantCulture, out var code))
+            {
+                throw Bad(source, $"{setting}.{key}: expected a code such as G54");
+            }
+
+            into[code] = new Point3(value[0], value[1], value[2]);
+        }
+    }
+
+    private static List<ModalGroup> Groups(List<ModalGroup>? declared, IReadOnlyList<CodeDefinition> codes, char letter, string source)
+    {
+        if (declared != null)
+        {
+            var names = new HashSet<string>(StringComparer.OrdinalIgnoreCase);
+            foreach (var g in declared)
+            {
+                if (string.IsNullOrWhiteSpace(g.Name) || !names.Add(g.Name))
+                {
+                    throw Bad(source, $"{char.ToLowerInvariant(letter)}Groups: group '{g.Name}' is unnamed or listed twice");
+                }
+            }
+
+            return declared;
+        }
+
+        // A profile without group declarations (the format before named groups): its groups in order of first use,
+        // non-modal when every code in it acts only in its own block.
+        var groups = new List<ModalGroup>();
+        var standard = letter == 'M' ? MGroupNames : GGroupNames;
+        var ordered = codes.All(c => standard.Contains(c.Group, StringComparer.OrdinalIgnoreCase))
+            ? codes.OrderBy(c => standard.ToList().IndexOf(c.Group.ToUpperInvariant())).ToList() // seed 002's names keep their column order
+            : codes.ToList();
+        foreach (var c in ordered)
+        {
+            if (!groups.Exists(g => string.Equals(g.Name, c.Group, StringComparison.OrdinalIgnoreCase)))
+            {
+                var members = codes.Where(o => string.Equals(o.Group, c.Group, StringComparison.OrdinalIgnoreCase)).ToList();
+                var modal = !members.TrueForAll(o => TryKey(o.Code, letter, out var key) && CodeRoles.ActsOnlyInItsBlock(letter, key));
+                groups.Add(new ModalGroup(c.Group, string.Empty, modal));
+            }
+        }
+
+        return groups;
+    }
+
+    private static bool TryKey(string code, char letter, out int key)
+    {
+        var text = code.Trim();
+        key = 0;
+        if (text.Length < 2 || char.ToUpperInvariant(text[0]) != letter ||
+            !double.TryParse(text.AsSpan(1), NumberStyles.AllowDecimalPoint, CultureInfo.InvariantCulture, out var number))
+        {
+            return false;
+        }
+
+        key = Key(number);
+        return true;
+    }
+
+    private static void AddCodes(IReadOnlyList<CodeDefinition> codes, char letter, IReadOnlyList<ModalGroup> groups,
         Dictionary<int, (CodeDefinition, int)> table, string source)
     {
-        foreach (var def in codes ?? [])
+        foreach (var def in codes)
         {
-            var text = def.Code?.Trim() ?? string.Empty;
-            if (text.Length < 2 || char.ToUpperInvariant(text[0]) != letter ||
-                !double.TryParse(text.AsSpan(1), NumberStyles.AllowDecimalPoint, CultureInfo.InvariantCulture, out var number))
+            if (!TryKey(def.Code ?? string.Empty, letter, out var key))
             {
                 throw Bad(source, $"code '{def.Code}': expected {letter} followed by a number, e.g. {letter}01");
             }
@@ -286,7 +312,7 @@ public sealed class MachineProfile
             var group = -1;
             for (var i = 0; i < groups.Count; i++)
             {
-                if (string.Equals(groups[i], def.Group, StringComparison.OrdinalIgnoreCase))
+                if (string.Equals(groups[i].Name, def.Group, StringComparison.OrdinalIgnoreCase))
                 {
                     group = i;
                 }
@@ -294,10 +320,18 @@ public sealed class MachineProfile
 
             if (group < 0)
             {
-                throw Bad(source, $"code '{def.Code}': group '{def.Group}' is not one of {string.Join(", ", groups)}");
+                throw Bad(source, $"code '{def.Code}': group '{def.Group}' is not one of {string.Join(", ", groups.Select(g => g.Name))}");
             }
 
-            if (!table.TryAdd(Key(number), (def, group)))
+            foreach (var c in def.Words + def.Requires + string.Concat(def.Values.Keys))
+            {
+                if (c is < 'A' or > 'Z')
+                {
+                    throw Bad(source, $"code '{def.Code}': '{c}' is not an address letter A-Z");
+                }
+            }
+
+            if (!table.TryAdd(key, (def, group)))
             {
                 throw Bad(source, $"code '{def.Code}' is listed twice");
             }
@@ -313,32 +347,5 @@ public sealed class MachineProfile
         return Parse(r.ReadToEnd(), name);
     }
 
-    private static InvalidDataException Bad(string source, string why) => new($"{source}: invalid machine profile: {why}");
-
-    private sealed class Dto
-    {
-        public string? Name { get; set; }
-
-        public string? Description { get; set; }
-
-        public int? ToolCount { get; set; }
-
-        public double? RapidRate { get; set; }
-
-        public double? ArcTolerance { get; set; }
-
-        public bool? DwellPInMilliseconds { get; set; }
-
-        public string? ProgramTail { get; set; }
-
-        public string? Startup { get; set; }
-
-        public string? Letters { get; set; }
-
-        public Dictionary<string, double[]>? WorkOffsets { get; set; }
-
-        public List<CodeDefinition>? GCodes { get; set; }
-
-        public List<CodeDefinition>? MCodes { get; set; }
-    }
+    internal static InvalidDataException Bad(string source, string why) => new($"{source}: invalid machine profile: {why}");
 }

@@ -22,6 +22,9 @@ public enum MotionKind
 
     /// <summary>G04 dwell.</summary>
     Dwell,
+
+    /// <summary>The holes of a drilling, tapping or boring cycle (G81 ...): from the start over each hole to the retract level.</summary>
+    Cycle,
 }
 
 /// <summary>Length units of a program (G20/G21).</summary>
@@ -57,60 +60,80 @@ public readonly record struct Point3(double X, double Y, double Z)
 }
 
 /// <summary>
-/// The modal state after a block: the code in force in each group (GA-GI, MA-MC, as code numbers such as
-/// 1, 21, 90) and the decoded meaning of the ones motion depends on. Immutable; the interpreter shares one instance
-/// between consecutive blocks that change nothing. Non-modal groups (the default profile's GG = G04, GI = G09 and
-/// MA = M00/M30) hold the code only on the block that carries it and are null otherwise.
+/// The modal state after a block: the code in force in each modal group of the profile (<see cref="G"/>, <see cref="M"/>,
+/// as code numbers such as 1, 21, 90, in the profile's group order; the first nine G and three M groups are seed 002's
+/// GA-GI and MA-MC) and the registers and values motion depends on. What the codes mean (units, plane, distance mode,
+/// spindle ...) is read from the codes themselves, so it does not depend on how a profile orders its groups.
+/// Immutable; the interpreter shares one instance between consecutive blocks that change nothing. Non-modal groups
+/// (G04, G28, M00 ...) hold their code only on the block that carries it and are null otherwise.
 /// </summary>
 public sealed record ModalState
 {
-    /// <summary>Group GA (motion: 0, 1, 2, 3).</summary>
-    public double? GA { get; init; }
+    /// <summary>The G code in force in each G group of the profile.</summary>
+    public CodeValues G { get; init; } = CodeValues.Empty;
 
-    /// <summary>Group GB (units: 20, 21).</summary>
-    public double? GB { get; init; }
+    /// <summary>The M code in force in each M group of the profile.</summary>
+    public CodeValues M { get; init; } = CodeValues.Empty;
 
-    /// <summary>Group GC (distance mode: 90, 91).</summary>
-    public double? GC { get; init; }
+    /// <summary>The first G group (GA; the motion group in the built-in profiles).</summary>
+    public double? GA => G.At(0);
 
-    /// <summary>Group GD (work offset: 54..59).</summary>
-    public double? GD { get; init; }
+    /// <summary>The second G group (GB; units in the built-in profiles).</summary>
+    public double? GB => G.At(1);
 
-    /// <summary>Group GE (plane: 17, 18, 19).</summary>
-    public double? GE { get; init; }
+    /// <summary>The third G group (GC; distance mode in the built-in profiles).</summary>
+    public double? GC => G.At(2);
 
-    /// <summary>Group GF (tool length compensation: 43, 49).</summary>
-    public double? GF { get; init; }
+    /// <summary>The fourth G group (GD; work offset in the built-in profiles).</summary>
+    public double? GD => G.At(3);
 
-    /// <summary>Group GG (dwell 4, non-modal).</summary>
-    public double? GG { get; init; }
+    /// <summary>The fifth G group (GE; plane in the built-in profiles).</summary>
+    public double? GE => G.At(4);
 
-    /// <summary>Group GH (cutter compensation: 40, 41, 42).</summary>
-    public double? GH { get; init; }
+    /// <summary>The sixth G group (GF; tool length compensation in the built-in profiles).</summary>
+    public double? GF => G.At(5);
 
-    /// <summary>Group GI (exact stop 9, non-modal).</summary>
-    public double? GI { get; init; }
+    /// <summary>The seventh G group (GG; dwell and the other non-modal codes).</summary>
+    public double? GG => G.At(6);
 
-    /// <summary>Group MA (program stop/end: 0, 30; non-modal).</summary>
-    public double? MA { get; init; }
+    /// <summary>The eighth G group (GH; cutter compensation in the built-in profiles).</summary>
+    public double? GH => G.At(7);
 
-    /// <summary>Group MB (spindle: 3, 4, 5).</summary>
-    public double? MB { get; init; }
+    /// <summary>The ninth G group (GI; exact stop in the paper's profile, canned cycles in fanuc-mill).</summary>
+    public double? GI => G.At(8);
 
-    /// <summary>Group MC (coolant: 8, 9).</summary>
-    public double? MC { get; init; }
+    /// <summary>The first M group (MA; program stop and end).</summary>
+    public double? MA => M.At(0);
+
+    /// <summary>The second M group (MB; spindle).</summary>
+    public double? MB => M.At(1);
+
+    /// <summary>The third M group (MC; coolant).</summary>
+    public double? MC => M.At(2);
 
     /// <summary>Program units (G20/G21).</summary>
-    public LengthUnits Units { get; init; } = LengthUnits.Millimetres;
+    public LengthUnits Units => G.Holds(20) ? LengthUnits.Inches : LengthUnits.Millimetres;
 
     /// <summary>Arc plane: 17 (XY), 18 (ZX) or 19 (YZ).</summary>
-    public int Plane { get; init; } = 17;
+    public int Plane => G.FirstWhere(static v => v is 17 or 18 or 19) is { } p ? (int)p : 17;
 
     /// <summary>True for G90 absolute, false for G91 incremental.</summary>
-    public bool Absolute { get; init; } = true;
+    public bool Absolute => !G.Holds(91);
 
-    /// <summary>Active work offset code: 54..59.</summary>
-    public int WorkOffset { get; init; } = 54;
+    /// <summary>Active work offset code: 54..59 (54 also for the extended offsets G54.1 and G154).</summary>
+    public int WorkOffset => G.FirstWhere(static v => v is >= 54 and < 60) is { } w ? (int)w : 54;
+
+    /// <summary>The motion mode in force: 0..3 for G00..G03, null when none (G80 in a LinuxCNC-style motion group).</summary>
+    public double? Motion => G.FirstWhere(static v => v is 0 or 1 or 2 or 3);
+
+    /// <summary>The canned cycle in force (G73, G81 ...), null when none.</summary>
+    public double? Cycle => G.FirstWhere(static v => CodeRoles.OfG(MachineProfile.Key(v)) == GRole.Cycle);
+
+    /// <summary>The tool length compensation code in force (G43, G44, G43.4 ..., G49), null when the profile has none.</summary>
+    public double? LengthCompensation => G.FirstWhere(static v => Math.Floor(v) is 43 or 44 or 49);
+
+    /// <summary>The cutter radius compensation code in force (G40, G41, G42, G41.2 ...), null when the profile has none.</summary>
+    public double? RadiusCompensation => G.FirstWhere(static v => Math.Floor(v) is 40 or 41 or 42);
 
     /// <summary>Tool number (T), 0 before any T.</summary>
     public int Tool { get; init; }
@@ -121,31 +144,23 @@ public sealed record ModalState
     /// <summary>Cutter compensation register (D), 0 before any D.</summary>
     public int CutterComp { get; init; }
 
-    /// <summary>Spindle: 3 (clockwise), 4 (counter-clockwise), 5 (stopped).</summary>
-    public int Spindle { get; init; } = 5;
+    /// <summary>Spindle: 3 (clockwise), 4 (counter-clockwise), 5 (stopped, also while M19 orients it).</summary>
+    public int Spindle => M.FirstWhere(static v => v is 3 or 4) is { } s ? (int)s : 5;
 
     /// <summary>Programmed spindle speed (S), 0 before any S.</summary>
     public double SpindleSpeed { get; init; }
 
-    /// <summary>Coolant: 8 (on) or 9 (off).</summary>
-    public int Coolant { get; init; } = 9;
+    /// <summary>Coolant: 7 (mist), 8 (flood) or 9 (off).</summary>
+    public int Coolant => M.FirstWhere(static v => v is 7 or 8) is { } c ? (int)c : 9;
 
     /// <summary>Programmed feed (F) in units per minute; null before any F.</summary>
     public double? Feed { get; init; }
 
-    /// <summary>The G group value by index 0..8 (GA..GI).</summary>
-    public double? GetG(int group) => group switch
-    {
-        0 => GA, 1 => GB, 2 => GC, 3 => GD, 4 => GE, 5 => GF, 6 => GG, 7 => GH, 8 => GI,
-        _ => throw new ArgumentOutOfRangeException(nameof(group)),
-    };
+    /// <summary>The G group value by index (GA is 0); null beyond the profile's groups.</summary>
+    public double? GetG(int group) => group >= 0 ? G.At(group) : throw new ArgumentOutOfRangeException(nameof(group));
 
-    /// <summary>The M group value by index 0..2 (MA..MC).</summary>
-    public double? GetM(int group) => group switch
-    {
-        0 => MA, 1 => MB, 2 => MC,
-        _ => throw new ArgumentOutOfRangeException(nameof(group)),
-    };
+    /// <summary>The M group value by index (MA is 0); null beyond the profile's groups.</summary>
+    public double? GetM(int group) => group >= 0 ? M.At(group) : throw new ArgumentOutOfRangeException(nameof(group));
 
     /// <summary>
     /// G-code lines that bring a freshly started controller into this state, for "start from any block": units,
@@ -166,25 +181,25 @@ public sealed record ModalState
             lines.Add($"T{Tool}");
         }
 
-        if (GF is { } gf)
+        if (LengthCompensation is { } gf)
         {
             lines.Add(gf is 43 or 44 ? $"G{Num(gf)} H{LengthOffset}" : $"G{Num(gf)}");
         }
 
-        if (GH is { } gh)
+        if (RadiusCompensation is { } gh)
         {
             lines.Add(gh is 41 or 42 ? $"G{Num(gh)} D{CutterComp}" : $"G{Num(gh)}");
         }
 
         lines.Add(SpindleSpeed > 0 ? $"S{Num(SpindleSpeed)} M0{Spindle}" : $"M0{Spindle}");
-        lines.Add(Coolant == 9 ? "M09" : $"M0{Coolant}");
+        lines.Add($"M0{Coolant}");
         if (programPosition is { } p)
         {
             lines.Add($"G90 G00 X{Num(p.X)} Y{Num(p.Y)}");
             lines.Add($"G00 Z{Num(p.Z)}");
         }
 
-        var motion = GA is { } ga ? $"G{(ga < 10 ? "0" : string.Empty)}{Num(ga)}" : "G00";
+        var motion = Motion is { } ga ? $"G{(ga < 10 ? "0" : string.Empty)}{Num(ga)}" : "G00";
         lines.Add($"G{(Absolute ? 90 : 91)} {motion}" + (Feed is { } f ? $" F{Num(f)}" : string.Empty));
         return lines;
     }

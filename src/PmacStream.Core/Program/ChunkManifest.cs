@@ -89,6 +89,14 @@ public sealed record ChunkManifest(
     /// names it (profile name and digest); null when it was not checked (forced, or no profile given).
     /// </summary>
     public string? CheckedProfile { get; init; }
+    /// <summary>The machine profile the program was split under (null when unknown).</summary>
+    public string? Profile { get; init; }
+
+    /// <summary>
+    /// The codes the chunks carry that the controller cannot run yet, with the source line of their first use: a job
+    /// gate refuses to stream such a split (null when the split had no profile).
+    /// </summary>
+    public IReadOnlyDictionary<string, int>? NotYetCodes { get; init; }
 
     /// <summary>Reads a manifest.</summary>
     public static ChunkManifest Load(string path)
@@ -159,6 +167,22 @@ public sealed record ChunkManifest(
         else
         {
             w.WriteString("checkedProfile", CheckedProfile);
+        }
+
+        if (Profile != null)
+        {
+            w.WriteString("profile", Profile);
+        }
+
+        if (NotYetCodes != null)
+        {
+            w.WriteStartObject("notYetCodes");
+            foreach (var (code, line) in NotYetCodes.OrderBy(c => c.Value))
+            {
+                w.WriteNumber(code, line);
+            }
+
+            w.WriteEndObject();
         }
 
         w.WriteEndObject();

@@ -24,16 +24,26 @@ public sealed record Prog1000Options
 /// <param name="Code">The code as the profile writes it (<c>G01</c>).</param>
 /// <param name="Program">The PMAC program number the code calls (1000 for G00-G99, 1010 for G100-G199, 1001 for M).</param>
 /// <param name="Label">The label the call jumps to: <c>N(code*1000)</c> of the code's last two digits.</param>
-/// <param name="Body">PMAC statements before <c>RET</c> (empty: accepted and does nothing).</param>
-/// <param name="Converted">False when the library knows no conversion for the code (it is accepted and ignored).</param>
+/// <param name="Body">PMAC statements before <c>RET</c> (empty: the controller already does what the code asks).</param>
+/// <param name="Converted">True when the library has the routine (the profile says <see cref="ControllerSupport.Library"/>); false: no routine is written.</param>
 /// <param name="Description">What the routine does.</param>
-public sealed record Prog1000Routine(string Code, int Program, int Label, string Body, bool Converted, string Description);
+public sealed record Prog1000Routine(string Code, int Program, int Label, string Body, bool Converted, string Description)
+{
+    /// <summary>What runs the code, as the profile says.</summary>
+    public ControllerSupport Controller { get; init; }
+
+    /// <summary>Why the routine is empty or missing (the profile's note).</summary>
+    public string Note { get; init; } = string.Empty;
+}
 
 /// <summary>
 /// G and M code conversion: a PMAC treats <c>Gnn</c> in a motion program as a call of
 /// PROG 1000 at label <c>N(nn*1000)</c> and <c>Mnn</c> as PROG 1001, so these programs turn machine-tool codes into
-/// PMAC statements. Generated for every G and M code of a machine profile; spindle and coolant stops are preceded by
-/// <c>DWELL0</c> so lookahead cannot stop the spindle before the moves ahead of it have run.
+/// PMAC statements. Generated for the G and M codes a machine profile marks <see cref="ControllerSupport.Library"/>
+/// (the profile's own <c>routine</c>, else the built-in one); a code the controller cannot run yet gets no routine
+/// (a missing label is ignored by the PMAC, which is why a job gate must refuse programs using such codes). Spindle
+/// and coolant stops are preceded by <c>DWELL0</c> so lookahead cannot stop the spindle before the moves ahead of
+/// it have run.
 /// </summary>
 public static class Prog1000Library
 {
@@ -69,15 +79,21 @@ public static class Prog1000Library
             Line($"; Outputs: spindle on {options.SpindleOn}, spindle reverse {options.SpindleReverse}, coolant {options.Coolant}.");
         }
 
+        var notYet = routines.Where(r => !r.Converted).Select(r => r.Code).ToList();
+        if (options.Comments && notYet.Count > 0)
+        {
+            Line($"; Not run on this controller yet (no routine; a job using them is refused): {string.Join(' ', notYet)}");
+        }
+
         Line("CLOSE");
-        foreach (var program in new[] { 1000, 1001 }.Concat(routines.Select(r => r.Program)).Distinct().OrderBy(p => p))
+        foreach (var program in new[] { 1000, 1001 }.Concat(routines.Where(r => r.Converted).Select(r => r.Program)).Distinct().OrderBy(p => p))
         {
             Line($"OPEN PROG {program} CLEAR");
-            foreach (var r in routines.Where(r => r.Program == program))
+            foreach (var r in routines.Where(r => r.Program == program && r.Converted))
             {
                 if (options.Comments)
                 {
-                    Line($"; {r.Code} {r.Description}{(r.Converted ? "" : " (no PMAC conversion: accepted, does nothing)")}");
+                    Line($"; {r.Code} {r.Description}{(r.Body.Length == 0 && r.Note.Length > 0 ? $" ({r.Note})" : "")}");
                 }
 
                 Line(r.Body.Length == 0 ? $"N{r.Label} RET" : $"N{r.Label} {r.Body} RET");
@@ -104,8 +120,14 @@ public static class Prog1000Library
         var label = (int)Math.Round((value - (hundreds * 100)) * 1000);
         var program = (letter == 'G' ? 1000 : 1001) + (hundreds * 10);
         var key = (int)Math.Round(value * 10);
-        var body = letter == 'G' ? GBody(key, profile) : MBody(key, o);
-        return new Prog1000Routine(text, program, label, body ?? "", body != null, def.Description);
+        if (def.Controller != ControllerSupport.Library)
+        {
+            return new Prog1000Routine(text, program, label, string.Empty, false, def.Description) { Controller = def.Controller, Note = def.Note };
+        }
+
+        var body = def.Routine ?? (letter == 'G' ? GBody(key, profile) : MBody(key, o))
+            ?? throw new InvalidDataException($"profile '{profile.Name}': {text} is marked \"controller\": \"library\" but the library has no routine for it: give it a \"routine\" or mark it \"not-yet\"");
+        return new Prog1000Routine(text, program, label, body, true, def.Description) { Controller = def.Controller, Note = def.Note };
     }
 
     private static string? GBody(int codeTimesTen, MachineProfile profile) => codeTimesTen switch
@@ -120,20 +142,15 @@ public static class Prog1000Library
         170 => "NORMAL K-1",
         180 => "NORMAL J-1",
         190 => "NORMAL I-1",
-        // Units and work offsets are fixed by the axis definitions (#1->1000X ...); the codes are accepted so that
-        // programs run, and the checker reports a unit mismatch against the profile.
-        200 or 210 => "",
         400 => "CC0",
-        410 => "CC1",
-        420 => "CC2",
-        // READ(H) consumes the offset number so the H word is not taken as a command.
-        430 => "READ(H)",
-        490 => "",
-        >= 540 and <= 590 when codeTimesTen % 10 == 0 => "",
-        800 => "",
         900 => "ABS",
         910 => "INC",
-        940 => "",
+        // Codes that ask for what the coordinate system already does (the profile's note says why for each):
+        // millimetres (G21), the G54 origin, no length offset (G49), no cycle (G80), feed per minute (G94), blending
+        // (G64, G61 in grbl), cancels of what is never applied (G15, G23, G50, G50.1, G67, G69), rpm (G97), cycle
+        // return levels only cycles read (G98, G99), incremental circle centres (G91.1), lookahead on the
+        // controller (G05.1, G08, G187).
+        210 or 540 or 490 or 800 or 940 or 640 or 610 or 150 or 230 or 500 or 501 or 670 or 690 or 970 or 980 or 990 or 911 or 51 or 80 or 1870 => "",
         _ => null,
     };
 
@@ -145,7 +162,6 @@ public static class Prog1000Library
         30 => $"DWELL0 {o.SpindleReverse}=0 {o.SpindleOn}=1",
         40 => $"DWELL0 {o.SpindleReverse}=1 {o.SpindleOn}=1",
         50 => $"DWELL0 {o.SpindleOn}=0",
-        60 => "DWELL0",
         80 => $"{o.Coolant}=1",
         90 => $"DWELL0 {o.Coolant}=0",
         _ => null,

@@ -22,6 +22,13 @@ public sealed record SplitResult(ChunkManifest Manifest, string OutputDirectory,
         var chunks => chunks.Max(c => c.ByteSize),
     };
 
+    /// <summary>
+    /// The codes the program uses that the controller cannot run yet, with the line of their first use: the chunks
+    /// carry them, no library routine runs them, and a job gate must refuse the program (null when the split had no
+    /// profile).
+    /// </summary>
+    public IReadOnlyDictionary<string, int>? NotYetCodes { get; init; }
+
     /// <summary>Source lines the splitter's fast lane (<see cref="AxisLine"/>) took (tests check the lane is used).</summary>
     internal int LaneLines { get; init; }
 

@@ -73,7 +73,7 @@ public static class Splitter
             Publish(temp, outDir);
             Logger.Information("Split {Source}: {Chunks} chunks, {Blocks} blocks ({Motion} motion)",
                 source, manifest.Chunks.Count, manifest.TotalBlocks, manifest.TotalMotionBlocks);
-            return new SplitResult(manifest, outDir, warnings) { LaneLines = run.LaneLines, BufferLaneLines = run.BufferLaneLines };
+            return new SplitResult(manifest, outDir, warnings) { LaneLines = run.LaneLines, BufferLaneLines = run.BufferLaneLines, NotYetCodes = run.NotYetCodes };
         }
         catch
         {
@@ -208,6 +208,8 @@ public static class Splitter
         private bool _refusing;
         private LineBatch? _batch;
         private CheckRun? _check;
+        private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
+        private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
         private int _laneLines;        // lines the AxisLine lane took ...
         private int _bufferLaneLines;  // ... of them, straight from the read buffer
         private HandOff<LineBatch>? _full;
@@ -260,7 +262,11 @@ public static class Splitter
             _paperFeed = options.Feed == FeedMode.Paper;
             _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
             _chunk.Append(HeaderBytes);
+            _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null;
         }
+
+        /// <summary>The codes the program uses that the controller cannot run yet, with their first line (null without a profile).</summary>
+        public IReadOnlyDictionary<string, int>? NotYetCodes => _notYet;
 
         /// <summary>Lines the <see cref="AxisLine"/> lane took (read after <see cref="Execute"/>).</summary>
         public int LaneLines => _laneLines;
@@ -340,6 +346,8 @@ public static class Splitter
                 KeepN = _o.KeepN,
                 BlockDelete = _o.BlockDelete,
                 CheckedProfile = _o.CheckedProfile,
+                Profile = _o.CheckProfile?.Name,
+                NotYetCodes = _notYet,
             };
             return (manifest, _warnings);
         }
@@ -356,7 +364,8 @@ public static class Splitter
                 {
                     var check = _check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
                     // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
-                    var lane = _o.AxisLane && !_o.KeepN;
+                    // The lane takes G0/G1 lines without looking them up: only when the profile runs both on the controller.
+                    var lane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile);
                     while (true)
                     {
                         // The lane first, straight on the read buffer: it finds the line's end itself.
@@ -412,7 +421,12 @@ public static class Splitter
                         Take(block);
                     }
 
-                    check?.Finish(_source, reader.Position, TimeSpan.Zero);
+                    if (check != null && reader.TextAfterTapeEnd)
+                    {
+                        check.TextAfterTapeEnd(reader.TapeEndLine);
+                    }
+
+                    check?.Finish(_source, reader.Position, TimeSpan.Zero, reader.LineNumber);
                     size = reader.Position;
                 }
 
@@ -488,12 +502,20 @@ public static class Splitter
             }
         }
 
+        private static bool LaneCodesRun(MachineProfile? profile) =>
+            profile == null || (profile.Find('G', 0)?.Controller != ControllerSupport.NotYet && profile.Find('G', 1)?.Controller != ControllerSupport.NotYet);
+
         /// <summary>One lexed line on the reading thread.</summary>
         private void Take(GBlock b)
         {
             if (b.DiagnosticList.Count > 0)
             {
                 Collect(b);
+            }
+
+            if (_notYet != null)
+            {
+                NoteNotYet(b);
             }
 
             // Nothing for the controller in tape marks, skipped blocks and lines without words (Emit drops them too).
@@ -506,6 +528,19 @@ public static class Splitter
             if (_batch.IsFull)
             {
                 Hand(b.ByteOffset + b.Length);
+            }
+        }
+
+        /// <summary>Records the codes of a line that the controller cannot run yet (the manifest lists them for the job gate).</summary>
+        private void NoteNotYet(GBlock b)
+        {
+            var profile = _o.CheckProfile!;
+            foreach (var w in b.WordList)
+            {
+                if (w.Letter is 'G' or 'M' && profile.Find(w.Letter, w.Value) is { Controller: ControllerSupport.NotYet } def)
+                {
+                    _notYet!.TryAdd(def.Code, b.LineNumber);
+                }
             }
         }
 
@@ -609,9 +644,15 @@ public static class Splitter
                 }
             }
 
+            if (feedIndex >= 0 && words[feedIndex].Value.Equals(_feedSet))
+            {
+                // The feed variable already holds this feed: a P500= line would only repeat it.
+                feedIndex = -1;
+            }
+
             if (!any && feedIndex < 0)
             {
-                return; // empty, comment-only, N-only or O-only: nothing for the controller
+                return; // empty, comment-only, N-only, O-only or an unchanged F: nothing for the controller
             }
 
             var motion = scan.Result;
@@ -622,7 +663,8 @@ public static class Splitter
             var values = 0;
             if (feedIndex >= 0)
             {
-                // Where the program sets F, the value goes into the feed variable so F(P500) keeps it.
+                // Where the program changes F, the value goes into the feed variable so F(P500) keeps it.
+                _feedSet = words[feedIndex].Value;
                 o = Put(o, _feedVar);
                 o[0] = (byte)'=';
                 o = Number(o[1..], src, words[feedIndex]);

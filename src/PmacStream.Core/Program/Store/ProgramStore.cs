@@ -29,7 +29,10 @@ public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256,
 /// <summary>
 /// The relational program store (SQLite): a <c>programs</c> table, a <c>blocks</c> table with one row per
 /// interpreted block (<c>Lines, GA..GI, MA..MC, X, Y, Z, I, J, K, R, F, S, T, H, P</c> plus D, the absolute start/end
-/// positions, arc centre, motion kind, length, time and the modal T/H/D/S/F) and a <c>diagnostics</c> table. Single
+/// positions, arc centre, motion kind, length, time and the modal T/H/D/S/F) and a <c>diagnostics</c> table. The first
+/// nine G and three M modal groups of the profile fill GA..GI and MA..MC; a profile's further groups go to
+/// <c>more_groups</c> as JSON (<c>{"G":[94,null,98],"M":[6]}</c>) and the group names to <c>programs.groups</c>, so a
+/// state reads back equal to the interpreter's whatever the profile. Single
 /// block, selected blocks and continuous execution (and the preview) read from here. Inserts go through one prepared
 /// statement inside one transaction per program, so an interrupted import leaves nothing behind.
 /// </summary>
@@ -40,7 +43,7 @@ public sealed class ProgramStore : IDisposable
     internal const string BlockColumns =
         "key, program_id, Lines, byte_offset, N, block_delete, GA, GB, GC, GD, GE, GF, GG, GH, GI, MA, MB, MC, " +
         "X, Y, Z, I, J, K, R, F, S, T, H, D, P, motion, start_x, start_y, start_z, end_x, end_y, end_z, " +
-        "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f";
+        "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f, more_groups";
 
     private const string Schema = """
         CREATE TABLE IF NOT EXISTS programs (
@@ -55,7 +58,8 @@ public sealed class ProgramStore : IDisposable
             estimated_seconds REAL NOT NULL,
             profile TEXT NOT NULL,
             check_summary TEXT NOT NULL,
-            created TEXT NOT NULL);
+            created TEXT NOT NULL,
+            groups TEXT);
         CREATE INDEX IF NOT EXISTS programs_sha ON programs(sha256);
         CREATE TABLE IF NOT EXISTS blocks (
             key INTEGER PRIMARY KEY, program_id INTEGER NOT NULL, Lines INTEGER NOT NULL, byte_offset INTEGER NOT NULL,
@@ -64,7 +68,7 @@ public sealed class ProgramStore : IDisposable
             X REAL, Y REAL, Z REAL, I REAL, J REAL, K REAL, R REAL, F REAL, S REAL, T REAL, H REAL, D REAL, P REAL,
             motion INTEGER NOT NULL, start_x REAL, start_y REAL, start_z REAL, end_x REAL, end_y REAL, end_z REAL,
             center_x REAL, center_y REAL, center_z REAL, length REAL, duration REAL,
-            modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL);
+            modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL, more_groups TEXT);
         CREATE TABLE IF NOT EXISTS diagnostics (
             program_id INTEGER NOT NULL, severity TEXT NOT NULL, code TEXT NOT NULL, line INTEGER NOT NULL,
             col INTEGER NOT NULL, message TEXT NOT NULL);
@@ -147,6 +151,7 @@ public sealed class ProgramStore : IDisposable
             using var cmd = connection.CreateCommand();
             cmd.CommandText = pragmas + Schema;
             cmd.ExecuteNonQuery();
+            AddMissingColumns(connection);
         }
         catch
         {
@@ -157,11 +162,31 @@ public sealed class ProgramStore : IDisposable
         return new ProgramStore(connection) { Path = path };
     }
 
+    /// <summary>A store written before profiles had any number of modal groups gets the columns that hold the others.</summary>
+    private static void AddMissingColumns(SqliteConnection connection)
+    {
+        foreach (var (table, column) in new[] { ("programs", "groups"), ("blocks", "more_groups") })
+        {
+            using var cmd = connection.CreateCommand();
+            cmd.CommandText = $"SELECT COUNT(*) FROM pragma_table_info('{table}') WHERE name = '{column}'";
+            if ((long)cmd.ExecuteScalar()! == 0)
+            {
+                cmd.CommandText = $"ALTER TABLE {table} ADD COLUMN {column} TEXT";
+                cmd.ExecuteNonQuery();
+            }
+        }
+    }
+
     /// <summary>
     /// Starts storing a program. Add blocks and diagnostics to the writer, then <see cref="ProgramWriter.Complete"/>;
-    /// disposing it without completing rolls everything back.
+    /// disposing it without completing rolls everything back. Without the profile's groups the paper's nine G and
+    /// three M groups are assumed.
     /// </summary>
-    public ProgramWriter BeginProgram(string sourcePath, long size, string profile) => new(_connection, sourcePath, size, profile);
+    public ProgramWriter BeginProgram(string sourcePath, long size, string profile) => new(_connection, sourcePath, size, profile, null);
+
+    /// <summary>Starts storing a program checked against <paramref name="profile"/> (its modal groups are recorded).</summary>
+    public ProgramWriter BeginProgram(string sourcePath, long size, MachineProfile profile) =>
+        new(_connection, sourcePath, size, profile.Name, StoredGroups.Describe(profile));
 
     /// <summary>
     /// Checks a file and stores every block and diagnostic in one pass (hashing as it reads). Returns the program id
@@ -172,7 +197,7 @@ public sealed class ProgramStore : IDisposable
     {
         using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
         using var hashing = new HashingReadStream(fs);
-        using var writer = BeginProgram(file, fs.Length, profile.Name);
+        using var writer = BeginProgram(file, fs.Length, profile);
         var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken);
         writer.Complete(summary, hashing.HashHex());
         Logger.Information("Stored {File} as program {Id}: {Summary} in {Ms} ms", file, writer.ProgramId, summary.ToString(), (int)summary.Elapsed.TotalMilliseconds);
@@ -208,22 +233,24 @@ public sealed class ProgramStore : IDisposable
     /// <summary>The block at a source line (single-block execution, start from line), or null when that line holds no block.</summary>
     public DecodedBlock? GetBlockAtLine(long programId, int line)
     {
+        var groups = GroupsOf(programId);
         using var cmd = _connection.CreateCommand();
         cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key = $k";
         cmd.Parameters.AddWithValue("$k", Key(programId, line));
         using var r = cmd.ExecuteReader();
-        return r.Read() ? ReadBlock(r) : null;
+        return r.Read() ? ReadBlock(r, groups) : null;
     }
 
     /// <summary>The first block at or after a source line (where execution starts when a chosen line is empty), or null.</summary>
     public DecodedBlock? GetBlockAtOrAfterLine(long programId, int line)
     {
+        var groups = GroupsOf(programId);
         using var cmd = _connection.CreateCommand();
         cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key >= $a AND key <= $b ORDER BY key LIMIT 1";
         cmd.Parameters.AddWithValue("$a", Key(programId, Math.Max(0, line)));
         cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
         using var r = cmd.ExecuteReader();
-        return r.Read() ? ReadBlock(r) : null;
+        return r.Read() ? ReadBlock(r, groups) : null;
     }
 
     /// <summary>The blocks whose source lines lie in [<paramref name="fromLine"/>, <paramref name="toLine"/>] (selected-block execution).</summary>
@@ -235,6 +262,7 @@ public sealed class ProgramStore : IDisposable
     /// </summary>
     public IEnumerable<DecodedBlock> ReadBlocks(long programId, int fromLine = 1, int toLine = int.MaxValue)
     {
+        var groups = GroupsOf(programId);
         using var cmd = _connection.CreateCommand();
         // The row key is (program, line), so a range of lines is a range of keys: no index, no sort.
         cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key BETWEEN $a AND $b ORDER BY key";
@@ -243,8 +271,17 @@ public sealed class ProgramStore : IDisposable
         using var r = cmd.ExecuteReader();
         while (r.Read())
         {
-            yield return ReadBlock(r);
+            yield return ReadBlock(r, groups);
         }
+    }
+
+    /// <summary>The modal groups a program was stored with (the paper's nine and three for a program stored without them).</summary>
+    public StoredGroups GroupsOf(long programId)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT groups FROM programs WHERE id = $id";
+        cmd.Parameters.AddWithValue("$id", programId);
+        return StoredGroups.Parse(cmd.ExecuteScalar() as string);
     }
 
     /// <summary>The stored diagnostics of a program in line order.</summary>
@@ -297,20 +334,14 @@ public sealed class ProgramStore : IDisposable
         return list;
     }
 
-    private static DecodedBlock ReadBlock(SqliteDataReader r)
+    private static DecodedBlock ReadBlock(SqliteDataReader r, StoredGroups groups)
     {
         double? D(int i) => r.IsDBNull(i) ? null : r.GetDouble(i);
-        var ga = D(6);
+        var (g, m) = groups.Values(i => D(6 + i), i => D(15 + i), r.IsDBNull(48) ? null : r.GetString(48));
         var modal = new ModalState
         {
-            GA = ga, GB = D(7), GC = D(8), GD = D(9), GE = D(10), GF = D(11), GG = D(12), GH = D(13), GI = D(14),
-            MA = D(15), MB = D(16), MC = D(17),
-            Units = D(7) == 20 ? LengthUnits.Inches : LengthUnits.Millimetres,
-            Plane = D(10) is { } ge ? (int)ge : 17,
-            Absolute = D(8) != 91,
-            WorkOffset = D(9) is { } gd ? (int)gd : 54,
-            Spindle = D(16) is { } mb ? (int)mb : 5,
-            Coolant = D(17) is { } mc ? (int)mc : 9,
+            G = g,
+            M = m,
             Tool = r.GetInt32(43), LengthOffset = r.GetInt32(44), CutterComp = r.GetInt32(45), SpindleSpeed = r.GetDouble(46), Feed = D(47),
         };
         return new DecodedBlock
@@ -342,22 +373,25 @@ public sealed class ProgramWriter : IDisposable
     private readonly sqlite3_stmt _block;
     private readonly sqlite3_stmt _diag;
     private readonly (BindState State, double Value)[] _bound = new (BindState, double)[64];
+    private ModalState? _modal;
+    private string? _boundText;
     private long _seq;
     private bool _completed;
     private bool _disposed;
 
-    internal ProgramWriter(SqliteConnection connection, string sourcePath, long size, string profile)
+    internal ProgramWriter(SqliteConnection connection, string sourcePath, long size, string profile, string? groups)
     {
         _connection = connection;
         _tx = connection.BeginTransaction();
         using (var cmd = connection.CreateCommand())
         {
             cmd.Transaction = _tx;
-            cmd.CommandText = "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created) " +
-                              "VALUES ($path, $size, '', 0, 0, 0, 0, 0, $profile, 'incomplete', $created); SELECT last_insert_rowid();";
+            cmd.CommandText = "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups) " +
+                              "VALUES ($path, $size, '', 0, 0, 0, 0, 0, $profile, 'incomplete', $created, $groups); SELECT last_insert_rowid();";
             cmd.Parameters.AddWithValue("$path", sourcePath);
             cmd.Parameters.AddWithValue("$size", size);
             cmd.Parameters.AddWithValue("$profile", profile);
+            cmd.Parameters.AddWithValue("$groups", (object?)groups ?? DBNull.Value);
             cmd.Parameters.AddWithValue("$created", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
             ProgramId = (long)cmd.ExecuteScalar()!;
         }
@@ -395,8 +429,15 @@ public sealed class ProgramWriter : IDisposable
         BindI(4, b.ByteOffset);
         BindD(5, b.N);
         BindI(6, b.BlockDelete ? 1 : 0);
-        BindD(7, m.GA); BindD(8, m.GB); BindD(9, m.GC); BindD(10, m.GD); BindD(11, m.GE); BindD(12, m.GF);
-        BindD(13, m.GG); BindD(14, m.GH); BindD(15, m.GI); BindD(16, m.MA); BindD(17, m.MB); BindD(18, m.MC);
+        if (!ReferenceEquals(m, _modal))
+        {
+            // Consecutive blocks share one state instance until something changes: bound once per change.
+            _modal = m;
+            BindD(7, m.GA); BindD(8, m.GB); BindD(9, m.GC); BindD(10, m.GD); BindD(11, m.GE); BindD(12, m.GF);
+            BindD(13, m.GG); BindD(14, m.GH); BindD(15, m.GI); BindD(16, m.MA); BindD(17, m.MB); BindD(18, m.MC);
+            BindText(49, StoredGroups.MoreText(m));
+        }
+
         BindD(19, b.X); BindD(20, b.Y); BindD(21, b.Z); BindD(22, b.I); BindD(23, b.J); BindD(24, b.K);
         BindD(25, b.R); BindD(26, b.F); BindD(27, b.S); BindD(28, b.T); BindD(29, b.H); BindD(30, b.D); BindD(31, b.P);
         BindI(32, (int)b.Motion);
@@ -505,6 +546,26 @@ public sealed class ProgramWriter : IDisposable
             raw.sqlite3_bind_null(_block, index);
             slot = (BindState.Null, 0);
         }
+    }
+
+    private void BindText(int index, string? text)
+    {
+        if (_bound[index].State != BindState.Unbound && string.Equals(text, _boundText, StringComparison.Ordinal))
+        {
+            return;
+        }
+
+        if (text == null)
+        {
+            raw.sqlite3_bind_null(_block, index);
+        }
+        else
+        {
+            raw.sqlite3_bind_text(_block, index, text);
+        }
+
+        _bound[index] = (BindState.Integer, 0);
+        _boundText = text;
     }
 
     private void BindI(int index, long v)

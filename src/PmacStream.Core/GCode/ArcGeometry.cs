@@ -1,0 +1,91 @@
+namespace PmacStream.GCode;
+
+/// <summary>
+/// The circle of a G02/G03 block: its centre from R or from I/J/K (incremental from the start, or absolute with
+/// G90.1), the check that the end lies on it, and its length (the helical part included).
+/// </summary>
+internal static class ArcGeometry
+{
+    /// <summary>
+    /// Solves an arc in <paramref name="plane"/> (17, 18 or 19). With <paramref name="absoluteCentre"/> the centre words
+    /// are coordinates of the work system, shifted by <paramref name="offset"/> into machine coordinates. Reports
+    /// E113 (no centre) and E115 (end not on the circle) into <paramref name="diags"/>; the centre is null when the
+    /// circle cannot be placed (the length is then the chord).
+    /// </summary>
+    public static (Point3? Center, double Length) Solve(bool cw, int plane, Point3 start, Point3 end, double? i, double? j, double? k, double? r,
+        bool absoluteCentre, Point3 offset, double tolerance, List<Diagnostic>? diags, int line, int column, Span<int> col)
+    {
+        // Map the plane to (first, second, linear) axes; G18 is ZX so that G02/G03 keep the right-hand rule.
+        (double s1, double s2, double sl, double e1, double e2, double el, double? o1, double? o2, double b1, double b2, string names) = plane switch
+        {
+            18 => (start.Z, start.X, start.Y, end.Z, end.X, end.Y, k, i, offset.Z, offset.X, "I/K"),
+            19 => (start.Y, start.Z, start.X, end.Y, end.Z, end.X, j, k, offset.Y, offset.Z, "J/K"),
+            _ => (start.X, start.Y, start.Z, end.X, end.Y, end.Z, i, j, offset.X, offset.Y, "I/J"),
+        };
+
+        double c1, c2;
+        if (r is { } radius)
+        {
+            var dx = e1 - s1;
+            var dy = e2 - s2;
+            var chord = Math.Sqrt((dx * dx) + (dy * dy));
+            var half = chord / 2;
+            var rr = Math.Abs(radius);
+            if (chord < 1e-12 || half - rr > tolerance)
+            {
+                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, col['R' - 'A'], ModalState.Num(Math.Round(rr, 4)),
+                    ModalState.Num(Math.Round(half, 4)), ModalState.Num(tolerance));
+                return (null, start.DistanceTo(end));
+            }
+
+            var hgt = Math.Sqrt(Math.Max(0, (rr * rr) - (half * half)));
+            var sign = (cw ? -1 : 1) * (radius < 0 ? -1 : 1);
+            c1 = s1 + (dx / 2) + (-dy / chord * hgt * sign);
+            c2 = s2 + (dy / 2) + (dx / chord * hgt * sign);
+        }
+        else if (o1.HasValue || o2.HasValue)
+        {
+            // Incremental centres default to the start's coordinate, absolute ones (G90.1) to the work origin's.
+            c1 = absoluteCentre ? b1 + (o1 ?? s1 - b1) : s1 + (o1 ?? 0);
+            c2 = absoluteCentre ? b2 + (o2 ?? s2 - b2) : s2 + (o2 ?? 0);
+            var r0 = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
+            var r1 = Math.Sqrt(((e1 - c1) * (e1 - c1)) + ((e2 - c2) * (e2 - c2)));
+            if (Math.Abs(r0 - r1) > tolerance && Math.Abs(r0 - r1) > 0.001 * Math.Max(r0, r1))
+            {
+                var firstOffset = plane switch { 18 => Min(col['K' - 'A'], col['I' - 'A']), 19 => Min(col['J' - 'A'], col['K' - 'A']), _ => Min(col['I' - 'A'], col['J' - 'A']) };
+                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, firstOffset, ModalState.Num(Math.Round(r0, 4)),
+                    ModalState.Num(Math.Round(r1, 4)), ModalState.Num(tolerance));
+            }
+        }
+        else
+        {
+            Add(diags, DiagnosticCodes.ArcWithoutCenter, line, column, cw ? "02" : "03", names, plane);
+            return (null, start.DistanceTo(end));
+        }
+
+        var a0 = Math.Atan2(s2 - c2, s1 - c1);
+        var a1 = Math.Atan2(e2 - c2, e1 - c1);
+        var sweep = cw ? a0 - a1 : a1 - a0;
+        while (sweep <= 1e-12)
+        {
+            sweep += 2 * Math.PI;
+        }
+
+        var rad = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
+        var planar = rad * sweep;
+        var helix = el - sl;
+        var len = Math.Sqrt((planar * planar) + (helix * helix));
+        var centre = plane switch
+        {
+            18 => new Point3(c2, start.Y, c1),
+            19 => new Point3(start.X, c1, c2),
+            _ => new Point3(c1, c2, start.Z),
+        };
+        return (centre, len);
+    }
+
+    private static int Min(int a, int b) => a == 0 ? b : b == 0 ? a : Math.Min(a, b);
+
+    private static void Add(List<Diagnostic>? diags, string code, int line, int column, params object[] args) =>
+        diags?.Add(new Diagnostic(DiagnosticCodes.SeverityOf(code), code, line, column, DiagnosticText.Format(code, args)));
+}

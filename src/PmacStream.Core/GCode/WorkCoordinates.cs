@@ -1,0 +1,80 @@
+namespace PmacStream.GCode;
+
+/// <summary>
+/// Where program coordinates lie in machine coordinates: the selected work offset (G54..G59, the extended G54.1 P /
+/// G154 P ones) with the values G10 set, plus the local shift of G52 and the G92 shift. The interpreter's positions
+/// are machine coordinates, so a program coordinate is the machine one minus <see cref="Active"/>.
+/// </summary>
+internal sealed class WorkCoordinates
+{
+    private readonly MachineProfile _profile;
+    private Dictionary<int, Point3>? _set; // offsets G10 changed, by key (540 for G54, 5410+P for G54.1 Pn)
+    private Point3 _local;
+    private Point3 _shift;
+    private Point3? _active;
+
+    public WorkCoordinates(MachineProfile profile, int code)
+    {
+        _profile = profile;
+        Selected = code * 10;
+    }
+
+    /// <summary>The selected work offset as a key: 540..590 for G54..G59, 5410 + P for G54.1 P / G154 P.</summary>
+    public int Selected { get; private set; }
+
+    /// <summary>The whole offset from program to machine coordinates (work offset + G52 + G92), looked up once per change.</summary>
+    public Point3 Active => _active ??= Offset(Selected) + _local + _shift;
+
+    /// <summary>Selects G54..G59 (<paramref name="key"/> 540..590) or an extended offset (G54.1 P, G154 P).</summary>
+    public void Select(int key, double? p)
+    {
+        var selected = key is 541 or 1540 && p is { } n ? 5410 + (int)n : key;
+        if (selected != Selected)
+        {
+            Selected = selected;
+            _active = null;
+        }
+    }
+
+    /// <summary>
+    /// G10 L2/L20: sets work offset <paramref name="p"/> (0: the selected one, 1..6: G54..G59, 7..9: G59.1..G59.3 with
+    /// LinuxCNC; the extended ones with <paramref name="extended"/>) on the given axes, to the values or, with
+    /// <paramref name="fromPosition"/>, so that <paramref name="position"/> reads as the values.
+    /// </summary>
+    public void SetOffset(int p, bool extended, bool fromPosition, double? x, double? y, double? z, Point3 position)
+    {
+        var key = extended ? 5410 + p : p == 0 ? Selected : p <= 6 ? 530 + (p * 10) : 590 + (p - 6);
+        var old = Offset(key);
+        var shift = _local + _shift;
+        var value = fromPosition
+            ? new Point3(x is { } ax ? position.X - ax - shift.X : old.X, y is { } ay ? position.Y - ay - shift.Y : old.Y, z is { } az ? position.Z - az - shift.Z : old.Z)
+            : new Point3(x ?? old.X, y ?? old.Y, z ?? old.Z);
+        (_set ??= new())[key] = value;
+        _active = null;
+    }
+
+    /// <summary>G52: the local shift on the given axes (0 cancels it).</summary>
+    public void SetLocal(double? x, double? y, double? z)
+    {
+        _local = new Point3(x ?? _local.X, y ?? _local.Y, z ?? _local.Z);
+        _active = null;
+    }
+
+    /// <summary>G92: shifts coordinates so that <paramref name="position"/> reads as the given values.</summary>
+    public void SetShift(double? x, double? y, double? z, Point3 position)
+    {
+        var o = Offset(Selected) + _local;
+        _shift = new Point3(x is { } ax ? position.X - ax - o.X : _shift.X, y is { } ay ? position.Y - ay - o.Y : _shift.Y, z is { } az ? position.Z - az - o.Z : _shift.Z);
+        _active = null;
+    }
+
+    /// <summary>G92.1/G92.2: the G92 shift is gone.</summary>
+    public void ClearShift()
+    {
+        _shift = default;
+        _active = null;
+    }
+
+    private Point3 Offset(int key) =>
+        _set != null && _set.TryGetValue(key, out var v) ? v : key % 10 == 0 && key < 600 ? _profile.WorkOffset(key / 10) : default;
+}
