@@ -338,7 +338,7 @@ public sealed partial class Interpreter
 
         // Modal groups first (units, plane, distance, offsets), so that motion in the same block uses them.
         ClearNonModal();
-        var codes = default(BlockCodes);
+        var codes = new BlockCodes();
         for (var gi = 0; anyG && gi < _gCount; gi++)
         {
             if (gCol[gi] != 0)

@@ -169,15 +169,24 @@ public sealed record ChunkManifest(
             w.WriteString("checkedProfile", CheckedProfile);
         }
 
-        if (Profile != null)
+        if (Profile == null)
+        {
+            w.WriteNull("profile");
+        }
+        else
         {
             w.WriteString("profile", Profile);
         }
 
-        if (NotYetCodes != null)
+        if (NotYetCodes == null)
         {
+            w.WriteNull("notYetCodes");
+        }
+        else
+        {
+            // In the order of first use (the splitter adds them as it reads).
             w.WriteStartObject("notYetCodes");
-            foreach (var (code, line) in NotYetCodes.OrderBy(c => c.Value))
+            foreach (var (code, line) in NotYetCodes)
             {
                 w.WriteNumber(code, line);
             }

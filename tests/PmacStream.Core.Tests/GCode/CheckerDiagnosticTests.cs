@@ -3,10 +3,14 @@ using PmacStream.GCode;
 
 namespace PmacStream.Core.Tests.GCode;
 
-/// <summary>Every diagnostic code: a bad block that triggers it (line and column asserted) and a good one that does not.</summary>
+/// <summary>
+/// Every diagnostic code: a bad block that triggers it (line and column asserted) and a good one that does not, under
+/// the default profile (fanuc-mill) unless a case names another.
+/// </summary>
 public class CheckerDiagnosticTests
 {
-    private static IReadOnlyList<Diagnostic> Check(string text) => new Checker(MachineProfile.Default).CheckText(text).Diagnostics;
+    private static IReadOnlyList<Diagnostic> Check(string text, string profile = MachineProfile.DefaultName) =>
+        new Checker(MachineProfile.Named(profile)!).CheckText(text).Diagnostics;
 
     private static IReadOnlyList<Diagnostic> CheckBytes(byte[] bytes)
     {
@@ -15,20 +19,24 @@ public class CheckerDiagnosticTests
         return list;
     }
 
-    public static TheoryData<string, string, int, int> Bad => new()
+    public static DiagnosticCases Bad => new()
     {
         { DiagnosticCodes.IllegalCharacter, "O1\nG01 X1 F100 @", 2, 13 },
         { DiagnosticCodes.MalformedNumber, "O1\nG01 X1.2.3 F100", 2, 5 },
         { DiagnosticCodes.MalformedNumber, "O1\nG01 X- F100", 2, 5 },
         { DiagnosticCodes.UnclosedComment, "O1\nG01 X1 F100 (open", 2, 13 },
         { DiagnosticCodes.UnknownGCode, "O1\nG00 X1\nG05 X2", 3, 1 },
-        { DiagnosticCodes.UnknownMCode, "O1\nM06", 2, 1 },
+        { DiagnosticCodes.UnknownMCode, "O1\nM50", 2, 1 },
+        { DiagnosticCodes.UnknownMCode, "O1\nM06", 2, 1, "paper-24g7m" },
+        { DiagnosticCodes.UnknownMCode, "G21\nM6 T1", 2, 1, "grbl" },
         { DiagnosticCodes.NegativeValue, "O1\nG01 X1 F-5", 2, 8 },
         { DiagnosticCodes.NegativeValue, "O1\nS-100 M03", 2, 1 },
-        { DiagnosticCodes.ToolOutOfRange, "O1\nT99", 2, 1 },
+        { DiagnosticCodes.ToolOutOfRange, "O1\nT10000", 2, 1 },
+        { DiagnosticCodes.ToolOutOfRange, "O1\nT99", 2, 1, "paper-24g7m" },
         { DiagnosticCodes.ToolOutOfRange, "O1\nG00 T1.5", 2, 5 },
         { DiagnosticCodes.DecimalCode, "O1\nG1.5 X1 F100", 2, 1 },
         { DiagnosticCodes.DecimalCode, "O1\nM3.5", 2, 1 },
+        { DiagnosticCodes.DecimalCode, "O1\nG91.1", 2, 1, "paper-24g7m" },
         { DiagnosticCodes.ModalGroupConflict, "O1\nG00 G01 X1 F100", 2, 5 },
         { DiagnosticCodes.ModalGroupConflict, "O1\nM03 M05", 2, 5 },
         { DiagnosticCodes.NoFunction, "O1\nN10", 2, 1 },
@@ -41,7 +49,9 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.ArcRadiusMismatch, "O1\nF100\nG02 X10 Y0 R2", 3, 12 },
         { DiagnosticCodes.FeedMoveWithoutFeed, "O1\nG01 X1", 2, 1 },
         { DiagnosticCodes.FeedMoveWithoutFeed, "O1\nG01 F0\nX1", 3, 1 },
-        { DiagnosticCodes.UnsupportedLetter, "O1\nG00 X1 Q5", 2, 8 },
+        { DiagnosticCodes.UnsupportedLetter, "O1\nG00 X1 Q5", 2, 8, "paper-24g7m" },
+        { DiagnosticCodes.UnsupportedLetter, "G0 X1 A90", 1, 7, "grbl" },
+        { DiagnosticCodes.UnsupportedLetter, "O100\nG0 X1", 1, 1, "grbl" },
         { DiagnosticCodes.EmptyProgram, string.Empty, 1, 1 },
         { DiagnosticCodes.EmptyProgram, "(just a comment)\n\n%\n", 3, 1 },
         { DiagnosticCodes.NulByte, "O1\nG00 X1\0\0\0", 2, 7 },
@@ -52,6 +62,22 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.UnusedWord, "O1\nM05 P2", 2, 5 },
         { DiagnosticCodes.LowercaseLetter, "O1\ng00 x1", 2, 1 },
         { DiagnosticCodes.MissingWord, "O1\nG04", 2, 1 },
+        { DiagnosticCodes.NestedComment, "O1\nG00 X1 (outer (inner) text)", 2, 15 },
+        { DiagnosticCodes.RequiredWordMissing, "O1\nG10 P1 X0 Y0", 2, 1 },
+        { DiagnosticCodes.RequiredWordMissing, "O1\nG54.1", 2, 1 },
+        { DiagnosticCodes.RequiredWordMissing, "O1\nG98 G81 X1 Y1 R2 F100", 2, 5 },
+        { DiagnosticCodes.RequiredWordMissing, "G21\nG10 L20 X0", 2, 1, "grbl" },
+        { DiagnosticCodes.ValueNotAllowed, "O1\nG10 L5 P1 X0", 2, 5 },
+        { DiagnosticCodes.ValueNotAllowed, "O1\nG54.1 P0", 2, 7 },
+        { DiagnosticCodes.ValueNotAllowed, "O1\nG83 X1 Y1 Z-5 R1 Q0 F100", 2, 18 },
+        { DiagnosticCodes.ValueNotAllowed, "O1\nG81 X1 Y1 Z-5 R1 K1.5 F100", 2, 18 },
+        { DiagnosticCodes.ValueNotAllowed, "G21\nG10 L2 P7 X0", 2, 8, "grbl" },
+        { DiagnosticCodes.NoMotionMode, "G21\nX1 Y1", 2, 1, "linuxcnc-mill" },
+        { DiagnosticCodes.NoMotionMode, "G0 X0\nG81 X1 Y1 Z-1 R1 F10\nG80\nX2", 4, 1, "linuxcnc-mill" },
+        { DiagnosticCodes.NotYetOnController, "O1\nT1 M06\nM06", 2, 4 },
+        { DiagnosticCodes.NotYetOnController, "O1\nG00 G28 G91 Z0", 2, 5 },
+        { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\n%\nG00 X2\n", 4, 1 },
+        { DiagnosticCodes.IllegalCharacter, "G0 X1 /Y2", 1, 7, "linuxcnc-mill" },
     };
 
     public static TheoryData<string, string> Good => new()
@@ -60,18 +86,18 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.MalformedNumber, "O1\nG01 X1.23 Y.5 Z5. F+100" },
         { DiagnosticCodes.UnclosedComment, "O1\nG01 X1 F100 (closed)(twice)" },
         { DiagnosticCodes.UnknownGCode, "O1\nG0 X2\nG00 X1" },
-        { DiagnosticCodes.UnknownMCode, "O1\nM05" },
+        { DiagnosticCodes.UnknownMCode, "O1\nM05\nT1 M06\nM01\nM02" },
         { DiagnosticCodes.NegativeValue, "O1\nG01 X-1 F5\nS100 M03" },
-        { DiagnosticCodes.ToolOutOfRange, "O1\nT24" },
-        { DiagnosticCodes.DecimalCode, "O1\nG1 X1 F100\nM3" },
-        { DiagnosticCodes.ModalGroupConflict, "O1\nG00 G17 G90 G21 G54 X1\nM03 M08" },
-        { DiagnosticCodes.NoFunction, "O1\nN10 M05" },
+        { DiagnosticCodes.ToolOutOfRange, "O1\nT24\nT9999" },
+        { DiagnosticCodes.DecimalCode, "O1\nG1 X1 F100\nM3\nG91.1\nG54.1 P2" },
+        { DiagnosticCodes.ModalGroupConflict, "O1\nG00 G17 G90 G21 G54 X1\nM03 M08\nG90 G54 G64 G50 G17 G40 G80 G94 G91.1 G49\nG28 G91 Z0" },
+        { DiagnosticCodes.NoFunction, "O1\nN10 M05\nN20 (FACE1)\nN30 (label) (two comments)" },
         { DiagnosticCodes.DuplicateWord, "O1\nG00 X1 Y2" },
         { DiagnosticCodes.MotionWithoutAxes, "O1\nF100\nG02 X2 Y0 R1\nG03 I-1\nG01\nG00" },
         { DiagnosticCodes.ArcWithoutCenter, "O1\nF100\nG02 X2 Y0 I1 J0\nG18\nG03 X0 Z0 I-1" },
         { DiagnosticCodes.ArcRadiusMismatch, "O1\nF100\nG02 X2 Y0 I1 J0\nG03 X0 Y0 R1\nG02 X2 Y0 R-1.0005" },
         { DiagnosticCodes.FeedMoveWithoutFeed, "O1\nG01 X1 F100\nG00 X0" },
-        { DiagnosticCodes.UnsupportedLetter, "O1\nG00 X1 Y5 Z2" },
+        { DiagnosticCodes.UnsupportedLetter, "O1\nG00 X1 Y5 Z2\nG01 A90. F100\nG83 X1 Y1 Z-3 R1 Q0.5 F50\nG80" },
         { DiagnosticCodes.EmptyProgram, "O1\nM05" },
         { DiagnosticCodes.NulByte, "O1\nG00 X1" },
         { DiagnosticCodes.NoProgramNumber, "%\nO1001 (PART)\nG00 X1\n%" },
@@ -79,13 +105,19 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.UnusedWord, "O1\nG00 X1\nG04 P200" },
         { DiagnosticCodes.LowercaseLetter, "O1\nG00 X1 (lower case in comments is fine)" },
         { DiagnosticCodes.MissingWord, "O1\nG04 P500\nG04 X1.5" },
+        { DiagnosticCodes.NestedComment, "O1\nG00 X1 (one) (two)" },
+        { DiagnosticCodes.RequiredWordMissing, "O1\nG10 L2 P1 X0 Y0\nG54.1 P1\nG98 G81 X1 Y1 Z-1 R2 F100\nX2\nG80" },
+        { DiagnosticCodes.ValueNotAllowed, "O1\nG10 L20 P1 X0\nG54.1 P48\nG83 X1 Y1 Z-5 R1 Q0.2 K2 F100\nG80" },
+        { DiagnosticCodes.NoMotionMode, "G21\nG0 X1 Y1\nG81 X1 Y1 Z-1 R1 F10\nG80\nG1 X2 F100" },
+        { DiagnosticCodes.NotYetOnController, "O1\nG00 G17 G21 G90 G54 X1\nG01 X2 F100\nM03 S1000\nM08\nM30" },
+        { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\nM30\n%\n\n  \n" },
     };
 
     [Theory]
     [MemberData(nameof(Bad))]
-    public void Bad_block_triggers_the_code_at_its_line_and_column(string code, string program, int line, int column)
+    public void Bad_block_triggers_the_code_at_its_line_and_column(string code, string program, int line, int column, string profile)
     {
-        var diags = Check(program);
+        var diags = Check(program, profile);
         diags.Should().Contain(d => d.Code == code && d.Line == line && d.Column == column,
             "{0} expected at {1}:{2}, got: {3}", code, line, column, string.Join(" | ", diags.Select(d => $"{d.Code}@{d.Line}:{d.Column}")));
         diags.First(d => d.Code == code).Severity.Should().Be(code[0] == 'E' ? Severity.Error : Severity.Warning);
@@ -180,7 +212,7 @@ public class CheckerDiagnosticTests
     [Fact]
     public void Reports_every_problem_not_only_the_first()
     {
-        var diags = Check("O1\nG00 G01 X1 X2 Q3 @\nG05\nM99\n");
+        var diags = Check("O1\nG00 G01 X1 X2 Q3 @\nG05\nM99\n", "paper-24g7m");
         diags.Select(d => d.Code).Should().Contain(new[]
         {
             DiagnosticCodes.ModalGroupConflict, DiagnosticCodes.DuplicateWord, DiagnosticCodes.UnsupportedLetter,
@@ -225,4 +257,11 @@ public class DiagnosticCultureTests
         (await chinese).Should().Contain("G05").And.NotStartWith("unknown", "the Chinese check keeps its own language");
         DiagnosticText.Culture.Should().NotBeSameAs(System.Globalization.CultureInfo.GetCultureInfo("zh-CN"), "this test's own flow never set Chinese");
     }
+}
+
+/// <summary>Cases of a diagnostic: code, program, line, column and the profile it is checked under (the default when not given).</summary>
+public sealed class DiagnosticCases : TheoryData<string, string, int, int, string>
+{
+    /// <summary>A case under the default profile.</summary>
+    public void Add(string code, string program, int line, int column) => Add(code, program, line, column, MachineProfile.DefaultName);
 }

@@ -23,11 +23,18 @@ public class InterpreterTests
     [Fact]
     public void Power_on_state_comes_from_the_profile_startup_codes()
     {
-        var s = new Interpreter(MachineProfile.Default).State;
+        var s = new Interpreter(MachineProfile.Paper).State;
         (s.GA, s.GB, s.GC, s.GD, s.GE, s.GF, s.GH).Should().Be((0.0, 21.0, 90.0, 54.0, 17.0, 49.0, 40.0));
         (s.GG, s.GI, s.MA, s.MB, s.MC).Should().Be(((double?)null, (double?)null, (double?)null, 5.0, 9.0));
+        s.G.Should().HaveCount(9);
         s.Feed.Should().BeNull();
         s.Units.Should().Be(LengthUnits.Millimetres);
+
+        // fanuc-mill orders its first nine groups as the paper's columns mean them; GI holds the canned cycle group.
+        var f = new Interpreter(MachineProfile.Default).State;
+        (f.GA, f.GB, f.GC, f.GD, f.GE, f.GF, f.GG, f.GH, f.GI).Should().Be((0.0, 21.0, 90.0, 54.0, 17.0, 49.0, (double?)null, 40.0, 80.0));
+        f.G.Should().HaveCount(MachineProfile.Default.GGroups.Count).And.Contain([94.0, 98.0, 64.0, 91.1]);
+        (f.MA, f.MB, f.MC, f.Spindle, f.Coolant, f.Motion, f.Cycle).Should().Be(((double?)null, 5.0, 9.0, 5, 9, 0.0, (double?)null));
     }
 
     [Fact]
@@ -94,7 +101,7 @@ public class InterpreterTests
     [Fact]
     public void Non_modal_groups_hold_only_on_their_block()
     {
-        var b = Run("G04 P1\nG09 G01 X1 F100\nM30\nM05");
+        var b = Run("G04 P1\nG09 G01 X1 F100\nM30\nM05", MachineProfile.Paper);
         b[0].Modal.GG.Should().Be(4);
         b[1].Modal.GG.Should().BeNull();
         b[1].Modal.GI.Should().Be(9);

@@ -27,20 +27,45 @@ public class Prog1000LibraryTests
     }
 
     [Fact]
-    public void Every_profile_code_gets_exactly_one_label_ending_in_ret()
+    public void Every_library_code_gets_exactly_one_label_ending_in_ret_and_not_yet_codes_none()
     {
-        var routines = Prog1000Library.Routines(MachineProfile.Default);
-        routines.Should().HaveCount(MachineProfile.Default.GCodes.Count + MachineProfile.Default.MCodes.Count);
-        var text = Prog1000Library.Generate(MachineProfile.Default, new Prog1000Options { Comments = false });
-        foreach (var r in routines)
+        foreach (var name in MachineProfile.BuiltInNames)
         {
-            var code = double.Parse(r.Code[1..], System.Globalization.CultureInfo.InvariantCulture);
-            r.Label.Should().Be((int)Math.Round(code * 1000));
-            r.Program.Should().Be(r.Code[0] == 'G' ? 1000 : 1001);
-        }
+            var profile = MachineProfile.Named(name)!;
+            var routines = Prog1000Library.Routines(profile);
+            routines.Should().HaveCount(profile.GCodes.Count + profile.MCodes.Count);
+            var text = Prog1000Library.Generate(profile, new Prog1000Options { Comments = false });
+            foreach (var r in routines)
+            {
+                var code = double.Parse(r.Code[1..], System.Globalization.CultureInfo.InvariantCulture);
+                r.Label.Should().Be((int)Math.Round((code % 100) * 1000));
+                r.Converted.Should().Be(r.Controller == ControllerSupport.Library, $"{name} {r.Code}");
+            }
 
-        var labelLines = Lines(text).Where(l => l.StartsWith('N')).ToList();
-        labelLines.Should().HaveCount(routines.Count).And.OnlyContain(l => l.EndsWith(" RET"));
+            var labelLines = Lines(text).Where(l => l.StartsWith('N')).ToList();
+            labelLines.Should().HaveCount(routines.Count(r => r.Converted)).And.OnlyContain(l => l.EndsWith(" RET"));
+            var withComments = Prog1000Library.Generate(profile);
+            Lines(withComments).Should().OnlyContain(l => l.All(c => c < 128), "the file is downloaded to the controller as ASCII");
+            foreach (var r in routines.Where(r => !r.Converted))
+            {
+                withComments.Should().Contain(" " + r.Code, "a code without a routine is listed as not run yet");
+            }
+        }
+    }
+
+    [Fact]
+    public void A_code_the_profile_marks_library_needs_a_routine_the_profile_can_give_its_own()
+    {
+        var missing = MachineProfile.Parse("""
+            { "name": "m", "gCodes": [ { "code": "G112", "group": "00", "description": "polar interpolation", "controller": "library" } ] }
+            """);
+        var act = () => Prog1000Library.Generate(missing);
+        act.Should().Throw<InvalidDataException>().Which.Message.Should().Contain("G112").And.Contain("routine");
+
+        var own = MachineProfile.Parse("""
+            { "name": "o", "mCodes": [ { "code": "M07", "group": "c", "description": "mist", "controller": "library", "routine": "M905=1" } ] }
+            """);
+        Lines(Prog1000Library.Generate(own, new Prog1000Options { Comments = false })).Should().Contain("N7000 M905=1 RET");
     }
 
     [Fact]
@@ -57,26 +82,27 @@ public class Prog1000LibraryTests
     }
 
     [Fact]
-    public void Codes_from_100_go_to_prog_1010_and_unknown_codes_are_accepted_without_conversion()
+    public void Codes_from_100_go_to_prog_1010()
     {
         var profile = MachineProfile.Parse("""
-            { "name": "t", "gCodes": [ { "code": "G01", "group": "GA", "description": "line" },
-                                       { "code": "G112", "group": "GB", "description": "polar" },
+            { "name": "t", "gCodes": [ { "code": "G01", "group": "GA", "description": "line", "controller": "library" },
+                                       { "code": "G112", "group": "GB", "description": "polar", "controller": "library", "routine": "NORMAL K-1" },
                                        { "code": "G64.1", "group": "GC", "description": "odd" } ],
-              "mCodes": [ { "code": "M30", "group": "MA", "description": "end" } ] }
+              "mCodes": [ { "code": "M30", "group": "MA", "description": "end", "controller": "library" } ] }
             """);
         var routines = Prog1000Library.Routines(profile);
-        routines.Single(r => r.Code == "G112").Should().Match<Prog1000Routine>(r => r.Program == 1010 && r.Label == 12000 && !r.Converted);
-        routines.Single(r => r.Code == "G64.1").Label.Should().Be(64100);
+        routines.Single(r => r.Code == "G112").Should().Match<Prog1000Routine>(r => r.Program == 1010 && r.Label == 12000 && r.Converted);
+        routines.Single(r => r.Code == "G64.1").Should().Match<Prog1000Routine>(r => r.Label == 64100 && !r.Converted);
         var lines = Lines(Prog1000Library.Generate(profile, new Prog1000Options { Comments = false }));
-        lines.Should().ContainInOrder("OPEN PROG 1000 CLEAR", "N1000 LINEAR RET", "N64100 RET", "CLOSE", "OPEN PROG 1001 CLEAR", "CLOSE", "OPEN PROG 1010 CLEAR", "N12000 RET", "CLOSE");
+        lines.Should().ContainInOrder("OPEN PROG 1000 CLEAR", "N1000 LINEAR RET", "CLOSE", "OPEN PROG 1001 CLEAR", "CLOSE", "OPEN PROG 1010 CLEAR", "N12000 NORMAL K-1 RET", "CLOSE");
+        lines.Should().NotContain(l => l.StartsWith("N64100", StringComparison.Ordinal), "a code without a routine gets no empty label that looks as if it ran");
     }
 
     [Fact]
     public void Dwell_in_seconds_profiles_scale_p_to_milliseconds()
     {
         var profile = MachineProfile.Parse("""
-            { "name": "s", "dwellPInMilliseconds": false, "gCodes": [ { "code": "G04", "group": "GG", "description": "dwell" } ], "mCodes": [] }
+            { "name": "s", "dwellPInMilliseconds": false, "gCodes": [ { "code": "G04", "group": "GG", "description": "dwell", "controller": "library" } ], "mCodes": [] }
             """);
         Prog1000Library.Routines(profile).Single().Body.Should().Be("READ(P) DWELL(Q116*1000)");
     }

@@ -21,7 +21,7 @@ public class SplitSinglePassTests
         var text = "O1\n" + Moves(2, 4000) + "N4002 G05 X2\n" + Moves(4003, 3000) + "N7003 G00 X1 Q5\nM30\n";
         using var tp = new TempProgram(text);
         var written = 0;
-        var act = () => tp.Split(new SplitOptions { CheckProfile = MachineProfile.Default, LinesPerChunk = 100, AfterChunkWritten = _ => written++ });
+        var act = () => tp.Split(new SplitOptions { CheckProfile = MachineProfile.Paper, LinesPerChunk = 100, AfterChunkWritten = _ => written++ });
         var e = act.Should().Throw<SplitException>().Which;
         e.FromChecker.Should().BeTrue();
         e.ErrorCount.Should().Be(2);
@@ -150,8 +150,9 @@ public class SplitSinglePassTests
     [Fact]
     public void Streamed_manifest_is_byte_identical_to_the_serializer_and_loads_back()
     {
-        using var tp = new TempProgram("G01 X1\nG01 X2\nG01 X3\n", "零件 \"q\".nc");
-        var r = tp.Split(new SplitOptions { LinesPerChunk = 1 });
+        using var tp = new TempProgram("G01 X1\nG01 X2\nG28 G91 Z0\nM06 T2\nG01 X3\n", "零件 \"q\".nc");
+        var r = tp.Split(new SplitOptions { LinesPerChunk = 1, CheckProfile = MachineProfile.Default, AllowErrors = true });
+        r.Manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["G28"] = 3, ["M06"] = 4 });
         var streamed = File.ReadAllBytes(r.ManifestPath);
         var options = new JsonSerializerOptions
         {
