@@ -582,8 +582,15 @@ public sealed class GCodeReader : IDisposable
                 var digits = j - digitStart - points;
                 if (digits == 0 || points > 1)
                 {
-                    Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, (char)c);
-                    i = Math.Max(j, i + 1);
+                    // A run of letters (a word of another language: LinuxCNC's "sub", "call") is one finding, not one per letter.
+                    var run = i + 1;
+                    while (digits == 0 && run < line.Length && (uint)((line[run] | 0x20) - 'a') <= 'z' - 'a')
+                    {
+                        run++;
+                    }
+
+                    Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, run - i > 1 ? System.Text.Encoding.ASCII.GetString(line[i..run]) : ((char)c).ToString());
+                    i = Math.Max(Math.Max(j, run), i + 1);
                     continue;
                 }
 

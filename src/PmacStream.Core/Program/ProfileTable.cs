@@ -42,9 +42,9 @@ public static class ProfileTable
             .Append("; letters ").Append(profile.Letters)
             .Append("; power-on `").Append(profile.Startup).Append("`.\n\n");
         sb.Append("G groups (store columns GA-GI for the first nine): ")
-            .Append(string.Join(", ", profile.GGroups.Select(g => $"{g.Name} {g.Description}{(g.Modal ? "" : " (one-shot)")}"))).Append(".\n");
+            .Append(string.Join(", ", profile.GGroups.Select(g => $"`{g.Name}` {g.Description}{(g.Modal ? "" : " (one-shot)")}"))).Append(".\n");
         sb.Append("M groups (MA-MC for the first three): ")
-            .Append(string.Join(", ", profile.MGroups.Select(g => $"{g.Name} {g.Description}{(g.Modal ? "" : " (one-shot)")}"))).Append(".\n\n");
+            .Append(string.Join(", ", profile.MGroups.Select(g => $"`{g.Name}` {g.Description}{(g.Modal ? "" : " (one-shot)")}"))).Append(".\n\n");
         sb.Append("| code | group | meaning | words | what runs it on the controller |\n|---|---|---|---|---|\n");
         foreach (var r in Rows(profile))
         {

@@ -448,7 +448,7 @@ public class AxisLaneTests
         {
             var prefix = numbered && rng.Next(20) != 0 ? $"N{n++}" + Blank(rng) : "";
             string body;
-            var kind = rng.Next(100);
+            var kind = rng.Next(112);
             if (kind < 55)
             {
                 body = AxisWords(rng);
@@ -501,6 +501,18 @@ public class AxisLaneTests
                     37 when !clean => $"Q5 X1",
                     38 when !clean => "X1\0",
                     39 => "X" + new string('1', 3) + "." + new string('0', rng.Next(0, 2) == 0 ? 4 : 200),
+                    // Cycles and offsets close the lane while they are in force and change where its values land.
+                    40 => $"G81 X{Num(rng)} Y{Num(rng)} Z-1 R1 F100{End(rng)}X{Num(rng)}{End(rng)}G80",
+                    41 => "G80",
+                    42 => $"G98 G83 X{Num(rng)} Y{Num(rng)} Z-2 R1 Q0.5 F80{End(rng)}G80",
+                    43 => "G92 X0 Y0",
+                    44 => $"G10 L2 P2 X{Num(rng)} Y1",
+                    45 => $"G52 X{Num(rng)}",
+                    46 => "N7 (LABEL)",
+                    47 => $"G28 G91 Z0{End(rng)}G90",
+                    48 => $"G00 X{Num(rng)} A{Num(rng)}",
+                    49 => $"G93 G01 X1 F10{End(rng)}G94",
+                    50 => "G94",
                     _ => AxisWords(rng),
                 };
             }

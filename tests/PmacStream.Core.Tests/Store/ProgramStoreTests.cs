@@ -104,4 +104,67 @@ public sealed class ProgramStoreTests : IDisposable
         act.Should().Throw<OperationCanceledException>();
         store.ListPrograms().Should().BeEmpty();
     }
+
+    [Fact]
+    public void Every_profiles_modal_groups_read_back_without_loss()
+    {
+        var program = Path.Combine(_dir, "groups.nc");
+        File.WriteAllText(program, "%\nO1\nG90 G54 G64 G50 G17 G40 G80 G94 G91.1 G49\nG21 T1 M06\nG43 H1 Z10 M08\nG98 G81 X1 Y1 Z-1 R2 F100\nX2\nG80\nG00 Z10 M09\nM30\n%\n");
+        foreach (var name in MachineProfile.BuiltInNames)
+        {
+            var profile = MachineProfile.Named(name)!;
+            var expected = new List<DecodedBlock>();
+            new Checker(profile).CheckFile(program, _ => { }, expected.Add);
+            using var store = ProgramStore.Open(Path.Combine(_dir, name + ".db"));
+            var (id, _) = store.Import(program, profile);
+            store.ReadBlocks(id).Should().Equal(expected, name);
+            store.GroupsOf(id).GNames.Should().Equal(profile.GGroups.Select(g => g.Name));
+            store.GroupsOf(id).MNames.Should().Equal(profile.MGroups.Select(g => g.Name));
+        }
+
+        using var check = ProgramStore.Open(Path.Combine(_dir, "fanuc-mill.db"));
+        using var cmd = new Microsoft.Data.Sqlite.SqliteConnection($"Data Source={check.Path}");
+        cmd.Open();
+        using var q = cmd.CreateCommand();
+        q.CommandText = "SELECT GI, more_groups FROM blocks WHERE Lines = 6";
+        using var r = q.ExecuteReader();
+        r.Read().Should().BeTrue();
+        (r.GetDouble(0), r.GetString(1)).Should().Be((81.0, "{\"G\":[94,98,64,50,69,15,50.1,67,97,23,91.1],\"M\":[null,null,null,null,null,null,null,null,null,null]}"),
+            "the ninth group is in its column and the rest, in profile order, beside it");
+    }
+
+    [Fact]
+    public void A_store_from_before_named_groups_gets_the_new_columns_and_its_programs_read_as_the_papers()
+    {
+        var path = Path.Combine(_dir, "old.db");
+        using (var old = new Microsoft.Data.Sqlite.SqliteConnection($"Data Source={path};Pooling=False"))
+        {
+            old.Open();
+            using var cmd = old.CreateCommand();
+            cmd.CommandText = """
+                CREATE TABLE programs (id INTEGER PRIMARY KEY, path TEXT NOT NULL, size INTEGER NOT NULL, sha256 TEXT NOT NULL,
+                    lines INTEGER NOT NULL, blocks INTEGER NOT NULL, errors INTEGER NOT NULL, warnings INTEGER NOT NULL,
+                    estimated_seconds REAL NOT NULL, profile TEXT NOT NULL, check_summary TEXT NOT NULL, created TEXT NOT NULL);
+                CREATE TABLE blocks (key INTEGER PRIMARY KEY, program_id INTEGER NOT NULL, Lines INTEGER NOT NULL, byte_offset INTEGER NOT NULL,
+                    N REAL, block_delete INTEGER NOT NULL, GA REAL, GB REAL, GC REAL, GD REAL, GE REAL, GF REAL, GG REAL, GH REAL, GI REAL,
+                    MA REAL, MB REAL, MC REAL, X REAL, Y REAL, Z REAL, I REAL, J REAL, K REAL, R REAL, F REAL, S REAL, T REAL, H REAL, D REAL,
+                    P REAL, motion INTEGER NOT NULL, start_x REAL, start_y REAL, start_z REAL, end_x REAL, end_y REAL, end_z REAL,
+                    center_x REAL, center_y REAL, center_z REAL, length REAL, duration REAL,
+                    modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL);
+                INSERT INTO programs VALUES (1, 'a.nc', 10, 'x', 1, 1, 0, 0, 0, 'default-mill', '0 errors, 0 warnings, 1 blocks', '2026-01-01T00:00:00Z');
+                INSERT INTO blocks VALUES (4294967297, 1, 1, 0, NULL, 0, 1, 20, 91, 54, 18, 49, NULL, 40, NULL, NULL, 3, 8,
+                    1, NULL, NULL, NULL, NULL, NULL, NULL, 100, NULL, NULL, NULL, NULL, NULL, 2, 0, 0, 0, 1, 0, 0, NULL, NULL, NULL, 1, 0.6,
+                    0, 0, 0, 0, 100);
+                """;
+            cmd.ExecuteNonQuery();
+        }
+
+        using var store = ProgramStore.Open(path);
+        var block = store.GetBlockAtLine(1, 1)!;
+        block.Modal.G.Should().HaveCount(9);
+        (block.Modal.Units, block.Modal.Plane, block.Modal.Absolute, block.Modal.Spindle, block.Modal.Coolant).Should().Be(
+            (LengthUnits.Inches, 18, false, 3, 8));
+        var (id, _) = store.Import(Demo, MachineProfile.Default);
+        store.ReadBlocks(id).Should().Equal(Interpret(Demo), "new programs go into the migrated store whole");
+    }
 }

@@ -64,16 +64,28 @@ public sealed class CheckCommandTests : IDisposable
         var (code, output) = Run(file, "--lang", "en");
         code.Should().Be(1);
         var lines = output.TrimEnd().Split('\n').Select(l => l.TrimEnd('\r')).ToArray();
-        lines.Should().Contain($"{file}:3:5: error E109: G00 and G01 are both in modal group GA: only one code of a group per block");
+        lines.Should().Contain($"{file}:3:5: error E109: G00 and G01 are both in modal group 01: only one code of a group per block");
         lines.Should().Contain(l => l.StartsWith($"{file}:4:1: error E110: "));
         lines[^1].Should().Be("2 errors, 2 warnings, 3 blocks");   // W002 for lines 2 and 3 once N5 shows the program numbers blocks
         lines[0].Should().Be($"{file}:2:1: warning W002: block has no sequence number while other blocks are numbered");
     }
 
     [Fact]
+    public void Chinese_output_is_Chinese_to_the_last_line()
+    {
+        var file = Write("zh.nc", "O1\nT1 M06\nG01 X1\nG05\n");
+        var (code, output) = Run(file, "--lang", "zh-CN");
+        code.Should().Be(1);
+        var lines = output.TrimEnd().Split('\n').Select(l => l.TrimEnd('\r')).ToArray();
+        lines.Should().HaveCount(4).And.OnlyContain(l => System.Text.RegularExpressions.Regex.IsMatch(l, @"\p{IsCJKUnifiedIdeographs}"));
+        lines[^1].Should().Be("2 个错误，1 个警告，3 个程序段");
+        Run(file, "--lang", "en").Output.TrimEnd().Split('\n')[^1].Should().Be("2 errors, 1 warnings, 3 blocks");
+    }
+
+    [Fact]
     public void Json_output_is_one_object_with_counts_and_diagnostics()
     {
-        var file = Write("bad.nc", "O1\nG01 X1\nM99\n");
+        var file = Write("bad.nc", "O1\nG01 X1\nM50\n");
         var (code, output) = Run(file, "--json", "--lang", "zh-CN");
         code.Should().Be(1);
         using var doc = JsonDocument.Parse(output);
@@ -139,12 +151,18 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void A_custom_profile_changes_what_is_known()
     {
-        var json = MachineProfile.Default.ToJson().Replace("{\n      \"code\": \"M00\"", "{ \"code\": \"M06\", \"group\": \"MA\", \"description\": \"tool change\" },\n    {\n      \"code\": \"M00\"");
+        // The paper's set plus a tool change, as a machine's own profile file.
+        var json = MachineProfile.Paper.ToJson().Replace("{\n      \"code\": \"M00\"", "{ \"code\": \"M06\", \"group\": \"MA\", \"description\": \"tool change\" },\n    {\n      \"code\": \"M00\"");
         json.Should().Contain("M06");
         var profile = Write("p.json", json);
         var file = Write("tc.nc", "O1\nT2 M06\n");
-        Run(file).Code.Should().Be(1);
-        Run(file, "--profile", profile).Code.Should().Be(0);
+        Run(file, "--profile", "paper-24g7m").Code.Should().Be(1);
+        var (code, output) = Run(file, "--profile", profile, "--lang", "en");
+        code.Should().Be(0);
+        output.Should().Contain("W006: M06 (tool change) is accepted by profile 'paper-24g7m' but the controller cannot run it yet",
+            "a code a profile file does not mark as run by the library is not yet");
+        Run(file).Code.Should().Be(0, "the default profile knows M06");
+        Run(file, "--profile", "grbl").Code.Should().Be(1, "grbl has no tool changer");
     }
 
     // Theory data carries only names: xunit serializes theory data for the test runner at discovery, and a 10 MB

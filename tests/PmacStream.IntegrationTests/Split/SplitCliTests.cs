@@ -68,6 +68,22 @@ public sealed class SplitCliTests : IDisposable
     }
 
     [Fact]
+    public void Split_names_the_codes_the_controller_cannot_run_yet_and_sets_the_feed_only_where_it_changes()
+    {
+        var src = Write("real.nc", "%\nO1\nN10 (FACE1)\nG90 G94 G17 G49 G40 G80\nT1 M06\nS5000 M03\nG43 H1 Z15.\n" +
+            string.Concat(Enumerable.Range(1, 6).Select(i => $"G01 X{i}. F{(i < 4 ? 800 : 400)}.\n")) + "G28 G91 Z0.\nM30\n%\n");
+        var outDir = Path.Combine(_folder, "real_chunks");
+        var (code, stdout, stderr) = Run("split", src, "--out", outDir);
+        code.Should().Be(0, stderr);
+        stdout.Should().Contain("not runnable on the controller yet under profile 'fanuc-mill'").And.Contain("M06 (line 5), G43 (line 7), G28 (line 14)");
+        var manifest = ChunkManifest.Load(Path.Combine(outDir, "manifest.json"));
+        manifest.Profile.Should().Be("fanuc-mill");
+        manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M06"] = 5, ["G43"] = 7, ["G28"] = 14 });
+        var chunk = File.ReadAllText(Path.Combine(outDir, "real_0001.pmc"));
+        chunk.Split("\r\n").Where(l => l.StartsWith("P500=", StringComparison.Ordinal)).Should().Equal("P500=800.", "P500=400.");
+    }
+
+    [Fact]
     public void Split_refuses_a_program_with_errors_naming_them_and_exits_1_unless_forced()
     {
         var src = Write("bad.nc", "G21 G90\nG01 X1 F100\nG01 X#2\nG01 X3\nM30\n");
@@ -90,13 +106,13 @@ public sealed class SplitCliTests : IDisposable
         var body = string.Concat(Enumerable.Range(2, 3000).Select(i => $"N{i} G01 X{i}.5 F100\n"));
         var src = Write("late.nc", "O1\n" + body + "N3002 G05 X2\nN3003 G00 X1 Q5\nM30\n");
         var outDir = Path.Combine(_folder, "late_chunks");
-        var (code, _, stderr) = Run("split", src, "--out", outDir, "--lines", "100");
+        var (code, _, stderr) = Run("split", src, "--out", outDir, "--lines", "100", "--profile", "paper-24g7m");
         code.Should().Be(1, stderr);
         stderr.Should().Contain("late.nc:3002:7").And.Contain("E104").And.Contain("late.nc:3003:14").And.Contain("E118")
             .And.Contain("2 error(s); not split (--force splits anyway)");
         Directory.GetFileSystemEntries(_folder).Should().Equal(src);
 
-        var forced = Run("split", src, "--out", outDir, "--lines", "100", "--force");
+        var forced = Run("split", src, "--out", outDir, "--lines", "100", "--force", "--profile", "paper-24g7m");
         forced.Code.Should().Be(0, forced.Err);
         forced.Out.Should().Contain("31 chunks, 3003 blocks");
     }
