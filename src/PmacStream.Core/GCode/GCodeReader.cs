@@ -1,5 +1,4 @@
 using System.Buffers;
-using System.Globalization;
 
 namespace PmacStream.GCode;
 
@@ -74,7 +73,7 @@ public sealed class GCodeReader : IDisposable
             return false;
         }
 
-        Lex(_block);
+        LineLexer.Lex(_block);
         Note(_block);
         return true;
     }
@@ -208,7 +207,7 @@ public sealed class GCodeReader : IDisposable
             b.LineNumber = _lineNumber;
         }
 
-        Lex(b);
+        LineLexer.Lex(b);
         Note(b);
         return b;
     }
@@ -224,7 +223,7 @@ public sealed class GCodeReader : IDisposable
             return;
         }
 
-        var i = SkipBlanks(line, 0);
+        var i = LineLexer.SkipBlanks(line, 0);
         _sawBlock = i < line.Length && (uint)((line[i] | 0x20) - 'a') <= 'z' - 'a';
     }
 
@@ -296,7 +295,7 @@ public sealed class GCodeReader : IDisposable
         block.Buffer = bytes.Length == 0 ? new byte[1] : bytes;
         block.Length = bytes.Length;
         block.LineNumber = lineNumber;
-        Lex(block);
+        LineLexer.Lex(block);
         return block;
     }
 
@@ -430,266 +429,4 @@ public sealed class GCodeReader : IDisposable
         data.CopyTo(b.Buffer.AsSpan(b.Length));
         b.Length += data.Length;
     }
-
-    // Hot loop of a million-line program: compile optimized at once instead of spending the first
-    // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    private static void Lex(GBlock b)
-    {
-        b.WordList.Clear();
-        b.CommentList.Clear();
-        b.BlockDelete = false;
-        b.IsTapeMark = false;
-        b.SkipFrom = -1;
-        b.SkipColumn = 0;
-        var line = b.Buffer.AsSpan(0, b.Length);
-        var i = SkipBlanks(line, 0);
-        var reportedLowercase = false;
-
-        if (i < line.Length && line[i] == (byte)'%')
-        {
-            b.IsTapeMark = true;
-            i++;
-        }
-        else if (i < line.Length && line[i] == (byte)'/')
-        {
-            b.BlockDelete = true;
-            i++;
-            // Optional block-delete level (/1../9) is read as part of the marker.
-            if (i < line.Length && line[i] is >= (byte)'1' and <= (byte)'9')
-            {
-                i++;
-            }
-        }
-
-        while (true)
-        {
-            i = SkipBlanks(line, i);
-            if (i >= line.Length)
-            {
-                break;
-            }
-
-            var c = line[i];
-            if (c == (byte)'(')
-            {
-                var close = line[(i + 1)..].IndexOfAny((byte)')', (byte)'(');
-                if (close >= 0 && line[i + 1 + close] == (byte)'(')
-                {
-                    // Comments do not nest (FANUC, RS274/NGC): say so once, and end the comment at its matching ')'.
-                    Add(b, Severity.Error, DiagnosticCodes.NestedComment, i + 2 + close);
-                    close = MatchingClose(line, i);
-                }
-
-                if (close < 0)
-                {
-                    b.CommentList.Add((i, line.Length - i));
-                    Add(b, Severity.Error, DiagnosticCodes.UnclosedComment, i + 1);
-                    break;
-                }
-
-                b.CommentList.Add((i, close + 2));
-                i += close + 2;
-                continue;
-            }
-
-            if (c == (byte)';')
-            {
-                b.CommentList.Add((i, line.Length - i));
-                break;
-            }
-
-            if (b.IsTapeMark)
-            {
-                // Text after % on a tape-mark line is ignored by controllers; keep it as a comment.
-                b.CommentList.Add((i, line.Length - i));
-                break;
-            }
-
-            if (c == (byte)'/' && b.WordList.Count > 0)
-            {
-                // FANUC's optional block skip inside a block: the rest of the block is skipped when block delete is
-                // on. Whether the dialect allows it is the profile's to say (the interpreter reports it otherwise).
-                if (b.SkipFrom < 0)
-                {
-                    b.SkipFrom = b.WordList.Count;
-                    b.SkipColumn = i + 1;
-                }
-
-                i++;
-                if (i < line.Length && line[i] is >= (byte)'1' and <= (byte)'9')
-                {
-                    i++;
-                }
-
-                continue;
-            }
-
-            var isLower = c is >= (byte)'a' and <= (byte)'z';
-            // ':' is the ISO program number address, so only the first word of a block (FANUC's ":1234" for O1234).
-            if ((c is >= (byte)'A' and <= (byte)'Z') || isLower || (c == (byte)':' && b.WordList.Count == 0))
-            {
-                var letter = c == (byte)':' ? 'O' : (char)(c & 0xDF);
-                if (isLower && !reportedLowercase)
-                {
-                    reportedLowercase = true;
-                    Add(b, Severity.Warning, DiagnosticCodes.LowercaseLetter, i + 1, (char)c);
-                }
-
-                var column = i + 1;
-                var j = SkipBlanks(line, i + 1);
-                var numStart = j;
-                if (j < line.Length && (line[j] == (byte)'+' || line[j] == (byte)'-'))
-                {
-                    j++;
-                }
-
-                // Scan and convert in one pass: integer digits, then fraction digits, as one integer mantissa scaled
-                // once by a power of ten. With at most 15 digits the mantissa and the power are exact doubles, so the
-                // one division is correctly rounded: the same value the BCL parser gives, which longer numbers use.
-                var negative = j > numStart && line[numStart] == (byte)'-';
-                var digitStart = j;
-                long mantissa = 0;
-                uint digit;
-                while (j < line.Length && (digit = (uint)(line[j] - (byte)'0')) <= 9)
-                {
-                    mantissa = (mantissa * 10) + digit;
-                    j++;
-                }
-
-                var scale = 0;
-                var points = 0;
-                if (j < line.Length && line[j] == (byte)'.')
-                {
-                    points = 1;
-                    j++;
-                    var fractionStart = j;
-                    while (j < line.Length && (digit = (uint)(line[j] - (byte)'0')) <= 9)
-                    {
-                        mantissa = (mantissa * 10) + digit;
-                        j++;
-                    }
-
-                    scale = j - fractionStart;
-                    // A second point makes it malformed; the whole run of digits and points is one bad token.
-                    while (j < line.Length && (line[j] == (byte)'.' || (uint)(line[j] - (byte)'0') <= 9))
-                    {
-                        points += line[j] == (byte)'.' ? 1 : 0;
-                        j++;
-                    }
-                }
-
-                var digits = j - digitStart - points;
-                if (digits == 0 || points > 1)
-                {
-                    // A run of letters (a word of another language: LinuxCNC's "sub", "call") is one finding, not one per letter.
-                    var run = i + 1;
-                    while (digits == 0 && run < line.Length && (uint)((line[run] | 0x20) - 'a') <= 'z' - 'a')
-                    {
-                        run++;
-                    }
-
-                    Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, run - i > 1 ? System.Text.Encoding.ASCII.GetString(line[i..run]) : ((char)c).ToString());
-                    i = Math.Max(Math.Max(j, run), i + 1);
-                    continue;
-                }
-
-                double value;
-                if (digits <= 15)
-                {
-                    value = scale == 0 ? mantissa : mantissa / Pow10[scale];
-                    if (negative)
-                    {
-                        value = -value;
-                    }
-                }
-                else
-                {
-                    value = ParseNumber(line[numStart..j]);
-                    if (!double.IsFinite(value) || Math.Abs(value) > 1e15)
-                    {
-                        // Hundreds of digits: no controller register holds that; report instead of computing with infinity.
-                        Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, (char)c);
-                        i = j;
-                        continue;
-                    }
-                }
-
-                b.WordList.Add(new GWord(letter, value, column, numStart, j - numStart, isLower));
-                i = j;
-                continue;
-            }
-
-            // Report the whole run of junk once, not every byte of it.
-            if (c == 0)
-            {
-                Add(b, Severity.Error, DiagnosticCodes.NulByte, i + 1);
-            }
-            else
-            {
-                Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
-            }
-
-            i++;
-            while (i < line.Length && !IsTokenStart(line[i]))
-            {
-                i++;
-            }
-        }
-    }
-
-    /// <summary>The offset after <paramref name="open"/>+1 of the ')' that closes the comment opened there (counting nested ones), or -1.</summary>
-    private static int MatchingClose(ReadOnlySpan<byte> line, int open)
-    {
-        var depth = 0;
-        for (var j = open; j < line.Length; j++)
-        {
-            if (line[j] == (byte)'(')
-            {
-                depth++;
-            }
-            else if (line[j] == (byte)')' && --depth == 0)
-            {
-                return j - open - 1;
-            }
-        }
-
-        return -1;
-    }
-
-    private static bool IsTokenStart(byte c) =>
-        c is (byte)'(' or (byte)';' or (byte)' ' or (byte)'\t' or (byte)':' || (c is >= (byte)'A' and <= (byte)'Z') || (c is >= (byte)'a' and <= (byte)'z');
-
-    private static string Printable(ReadOnlySpan<byte> line, int i)
-    {
-        var c = line[i];
-        if (c >= 0x20 && c < 0x7F)
-        {
-            return ((char)c).ToString();
-        }
-
-        return $"0x{c:X2}";
-    }
-
-    private static double ParseNumber(ReadOnlySpan<byte> text) =>
-        double.TryParse(text, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) ? v : double.NaN;
-
-    private static readonly double[] Pow10 =
-    [
-        1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
-    ];
-
-    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-    private static int SkipBlanks(ReadOnlySpan<byte> line, int i)
-    {
-        while (i < line.Length && (line[i] == (byte)' ' || line[i] == (byte)'\t' || line[i] == 0x0B || line[i] == 0x0C))
-        {
-            i++;
-        }
-
-        return i;
-    }
-
-    private static void Add(GBlock b, Severity severity, string code, int column, params object[] args) =>
-        b.DiagnosticList.Add(new Diagnostic(severity, code, b.LineNumber, column, DiagnosticText.Format(code, args)));
 }

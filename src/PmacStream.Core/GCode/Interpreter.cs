@@ -15,9 +15,6 @@ namespace PmacStream.GCode;
 /// </summary>
 public sealed partial class Interpreter
 {
-    private const int Parameters = 1 << ('I' - 'A') | 1 << ('J' - 'A') | 1 << ('K' - 'A') | 1 << ('R' - 'A') |
-        1 << ('P' - 'A') | 1 << ('Q' - 'A') | 1 << ('L' - 'A') | 1 << ('E' - 'A');
-
     private readonly MachineProfile _profile;
     private readonly int _gCount;
     private readonly int _mCount;
@@ -370,81 +367,8 @@ public sealed partial class Interpreter
         }
 
         // Values and their ranges.
-        var f = Word('F', col, val);
-        if (f is { } fv)
-        {
-            if (fv < 0)
-            {
-                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('F', col), 'F', ModalState.Num(fv));
-            }
-            else if (_feed != fv)
-            {
-                _feed = fv;
-                _dirty = true;
-            }
-        }
-
-        var s = Word('S', col, val);
-        if (s is { } sv)
-        {
-            if (sv < 0)
-            {
-                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('S', col), 'S', ModalState.Num(sv));
-            }
-            else if (_speed != sv)
-            {
-                _speed = sv;
-                _dirty = true;
-            }
-        }
-
-        var t = Word('T', col, val);
-        if (t is { } tv)
-        {
-            if (tv < 0 || tv > _profile.ToolCount || tv != Math.Floor(tv))
-            {
-                Add(diags, DiagnosticCodes.ToolOutOfRange, line, ColOf('T', col), ModalState.Num(tv), _profile.ToolCount);
-            }
-            else if (_tool != (int)tv)
-            {
-                _tool = (int)tv;
-                _dirty = true;
-            }
-        }
-
-        var h = Word('H', col, val);
-        if (h is { } hv)
-        {
-            if (hv < 0)
-            {
-                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('H', col), 'H', ModalState.Num(hv));
-            }
-            else if (_h != (int)hv)
-            {
-                _h = (int)hv;
-                _dirty = true;
-            }
-        }
-
-        var d = Word('D', col, val);
-        if (d is { } dv)
-        {
-            if (dv < 0)
-            {
-                Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('D', col), 'D', ModalState.Num(dv));
-            }
-            else if (_d != (int)dv)
-            {
-                _d = (int)dv;
-                _dirty = true;
-            }
-        }
-
-        var p = Word('P', col, val);
-        if (p is { } pv && pv < 0)
-        {
-            Add(diags, DiagnosticCodes.NegativeValue, line, ColOf('P', col), 'P', ModalState.Num(pv));
-        }
+        TakeValues(col, val, diags, line);
+        var (f, sw, t, h, d, p) = (Word('F', col, val), Word('S', col, val), Word('T', col, val), Word('H', col, val), Word('D', col, val), Word('P', col, val));
 
         var x = Word('X', col, val);
         var y = Word('Y', col, val);
@@ -561,7 +485,8 @@ public sealed partial class Interpreter
             usedArcWords = true;
         }
 
-        if (diags != null)
+        // Most blocks carry no parameter word: eight loads instead of the report's loop.
+        if (diags != null && (col['I' - 'A'] | col['J' - 'A'] | col['K' - 'A'] | col['R' - 'A'] | col['P' - 'A'] | col['Q' - 'A'] | col['L' - 'A'] | col['E' - 'A']) != 0)
         {
             ReportUnusedWords(col, codes.Read, usedArcWords, usedP || (codes.Read & (1 << ('P' - 'A'))) != 0, effective, diags, line);
         }
@@ -591,7 +516,7 @@ public sealed partial class Interpreter
         last.K = k0;
         last.R = r;
         last.F = f;
-        last.S = s;
+        last.S = sw;
         last.T = t;
         last.H = h;
         last.D = d;
@@ -603,261 +528,6 @@ public sealed partial class Interpreter
         last.Length = length;
         last.DurationSeconds = seconds;
         return true;
-    }
-
-    /// <summary>The holes of a positioning block while a cycle is in force (see <see cref="CannedCycle"/>).</summary>
-    private (Point3 End, MotionKind Kind, double Length, double Seconds) Holes(Point3 start, double? x, double? y, double? z, double? r,
-        Span<int> col, Span<double> val, List<Diagnostic>? diags, int line, ref BlockCodes codes)
-    {
-        var key = _cycle.Code;
-        var info = _gInfo.TryGetValue(key, out var ci) ? ci : default;
-        codes.Read |= info.WordMask;
-        var column = codes.CycleColumn != 0 ? codes.CycleColumn : col['X' - 'A'] | col['Y' - 'A'] | col['Z' - 'A'];
-        if (z is null && !_cycle.HasBottom)
-        {
-            Add(diags, DiagnosticCodes.RequiredWordMissing, line, column == 0 ? 1 : column, "G" + CodeText(key / 10.0), "Z", "where the hole ends", "孔底位置");
-        }
-
-        // A repeat count: FANUC writes K, RS274/NGC L; 0 keeps the data without drilling.
-        var repeats = info.Reads('K') && col['K' - 'A'] != 0 ? val['K' - 'A'] : info.Reads('L') && col['L' - 'A'] != 0 ? val['L' - 'A'] : 1;
-        var (end, rapid, feed, holes) = _cycle.Run(start, x, y, z, r, (int)Math.Max(0, repeats), _absolute, _returnToR, _coords.Active);
-        if (holes == 0)
-        {
-            return (start, MotionKind.None, 0, 0);
-        }
-
-        var seconds = RapidTime(rapid) + FeedTime(feed, col['F' - 'A'] != 0, diags, line, column == 0 ? 1 : column, key / 10);
-        return (end, MotionKind.Cycle, rapid + feed, seconds);
-    }
-
-    /// <summary>Cycles begin with their code and end with G80 or a motion code later in the block (FANUC cancels a cycle with a group 01 code).</summary>
-    private void UpdateCycle(ref BlockCodes codes)
-    {
-        if (codes.Cycle != 0 && !(codes.MotionInBlock >= 0 && codes.MotionColumn > codes.CycleColumn))
-        {
-            _cycle.Enter(codes.Cycle, _pos.Z);
-        }
-        else if (_cycle.Active && (codes.CycleCancel || codes.MotionInBlock >= 0))
-        {
-            _cycle.Cancel();
-            if (!codes.CycleCancel && _cycleGroup >= 0 && _cycleGroup != _motionGroup && _profile.GGroupOf(80) == _cycleGroup)
-            {
-                SetG(_cycleGroup, 80);
-            }
-        }
-    }
-
-    /// <summary>The offsets a data code sets from its words.</summary>
-    private void SetData(int key, double? x, double? y, double? z, double? l, double? p)
-    {
-        switch (key)
-        {
-            case 920:
-                _coords.SetShift(x, y, z, _pos);
-                break;
-            case 921 or 922:
-                _coords.ClearShift();
-                break;
-            case 520:
-                _coords.SetLocal(x, y, z);
-                break;
-            case 100 when l is 2 or 20 && p is { } n && n >= 0:
-                // L2 sets an offset to the values; L20 sets FANUC's extended offsets, or (RS274/NGC, grbl) the offset
-                // that makes the current position read as the values.
-                var extended = l == 20 && _profile.ExtendedWorkOffsets;
-                _coords.SetOffset((int)n, extended, fromPosition: l == 20 && !extended, x, y, z, _pos);
-                break;
-            default:
-                return;
-        }
-
-        _dirty = true;
-    }
-
-    /// <summary>Required words (E124), allowed values (E125) and "not yet on the controller" (W006) of one code of the block.</summary>
-    private void CheckCode(in CodeInfo info, Span<int> col, Span<double> val, List<Diagnostic>? diags, int line, int column)
-    {
-        var def = info.Def;
-        if (def.Controller == ControllerSupport.NotYet && _notYet.TryAdd(def.Code, line))
-        {
-            Add(diags, DiagnosticCodes.NotYetOnController, line, column, def.Code, def.Description, _profile.Name);
-        }
-
-        if (diags == null || (info.RequiresMask == 0 && def.Values.Count == 0))
-        {
-            return;
-        }
-
-        foreach (var c in def.Requires)
-        {
-            if (col[c - 'A'] == 0)
-            {
-                Add(diags, DiagnosticCodes.RequiredWordMissing, line, column, def.Code, c.ToString(), "the code needs it", "该代码需要它");
-            }
-        }
-
-        foreach (var (c, set) in def.Values)
-        {
-            if (col[c - 'A'] != 0 && !set.Contains(val[c - 'A']))
-            {
-                Add(diags, DiagnosticCodes.ValueNotAllowed, line, col[c - 'A'], c, ModalState.Num(val[c - 'A']), def.Code, set.Text);
-            }
-        }
-    }
-
-    /// <summary>W003 for parameter words (I J K R P Q L E) no code of the block reads.</summary>
-    private static void ReportUnusedWords(Span<int> col, int read, bool usedArcWords, bool usedP, bool effective, List<Diagnostic> diags, int line)
-    {
-        foreach (var c in "IJKRQLEP")
-        {
-            var bit = 1 << (c - 'A');
-            if (col[c - 'A'] == 0 || (read & bit) != 0)
-            {
-                continue;
-            }
-
-            // I/J/K/R are arc words whatever else the block does; the others only count in a block that does something.
-            var unused = c is 'I' or 'J' or 'K' or 'R' ? !usedArcWords : effective && (c != 'P' || !usedP);
-            if (unused)
-            {
-                Add(diags, DiagnosticCodes.UnusedWord, line, col[c - 'A'], c);
-            }
-        }
-    }
-
-    /// <summary>The parameter words the motion code in force reads (an arc's I/J/K/R, LinuxCNC's P turns).</summary>
-    private int MotionWords() =>
-        _motionGroup >= 0 && _g[_motionGroup] is { } v && _gInfo.TryGetValue(MachineProfile.Key(v), out var info) && info.WordMask != 0
-            ? info.WordMask
-            : 1 << ('I' - 'A') | 1 << ('J' - 'A') | 1 << ('K' - 'A') | 1 << ('R' - 'A');
-
-    [MethodImpl(MethodImplOptions.AggressiveInlining)]
-    private double RapidTime(double length) => length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
-
-    [MethodImpl(MethodImplOptions.AggressiveInlining)]
-    private double FeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode)
-    {
-        if (_feed is not { } feed || feed <= 0 || (_feedMode == 93 && !fInBlock))
-        {
-            // Inverse time (G93) wants the F of every feed move in its own block.
-            Add(diags, DiagnosticCodes.FeedMoveWithoutFeed, line, column, mode < 10 ? "0" + mode : mode.ToString(System.Globalization.CultureInfo.InvariantCulture));
-            return 0;
-        }
-
-        return _feedMode switch
-        {
-            93 => 60.0 / feed,                                   // F is moves per minute
-            95 => _speed > 0 ? length / (feed * _speed) * 60.0 : 0, // F per spindle revolution
-            _ => length / feed * 60.0,
-        };
-    }
-
-    private (int Motion, int Cycle) ClassifyGroups()
-    {
-        // One table lookup per word instead of the profile's letter set plus the letter tests in the hot loop.
-        for (var c = 'A'; c <= 'Z'; c++)
-        {
-            _letterKinds[c - 'A'] = !_profile.AcceptsLetter(c) ? LetterKind.Unsupported
-                : c == 'G' ? LetterKind.G
-                : c == 'M' ? LetterKind.M
-                : c is 'N' or 'O' or 'I' or 'J' or 'K' or 'R' or 'P' or 'Q' or 'L' or 'E' ? LetterKind.Parameter
-                : LetterKind.Effective;
-        }
-
-        for (var i = 0; i < _gCount; i++)
-        {
-            _gNonModal[i] = !_profile.GGroups[i].Modal;
-        }
-
-        for (var i = 0; i < _mCount; i++)
-        {
-            _mNonModal[i] = !_profile.MGroups[i].Modal;
-        }
-
-        foreach (var def in _profile.GCodes)
-        {
-            _gInfo[def.Key] = new CodeInfo(def, _profile.GGroupOf(def.Number), CodeRoles.OfG(def.Key));
-        }
-
-        foreach (var def in _profile.MCodes)
-        {
-            _mInfo[def.Key] = new CodeInfo(def, _profile.MGroupOf(def.Number), GRole.Mode);
-        }
-
-        var motion = _profile.GGroupOf(1);
-        _axisLineLetters = motion >= 0 && _letterKinds['N' - 'A'] == LetterKind.Parameter && _letterKinds['G' - 'A'] == LetterKind.G &&
-            _letterKinds['X' - 'A'] == LetterKind.Effective && _letterKinds['Y' - 'A'] == LetterKind.Effective &&
-            _letterKinds['Z' - 'A'] == LetterKind.Effective && !_gNonModal[motion];
-        return (motion, _profile.GGroupOf(81));
-    }
-
-    private void ClearNonModal()
-    {
-        // Most blocks follow a block that set no non-modal code (G04, G53, M00...): nothing to clear then.
-        if (!_nonModalSet)
-        {
-            return;
-        }
-
-        _nonModalSet = false;
-        for (var i = 0; i < _gCount; i++)
-        {
-            if (_gNonModal[i] && _g[i] != null)
-            {
-                _g[i] = null;
-                _dirty = true;
-            }
-        }
-
-        for (var i = 0; i < _mCount; i++)
-        {
-            if (_mNonModal[i] && _m[i] != null)
-            {
-                _m[i] = null;
-                _dirty = true;
-            }
-        }
-    }
-
-    private void SetG(int group, double value)
-    {
-        _nonModalSet |= _gNonModal[group];
-        if (_g[group] != value)
-        {
-            _g[group] = value;
-            _dirty = true;
-        }
-    }
-
-    private void SetM(int group, double value)
-    {
-        _nonModalSet |= _mNonModal[group];
-        if (_m[group] != value)
-        {
-            _m[group] = value;
-            _dirty = true;
-        }
-    }
-
-    private void ApplyG(int key, double? p)
-    {
-        switch (key)
-        {
-            case 170 or 180 or 190: _plane = key / 10; break;
-            case 200: _units = LengthUnits.Inches; break;
-            case 210: _units = LengthUnits.Millimetres; break;
-            case 900: _absolute = true; break;
-            case 910: _absolute = false; break;
-            case 901: _arcAbsolute = true; break;
-            case 911: _arcAbsolute = false; break;
-            case 930 or 940 or 950: _feedMode = key / 10; break;
-            case 980: _returnToR = false; break;
-            case 990: _returnToR = true; break;
-            case (>= 540 and <= 590) or 591 or 592 or 593 or 541 or 1540: _coords.Select(key, p); break;
-            default: return;
-        }
-
-        _dirty = true;
     }
 
     private ModalState Snapshot()
@@ -893,90 +563,6 @@ public sealed partial class Interpreter
         M,
         Parameter,   // N, O, I, J, K, R, P, Q, L, E: not an effective function on their own
         Effective,   // axes, F, S, T, H, D...: the block does something
-    }
-
-    /// <summary>A profile code as the interpreter uses it: its group, role and the letters it reads and needs as bit masks.</summary>
-    private readonly struct CodeInfo(CodeDefinition def, int group, GRole role)
-    {
-        public CodeDefinition Def { get; } = def;
-
-        public int Group { get; } = group;
-
-        public GRole Role { get; } = role;
-
-        public int WordMask { get; } = Mask(def.Words);
-
-        public int RequiresMask { get; } = Mask(def.Requires);
-
-        public bool Reads(char letter) => (WordMask & (1 << (letter - 'A'))) != 0;
-
-        private static int Mask(string letters)
-        {
-            var m = 0;
-            foreach (var c in letters)
-            {
-                m |= 1 << (c - 'A');
-            }
-
-            return m;
-        }
-    }
-
-    /// <summary>What the G codes of one block ask for, collected while they are applied.</summary>
-    private struct BlockCodes
-    {
-        public bool Dwell;
-        public int DwellColumn;
-        public int MotionInBlock;   // 0..3 for G00..G03 in the block, -1 when none
-        public int MotionColumn;
-        public bool OtherMotion;    // G31, G38.x ...: this block moves to its point at feed
-        public int Cycle;           // the cycle code's key in the block, 0 when none
-        public int CycleColumn;
-        public bool CycleCancel;
-        public int Reference;       // G27/G28/G29/G30 key, 0 when none
-        public bool MachineCoordinates;
-        public int Data;            // the first axis-data code's key (G10, G52, G92 ...), 0 when none
-        public int Read;            // parameter letters the block's codes read
-
-        public BlockCodes()
-        {
-            MotionInBlock = -1;
-        }
-
-        public void Add(in CodeInfo info, int key, int column)
-        {
-            Read |= info.WordMask;
-            switch (info.Role)
-            {
-                case GRole.Dwell:
-                    Dwell = true;
-                    DwellColumn = column;
-                    break;
-                case GRole.Motion when key is 0 or 10 or 20 or 30:
-                    MotionInBlock = key / 10;
-                    MotionColumn = column;
-                    break;
-                case GRole.Motion:
-                    OtherMotion = true;
-                    break;
-                case GRole.Cycle:
-                    Cycle = key;
-                    CycleColumn = column;
-                    break;
-                case GRole.CycleCancel:
-                    CycleCancel = true;
-                    break;
-                case GRole.Reference:
-                    Reference = key;
-                    break;
-                case GRole.MachineCoordinates:
-                    MachineCoordinates = true;
-                    break;
-                case GRole.AxisData when Data == 0:
-                    Data = key;
-                    break;
-            }
-        }
     }
 
     /// <summary>The fields of a decoded block without the allocation.</summary>

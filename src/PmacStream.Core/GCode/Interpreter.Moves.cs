@@ -1,0 +1,179 @@
+using System.Runtime.CompilerServices;
+
+namespace PmacStream.GCode;
+
+/// <summary>The interpreter's moves beyond straight lines and arcs: cycle holes, offsets that data codes set, move times.</summary>
+public sealed partial class Interpreter
+{
+    /// <summary>The holes of a positioning block while a cycle is in force (see <see cref="CannedCycle"/>).</summary>
+    private (Point3 End, MotionKind Kind, double Length, double Seconds) Holes(Point3 start, double? x, double? y, double? z, double? r,
+        Span<int> col, Span<double> val, List<Diagnostic>? diags, int line, ref BlockCodes codes)
+    {
+        var key = _cycle.Code;
+        var info = _gInfo.TryGetValue(key, out var ci) ? ci : default;
+        codes.Read |= info.WordMask;
+        var column = codes.CycleColumn != 0 ? codes.CycleColumn : col['X' - 'A'] | col['Y' - 'A'] | col['Z' - 'A'];
+        if (z is null && !_cycle.HasBottom)
+        {
+            Add(diags, DiagnosticCodes.RequiredWordMissing, line, column == 0 ? 1 : column, "G" + CodeText(key / 10.0), "Z", "where the hole ends", "孔底位置");
+        }
+
+        // A repeat count: FANUC writes K, RS274/NGC L; 0 keeps the data without drilling.
+        var repeats = info.Reads('K') && col['K' - 'A'] != 0 ? val['K' - 'A'] : info.Reads('L') && col['L' - 'A'] != 0 ? val['L' - 'A'] : 1;
+        var (end, rapid, feed, holes) = _cycle.Run(start, x, y, z, r, (int)Math.Max(0, repeats), _absolute, _returnToR, _coords.Active);
+        if (holes == 0)
+        {
+            return (start, MotionKind.None, 0, 0);
+        }
+
+        var seconds = RapidTime(rapid) + FeedTime(feed, col['F' - 'A'] != 0, diags, line, column == 0 ? 1 : column, key / 10);
+        return (end, MotionKind.Cycle, rapid + feed, seconds);
+    }
+
+    /// <summary>Cycles begin with their code and end with G80 or a motion code later in the block (FANUC cancels a cycle with a group 01 code).</summary>
+    private void UpdateCycle(ref BlockCodes codes)
+    {
+        if (codes.Cycle != 0 && !(codes.MotionInBlock >= 0 && codes.MotionColumn > codes.CycleColumn))
+        {
+            _cycle.Enter(codes.Cycle, _pos.Z);
+        }
+        else if (_cycle.Active && (codes.CycleCancel || codes.MotionInBlock >= 0))
+        {
+            _cycle.Cancel();
+            if (!codes.CycleCancel && _cycleGroup >= 0 && _cycleGroup != _motionGroup && _profile.GGroupOf(80) == _cycleGroup)
+            {
+                SetG(_cycleGroup, 80);
+            }
+        }
+    }
+
+    /// <summary>The offsets a data code sets from its words.</summary>
+    private void SetData(int key, double? x, double? y, double? z, double? l, double? p)
+    {
+        switch (key)
+        {
+            case 920:
+                _coords.SetShift(x, y, z, _pos);
+                break;
+            case 921 or 922:
+                _coords.ClearShift();
+                break;
+            case 520:
+                _coords.SetLocal(x, y, z);
+                break;
+            case 100 when l is 2 or 20 && p is { } n && n >= 0:
+                // L2 sets an offset to the values; L20 sets FANUC's extended offsets, or (RS274/NGC, grbl) the offset
+                // that makes the current position read as the values.
+                var extended = l == 20 && _profile.ExtendedWorkOffsets;
+                _coords.SetOffset((int)n, extended, fromPosition: l == 20 && !extended, x, y, z, _pos);
+                break;
+            default:
+                return;
+        }
+
+        _dirty = true;
+    }
+
+    [MethodImpl(MethodImplOptions.AggressiveInlining)]
+    private double RapidTime(double length) => length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
+
+    [MethodImpl(MethodImplOptions.AggressiveInlining)]
+    private double FeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode)
+    {
+        if (_feed is not { } feed || feed <= 0 || (_feedMode == 93 && !fInBlock))
+        {
+            // Inverse time (G93) wants the F of every feed move in its own block.
+            Add(diags, DiagnosticCodes.FeedMoveWithoutFeed, line, column, mode < 10 ? "0" + mode : mode.ToString(System.Globalization.CultureInfo.InvariantCulture));
+            return 0;
+        }
+
+        return _feedMode switch
+        {
+            93 => 60.0 / feed,                                   // F is moves per minute
+            95 => _speed > 0 ? length / (feed * _speed) * 60.0 : 0, // F per spindle revolution
+            _ => length / feed * 60.0,
+        };
+    }
+
+    /// <summary>F, S, T, H, D and P: their ranges (E106, E107), and the modal values they set.</summary>
+    private void TakeValues(Span<int> col, Span<double> val, List<Diagnostic>? diags, int line)
+    {
+        static double? ValueOf(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
+
+        var f = ValueOf('F', col, val);
+        if (f is { } fv)
+        {
+            if (fv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, col['F' - 'A'], 'F', ModalState.Num(fv));
+            }
+            else if (_feed != fv)
+            {
+                _feed = fv;
+                _dirty = true;
+            }
+        }
+
+        var s = ValueOf('S', col, val);
+        if (s is { } sv)
+        {
+            if (sv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, col['S' - 'A'], 'S', ModalState.Num(sv));
+            }
+            else if (_speed != sv)
+            {
+                _speed = sv;
+                _dirty = true;
+            }
+        }
+
+        var t = ValueOf('T', col, val);
+        if (t is { } tv)
+        {
+            if (tv < 0 || tv > _profile.ToolCount || tv != Math.Floor(tv))
+            {
+                Add(diags, DiagnosticCodes.ToolOutOfRange, line, col['T' - 'A'], ModalState.Num(tv), _profile.ToolCount);
+            }
+            else if (_tool != (int)tv)
+            {
+                _tool = (int)tv;
+                _dirty = true;
+            }
+        }
+
+        var h = ValueOf('H', col, val);
+        if (h is { } hv)
+        {
+            if (hv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, col['H' - 'A'], 'H', ModalState.Num(hv));
+            }
+            else if (_h != (int)hv)
+            {
+                _h = (int)hv;
+                _dirty = true;
+            }
+        }
+
+        var d = ValueOf('D', col, val);
+        if (d is { } dv)
+        {
+            if (dv < 0)
+            {
+                Add(diags, DiagnosticCodes.NegativeValue, line, col['D' - 'A'], 'D', ModalState.Num(dv));
+            }
+            else if (_d != (int)dv)
+            {
+                _d = (int)dv;
+                _dirty = true;
+            }
+        }
+
+        var p = ValueOf('P', col, val);
+        if (p is { } pv && pv < 0)
+        {
+            Add(diags, DiagnosticCodes.NegativeValue, line, col['P' - 'A'], 'P', ModalState.Num(pv));
+        }
+    }
+}
