@@ -152,6 +152,15 @@ internal static class CheckCommand
                 w.WriteNumber("diagnosticsOmitted", dropped);
             }
 
+            // The codes a job gate refuses (the controller cannot run them yet), with their first line.
+            w.WriteStartObject("notYetCodes");
+            foreach (var (code, line) in summary.NotYetCodes)
+            {
+                w.WriteNumber(code, line);
+            }
+
+            w.WriteEndObject();
+
             w.WriteEndObject();
         }
 

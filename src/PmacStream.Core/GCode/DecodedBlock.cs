@@ -82,8 +82,8 @@ public sealed record DecodedBlock
     public double DurationSeconds { get; init; }
 
     /// <summary>
-    /// The block as self-contained G-code: the sequence number, the code in force in every G group, the words the
-    /// block carries, then the M codes in force. Reading this text back in the same prior state yields an equal block
+    /// The block as self-contained G-code: the sequence number, the code in force in every G group of the profile,
+    /// the words the block carries, then the M codes in force. Reading this text back in the same prior state yields an equal block
     /// (the property tests check it); repeating modal codes is harmless to the controller.
     /// </summary>
     public string ToGCode()
@@ -111,9 +111,9 @@ public sealed record DecodedBlock
         }
 
         W('N', N);
-        for (var g = 0; g < 9; g++)
+        for (var g = 0; g < Modal.G.Count; g++)
         {
-            Code('G', Modal.GetG(g));
+            Code('G', Modal.G[g]);
         }
 
         W('X', X);
@@ -129,9 +129,9 @@ public sealed record DecodedBlock
         W('H', H);
         W('D', D);
         W('P', P);
-        for (var m = 0; m < 3; m++)
+        for (var m = 0; m < Modal.M.Count; m++)
         {
-            Code('M', Modal.GetM(m));
+            Code('M', Modal.M[m]);
         }
 
         return sb.ToString();

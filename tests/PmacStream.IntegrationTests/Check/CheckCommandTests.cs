@@ -85,14 +85,15 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void Json_output_is_one_object_with_counts_and_diagnostics()
     {
-        var file = Write("bad.nc", "O1\nG01 X1\nM50\n");
+        var file = Write("bad.nc", "O1\nG01 X1\nM50\nM06\n");
         var (code, output) = Run(file, "--json", "--lang", "zh-CN");
         code.Should().Be(1);
         using var doc = JsonDocument.Parse(output);
         var root = doc.RootElement;
-        root.EnumerateObject().Select(p => p.Name).Should().Equal("file", "blocks", "errors", "warnings", "diagnostics");
+        root.EnumerateObject().Select(p => p.Name).Should().Equal("file", "blocks", "errors", "warnings", "diagnostics", "notYetCodes");
         root.GetProperty("file").GetString().Should().Be(file);
-        root.GetProperty("blocks").GetInt64().Should().Be(2);
+        root.GetProperty("blocks").GetInt64().Should().Be(3);
+        root.GetProperty("notYetCodes").GetProperty("M06").GetInt32().Should().Be(4);
         root.GetProperty("errors").GetInt32().Should().Be(2);
         var d = root.GetProperty("diagnostics")[0];
         d.EnumerateObject().Select(p => p.Name).Should().Equal("severity", "code", "line", "column", "message");
