@@ -98,6 +98,7 @@ public sealed partial class Interpreter
     /// <summary>F, S, T, H, D and P: their ranges (E106, E107), and the modal values they set.</summary>
     private void TakeValues(Span<int> col, Span<double> val, List<Diagnostic>? diags, int line)
     {
+        [MethodImpl(MethodImplOptions.AggressiveInlining)]
         static double? ValueOf(char c, Span<int> col, Span<double> val) => col[c - 'A'] != 0 ? val[c - 'A'] : null;
 
         var f = ValueOf('F', col, val);

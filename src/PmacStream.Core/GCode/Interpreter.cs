@@ -237,13 +237,12 @@ public sealed partial class Interpreter
         var anyM = false;
         Span<int> col = stackalloc int[26];          // column of the first word of each letter, 0 = absent
         Span<double> val = stackalloc double[26];
-        Span<double> gIn = stackalloc double[_gCount];
-        Span<int> gCol = stackalloc int[_gCount];
-        Span<double> mIn = stackalloc double[_mCount];
-        Span<int> mCol = stackalloc int[_mCount];
+        // Fixed sizes: a constant stackalloc is part of the frame, a variable one costs a stack probe per block.
+        Span<double> gIn = stackalloc double[MachineProfile.MaxGroups];
+        Span<int> gCol = stackalloc int[MachineProfile.MaxGroups];
+        Span<double> mIn = stackalloc double[MachineProfile.MaxGroups];
+        Span<int> mCol = stackalloc int[MachineProfile.MaxGroups];
         col.Clear();                                   // SkipLocalsInit: only the "seen" markers need zeroing
-        gCol.Clear();
-        mCol.Clear();
         var onlyO = true;
         var onlyN = true;
         var effective = false;
@@ -292,6 +291,12 @@ public sealed partial class Interpreter
                 }
 
                 var group = info.Group;
+                if (isG ? !anyG : !anyM)
+                {
+                    // Cleared at the block's first G (or M) word: most blocks have none, and profiles have many groups.
+                    (isG ? gCol : mCol).Clear();
+                }
+
                 var slotCol = isG ? gCol : mCol;
                 if (slotCol[group] != 0)
                 {
@@ -367,7 +372,11 @@ public sealed partial class Interpreter
         }
 
         // Values and their ranges.
-        TakeValues(col, val, diags, line);
+        if ((col['F' - 'A'] | col['S' - 'A'] | col['T' - 'A'] | col['H' - 'A'] | col['D' - 'A'] | col['P' - 'A']) != 0)
+        {
+            TakeValues(col, val, diags, line);
+        }
+
         var (f, sw, t, h, d, p) = (Word('F', col, val), Word('S', col, val), Word('T', col, val), Word('H', col, val), Word('D', col, val), Word('P', col, val));
 
         var x = Word('X', col, val);

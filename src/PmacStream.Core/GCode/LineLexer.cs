@@ -85,25 +85,6 @@ internal static class LineLexer
                 break;
             }
 
-            if (c == (byte)'/' && b.WordList.Count > 0)
-            {
-                // FANUC's optional block skip inside a block: the rest of the block is skipped when block delete is
-                // on. Whether the dialect allows it is the profile's to say (the interpreter reports it otherwise).
-                if (b.SkipFrom < 0)
-                {
-                    b.SkipFrom = b.WordList.Count;
-                    b.SkipColumn = i + 1;
-                }
-
-                i++;
-                if (i < line.Length && line[i] is >= (byte)'1' and <= (byte)'9')
-                {
-                    i++;
-                }
-
-                continue;
-            }
-
             var isLower = c is >= (byte)'a' and <= (byte)'z';
             // ':' is the ISO program number address, so only the first word of a block (FANUC's ":1234" for O1234).
             if ((c is >= (byte)'A' and <= (byte)'Z') || isLower || (c == (byte)':' && b.WordList.Count == 0))
@@ -196,6 +177,25 @@ internal static class LineLexer
 
                 b.WordList.Add(new GWord(letter, value, column, numStart, j - numStart, isLower));
                 i = j;
+                continue;
+            }
+
+            if (c == (byte)'/' && b.WordList.Count > 0)
+            {
+                // FANUC's optional block skip inside a block: the rest of the block is skipped when block delete is
+                // on. Whether the dialect allows it is the profile's to say (the interpreter reports it otherwise).
+                if (b.SkipFrom < 0)
+                {
+                    b.SkipFrom = b.WordList.Count;
+                    b.SkipColumn = i + 1;
+                }
+
+                i++;
+                if (i < line.Length && line[i] is >= (byte)'1' and <= (byte)'9')
+                {
+                    i++;
+                }
+
                 continue;
             }
 

@@ -20,6 +20,9 @@ public sealed class MachineProfile
     /// <summary>The built-in profiles, default first.</summary>
     public static readonly IReadOnlyList<string> BuiltInNames = ["fanuc-mill", "linuxcnc-mill", "grbl", "paper-24g7m"];
 
+    /// <summary>Most G (and most M) modal groups a profile may have (FANUC has about 25).</summary>
+    public const int MaxGroups = 64;
+
     /// <summary>The name of the default profile.</summary>
     public const string DefaultName = "fanuc-mill";
 
@@ -74,6 +77,11 @@ public sealed class MachineProfile
         MCodes = dto.MCodes ?? [];
         GGroups = Groups(dto.GGroups, GCodes, 'G', source);
         MGroups = Groups(dto.MGroups, MCodes, 'M', source);
+        if (GGroups.Count > MaxGroups || MGroups.Count > MaxGroups)
+        {
+            throw Bad(source, $"more than {MaxGroups} G or M modal groups");
+        }
+
         AddCodes(GCodes, 'G', GGroups, _g, source);
         AddCodes(MCodes, 'M', MGroups, _m, source);
     }

@@ -23,7 +23,13 @@ internal sealed class WorkCoordinates
     public int Selected { get; private set; }
 
     /// <summary>The whole offset from program to machine coordinates (work offset + G52 + G92), looked up once per change.</summary>
-    public Point3 Active => _active ??= Offset(Selected) + _local + _shift;
+    public Point3 Active
+    {
+        [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+        get => _active ?? Compute();
+    }
+
+    private Point3 Compute() => (_active = Offset(Selected) + _local + _shift).Value;
 
     /// <summary>Selects G54..G59 (<paramref name="key"/> 540..590) or an extended offset (G54.1 P, G154 P).</summary>
     public void Select(int key, double? p)
