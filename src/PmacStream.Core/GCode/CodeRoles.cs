@@ -61,6 +61,12 @@ internal static class CodeRoles
         ? key is 0 or 10 or 20 or 300 or 60 or 980 or 990
         : key is 40 or 90 or 100 or 280 or 300 or 530 or 650 or 920;
 
+    /// <summary>
+    /// Modal codes whose block takes its axis words as data (scaling G51, mirror G50.1/G51.1, rotation G68/G68.2,
+    /// modal macro call G66): written again in a later block, they would turn that block's move into data.
+    /// </summary>
+    public static bool ReadsAxesWhileInForce(int key) => key is 501 or 510 or 511 or 660 or 680 or 682;
+
     /// <summary>True for M codes that end the program (M02, M30).</summary>
     public static bool EndsProgram(int key) => key is 20 or 300;
 }

@@ -83,7 +83,9 @@ public sealed record DecodedBlock
 
     /// <summary>
     /// The block as self-contained G-code: the sequence number, the code in force in every G group of the profile,
-    /// the words the block carries, then the M codes in force. Reading this text back in the same prior state yields an equal block
+    /// the words the block carries, then the M codes in force. Modal codes that take a block's axis words as data
+    /// (scaling, mirror, rotation, modal macro call) are left out: they stay in force, and written again they would
+    /// make this block's move their data. Reading this text back in the same prior state yields an equal block
     /// (the property tests check it); repeating modal codes is harmless to the controller.
     /// </summary>
     public string ToGCode()
@@ -113,7 +115,10 @@ public sealed record DecodedBlock
         W('N', N);
         for (var g = 0; g < Modal.G.Count; g++)
         {
-            Code('G', Modal.G[g]);
+            if (Modal.G[g] is not { } v || !CodeRoles.ReadsAxesWhileInForce(MachineProfile.Key(v)))
+            {
+                Code('G', Modal.G[g]);
+            }
         }
 
         W('X', X);
