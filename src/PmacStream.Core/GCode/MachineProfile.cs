@@ -11,10 +11,10 @@ namespace PmacStream.GCode;
 /// </summary>
 public sealed class MachineProfile
 {
-    /// <summary>The store's columns for the first nine G groups (seed 002's GA-GI), in order.</summary>
+    /// <summary>The store's columns for the first nine G groups (GA-GI), in order.</summary>
     public static readonly IReadOnlyList<string> GGroupNames = ["GA", "GB", "GC", "GD", "GE", "GF", "GG", "GH", "GI"];
 
-    /// <summary>The store's columns for the first three M groups (seed 002's MA-MC), in order.</summary>
+    /// <summary>The store's columns for the first three M groups (MA-MC), in order.</summary>
     public static readonly IReadOnlyList<string> MGroupNames = ["MA", "MB", "MC"];
 
     /// <summary>The built-in profiles, default first.</summary>
@@ -122,7 +122,7 @@ public sealed class MachineProfile
     /// </summary>
     public bool ExtendedWorkOffsets { get; }
 
-    /// <summary>Code the splitter appends after the last chunk (seed 000's machine used <c>M03 M05</c>).</summary>
+    /// <summary>Code the splitter appends after the last chunk (some machines want <c>M03 M05</c>).</summary>
     public string ProgramTail { get; }
 
     /// <summary>The modal codes in force at power-on, e.g. <c>G00 G21 G90 G54 G17 G49 G40 M05 M09</c>.</summary>
@@ -278,7 +278,7 @@ public sealed class MachineProfile
         var groups = new List<ModalGroup>();
         var standard = letter == 'M' ? MGroupNames : GGroupNames;
         var ordered = codes.All(c => standard.Contains(c.Group, StringComparer.OrdinalIgnoreCase))
-            ? codes.OrderBy(c => standard.ToList().IndexOf(c.Group.ToUpperInvariant())).ToList() // seed 002's names keep their column order
+            ? codes.OrderBy(c => standard.ToList().IndexOf(c.Group.ToUpperInvariant())).ToList() // GA..GI names keep their column order
             : codes.ToList();
         foreach (var c in ordered)
         {

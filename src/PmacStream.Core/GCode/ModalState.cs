@@ -61,8 +61,8 @@ public readonly record struct Point3(double X, double Y, double Z)
 
 /// <summary>
 /// The modal state after a block: the code in force in each modal group of the profile (<see cref="G"/>, <see cref="M"/>,
-/// as code numbers such as 1, 21, 90, in the profile's group order; the first nine G and three M groups are seed 002's
-/// GA-GI and MA-MC) and the registers and values motion depends on. What the codes mean (units, plane, distance mode,
+/// as code numbers such as 1, 21, 90, in the profile's group order; the first nine G and three M groups are the store's
+/// GA-GI and MA-MC columns) and the registers and values motion depends on. What the codes mean (units, plane, distance mode,
 /// spindle ...) is read from the codes themselves, so it does not depend on how a profile orders its groups.
 /// Immutable; the interpreter shares one instance between consecutive blocks that change nothing. Non-modal groups
 /// (G04, G28, M00 ...) hold their code only on the block that carries it and are null otherwise.
@@ -99,7 +99,7 @@ public sealed record ModalState
     /// <summary>The eighth G group (GH; cutter compensation in the built-in profiles).</summary>
     public double? GH => G.At(7);
 
-    /// <summary>The ninth G group (GI; exact stop in the paper's profile, canned cycles in fanuc-mill).</summary>
+    /// <summary>The ninth G group (GI; exact stop in paper-24g7m, canned cycles in fanuc-mill).</summary>
     public double? GI => G.At(8);
 
     /// <summary>The first M group (MA; program stop and end).</summary>

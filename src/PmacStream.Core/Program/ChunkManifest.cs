@@ -89,9 +89,6 @@ public sealed record ChunkManifest(
     /// names it (profile name and digest); null when it was not checked (forced, or no profile given).
     /// </summary>
     public string? CheckedProfile { get; init; }
-    /// <summary>The machine profile the program was split under (null when unknown).</summary>
-    public string? Profile { get; init; }
-
     /// <summary>
     /// The codes the chunks carry that the controller cannot run yet, with the source line of their first use: a job
     /// gate refuses to stream such a split (null when the split had no profile).
@@ -167,15 +164,6 @@ public sealed record ChunkManifest(
         else
         {
             w.WriteString("checkedProfile", CheckedProfile);
-        }
-
-        if (Profile == null)
-        {
-            w.WriteNull("profile");
-        }
-        else
-        {
-            w.WriteString("profile", Profile);
         }
 
         if (NotYetCodes == null)

@@ -346,7 +346,6 @@ public static class Splitter
                 KeepN = _o.KeepN,
                 BlockDelete = _o.BlockDelete,
                 CheckedProfile = _o.CheckedProfile,
-                Profile = _o.CheckProfile?.Name,
                 NotYetCodes = _notYet,
             };
             return (manifest, _warnings);

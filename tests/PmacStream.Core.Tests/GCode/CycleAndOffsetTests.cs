@@ -2,7 +2,7 @@ using PmacStream.GCode;
 
 namespace PmacStream.Core.Tests.GCode;
 
-/// <summary>Where the tool ends after the codes the paper's set did not have: cycles, reference returns, machine coordinates, offsets.</summary>
+/// <summary>Where the tool ends after the codes paper-24g7m's set does not have: cycles, reference returns, machine coordinates, offsets.</summary>
 public class CycleAndOffsetTests
 {
     private static List<DecodedBlock> Run(string program, string profile = MachineProfile.DefaultName, List<Diagnostic>? diags = null)

@@ -46,7 +46,7 @@ public class DialectTests
         Check("O1\nG00 G01 X1 F100").Diagnostics.Should().Contain(d => d.Code == DiagnosticCodes.ModalGroupConflict && d.Message.Contains("group 01"));
     }
 
-    /// <summary>The ordinary codes that made real programs fail under the paper's 24 G + 7 M set (issue 16's list).</summary>
+    /// <summary>The ordinary codes that made real programs fail under paper-24g7m's 24 G + 7 M set (issue 16's list).</summary>
     public static TheoryData<string, string> RealCodes => new()
     {
         { "M06 and M6", "T1 M06\nT2 M6" },

@@ -30,7 +30,7 @@ public class InterpreterTests
         s.Feed.Should().BeNull();
         s.Units.Should().Be(LengthUnits.Millimetres);
 
-        // fanuc-mill orders its first nine groups as the paper's columns mean them; GI holds the canned cycle group.
+        // fanuc-mill orders its first nine groups as paper-24g7m's columns mean them; GI holds the canned cycle group.
         var f = new Interpreter(MachineProfile.Default).State;
         (f.GA, f.GB, f.GC, f.GD, f.GE, f.GF, f.GG, f.GH, f.GI).Should().Be((0.0, 21.0, 90.0, 54.0, 17.0, 49.0, (double?)null, 40.0, 80.0));
         f.G.Should().HaveCount(MachineProfile.Default.GGroups.Count).And.Contain([94.0, 98.0, 64.0, 91.1]);

@@ -4,7 +4,7 @@ namespace PmacStream.Core.Tests.GCode;
 
 public class MachineProfileTests
 {
-    /// <summary>The checking paper's set as the embedded default-mill.json had it before named profiles (code, group).</summary>
+    /// <summary>paper-24g7m's set as the embedded default-mill.json had it before named profiles (code, group).</summary>
     private static readonly (string Code, string Group)[] PaperSet =
     [
         ("G00", "GA"), ("G01", "GA"), ("G02", "GA"), ("G03", "GA"), ("G20", "GB"), ("G21", "GB"), ("G90", "GC"), ("G91", "GC"),
@@ -48,7 +48,7 @@ public class MachineProfileTests
             p.Find(code[0], double.Parse(code[1..], System.Globalization.CultureInfo.InvariantCulture)).Should().NotBeNull(code);
         }
 
-        p.GGroups.Count.Should().BeGreaterThan(9, "FANUC has more modal groups than the paper's nine");
+        p.GGroups.Count.Should().BeGreaterThan(9, "FANUC has more modal groups than paper-24g7m's nine");
         p.Letters.Should().Contain("ABC").And.Contain("Q").And.Contain("L").And.Contain("E");
         (p.DwellPInMilliseconds, p.SlashInBlock, p.ExtendedWorkOffsets).Should().Be((true, true, true));
         p.GGroupOf(81).Should().NotBe(p.GGroupOf(1), "FANUC keeps canned cycles in group 09, apart from motion");

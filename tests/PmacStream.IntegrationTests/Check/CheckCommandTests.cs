@@ -152,7 +152,7 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void A_custom_profile_changes_what_is_known()
     {
-        // The paper's set plus a tool change, as a machine's own profile file.
+        // paper-24g7m's set plus a tool change, as a machine's own profile file.
         var json = MachineProfile.Paper.ToJson().Replace("{\n      \"code\": \"M00\"", "{ \"code\": \"M06\", \"group\": \"MA\", \"description\": \"tool change\" },\n    {\n      \"code\": \"M00\"");
         json.Should().Contain("M06");
         var profile = Write("p.json", json);

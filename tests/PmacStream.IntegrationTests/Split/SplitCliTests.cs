@@ -77,7 +77,7 @@ public sealed class SplitCliTests : IDisposable
         code.Should().Be(0, stderr);
         stdout.Should().Contain("not runnable on the controller yet under profile 'fanuc-mill'").And.Contain("M06 (line 5), G43 (line 7), G28 (line 14)");
         var manifest = ChunkManifest.Load(Path.Combine(outDir, "manifest.json"));
-        manifest.Profile.Should().Be("fanuc-mill");
+        manifest.CheckedProfile.Should().StartWith("fanuc-mill@");
         manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M06"] = 5, ["G43"] = 7, ["G28"] = 14 });
         var chunk = File.ReadAllText(Path.Combine(outDir, "real_0001.pmc"));
         chunk.Split("\r\n").Where(l => l.StartsWith("P500=", StringComparison.Ordinal)).Should().Equal("P500=800.", "P500=400.");

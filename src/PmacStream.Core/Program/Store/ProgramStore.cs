@@ -179,8 +179,8 @@ public sealed class ProgramStore : IDisposable
 
     /// <summary>
     /// Starts storing a program. Add blocks and diagnostics to the writer, then <see cref="ProgramWriter.Complete"/>;
-    /// disposing it without completing rolls everything back. Without the profile's groups the paper's nine G and
-    /// three M groups are assumed.
+    /// disposing it without completing rolls everything back. Without the profile's groups the nine G and three M
+    /// groups of paper-24g7m are assumed.
     /// </summary>
     public ProgramWriter BeginProgram(string sourcePath, long size, string profile) => new(_connection, sourcePath, size, profile, null);
 
@@ -275,7 +275,7 @@ public sealed class ProgramStore : IDisposable
         }
     }
 
-    /// <summary>The modal groups a program was stored with (the paper's nine and three for a program stored without them).</summary>
+    /// <summary>The modal groups a program was stored with (paper-24g7m's nine and three for a program stored without them).</summary>
     public StoredGroups GroupsOf(long programId)
     {
         using var cmd = _connection.CreateCommand();

@@ -7,7 +7,7 @@ namespace PmacStream.Program.Store;
 
 /// <summary>
 /// How a stored program's modal groups map to the store: the first nine G groups in the columns GA..GI, the first
-/// three M groups in MA..MC (seed 002's layout), any further groups of the profile in the block's <c>more_groups</c>
+/// three M groups in MA..MC (the store's first layout), any further groups of the profile in the block's <c>more_groups</c>
 /// column as JSON, and the group names in <c>programs.groups</c>.
 /// </summary>
 public sealed class StoredGroups
@@ -27,7 +27,7 @@ public sealed class StoredGroups
     /// <summary>Names of the program's M groups, in store order.</summary>
     public IReadOnlyList<string> MNames { get; }
 
-    /// <summary>The groups of a program stored without them: the paper's GA..GI and MA..MC.</summary>
+    /// <summary>The groups of a program stored without them: paper-24g7m's GA..GI and MA..MC.</summary>
     public static StoredGroups Paper { get; } = new(MachineProfile.GGroupNames, MachineProfile.MGroupNames);
 
     /// <summary>The <c>programs.groups</c> text of a profile: <c>{"G":["01","06",...],"M":["stop",...]}</c>.</summary>
