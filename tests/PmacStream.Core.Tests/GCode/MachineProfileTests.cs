@@ -49,7 +49,7 @@ public class MachineProfileTests
         }
 
         p.GGroups.Count.Should().BeGreaterThan(9, "FANUC has more modal groups than paper-24g7m's nine");
-        p.Letters.Should().Contain("ABC").And.Contain("Q").And.Contain("L").And.Contain("E");
+        p.Letters.Should().Contain("ABC").And.Contain("Q").And.Contain("L").And.Contain("E").And.NotContain("U", "a 3- or 4-axis mill has no U axis");
         (p.DwellPInMilliseconds, p.SlashInBlock, p.ExtendedWorkOffsets).Should().Be((true, true, true));
         p.GGroupOf(81).Should().NotBe(p.GGroupOf(1), "FANUC keeps canned cycles in group 09, apart from motion");
         p.GGroupOf(28).Should().Be(p.GGroupOf(4)).And.Be(p.GGroupOf(53), "one-shot codes share group 00");
