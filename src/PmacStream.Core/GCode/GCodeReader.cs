@@ -230,11 +230,8 @@ public sealed class GCodeReader : IDisposable
     /// <summary>A lexed line: a block with words, or the <c>%</c> that ends the tape (the rest of the input is then only counted).</summary>
     private void Note(GBlock b)
     {
-        if (b.WordList.Count > 0)
-        {
-            _sawBlock = true;
-        }
-        else if (b.IsTapeMark && _sawBlock)
+        _sawBlock |= b.WordList.Count > 0;
+        if (b.IsTapeMark && _sawBlock)
         {
             _ended = true;
             TapeEndLine = b.LineNumber;

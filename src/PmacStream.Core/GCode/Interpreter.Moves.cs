@@ -78,7 +78,11 @@ public sealed partial class Interpreter
     private double RapidTime(double length) => length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
 
     [MethodImpl(MethodImplOptions.AggressiveInlining)]
-    private double FeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode)
+    private double FeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode) =>
+        _feedMode == 94 && _feed is { } feed && feed > 0 ? length / feed * 60.0 : OtherFeedTime(length, fInBlock, diags, line, column, mode);
+
+    /// <summary><see cref="FeedTime"/> without a feed, or in inverse time or per revolution.</summary>
+    private double OtherFeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode)
     {
         if (_feed is not { } feed || feed <= 0 || (_feedMode == 93 && !fInBlock))
         {

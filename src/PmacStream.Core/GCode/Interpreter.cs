@@ -244,14 +244,12 @@ public sealed partial class Interpreter
         Span<int> mCol = stackalloc int[MachineProfile.MaxGroups];
         col.Clear();                                   // SkipLocalsInit: only the "seen" markers need zeroing
         var onlyO = true;
-        var onlyN = true;
         var effective = false;
         var letterKinds = _letterKinds;
         for (var i = 0; i < wordSpan.Length; i++)
         {
             ref readonly var w = ref wordSpan[i];
             var li = w.Letter - 'A';
-            onlyN &= w.Letter == 'N';
             if (w.Letter != 'O')
             {
                 onlyO = false;
@@ -328,7 +326,7 @@ public sealed partial class Interpreter
         }
 
         LastHadProgramNumber = sawO;
-        if (onlyO || (onlyN && block.CommentList.Count > 0))
+        if (onlyO || (!effective && block.CommentList.Count > 0 && OnlySequenceNumbers(wordSpan)))
         {
             // A program number, or a label: a sequence number naming the comment after it (N10 (FACE1)), not a block.
             return false;
@@ -377,7 +375,8 @@ public sealed partial class Interpreter
             TakeValues(col, val, diags, line);
         }
 
-        var (f, sw, t, h, d, p) = (Word('F', col, val), Word('S', col, val), Word('T', col, val), Word('H', col, val), Word('D', col, val), Word('P', col, val));
+        var hasF = col['F' - 'A'] != 0;
+        var p = Word('P', col, val);
 
         var x = Word('X', col, val);
         var y = Word('Y', col, val);
@@ -470,7 +469,7 @@ public sealed partial class Interpreter
                 case 4:
                     kind = MotionKind.Linear;
                     length = MeasureMoves ? start.DistanceTo(end) : 0;
-                    seconds = FeedTime(length, f.HasValue, diags, line, modeCol, 1);
+                    seconds = FeedTime(length, hasF, diags, line, modeCol, 1);
                     break;
                 case 2:
                 case 3:
@@ -479,7 +478,7 @@ public sealed partial class Interpreter
                     codes.Read |= MotionWords();
                     (center, length) = ArcGeometry.Solve(mode == 2, _plane, start, end, i0, j0, k0, r, _arcAbsolute, _coords.Active,
                         _profile.ArcTolerance, diags, line, modeCol, col);
-                    seconds = FeedTime(length, f.HasValue, diags, line, modeCol, mode);
+                    seconds = FeedTime(length, hasF, diags, line, modeCol, mode);
                     break;
                 default:
                     // Axis words with no motion mode in force (G80 where it ends the motion mode, or none at power-on).
@@ -524,11 +523,11 @@ public sealed partial class Interpreter
         last.J = j0;
         last.K = k0;
         last.R = r;
-        last.F = f;
-        last.S = sw;
-        last.T = t;
-        last.H = h;
-        last.D = d;
+        last.F = Word('F', col, val);
+        last.S = Word('S', col, val);
+        last.T = Word('T', col, val);
+        last.H = Word('H', col, val);
+        last.D = Word('D', col, val);
         last.P = p;
         last.Motion = kind;
         last.Start = start;
@@ -536,6 +535,20 @@ public sealed partial class Interpreter
         last.Center = center;
         last.Length = length;
         last.DurationSeconds = seconds;
+        return true;
+    }
+
+    /// <summary>True when every word is an N (a label, with its comment): looked at only for blocks without an effective word.</summary>
+    private static bool OnlySequenceNumbers(ReadOnlySpan<GWord> words)
+    {
+        foreach (ref readonly var w in words)
+        {
+            if (w.Letter != 'N')
+            {
+                return false;
+            }
+        }
+
         return true;
     }
 

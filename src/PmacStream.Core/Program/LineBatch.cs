@@ -69,10 +69,14 @@ internal sealed class LineBatch
         TextLength += textLength;
     }
 
-    /// <summary>Copies a line (the reader's shared block is overwritten by the next line).</summary>
-    public void Add(GBlock block)
+    /// <summary>
+    /// Copies a line (the reader's shared block is overwritten by the next line), its first <paramref name="wordCount"/>
+    /// words (all by default: fewer when block delete skips the part of the block after a <c>/</c> inside it).
+    /// </summary>
+    public void Add(GBlock block, int wordCount = int.MaxValue)
     {
         var words = CollectionsMarshal.AsSpan(block.WordList);
+        words = words[..Math.Min(wordCount, words.Length)];
         var length = block.Length;
         if (TextLength + length > _text.Length)
         {

@@ -523,7 +523,8 @@ public static class Splitter
                 return;
             }
 
-            _batch!.Add(b);
+            // With block delete on, the part of a block after a '/' inside it is skipped (FANUC's optional block skip).
+            _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue);
             if (_batch.IsFull)
             {
                 Hand(b.ByteOffset + b.Length);

@@ -80,6 +80,26 @@ public class SplitterTests
     }
 
     [Fact]
+    public void Paper_feed_sets_the_feed_variable_only_where_the_feed_changes()
+    {
+        // CAM posts repeat F on every feed move; a P500= line for each doubled the chunk's lines.
+        BodyOf("G01 X1 F300.\nG01 X2 F300\nF300.0\nG01 X3 F300.\nG01 X4 F250\nG01 X5 F300\n").Should().Equal(
+            "P500=300.", "M0==1 G01 X1 F(P500)", "M0==2 G01 X2 F(P500)", "M0==4 G01 X3 F(P500)",
+            "P500=250", "M0==5 G01 X4 F(P500)", "P500=300", "M0==6 G01 X5 F(P500)");
+        using var tp = new TempProgram("G01 X1 F300.\nF300\nG01 X2\n");
+        tp.Split(new SplitOptions { ProgramTail = "" }).Manifest.TotalBlocks.Should().Be(2, "an F-only line that repeats the feed is no block");
+    }
+
+    [Fact]
+    public void Block_skip_inside_a_block_and_the_end_of_the_tape_follow_the_reader()
+    {
+        const string src = "%\nG01 X1 /Y2 F100\nG01 X3\nM30\n%\nG01 X999 (after the end of the tape)\n";
+        BodyOf(src).Should().Equal("M0==2 G01 X1 F(P500)", "M0==3 G01 X3 F(P500)", "M30");
+        BodyOf(src, new SplitOptions { BlockDelete = false, ProgramTail = "" })
+            .Should().Equal("P500=100", "M0==2 G01 X1 Y2 F(P500)", "M0==3 G01 X3 F(P500)", "M30");
+    }
+
+    [Fact]
     public void Override_feed_keeps_f_words()
     {
         BodyOf("G01 X1 F300.\nF1200\n", new SplitOptions { Feed = FeedMode.Override, ProgramTail = "" })
