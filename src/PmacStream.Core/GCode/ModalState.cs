@@ -44,6 +44,8 @@ public enum LengthUnits
 public readonly record struct Point3(double X, double Y, double Z)
 {
     /// <summary>Euclidean distance to another point.</summary>
+    // Inlined: called with a point just computed, whose copy to the stack for the call stalled on store forwarding.
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
     public double DistanceTo(Point3 other)
     {
         var dx = other.X - X;

@@ -11,7 +11,8 @@ internal sealed class WorkCoordinates
     private Dictionary<int, Point3>? _set; // offsets G10 changed, by key (540 for G54, 5410+P for G54.1 Pn)
     private Point3 _local;
     private Point3 _shift;
-    private Point3? _active;
+    private Point3 _active;   // valid while _known: a Nullable<Point3> read stalled on store forwarding in the hot path
+    private bool _known;
 
     public WorkCoordinates(MachineProfile profile, int code)
     {
@@ -26,10 +27,15 @@ internal sealed class WorkCoordinates
     public Point3 Active
     {
         [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-        get => _active ?? Compute();
+        get => _known ? _active : Compute();
     }
 
-    private Point3 Compute() => (_active = Offset(Selected) + _local + _shift).Value;
+    private Point3 Compute()
+    {
+        _active = Offset(Selected) + _local + _shift;
+        _known = true;
+        return _active;
+    }
 
     /// <summary>Selects G54..G59 (<paramref name="key"/> 540..590) or an extended offset (G54.1 P, G154 P).</summary>
     public void Select(int key, double? p)
@@ -38,7 +44,7 @@ internal sealed class WorkCoordinates
         if (selected != Selected)
         {
             Selected = selected;
-            _active = null;
+            _known = false;
         }
     }
 
@@ -56,14 +62,14 @@ internal sealed class WorkCoordinates
             ? new Point3(x is { } ax ? position.X - ax - shift.X : old.X, y is { } ay ? position.Y - ay - shift.Y : old.Y, z is { } az ? position.Z - az - shift.Z : old.Z)
             : new Point3(x ?? old.X, y ?? old.Y, z ?? old.Z);
         (_set ??= new())[key] = value;
-        _active = null;
+        _known = false;
     }
 
     /// <summary>G52: the local shift on the given axes (0 cancels it).</summary>
     public void SetLocal(double? x, double? y, double? z)
     {
         _local = new Point3(x ?? _local.X, y ?? _local.Y, z ?? _local.Z);
-        _active = null;
+        _known = false;
     }
 
     /// <summary>G92: shifts coordinates so that <paramref name="position"/> reads as the given values.</summary>
@@ -71,14 +77,14 @@ internal sealed class WorkCoordinates
     {
         var o = Offset(Selected) + _local;
         _shift = new Point3(x is { } ax ? position.X - ax - o.X : _shift.X, y is { } ay ? position.Y - ay - o.Y : _shift.Y, z is { } az ? position.Z - az - o.Z : _shift.Z);
-        _active = null;
+        _known = false;
     }
 
     /// <summary>G92.1/G92.2: the G92 shift is gone.</summary>
     public void ClearShift()
     {
         _shift = default;
-        _active = null;
+        _known = false;
     }
 
     private Point3 Offset(int key) =>
