@@ -45,15 +45,10 @@ public class CorpusUnderDefaultProfileTests(ITestOutputHelper output)
             "point (E115); FANUC's G74 is the left-hand tapping cycle, so the positioning blocks after it are holes without Z and feed (E124, E116)."),
     };
 
-    [Fact]
+    [SkippableFact]
     public void Every_corpus_program_checks_clean_under_the_default_profile_or_its_errors_are_named()
     {
-        if (RepoRoot.CorpusPrograms is not { } files)
-        {
-            output.WriteLine("SKIPPED: ../shared/gcode-corpus is absent; nothing to check.");
-            return;
-        }
-
+        var files = Requires.Corpus();
         files.Should().HaveCount(12);
         var checker = new Checker(MachineProfile.Default);
         foreach (var file in files)

@@ -126,7 +126,15 @@ public sealed class ProgramStoreTests : IDisposable
         using var cmd = new Microsoft.Data.Sqlite.SqliteConnection($"Data Source={check.Path}");
         cmd.Open();
         using var q = cmd.CreateCommand();
-        q.CommandText = "SELECT GI, more_groups FROM blocks WHERE Lines = 6";
+        q.CommandText = "SELECT b.GI, s.more FROM blocks b JOIN group_states s ON s.program_id = b.program_id AND s.id = b.group_state WHERE b.Lines = 6";
+        using (var c = cmd.CreateCommand())
+        {
+            c.CommandText = "SELECT COUNT(*), (SELECT COUNT(*) FROM blocks) FROM group_states";
+            using var counts = c.ExecuteReader();
+            counts.Read().Should().BeTrue();
+            counts.GetInt64(0).Should().BeLessThan(counts.GetInt64(1), "a state is stored once, however many blocks share it");
+        }
+
         using var r = q.ExecuteReader();
         r.Read().Should().BeTrue();
         (r.GetDouble(0), r.GetString(1)).Should().Be((81.0, "{\"G\":[94,98,64,50,69,15,50.1,67,97,23,91.1],\"M\":[null,null,null,null,null,null,null,null,null,null]}"),

@@ -31,7 +31,8 @@ public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256,
 /// interpreted block (<c>Lines, GA..GI, MA..MC, X, Y, Z, I, J, K, R, F, S, T, H, P</c> plus D, the absolute start/end
 /// positions, arc centre, motion kind, length, time and the modal T/H/D/S/F) and a <c>diagnostics</c> table. The first
 /// nine G and three M modal groups of the profile fill GA..GI and MA..MC; a profile's further groups go to
-/// <c>more_groups</c> as JSON (<c>{"G":[94,null,98],"M":[6]}</c>) and the group names to <c>programs.groups</c>, so a
+/// <c>group_states</c> as JSON (<c>{"G":[94,null,98],"M":[6]}</c>), once per distinct state, which a block names in
+/// <c>group_state</c>; the group names go to <c>programs.groups</c>, so a
 /// state reads back equal to the interpreter's whatever the profile. Single
 /// block, selected blocks and continuous execution (and the preview) read from here. Inserts go through one prepared
 /// statement inside one transaction per program, so an interrupted import leaves nothing behind.
@@ -43,7 +44,7 @@ public sealed class ProgramStore : IDisposable
     internal const string BlockColumns =
         "key, program_id, Lines, byte_offset, N, block_delete, GA, GB, GC, GD, GE, GF, GG, GH, GI, MA, MB, MC, " +
         "X, Y, Z, I, J, K, R, F, S, T, H, D, P, motion, start_x, start_y, start_z, end_x, end_y, end_z, " +
-        "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f, more_groups";
+        "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f, group_state";
 
     private const string Schema = """
         CREATE TABLE IF NOT EXISTS programs (
@@ -68,7 +69,9 @@ public sealed class ProgramStore : IDisposable
             X REAL, Y REAL, Z REAL, I REAL, J REAL, K REAL, R REAL, F REAL, S REAL, T REAL, H REAL, D REAL, P REAL,
             motion INTEGER NOT NULL, start_x REAL, start_y REAL, start_z REAL, end_x REAL, end_y REAL, end_z REAL,
             center_x REAL, center_y REAL, center_z REAL, length REAL, duration REAL,
-            modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL, more_groups TEXT);
+            modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL, group_state INTEGER);
+        CREATE TABLE IF NOT EXISTS group_states (
+            program_id INTEGER NOT NULL, id INTEGER NOT NULL, more TEXT NOT NULL, PRIMARY KEY (program_id, id)) WITHOUT ROWID;
         CREATE TABLE IF NOT EXISTS diagnostics (
             program_id INTEGER NOT NULL, severity TEXT NOT NULL, code TEXT NOT NULL, line INTEGER NOT NULL,
             col INTEGER NOT NULL, message TEXT NOT NULL);
@@ -165,13 +168,13 @@ public sealed class ProgramStore : IDisposable
     /// <summary>A store written before profiles had any number of modal groups gets the columns that hold the others.</summary>
     private static void AddMissingColumns(SqliteConnection connection)
     {
-        foreach (var (table, column) in new[] { ("programs", "groups"), ("blocks", "more_groups") })
+        foreach (var (table, column) in new[] { ("programs", "groups"), ("blocks", "group_state") })
         {
             using var cmd = connection.CreateCommand();
             cmd.CommandText = $"SELECT COUNT(*) FROM pragma_table_info('{table}') WHERE name = '{column}'";
             if ((long)cmd.ExecuteScalar()! == 0)
             {
-                cmd.CommandText = $"ALTER TABLE {table} ADD COLUMN {column} TEXT";
+                cmd.CommandText = $"ALTER TABLE {table} ADD COLUMN {column} {(column == "groups" ? "TEXT" : "INTEGER")}";
                 cmd.ExecuteNonQuery();
             }
         }
@@ -281,7 +284,18 @@ public sealed class ProgramStore : IDisposable
         using var cmd = _connection.CreateCommand();
         cmd.CommandText = "SELECT groups FROM programs WHERE id = $id";
         cmd.Parameters.AddWithValue("$id", programId);
-        return StoredGroups.Parse(cmd.ExecuteScalar() as string);
+        var names = cmd.ExecuteScalar() as string;
+        cmd.CommandText = "SELECT id, more FROM group_states WHERE program_id = $id";
+        var states = new Dictionary<long, string>();
+        using (var r = cmd.ExecuteReader())
+        {
+            while (r.Read())
+            {
+                states[r.GetInt64(0)] = r.GetString(1);
+            }
+        }
+
+        return StoredGroups.Parse(names, states);
     }
 
     /// <summary>The stored diagnostics of a program in line order.</summary>
@@ -306,7 +320,8 @@ public sealed class ProgramStore : IDisposable
         using var tx = _connection.BeginTransaction();
         using var cmd = _connection.CreateCommand();
         cmd.Transaction = tx;
-        cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
+        cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; " +
+                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
         cmd.Parameters.AddWithValue("$p", programId);
         cmd.Parameters.AddWithValue("$a", Key(programId, 0));
         cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
@@ -337,7 +352,7 @@ public sealed class ProgramStore : IDisposable
     private static DecodedBlock ReadBlock(SqliteDataReader r, StoredGroups groups)
     {
         double? D(int i) => r.IsDBNull(i) ? null : r.GetDouble(i);
-        var (g, m) = groups.Values(i => D(6 + i), i => D(15 + i), r.IsDBNull(48) ? null : r.GetString(48));
+        var (g, m) = groups.Values(i => D(6 + i), i => D(15 + i), r.IsDBNull(48) ? null : r.GetInt64(48));
         var modal = new ModalState
         {
             G = g,
@@ -373,8 +388,9 @@ public sealed class ProgramWriter : IDisposable
     private readonly sqlite3_stmt _block;
     private readonly sqlite3_stmt _diag;
     private readonly (BindState State, double Value)[] _bound = new (BindState, double)[64];
+    private readonly sqlite3_stmt _state;
+    private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal); // distinct further-group states, by text
     private ModalState? _modal;
-    private string? _boundText;
     private long _seq;
     private bool _completed;
     private bool _disposed;
@@ -400,6 +416,7 @@ public sealed class ProgramWriter : IDisposable
         var placeholders = string.Join(", ", Enumerable.Repeat("?", ProgramStore.BlockColumns.Split(',').Length));
         Check(raw.sqlite3_prepare_v2(db, $"INSERT INTO blocks ({ProgramStore.BlockColumns}) VALUES ({placeholders})", out _block), db);
         Check(raw.sqlite3_prepare_v2(db, "INSERT INTO diagnostics (program_id, severity, code, line, col, message) VALUES (?, ?, ?, ?, ?, ?)", out _diag), db);
+        Check(raw.sqlite3_prepare_v2(db, "INSERT INTO group_states (program_id, id, more) VALUES (?, ?, ?)", out _state), db);
     }
 
     /// <summary>The new program's id.</summary>
@@ -435,7 +452,7 @@ public sealed class ProgramWriter : IDisposable
             _modal = m;
             BindD(7, m.GA); BindD(8, m.GB); BindD(9, m.GC); BindD(10, m.GD); BindD(11, m.GE); BindD(12, m.GF);
             BindD(13, m.GG); BindD(14, m.GH); BindD(15, m.GI); BindD(16, m.MA); BindD(17, m.MB); BindD(18, m.MC);
-            BindText(49, StoredGroups.MoreText(m));
+            BindGroupState(StoredGroups.MoreText(m));
         }
 
         BindD(19, b.X); BindD(20, b.Y); BindD(21, b.Z); BindD(22, b.I); BindD(23, b.J); BindD(24, b.K);
@@ -514,6 +531,7 @@ public sealed class ProgramWriter : IDisposable
     {
         _block.Dispose();
         _diag.Dispose();
+        _state.Dispose();
     }
 
     private void Step(sqlite3_stmt s)
@@ -548,24 +566,26 @@ public sealed class ProgramWriter : IDisposable
         }
     }
 
-    private void BindText(int index, string? text)
+    /// <summary>Binds the id of the block's further-group state, storing the state the first time it is seen (null: none).</summary>
+    private void BindGroupState(string? more)
     {
-        if (_bound[index].State != BindState.Unbound && string.Equals(text, _boundText, StringComparison.Ordinal))
+        if (more == null)
         {
+            BindD(49, null);
             return;
         }
 
-        if (text == null)
+        if (!_states.TryGetValue(more, out var id))
         {
-            raw.sqlite3_bind_null(_block, index);
-        }
-        else
-        {
-            raw.sqlite3_bind_text(_block, index, text);
+            id = _states.Count + 1;
+            _states.Add(more, id);
+            raw.sqlite3_bind_int64(_state, 1, ProgramId);
+            raw.sqlite3_bind_int64(_state, 2, id);
+            raw.sqlite3_bind_text(_state, 3, more);
+            Step(_state);
         }
 
-        _bound[index] = (BindState.Integer, 0);
-        _boundText = text;
+        BindI(49, id);
     }
 
     private void BindI(int index, long v)

@@ -7,18 +7,22 @@ namespace PmacStream.Program.Store;
 
 /// <summary>
 /// How a stored program's modal groups map to the store: the first nine G groups in the columns GA..GI, the first
-/// three M groups in MA..MC (the store's first layout), any further groups of the profile in the block's <c>more_groups</c>
-/// column as JSON, and the group names in <c>programs.groups</c>.
+/// three M groups in MA..MC (the store's first layout), any further groups of the profile as JSON in
+/// <c>group_states</c>, once per distinct state (a block names its state in <c>group_state</c>: states change far more
+/// rarely than blocks), and the group names in <c>programs.groups</c>.
 /// </summary>
 public sealed class StoredGroups
 {
     private const int GColumns = 9;
     private const int MColumns = 3;
 
-    private StoredGroups(IReadOnlyList<string> g, IReadOnlyList<string> m)
+    private readonly IReadOnlyDictionary<long, string> _states;
+
+    private StoredGroups(IReadOnlyList<string> g, IReadOnlyList<string> m, IReadOnlyDictionary<long, string>? states = null)
     {
         GNames = g;
         MNames = m;
+        _states = states ?? new Dictionary<long, string>();
     }
 
     /// <summary>Names of the program's G groups, in store order.</summary>
@@ -36,8 +40,11 @@ public sealed class StoredGroups
             new Dictionary<string, string[]> { ["G"] = profile.GGroups.Select(g => g.Name).ToArray(), ["M"] = profile.MGroups.Select(g => g.Name).ToArray() },
             StoredGroupsJson.Default.DictionaryStringStringArray);
 
-    /// <summary>Reads <c>programs.groups</c>; null (a program stored before groups were recorded) gives <see cref="Paper"/>.</summary>
-    public static StoredGroups Parse(string? text)
+    /// <summary>
+    /// Reads <c>programs.groups</c> and the program's <c>group_states</c> (by id); null names (a program stored before
+    /// groups were recorded) give <see cref="Paper"/>'s.
+    /// </summary>
+    public static StoredGroups Parse(string? text, IReadOnlyDictionary<long, string>? states = null)
     {
         if (string.IsNullOrEmpty(text))
         {
@@ -46,11 +53,11 @@ public sealed class StoredGroups
 
         var d = JsonSerializer.Deserialize(text, StoredGroupsJson.Default.DictionaryStringStringArray)
             ?? throw new InvalidDataException($"programs.groups: not a group list: {text}");
-        return new StoredGroups(d.TryGetValue("G", out var g) ? g : [], d.TryGetValue("M", out var m) ? m : []);
+        return new StoredGroups(d.TryGetValue("G", out var g) ? g : [], d.TryGetValue("M", out var m) ? m : [], states);
     }
 
     /// <summary>
-    /// The <c>more_groups</c> text of a state: the values of the G groups after the ninth and the M groups after the
+    /// The <c>group_states</c> text of a state: the values of the G groups after the ninth and the M groups after the
     /// third, <c>{"G":[94,null,98],"M":[6]}</c>; null when the profile has no more groups than the columns.
     /// </summary>
     public static string? MoreText(ModalState state)
@@ -67,13 +74,14 @@ public sealed class StoredGroups
         return sb.Append("]}").ToString();
     }
 
-    /// <summary>The state's group values from the columns (<paramref name="gColumn"/> 0..8, <paramref name="mColumn"/> 0..2) and <c>more_groups</c>.</summary>
-    public (CodeValues G, CodeValues M) Values(Func<int, double?> gColumn, Func<int, double?> mColumn, string? more)
+    /// <summary>The state's group values from the columns (<paramref name="gColumn"/> 0..8, <paramref name="mColumn"/> 0..2) and its <c>group_state</c>.</summary>
+    public (CodeValues G, CodeValues M) Values(Func<int, double?> gColumn, Func<int, double?> mColumn, long? state)
     {
         double?[]? gMore = null;
         double?[]? mMore = null;
-        if (more != null)
+        if (state is { } id)
         {
+            var more = _states.TryGetValue(id, out var text) ? text : throw new InvalidDataException($"group state {id} is not stored");
             using var doc = JsonDocument.Parse(more);
             gMore = Numbers(doc.RootElement, "G");
             mMore = Numbers(doc.RootElement, "M");
