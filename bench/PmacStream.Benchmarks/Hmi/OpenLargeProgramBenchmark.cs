@@ -2,6 +2,7 @@ using BenchmarkDotNet.Attributes;
 using PmacStream.Benchmarks.Generators;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
+using PmacStream.Preview;
 
 namespace PmacStream.Benchmarks.Hmi;
 
@@ -82,7 +83,8 @@ public class OpenLargeProgramBenchmark
         public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath);
     }
 
     private sealed class NullView : IMainView
@@ -98,15 +100,18 @@ public class OpenLargeProgramBenchmark
         public IReadOnlyList<string> Strategies { set { } }
         public string SelectedStrategy => "chunk";
         public IReadOnlyList<string> ChunkFiles { set { } }
+        public int SelectedChunk { set { } }
         public int ChunkLineCount { set { } }
+        public int ChunkExecutingLine { set { } }
         public int ProgramLineCount { get; set; }
         public int ExecutingLine { set { } }
         public int FocusedLine { set { } }
         public int SelectedLine => 0;
         public CommandStates Commands { set { } }
         public bool SingleBlock => false;
-        public FeedScale FeedScale { set { } }
-        public double Feed { get; set; }
+        public double FeedOverride { get; set; }
+        public ToolpathFrame Toolpath { set { } }
+        public string ToolpathCaption { set { } }
         public StatusDisplay Status { set { } }
 #pragma warning disable CS0067 // events the benchmark never raises
         public event EventHandler? LanguageChanged;
@@ -126,7 +131,7 @@ public class OpenLargeProgramBenchmark
         public event EventHandler? StartFromLineRequested;
         public event EventHandler? ResumeInterruptedRequested;
         public event EventHandler? SingleBlockChanged;
-        public event EventHandler? FeedChanged;
+        public event EventHandler? FeedOverrideChanged;
         public event EventHandler? DownloadWindowChanged;
 #pragma warning restore CS0067
         public void AppendLog(IReadOnlyList<string> lines) { }
