@@ -152,7 +152,8 @@ internal sealed partial class MainForm
 
     private static string ShownText(Control control) => control switch
     {
-        NumericUpDown n => n.Value.ToString(CultureInfo.InvariantCulture),
+        // The box's text as shown: reading Value would commit a half-typed number (and send it).
+        NumericUpDown n => n.Text,
         CheckBox c => c.Checked ? "checked" : "unchecked",
         _ => control.Text,
     };

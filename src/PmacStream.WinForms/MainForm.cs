@@ -48,7 +48,7 @@ internal sealed partial class MainForm : Form, IMainView
     private readonly ComboBox cboLanguage = new() { DropDownStyle = ComboBoxStyle.DropDownList };
 
     private readonly GroupBox grpFeed = new();
-    private readonly Label lblFeed = new();
+    private readonly Label lblFeed = new() { UseMnemonic = false }; // its text names the command &1 %
     private readonly TrackBar trkFeed = new()
     {
         TickStyle = TickStyle.BottomRight,

@@ -88,7 +88,7 @@ internal sealed class JobOptions
         }
         catch (JobException e)
         {
-            throw new CliException("--" + e.Message);
+            throw new CliException("--feed-override: " + e.Message);
         }
     }
 
