@@ -164,9 +164,11 @@ public sealed class JobWorkflowTests : IDisposable
         moves.Should().OnlyContain(m => Math.Abs((m.Length / m.Duration * 60) - 2100) < 21, "programmed x 70 %");
 
         // Without the option the start sets 100 %: an override left by an earlier session never carries over.
+        await setup.GetResponseAsync("&1 A"); // the rotary program of the job above still waits for lines
         await setup.GetResponseAsync("&1 %30");
         sim.StartClock();
-        CliProcess.Run("stream", src, "--tcp", spec, "--job-db", Db).Code.Should().Be(0);
+        var again = CliProcess.Run("stream", src, "--tcp", spec, "--job-db", Db);
+        again.Code.Should().Be(0, again.Err + again.Out);
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(5));
         (await setup.GetResponseAsync("&1 %")).Should().StartWith("100");
