@@ -48,7 +48,7 @@ public static class ToolpathPaneBench
     {
         var baseline = Process.GetCurrentProcess().WorkingSet64;
 
-        var view = new BenchView();
+        var view = new QuietView();
         var backend = new BenchBackend(dir, lines, perTick);
         await using var presenter = new MainPresenter(view, backend);
         var clock = Stopwatch.StartNew();
@@ -65,11 +65,11 @@ public static class ToolpathPaneBench
         var liveAtPicture = GC.GetTotalMemory(forceFullCollection: true);
         Console.WriteLine($"first picture: {firstPicture.TotalSeconds:0.00} s after open, {pictureCpu.TotalSeconds:0.00} s CPU ({view.Caption})");
 
-        view.Raise(v => v.Connect());
+        view.Connect();
         await presenter.WhenIdleAsync();
-        view.Raise(v => v.Split());
+        view.Split();
         await presenter.WhenIdleAsync();
-        view.Raise(v => v.Execute());
+        view.Execute();
         await presenter.WhenIdleAsync();
 
         // M0 runs through the program in big steps; each tick the pane draws what it can within its budget.
@@ -170,71 +170,5 @@ public static class ToolpathPaneBench
         public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
 
         public ValueTask DisposeAsync() => ValueTask.CompletedTask;
-    }
-
-    /// <summary>The screen, reduced to what the benchmark reads: frames shown and the pane's caption.</summary>
-    private sealed class BenchView : IMainView
-    {
-        public int Frames { get; private set; }
-
-        public string Caption { get; private set; } = string.Empty;
-
-        public IReadOnlyDictionary<TextId, string> Texts { set { } }
-        public HmiLanguage Language => HmiLanguage.English;
-        public ConnectionSettings ConnectionSettings => new(DeviceKind.Simulator);
-        public string ConnectionState { set { } }
-        public string ProgramPath { set { } }
-        public IReadOnlyList<string> Diagnostics { set { } }
-        public int LinesPerChunk { get; set; }
-        public (double Start, double End) DownloadWindow { get; set; }
-        public IReadOnlyList<string> Strategies { set { } }
-        public string SelectedStrategy => "chunk";
-        public IReadOnlyList<string> ChunkFiles { set { } }
-        public int SelectedChunk { set { } }
-        public int ChunkLineCount { set { } }
-        public int ChunkExecutingLine { set { } }
-        public int ProgramLineCount { set { } }
-        public int ExecutingLine { set { } }
-        public int FocusedLine { set { } }
-        public int SelectedLine => 0;
-        public CommandStates Commands { set { } }
-        public bool SingleBlock => false;
-        public double FeedOverride { get; set; }
-        public ToolpathFrame Toolpath { set => Frames++; }
-        public string ToolpathCaption { set => Caption = value; }
-        public StatusDisplay Status { set { } }
-#pragma warning disable CS0067 // events the benchmark never raises
-        public event EventHandler? LanguageChanged;
-        public event EventHandler? DisconnectRequested;
-        public event EventHandler<string>? OpenRequested;
-        public event EventHandler? CheckRequested;
-        public event EventHandler<int>? DiagnosticActivated;
-        public event EventHandler<int>? ChunkSelected;
-        public event EventHandler<LineRequestEventArgs>? ChunkLineNeeded;
-        public event EventHandler<LineRequestEventArgs>? ProgramLineNeeded;
-        public event EventHandler? HoldRequested;
-        public event EventHandler? ResumeRequested;
-        public event EventHandler? AbortRequested;
-        public event EventHandler? StartFromLineRequested;
-        public event EventHandler? ResumeInterruptedRequested;
-        public event EventHandler? SingleBlockChanged;
-        public event EventHandler? FeedOverrideChanged;
-        public event EventHandler? DownloadWindowChanged;
-#pragma warning restore CS0067
-        public event EventHandler? ConnectRequested;
-        public event EventHandler? SplitRequested;
-        public event EventHandler? ExecuteRequested;
-
-        public void Raise(Action<BenchView> what) => what(this);
-
-        public void Connect() => ConnectRequested?.Invoke(this, EventArgs.Empty);
-
-        public void Split() => SplitRequested?.Invoke(this, EventArgs.Empty);
-
-        public void Execute() => ExecuteRequested?.Invoke(this, EventArgs.Empty);
-
-        public void AppendLog(IReadOnlyList<string> lines) { }
-        public Task<bool> ConfirmAsync(string title, string text) => Task.FromResult(false);
-        public void ShowError(string message) => throw new InvalidOperationException(message);
     }
 }
