@@ -68,7 +68,9 @@ internal sealed class ToolpathPane : IDisposable
     /// <summary>Draws the planned toolpath of a newly opened program, in the background.</summary>
     public void Open(string path)
     {
-        Close();
+        Forget();
+        _frame.Bitmap.Erase(_palette.Background);
+        _view.Toolpath = _frame;
         _path = path;
         _work = new CancellationTokenSource();
         var token = _work.Token;
@@ -86,8 +88,25 @@ internal sealed class ToolpathPane : IDisposable
         Show();
     }
 
-    /// <summary>Forgets the program (a new one is opened, or the presenter closes).</summary>
+    /// <summary>Forgets the program (a new one is opened, or it is closed) and shows the empty pane.</summary>
     public void Close()
+    {
+        Forget();
+        _frame.Bitmap.Erase(_palette.Background);
+        _view.Toolpath = _frame;
+        Show();
+    }
+
+    /// <inheritdoc />
+    /// <remarks>No view calls: the window may already be gone.</remarks>
+    public void Dispose()
+    {
+        Forget();
+        _frameCanvas.Dispose();
+        _frame.Dispose();
+    }
+
+    private void Forget()
     {
         _work?.Cancel();
         if (_rendering is { IsCompleted: false } pending)
@@ -108,8 +127,6 @@ internal sealed class ToolpathPane : IDisposable
         _work = null;
         _path = null;
         _failure = null;
-        _frame.Bitmap.Erase(_palette.Background);
-        Show();
     }
 
     /// <summary>
@@ -150,14 +167,6 @@ internal sealed class ToolpathPane : IDisposable
         }
 
         Show();
-    }
-
-    /// <inheritdoc />
-    public void Dispose()
-    {
-        Close();
-        _frameCanvas.Dispose();
-        _frame.Dispose();
     }
 
     private void Install(Task<PreviewPicture> done)
