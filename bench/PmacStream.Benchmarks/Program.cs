@@ -16,6 +16,11 @@ if (args.Length > 0 && args[0] == "gen-surfacing")
     return 0;
 }
 
+if (args.Length > 0 && args[0] == "hmi-toolpath")
+{
+    return PmacStream.Benchmarks.Hmi.ToolpathPaneBench.Run(args[1..]);
+}
+
 if (args.Length > 0 && args[0] == "stream-bench")
 {
     return PmacStream.Benchmarks.Streaming.StreamBench.Run(args[1..]);

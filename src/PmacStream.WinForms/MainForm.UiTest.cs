@@ -23,7 +23,9 @@ internal sealed partial class MainForm
         (nameof(lblConnectionState), lblConnectionState), (nameof(btnOpen), btnOpen), (nameof(lblPath), lblPath),
         (nameof(btnCheck), btnCheck), (nameof(btnSplit), btnSplit), (nameof(numLinesPerChunk), numLinesPerChunk),
         (nameof(cboStrategy), cboStrategy), (nameof(cboLanguage), cboLanguage), (nameof(numFeed), numFeed),
-        (nameof(lblFeedUnit), lblFeedUnit), (nameof(chkSingleBlock), chkSingleBlock), (nameof(btnExecute), btnExecute),
+        (nameof(lblFeedUnit), lblFeedUnit), (nameof(grpFeed), grpFeed), (nameof(lblFeed), lblFeed),
+        (nameof(numWindowStart), numWindowStart), (nameof(numWindowEnd), numWindowEnd), (nameof(lblWindow), lblWindow),
+        (nameof(lblToolpath), lblToolpath), (nameof(chkSingleBlock), chkSingleBlock), (nameof(btnExecute), btnExecute),
         (nameof(btnHold), btnHold), (nameof(btnResume), btnResume), (nameof(btnAbort), btnAbort),
         (nameof(btnStartFromLine), btnStartFromLine), (nameof(btnResumeInterrupted), btnResumeInterrupted),
         (nameof(grpStatus), grpStatus), (nameof(lblProgramLines), lblProgramLines),
@@ -35,13 +37,9 @@ internal sealed partial class MainForm
         var origin = PointToScreen(Point.Empty);
         var top = listBox2.VirtualListSize > 0 ? listBox2.TopItem?.Index ?? -1 : -1;
         var rowHeight = top >= 0 ? listBox2.GetItemRect(top).Height : 0;
-        var executingText = string.Empty;
-        if (_executingLine >= 1 && _executingLine <= _programLineCount)
-        {
-            var request = new LineRequestEventArgs(_executingLine);
-            ProgramLineNeeded?.Invoke(this, request);
-            executingText = request.Text;
-        }
+        var executingText = RowText(ProgramLineNeeded, _executingLine, _programLineCount);
+        var chunkTop = lvChunkLines.VirtualListSize > 0 ? lvChunkLines.TopItem?.Index ?? -1 : -1;
+        var chunkRowHeight = chunkTop >= 0 ? lvChunkLines.GetItemRect(chunkTop).Height : 0;
 
         return new UiSnapshot
         {
@@ -58,6 +56,11 @@ internal sealed partial class MainForm
             ProgramLineCount = _programLineCount,
             ExecutingLine = _executingLine,
             ExecutingRowText = executingText,
+            SelectedChunk = listBox1.SelectedIndex,
+            ChunkExecutingLine = _chunkExecutingLine,
+            ChunkExecutingRowText = RowText(ChunkLineNeeded, _chunkExecutingLine, _chunkLineCount),
+            ChunkTopLine = chunkTop + 1,
+            ChunkVisibleLines = chunkRowHeight > 0 ? (lvChunkLines.ClientSize.Height / chunkRowHeight) - 1 : 0,
             SelectedLine = SelectedLine,
             TopLine = top + 1,
             VisibleLines = rowHeight > 0 ? (listBox2.ClientSize.Height / rowHeight) - 1 : 0,
@@ -75,8 +78,8 @@ internal sealed partial class MainForm
 
     /// <summary>
     /// Carries out one scripted command the way the operator's input would: <c>click NAME</c>, <c>select-chunk INDEX</c>, <c>select-line N</c>,
-    /// <c>language N</c> (the selector's index), <c>feed VALUE</c>, <c>open PATH</c> (as chosen in the open dialog),
-    /// <c>close</c>.
+    /// <c>language N</c> (the selector's index), <c>feed VALUE</c> (the override box), <c>window START END</c> (percent),
+    /// <c>open PATH</c> (as chosen in the open dialog), <c>close</c>.
     /// </summary>
     internal void RunScripted(string command)
     {
@@ -119,6 +122,11 @@ internal sealed partial class MainForm
             case "feed":
                 numFeed.Value = decimal.Parse(argument, CultureInfo.InvariantCulture);
                 break;
+            case "window":
+                var parts = argument.Split(' ', StringSplitOptions.RemoveEmptyEntries);
+                numWindowEnd.Value = decimal.Parse(parts[1], CultureInfo.InvariantCulture);
+                numWindowStart.Value = decimal.Parse(parts[0], CultureInfo.InvariantCulture);
+                break;
             case "open":
                 OpenRequested?.Invoke(this, argument);
                 break;
@@ -130,9 +138,22 @@ internal sealed partial class MainForm
         }
     }
 
+    private string RowText(EventHandler<LineRequestEventArgs>? source, int line, int count)
+    {
+        if (line < 1 || line > count)
+        {
+            return string.Empty;
+        }
+
+        var request = new LineRequestEventArgs(line);
+        source?.Invoke(this, request);
+        return request.Text;
+    }
+
     private static string ShownText(Control control) => control switch
     {
-        NumericUpDown n => n.Value.ToString(CultureInfo.InvariantCulture),
+        // The box's text as shown: reading Value would commit a half-typed number (and send it).
+        NumericUpDown n => n.Text,
         CheckBox c => c.Checked ? "checked" : "unchecked",
         _ => control.Text,
     };

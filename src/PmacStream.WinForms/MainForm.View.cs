@@ -1,3 +1,4 @@
+using System.Drawing.Imaging;
 using System.Globalization;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
@@ -24,17 +25,34 @@ internal sealed partial class MainForm
     public event EventHandler? StartFromLineRequested;
     public event EventHandler? ResumeInterruptedRequested;
     public event EventHandler? SingleBlockChanged;
-    public event EventHandler? FeedChanged;
+    public event EventHandler? FeedOverrideChanged;
 
-    // The form has no window control yet (the next layout revision adds one); the presenter's window is kept and
-    // shown through this property, and nothing raises the event.
+    private EventHandler? _downloadWindowChanged;
+
     public event EventHandler? DownloadWindowChanged
     {
-        add { }
-        remove { }
+        add => _downloadWindowChanged += value;
+        remove => _downloadWindowChanged -= value;
     }
 
-    public (double Start, double End) DownloadWindow { get; set; } = (RunSettings.DefaultWindowStart, RunSettings.DefaultWindowEnd);
+    /// <summary>The two percent boxes beside the strategy, as fractions of a chunk.</summary>
+    public (double Start, double End) DownloadWindow
+    {
+        get => ((double)numWindowStart.Value / 100, (double)numWindowEnd.Value / 100);
+        set
+        {
+            _updating = true;
+            try
+            {
+                numWindowStart.Value = Math.Clamp((decimal)Math.Round(value.Start * 100, 1), numWindowStart.Minimum, numWindowStart.Maximum);
+                numWindowEnd.Value = Math.Clamp((decimal)Math.Round(value.End * 100, 1), numWindowEnd.Minimum, numWindowEnd.Maximum);
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
 
     IReadOnlyDictionary<TextId, string> IMainView.Texts
     {
@@ -142,13 +160,37 @@ internal sealed partial class MainForm
         }
     }
 
+    int IMainView.SelectedChunk
+    {
+        set
+        {
+            // Following execution must not look like the operator's click.
+            _updating = true;
+            try
+            {
+                listBox1.SelectedIndex = value >= 0 && value < listBox1.Items.Count ? value : -1;
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
+
     int IMainView.ChunkLineCount
     {
         set
         {
-            lvChunkLines.VirtualListSize = Math.Max(0, value);
+            _chunkLineCount = Math.Max(0, value);
+            lvChunkLines.VirtualListSize = _chunkLineCount;
             lvChunkLines.Invalidate();
         }
+    }
+
+    int IMainView.ChunkExecutingLine
+    {
+        // Kept in view as in ListBox2: the row of the chunk file whose M0==line is executing.
+        set => Highlight(lvChunkLines, ref _chunkExecutingLine, value, _chunkLineCount);
     }
 
     int IMainView.ProgramLineCount
@@ -163,18 +205,8 @@ internal sealed partial class MainForm
 
     int IMainView.ExecutingLine
     {
-        set
-        {
-            var old = _executingLine;
-            _executingLine = value;
-            RedrawLine(old);
-            if (value >= 1 && value <= _programLineCount)
-            {
-                // Kept in view: ListBox2's index follows M0, the synchronous assignment of the executing block.
-                listBox2.EnsureVisible(value - 1);
-                RedrawLine(value);
-            }
-        }
+        // Kept in view: ListBox2's index follows M0, the synchronous assignment of the executing block.
+        set => Highlight(listBox2, ref _executingLine, value, _programLineCount);
     }
 
     int IMainView.FocusedLine
@@ -218,36 +250,7 @@ internal sealed partial class MainForm
 
     public bool SingleBlock => chkSingleBlock.Checked;
 
-    FeedScale IMainView.FeedScale
-    {
-        set
-        {
-            _updating = true;
-            try
-            {
-                // Widen first so no intermediate range is empty, then narrow; both controls clamp their value.
-                trkFeed.Minimum = Math.Min(trkFeed.Minimum, (int)value.Minimum);
-                trkFeed.Maximum = Math.Max(trkFeed.Maximum, (int)value.Maximum);
-                trkFeed.Minimum = (int)value.Minimum;
-                trkFeed.Maximum = (int)value.Maximum;
-                trkFeed.TickFrequency = Math.Max(1, (int)((value.Maximum - value.Minimum) / 20));
-                trkFeed.LargeChange = Math.Max(1, (int)((value.Maximum - value.Minimum) / 10));
-                trkFeed.SmallChange = Math.Max(1, (int)((value.Maximum - value.Minimum) / 100));
-                numFeed.Minimum = Math.Min(numFeed.Minimum, (decimal)value.Minimum);
-                numFeed.Maximum = Math.Max(numFeed.Maximum, (decimal)value.Maximum);
-                numFeed.Minimum = (decimal)value.Minimum;
-                numFeed.Maximum = (decimal)value.Maximum;
-                numFeed.Increment = value.Unit == "%" ? 5 : 50;
-                lblFeedUnit.Text = value.Unit;
-            }
-            finally
-            {
-                _updating = false;
-            }
-        }
-    }
-
-    double IMainView.Feed
+    double IMainView.FeedOverride
     {
         get => (double)numFeed.Value;
         set
@@ -266,12 +269,37 @@ internal sealed partial class MainForm
         }
     }
 
+    ToolpathFrame IMainView.Toolpath
+    {
+        set
+        {
+            // The presenter's frame is pinned and never moves: wrapped once, repainted whenever it changed.
+            if (_toolpathBitmap is null || _toolpathFrame != value)
+            {
+                var old = _toolpathBitmap;
+                _toolpathFrame = value;
+                _toolpathBitmap = new Bitmap(value.Width, value.Height, value.Stride, PixelFormat.Format32bppPArgb, value.Scan0);
+                picToolpath.Image = _toolpathBitmap;
+                old?.Dispose();
+            }
+            else
+            {
+                picToolpath.Invalidate();
+            }
+        }
+    }
+
+    string IMainView.ToolpathCaption
+    {
+        set => lblToolpath.Text = value;
+    }
+
     StatusDisplay IMainView.Status
     {
         set
         {
-            string[] values = [value.State, value.TotalFiles, value.ProgramLines, value.CurrentFile, value.CurrentLine, value.Progress, value.Feed, value.Elapsed, value.Eta];
-            for (var row = 0; row < lblStatusValues.Length && row < values.Length; row++)
+            var values = value.Rows;
+            for (var row = 0; row < lblStatusValues.Length && row < values.Count; row++)
             {
                 lblStatusValues[row].Text = values[row];
             }

@@ -40,14 +40,36 @@ internal sealed partial class MainForm : Form, IMainView
     private readonly NumericUpDown numLinesPerChunk = new() { Minimum = 1, Maximum = 100000, Value = RunSettings.DefaultLinesPerChunk };
     private readonly Label lblStrategy = new();
     private readonly ComboBox cboStrategy = new() { DropDownStyle = ComboBoxStyle.DropDownList };
+    private readonly Label lblWindow = new();
+    private readonly NumericUpDown numWindowStart = new() { Minimum = 1, Maximum = 99, Increment = 5 };
+    private readonly Label lblWindowDash = new() { Text = "–" };
+    private readonly NumericUpDown numWindowEnd = new() { Minimum = 1, Maximum = 100, Increment = 5 };
     private readonly Label lblLanguage = new();
     private readonly ComboBox cboLanguage = new() { DropDownStyle = ComboBoxStyle.DropDownList };
 
     private readonly GroupBox grpFeed = new();
-    private readonly Label lblFeed = new();
-    private readonly TrackBar trkFeed = new() { TickStyle = TickStyle.BottomRight };
-    private readonly NumericUpDown numFeed = new() { DecimalPlaces = 0 };
-    private readonly Label lblFeedUnit = new();
+    private readonly Label lblFeed = new() { UseMnemonic = false }; // its text names the command &1 %
+    private readonly TrackBar trkFeed = new()
+    {
+        TickStyle = TickStyle.BottomRight,
+        Minimum = (int)FeedOverrides.Minimum,
+        Maximum = (int)FeedOverrides.Maximum,
+        TickFrequency = 10,
+        LargeChange = 10,
+        SmallChange = 1,
+        Value = (int)FeedOverrides.Default,
+    };
+
+    private readonly NumericUpDown numFeed = new()
+    {
+        DecimalPlaces = 0,
+        Minimum = (decimal)FeedOverrides.Minimum,
+        Maximum = (decimal)FeedOverrides.Maximum,
+        Increment = 5,
+        Value = (decimal)FeedOverrides.Default,
+    };
+
+    private readonly Label lblFeedUnit = new() { Text = "%" };
     private readonly CheckBox chkSingleBlock = new();
 
     private readonly Label lblChunkFiles = new();
@@ -73,6 +95,8 @@ internal sealed partial class MainForm : Form, IMainView
     private readonly ListBox lstDiagnostics = new() { IntegralHeight = false, HorizontalScrollbar = true };
     private readonly Label lblLog = new();
     private readonly TextBox txtLog = new() { Multiline = true, ReadOnly = true, ScrollBars = ScrollBars.Both, WordWrap = false, Font = MonospaceFont(8.5f) };
+    private readonly Label lblToolpath = new() { AutoEllipsis = true };
+    private readonly PictureBox picToolpath = new() { BorderStyle = BorderStyle.FixedSingle, SizeMode = PictureBoxSizeMode.Normal };
 
     private readonly StatusStrip statusStrip = new();
     private readonly ToolStripStatusLabel stsConnection = new() { Spring = false };
@@ -82,7 +106,11 @@ internal sealed partial class MainForm : Form, IMainView
     private MainPresenter? _presenter;
     private bool _updating;
     private int _executingLine;
+    private int _chunkExecutingLine;
+    private int _chunkLineCount;
     private int _programLineCount;
+    private Bitmap? _toolpathBitmap;
+    private ToolpathFrame? _toolpathFrame;
     private string _programFile = string.Empty;
     private Font? _executingFont;
 
@@ -119,6 +147,10 @@ internal sealed partial class MainForm : Form, IMainView
         Place(numLinesPerChunk, HmiLayout.LinesPerChunkBox, grpProgram);
         Place(lblStrategy, HmiLayout.StrategyLabel, grpProgram);
         Place(cboStrategy, HmiLayout.StrategyCombo, grpProgram);
+        Place(lblWindow, HmiLayout.WindowLabel, grpProgram);
+        Place(numWindowStart, HmiLayout.WindowStartBox, grpProgram);
+        Place(lblWindowDash, HmiLayout.WindowDash, grpProgram);
+        Place(numWindowEnd, HmiLayout.WindowEndBox, grpProgram);
         Place(lblLanguage, HmiLayout.LanguageLabel, grpProgram);
         Place(cboLanguage, HmiLayout.LanguageCombo, grpProgram);
 
@@ -158,11 +190,13 @@ internal sealed partial class MainForm : Form, IMainView
         Place(lstDiagnostics, HmiLayout.DiagnosticsList, this);
         Place(lblLog, HmiLayout.LogLabel, this);
         Place(txtLog, HmiLayout.LogText, this);
+        Place(lblToolpath, HmiLayout.ToolpathLabel, this);
+        Place(picToolpath, HmiLayout.ToolpathPane, this);
 
         statusStrip.Items.AddRange(new ToolStripItem[] { stsState, stsConnection });
         Controls.Add(statusStrip);
 
-        // Growing the window grows the lists and the log, not the buttons.
+        // Growing the window grows the lists and the log, not the buttons; the toolpath pane keeps the size it is drawn at.
         listBox2.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
         lvChunkLines.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left;
         foreach (Control c in new Control[] { btnExecute, btnHold, btnResume, btnAbort, btnStartFromLine, btnResumeInterrupted, grpStatus, grpFeed })
@@ -175,8 +209,15 @@ internal sealed partial class MainForm : Form, IMainView
             c.Anchor = AnchorStyles.Bottom | AnchorStyles.Left;
         }
 
+        foreach (Control c in new Control[] { lblToolpath, picToolpath })
+        {
+            c.Anchor = AnchorStyles.Bottom | AnchorStyles.Right;
+        }
+
         lblLog.Anchor = AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
         txtLog.Anchor = AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
+        numWindowStart.Value = (decimal)(RunSettings.DefaultWindowStart * 100);
+        numWindowEnd.Value = (decimal)(RunSettings.DefaultWindowEnd * 100);
 
         cboPort.Items.AddRange(new object[] { "COM1", "COM2", "COM3", "COM4", "COM5", "COM6", "COM7", "COM8" });
         cboPort.SelectedIndex = 0;
@@ -244,6 +285,7 @@ internal sealed partial class MainForm : Form, IMainView
         {
             timer1.Dispose();
             _executingFont?.Dispose();
+            _toolpathBitmap?.Dispose();
         }
 
         base.Dispose(disposing);
@@ -276,7 +318,7 @@ internal sealed partial class MainForm : Form, IMainView
             }
         };
 
-        lvChunkLines.RetrieveVirtualItem += (_, e) => e.Item = LineItem(e.ItemIndex, ChunkLineNeeded, executing: false);
+        lvChunkLines.RetrieveVirtualItem += (_, e) => e.Item = LineItem(e.ItemIndex, ChunkLineNeeded, executing: e.ItemIndex + 1 == _chunkExecutingLine);
         listBox2.RetrieveVirtualItem += (_, e) => e.Item = LineItem(e.ItemIndex, ProgramLineNeeded, executing: e.ItemIndex + 1 == _executingLine);
 
         btnExecute.Click += (_, _) => ExecuteRequested?.Invoke(this, EventArgs.Empty);
@@ -305,8 +347,8 @@ internal sealed partial class MainForm : Form, IMainView
                 _updating = false;
             }
         };
-        trkFeed.MouseUp += (_, _) => FeedChanged?.Invoke(this, EventArgs.Empty);
-        trkFeed.KeyUp += (_, _) => FeedChanged?.Invoke(this, EventArgs.Empty);
+        trkFeed.MouseUp += (_, _) => FeedOverrideChanged?.Invoke(this, EventArgs.Empty);
+        trkFeed.KeyUp += (_, _) => FeedOverrideChanged?.Invoke(this, EventArgs.Empty);
         numFeed.ValueChanged += (_, _) =>
         {
             if (_updating)
@@ -324,8 +366,18 @@ internal sealed partial class MainForm : Form, IMainView
                 _updating = false;
             }
 
-            FeedChanged?.Invoke(this, EventArgs.Empty);
+            FeedOverrideChanged?.Invoke(this, EventArgs.Empty);
         };
+        numWindowStart.ValueChanged += (_, _) => WindowChanged();
+        numWindowEnd.ValueChanged += (_, _) => WindowChanged();
+    }
+
+    private void WindowChanged()
+    {
+        if (!_updating)
+        {
+            _downloadWindowChanged?.Invoke(this, EventArgs.Empty);
+        }
     }
 
     private void ChooseProgram()
@@ -368,11 +420,24 @@ internal sealed partial class MainForm : Form, IMainView
         return item;
     }
 
-    private void RedrawLine(int line)
+    /// <summary>Moves a virtual list's highlighted row to <paramref name="line"/> (0: none) and scrolls it into view.</summary>
+    private static void Highlight(ListView list, ref int shown, int line, int count)
     {
-        if (line >= 1 && line <= _programLineCount)
+        var old = shown;
+        shown = line;
+        RedrawLine(list, old, count);
+        if (line >= 1 && line <= count)
         {
-            listBox2.RedrawItems(line - 1, line - 1, invalidateOnly: true);
+            list.EnsureVisible(line - 1);
+            RedrawLine(list, line, count);
+        }
+    }
+
+    private static void RedrawLine(ListView list, int line, int count)
+    {
+        if (line >= 1 && line <= count)
+        {
+            list.RedrawItems(line - 1, line - 1, invalidateOnly: true);
         }
     }
 
@@ -399,10 +464,11 @@ internal sealed partial class MainForm : Form, IMainView
         btnSplit.Text = t[TextId.Split];
         lblLinesPerChunk.Text = t[TextId.LinesPerChunk];
         lblStrategy.Text = t[TextId.Strategy];
+        lblWindow.Text = t[TextId.WindowControl];
         lblLanguage.Text = t[TextId.Language];
 
-        grpFeed.Text = t[TextId.Feed];
-        lblFeed.Text = t[TextId.Feed];
+        grpFeed.Text = t[TextId.FeedOverride];
+        lblFeed.Text = t[TextId.FeedOverrideHint];
         chkSingleBlock.Text = t[TextId.SingleBlock];
 
         lblChunkFiles.Text = t[TextId.ChunkFiles];

@@ -52,6 +52,21 @@ internal sealed record UiSnapshot
     /// <summary>The text shown in the executing line's row.</summary>
     public string ExecutingRowText { get; init; } = string.Empty;
 
+    /// <summary>The selected chunk file row of ListBox1, -1 for none.</summary>
+    public int SelectedChunk { get; init; }
+
+    /// <summary>The highlighted row of the chunk lines (the executing block's <c>M0==line</c>), 0 for none.</summary>
+    public int ChunkExecutingLine { get; init; }
+
+    /// <summary>The text shown in that row.</summary>
+    public string ChunkExecutingRowText { get; init; } = string.Empty;
+
+    /// <summary>First chunk line in view (1-based), 0 when the list is empty.</summary>
+    public int ChunkTopLine { get; init; }
+
+    /// <summary>Chunk lines that fit in the list.</summary>
+    public int ChunkVisibleLines { get; init; }
+
     /// <summary>The selected program line, 0 for none.</summary>
     public int SelectedLine { get; init; }
 

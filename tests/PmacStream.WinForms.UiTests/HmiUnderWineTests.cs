@@ -18,6 +18,15 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
     /// <summary>Gold, the executing row's background (MainForm.ExecutingBack).</summary>
     private const string ExecutingColour = "#FFD700";
 
+    /// <summary>The toolpath pane's planned feed moves (PreviewPalette.Feed).</summary>
+    private const string PlannedColour = "#1F4E9E";
+
+    /// <summary>The toolpath pane's executed path (PreviewPalette.Executed).</summary>
+    private const string ExecutedColour = "#78D678";
+
+    // Status rows in HmiLayout.StatusRows order.
+    private const int StateRow = 0, CurrentFileRow = 3, FeedOverrideRow = 6, FeedRow = 7, WindowRow = 8;
+
     [SkippableFact]
     public void The_operator_runs_holds_restarts_and_resumes_a_program_on_the_real_form()
     {
@@ -74,13 +83,19 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         (s.ClientX, s.ClientY).Should().Be((window.X, window.Y), "the form's client origin is where X put its window");
         s.Controls["btnConnect"].Enabled.Should().BeTrue();
         s.Controls["btnExecute"].Should().Be(new UiControl(En[TextId.Execute], false));
-        s.Status[0].Should().Be(En[TextId.StateIdle]);
+        s.Status[StateRow].Should().Be(En[TextId.StateIdle]);
         screen.Screenshot("01-start");
 
         Step("connect to the built-in simulator (real click)");
         screen.Click(HmiLayout.ConnectButton, HmiLayout.ConnectionGroup);
         s = screen.WaitFor("connected", v => v.Controls["btnDisconnect"].Enabled && !v.Controls["btnConnect"].Enabled);
         s.Controls["lblConnectionState"].Text.Should().Contain("simulator");
+        s.Controls["grpFeed"].Text.Should().Be(En[TextId.FeedOverride], "the feed control is labelled as the feed override");
+        s.Controls["lblFeed"].Text.Should().Be(En[TextId.FeedOverrideHint]);
+        (s.Controls["numFeed"].Text, s.Controls["lblFeedUnit"].Text).Should().Be(("100", "%"));
+        s.Status[FeedOverrideRow].Should().Be("100 %");
+        (s.Controls["numWindowStart"].Text, s.Controls["numWindowEnd"].Text).Should().Be(("60", "70"), "the download window control shows the run settings' window");
+        s.Status[WindowRow].Should().Be("60–70 % of a file");
         screen.Screenshot("02-connected");
 
         Step("open samples/demo.nc through the open dialog (real click, typed path, Return)");
@@ -93,7 +108,10 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("the program's lines listed", v => v.ProgramLineCount == lines.Length && v.Controls["lblPath"].Text == "demo.nc");
         s.Controls["btnCheck"].Enabled.Should().BeTrue();
         s.Status[2].Should().Be(lines.Length.ToString("N0", System.Globalization.CultureInfo.InvariantCulture));
-        screen.Screenshot("03-opened");
+        s = screen.WaitFor("the planned toolpath in its pane", v => v.Controls["lblToolpath"].Text.StartsWith("Toolpath of demo.nc: ", StringComparison.Ordinal) && v.Controls["lblToolpath"].Text.Contains("moves", StringComparison.Ordinal));
+        var shot = screen.Screenshot("03-opened");
+        HmiScreen.CountColour(shot, HmiLayout.ToolpathPane, PlannedColour).Should().BeGreaterThan(1000, "the pane shows the planned feed moves");
+        HmiScreen.CountColour(shot, HmiLayout.ToolpathPane, ExecutedColour).Should().Be(0, "nothing executed yet");
 
         Step("check (real click)");
         screen.Click(HmiLayout.CheckButton, HmiLayout.ProgramGroup);
@@ -107,13 +125,24 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s.ChunkFiles[0].Should().StartWith("demo_0001.pmc");
         s.Controls["btnExecute"].Enabled.Should().BeTrue();
         screen.Script("select-chunk 1");
-        s = screen.WaitFor("the second chunk's lines", v => v.ChunkLineCount > 1000);
+        s = screen.WaitFor("the second chunk's lines", v => v.ChunkLineCount > 1000 && v.SelectedChunk == 1);
+        s.ChunkExecutingLine.Should().Be(0, "nothing executes yet");
         screen.Screenshot("05-split");
 
-        Step("execute (real click) and follow the highlighted line");
+        Step("narrow the download window to 55-70 % (real typing in the window's start box)");
+        screen.Click(HmiLayout.WindowStartBox, HmiLayout.ProgramGroup);
+        screen.Key("End", "BackSpace", "BackSpace", "BackSpace");
+        screen.Type("55");
+        screen.Key("Return");
+        s = screen.WaitFor("the window set", v => v.Status[WindowRow] == "55–70 % of a file");
+        s.LogTail.Should().Contain(l => l.Contains("Download window set to 0.55-0.7", StringComparison.Ordinal));
+        s.Controls["numWindowStart"].Text.Should().Be("55");
+
+        Step("execute (real click) and follow the highlighted line in the program and in the chunk's lines");
         screen.Click(HmiLayout.ExecuteButton);
-        s = screen.WaitFor("running", v => v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine > 0);
+        s = screen.WaitFor("running", v => v.Status[StateRow] == En[TextId.StateRunning] && v.ExecutingLine > 0);
         var seen = new List<int>();
+        var chunksFollowed = new HashSet<int>();
         s = screen.WaitFor("execution in the second chunk, past line 1480", v =>
         {
             if (v.ExecutingLine > 0 && (seen.Count == 0 || seen[^1] != v.ExecutingLine))
@@ -121,40 +150,92 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
                 v.ExecutingLine.Should().BeGreaterThanOrEqualTo(seen.LastOrDefault(), "the executing line never goes back");
                 v.ExecutingLine.Should().BeInRange(v.TopLine, v.TopLine + v.VisibleLines, "the executing line is kept in view");
                 v.ExecutingRowText.Should().Be(lines[v.ExecutingLine - 1], "the highlighted row shows that line of the program");
+                if (v.ChunkExecutingLine > 0 && v.Status[CurrentFileRow].StartsWith($"{v.SelectedChunk + 1}/", StringComparison.Ordinal))
+                {
+                    // The chunk's lines follow: its row with the executing block's synchronous assignment, in view.
+                    v.ChunkExecutingRowText.Should().Contain($"M0=={v.ExecutingLine}", "the highlighted chunk row is the executing block's");
+                    v.ChunkExecutingLine.Should().BeInRange(v.ChunkTopLine, v.ChunkTopLine + v.ChunkVisibleLines, "the chunk's executing row is kept in view");
+                    chunksFollowed.Add(v.SelectedChunk);
+                }
+
                 seen.Add(v.ExecutingLine);
             }
 
             return v.ExecutingLine >= 1480;
         }, TimeSpan.FromSeconds(90));
         seen.Count.Should().BeGreaterThan(10, "the highlight followed M0 through many lines");
-        s.Status[3].Should().StartWith("2/4", "the current chunk file is the second");
-        var shot = screen.Screenshot("06-executing");
-        HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted on the screen");
-        File.Copy(shot, Path.Combine(shots, "hmi-screen.png"), overwrite: true);
+        chunksFollowed.Should().Contain([0, 1], "the chunk lines followed execution from the first file into the second");
+        s.Status[CurrentFileRow].Should().StartWith("2/4", "the current chunk file is the second");
+        s.Status[WindowRow].Should().StartWith("55–70 %: file 3 at lines ", "the status names the lines where the next file goes");
+        s.Status[FeedRow].Should().MatchRegex(@"^F\d+ × 100 % = [\d.]+$", "programmed feed x override = resulting feed");
+        // The lists repaint as M0 moves on: a screenshot may catch one half drawn, so a few are taken until both
+        // highlighted rows are on it.
+        for (var attempt = 1; ; attempt++)
+        {
+            shot = screen.Screenshot("06-executing");
+            var rows = (HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour), HmiScreen.CountColour(shot, HmiLayout.ChunkLinesList, ExecutingColour));
+            if ((rows.Item1 > 200 && rows.Item2 > 200) || attempt == 4)
+            {
+                rows.Item1.Should().BeGreaterThan(200, "the executing row is highlighted on the screen");
+                rows.Item2.Should().BeGreaterThan(200, "so is the executing row of the chunk's lines");
+                break;
+            }
+
+            output.WriteLine($"  (a list was being repainted: gold pixels {rows}; again)");
+        }
 
         Step("hold (real click): the line stops");
         screen.Click(HmiLayout.HoldButton);
-        s = screen.WaitFor("held", v => v.Status[0] == En[TextId.StateHeld] && v.Controls["btnResume"].Enabled);
+        var executedPixels = HmiScreen.CountColour(shot, HmiLayout.ToolpathPane, ExecutedColour);
+        executedPixels.Should().BeGreaterThan(300, "the executed part is drawn over the planned toolpath");
+        File.Copy(shot, Path.Combine(shots, "hmi-screen.png"), overwrite: true);
+        s = screen.WaitFor("held", v => v.Status[StateRow] == En[TextId.StateHeld] && v.Controls["btnResume"].Enabled);
         var held = screen.WaitTicks(10).ExecutingLine;
         screen.WaitTicks(20).ExecutingLine.Should().Be(held, "nothing moves while held (20 more ticks of timer1)");
         screen.Screenshot("07-held");
 
         Step("resume (real click): the line moves on");
         screen.Click(HmiLayout.ResumeButton);
-        screen.WaitFor("running past the held line", v => v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine > held);
-        screen.Screenshot("08-resumed");
+        s = screen.WaitFor("running past the held line", v => v.Status[StateRow] == En[TextId.StateRunning] && v.ExecutingLine > held + 20);
+        shot = screen.Screenshot("08-resumed");
+        HmiScreen.CountColour(shot, HmiLayout.ToolpathPane, ExecutedColour).Should().BeGreaterThan(executedPixels, "the executed part grows as M0 advances");
 
-        Step("change the feed (real typing in the feed box)");
+        Step("set the feed override to 50 % (real typing in the override box); the program's F words leave it alone");
         screen.Click(HmiLayout.FeedBox, HmiLayout.FeedGroup);
         screen.Key("End", "BackSpace", "BackSpace", "BackSpace", "BackSpace", "BackSpace", "BackSpace");
-        screen.Type("800");
+        screen.Type("50");
         screen.Key("Return");
-        screen.WaitFor("the feed sent to the controller", v => v.LogTail.Any(l => l.Contains("Feed set to 800 P500", StringComparison.Ordinal)));
-        screen.Screenshot("09-feed");
+        s = screen.WaitFor("the override sent to the controller", v => v.LogTail.Any(l => l.Contains("Feed override set to 50 %", StringComparison.Ordinal)));
+        s.LogTail.Where(l => l.Contains("Feed override set to", StringComparison.Ordinal)).Should().ContainSingle("the typed value is sent once, on Return, not digit by digit");
+        var feeds = new HashSet<string>();
+        s = screen.WaitFor("the override in force across the program's feeds", v =>
+        {
+            v.Controls["numFeed"].Text.Should().Be("50", "the operator's setting holds");
+            if (v.Status[FeedOverrideRow] == "50 %")
+            {
+                v.Status[FeedRow].Should().MatchRegex(@"^F\d+ × 50 % = [\d.]+$");
+                feeds.Add(v.Status[FeedRow]);
+            }
+
+            return feeds.Count >= 1;
+        }, TimeSpan.FromSeconds(60));
+        s = screen.WaitTicks(20);
+        (s.Controls["numFeed"].Text, s.Status[FeedOverrideRow]).Should().Be(("50", "50 %"), "the override holds while the program runs on");
+        output.WriteLine($"  feeds shown: {string.Join(", ", feeds)}");
+        screen.Screenshot("09-feed-override");
+
+        Step("look back at the first chunk while the job runs: the chunk lines stay there, then follow again");
+        screen.Script("select-chunk 0");
+        s = screen.WaitTicks(10);
+        (s.SelectedChunk, s.ChunkExecutingLine).Should().Be((0, 0), "the operator's choice holds while another chunk executes");
+        s.ChunkLineCount.Should().BeGreaterThan(1000, "the first chunk's lines are shown");
+        var executing = int.Parse(s.Status[CurrentFileRow].Split('/')[0], System.Globalization.CultureInfo.InvariantCulture) - 1;
+        screen.Script($"select-chunk {executing}");
+        screen.WaitFor("following again", v => v.SelectedChunk >= executing && v.ChunkExecutingLine > 0);
 
         Step("abort (real click)");
         screen.Click(HmiLayout.AbortButton);
-        s = screen.WaitFor("aborted", v => v.Status[0] == En[TextId.StateAborted] && v.Controls["btnExecute"].Enabled);
+        s = screen.WaitFor("aborted", v => v.Status[StateRow] == En[TextId.StateAborted] && v.Controls["btnExecute"].Enabled);
         output.WriteLine($"  aborted at line {s.ExecutingLine}");
         screen.Screenshot("10-aborted");
 
@@ -166,10 +247,13 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s.DialogText.Should().Contain("2000").And.Contain("G21").And.Contain("S6000 M03", "the preamble restores units, spindle and the approach");
         screen.Screenshot("11-start-from-line-confirmation");
         Confirm(screen, En[TextId.ConfirmStartTitle]);
-        s = screen.WaitFor("running from line 2000", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= 2000);
+        s = screen.WaitFor("running from line 2000, the next file downloaded", v => v.DialogTitle is null && v.Status[StateRow] == En[TextId.StateRunning] && v.ExecutingLine >= 2000
+            && v.LogTail.Any(l => l.Contains("chunk 3 (", StringComparison.Ordinal) && l.Contains("download", StringComparison.Ordinal)));
+        s.LogTail.SkipWhile(l => !l.Contains("from line 2000", StringComparison.Ordinal)).Should().NotContain(
+            l => l.Contains("late download", StringComparison.Ordinal) || l.Contains("window missed", StringComparison.Ordinal), "a start past the window is no missed window");
         screen.Screenshot("12-started-from-line");
         screen.Script("click btnAbort");
-        s = screen.WaitFor("aborted again", v => v.Status[0] == En[TextId.StateAborted]);
+        s = screen.WaitFor("aborted again", v => v.Status[StateRow] == En[TextId.StateAborted]);
         var interrupted = s.ExecutingLine;
         output.WriteLine($"  interrupted at line {interrupted}");
 
@@ -181,7 +265,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         resumeAt.Should().BeInRange(2000, interrupted, "the checkpoint resumes where the interrupted job was, never past it");
         screen.Screenshot("13-resume-confirmation");
         Confirm(screen, En[TextId.ConfirmResumeTitle]);
-        screen.WaitFor("running again from the checkpoint", v => v.DialogTitle is null && v.Status[0] == En[TextId.StateRunning] && v.ExecutingLine >= resumeAt);
+        screen.WaitFor("running again from the checkpoint", v => v.DialogTitle is null && v.Status[StateRow] == En[TextId.StateRunning] && v.ExecutingLine >= resumeAt);
         screen.Screenshot("14-resumed-after-interruption");
 
         Step("switch to 简体中文 (real click on the language selector, Down, Return)");
@@ -189,10 +273,10 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.Key("Down");
         screen.Key("Return");
         s = screen.WaitFor("Chinese texts", v => v.Controls["btnExecute"].Text == Zh[TextId.Execute] && v.Controls["cboLanguage"].Text == "简体中文");
-        s.Status[0].Should().BeOneOf(Zh[TextId.StateRunning], Zh[TextId.StateCompleted]);
+        s.Status[StateRow].Should().BeOneOf(Zh[TextId.StateRunning], Zh[TextId.StateCompleted]);
         s.Controls["btnResumeInterrupted"].Text.Should().Be(Zh[TextId.ResumeInterrupted]);
         shot = screen.Screenshot("15-chinese");
-        if (s.Status[0] == Zh[TextId.StateRunning])
+        if (s.Status[StateRow] == Zh[TextId.StateRunning])
         {
             HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted");
         }
@@ -200,7 +284,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         File.Copy(shot, Path.Combine(shots, "hmi-screen-zh.png"), overwrite: true);
 
         Step("the resumed job runs to the end");
-        s = screen.WaitFor("completed", v => v.Status[0] == Zh[TextId.StateCompleted], TimeSpan.FromSeconds(90));
+        s = screen.WaitFor("completed", v => v.Status[StateRow] == Zh[TextId.StateCompleted], TimeSpan.FromSeconds(90));
         s.ExecutingLine.Should().BeGreaterThan(3200, "the last moves of the program ran");
         s.Errors.Should().BeEmpty();
         screen.Screenshot("16-completed");

@@ -5,8 +5,8 @@ namespace PmacStream.WinForms.UiTests;
 /// <summary>A private X server (Xvfb) with no window manager, on a display no other server uses.</summary>
 internal sealed class XServer : IDisposable
 {
-    /// <summary>Screen size: room for the 1280x802 form and a dialog beside it.</summary>
-    public const int Width = 1600, Height = 1000;
+    /// <summary>Screen size: room for the 1280x982 form and a dialog beside it.</summary>
+    public const int Width = 1600, Height = 1080;
 
     private readonly Process _process;
 

@@ -2,6 +2,7 @@ using BenchmarkDotNet.Attributes;
 using PmacStream.Benchmarks.Generators;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
+using PmacStream.Preview;
 
 namespace PmacStream.Benchmarks.Hmi;
 
@@ -37,7 +38,7 @@ public class OpenLargeProgramBenchmark
     [Benchmark]
     public async Task<int> FirstScreenThroughPresenter()
     {
-        var view = new NullView();
+        var view = new QuietView();
         await using var presenter = new MainPresenter(view, new NoBackend());
         await presenter.OpenAsync(_path);
         var chars = 0;
@@ -82,55 +83,7 @@ public class OpenLargeProgramBenchmark
         public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-    }
-
-    private sealed class NullView : IMainView
-    {
-        public IReadOnlyDictionary<TextId, string> Texts { set { } }
-        public HmiLanguage Language => HmiLanguage.English;
-        public ConnectionSettings ConnectionSettings => new(DeviceKind.Simulator);
-        public string ConnectionState { set { } }
-        public string ProgramPath { set { } }
-        public IReadOnlyList<string> Diagnostics { set { } }
-        public int LinesPerChunk { get; set; }
-        public (double Start, double End) DownloadWindow { get; set; }
-        public IReadOnlyList<string> Strategies { set { } }
-        public string SelectedStrategy => "chunk";
-        public IReadOnlyList<string> ChunkFiles { set { } }
-        public int ChunkLineCount { set { } }
-        public int ProgramLineCount { get; set; }
-        public int ExecutingLine { set { } }
-        public int FocusedLine { set { } }
-        public int SelectedLine => 0;
-        public CommandStates Commands { set { } }
-        public bool SingleBlock => false;
-        public FeedScale FeedScale { set { } }
-        public double Feed { get; set; }
-        public StatusDisplay Status { set { } }
-#pragma warning disable CS0067 // events the benchmark never raises
-        public event EventHandler? LanguageChanged;
-        public event EventHandler? ConnectRequested;
-        public event EventHandler? DisconnectRequested;
-        public event EventHandler<string>? OpenRequested;
-        public event EventHandler? CheckRequested;
-        public event EventHandler<int>? DiagnosticActivated;
-        public event EventHandler? SplitRequested;
-        public event EventHandler<int>? ChunkSelected;
-        public event EventHandler<LineRequestEventArgs>? ChunkLineNeeded;
-        public event EventHandler<LineRequestEventArgs>? ProgramLineNeeded;
-        public event EventHandler? ExecuteRequested;
-        public event EventHandler? HoldRequested;
-        public event EventHandler? ResumeRequested;
-        public event EventHandler? AbortRequested;
-        public event EventHandler? StartFromLineRequested;
-        public event EventHandler? ResumeInterruptedRequested;
-        public event EventHandler? SingleBlockChanged;
-        public event EventHandler? FeedChanged;
-        public event EventHandler? DownloadWindowChanged;
-#pragma warning restore CS0067
-        public void AppendLog(IReadOnlyList<string> lines) { }
-        public Task<bool> ConfirmAsync(string title, string text) => Task.FromResult(false);
-        public void ShowError(string message) => throw new InvalidOperationException(message);
+        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath);
     }
 }

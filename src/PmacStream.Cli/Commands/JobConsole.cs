@@ -103,7 +103,7 @@ internal static class JobConsole
     private static string Describe(StreamingStatus s)
     {
         var eta = s.Eta is { } e ? $" ETA {e:hh\\:mm\\:ss}" : string.Empty;
-        var feed = s.Feed is { } f ? $" feed {f:0.#}" : string.Empty;
+        var feed = s.Feed is { } f ? $" override {f:0.#}%" : string.Empty;
         return $"chunk {s.CurrentChunk}/{s.TotalChunks} line {s.CurrentLine} ({s.ExecutedBlocks}/{s.TotalBlocks}){feed}{eta}";
     }
 

@@ -39,6 +39,11 @@ internal sealed class JobOptions
     private readonly Option<string?> _window = new("--window") { Description = $"Download window of the chunk strategy, as fractions of a chunk (default {D.Window}: lines 600-700 of a 1000-line chunk) or percent (60-70%)." };
     private readonly Option<double?> _safeZ = new("--safe-z") { Description = $"Safe Z (work coordinates) for the approach when starting from a line (default {D.SafeZ}; --safe-z-mode fixed, and the fallback of highest)." };
     private readonly Option<string?> _safeZMode = new("--safe-z-mode") { Description = "Safe Z when starting from a line: fixed (--safe-z, the default) or highest (the highest Z reached so far plus --clearance). The HMI plans the same way." };
+    private readonly Option<double?> _feedOverride = new("--feed-override")
+    {
+        Description = $"Feed override in percent ({FeedOverrides.Minimum}-{FeedOverrides.Maximum}, &1 %), the operator's feed control as on the HMI: the program's feeds stay as programmed (in P500 in paper mode) and run at this share. stream starts with it (default {FeedOverrides.Default}); resume sets it when given.",
+    };
+
     private readonly Option<double?> _clearance = new("--clearance") { Description = $"Added to the highest Z so far with --safe-z-mode highest (default {D.Clearance})." };
     private readonly Option<string> _simSpeed;
 
@@ -54,7 +59,7 @@ internal sealed class JobOptions
         var options = new List<Option>();
         if (face != JobFace.Demo)
         {
-            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance]);
+            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride]);
         }
 
         if (face == JobFace.Stream)
@@ -73,6 +78,19 @@ internal sealed class JobOptions
 
     /// <summary>True when the operator confirmed starts from a line with <c>--yes</c>.</summary>
     public bool Yes(ParseResult parse) => parse.GetValue(_yes);
+
+    /// <summary>The feed override given with <c>--feed-override</c> (percent), or null.</summary>
+    public double? FeedOverride(ParseResult parse)
+    {
+        try
+        {
+            return parse.GetValue(_feedOverride) is { } percent ? FeedOverrides.Validate(percent) : null;
+        }
+        catch (JobException e)
+        {
+            throw new CliException("--feed-override: " + e.Message);
+        }
+    }
 
     /// <summary>The job database named with <c>--job-db</c>, or null for the default.</summary>
     public string? JobDatabase(ParseResult parse) => parse.GetValue(_jobDb);

@@ -44,7 +44,7 @@ internal static class ResumeCommand
 
                 Console.WriteLine($"restarting at the block of line {proposal.Line} (re-runs the block that was executing from its start)");
                 return Task.FromResult(JobConsole.Confirm(plan, options.Yes(parse)));
-            }, cancellationToken: ct).ConfigureAwait(false);
+            }, options.FeedOverride(parse), cancellationToken: ct).ConfigureAwait(false);
             if (result.Job is not { } job)
             {
                 return CliGlobals.UsageOrIo;

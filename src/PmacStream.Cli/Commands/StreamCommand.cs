@@ -4,7 +4,7 @@ using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream stream FILE (--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]) [--strategy ...] [--from-line N] [--force] [--yes] [--job-db PATH]`.</summary>
+/// <summary>`pmacstream stream FILE (--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]) [--strategy ...] [--from-line N] [--feed-override PCT] [--force] [--yes] [--job-db PATH]`.</summary>
 internal static class StreamCommand
 {
     public static Command Create()
@@ -38,6 +38,7 @@ internal static class StreamCommand
             }
 
             var settings = options.Settings(parse);
+            var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
             using var sim = new CliSimulator(options.SimSpeed(parse));
             var service = new JobService(new JobServiceOptions { JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync });
 
@@ -55,7 +56,7 @@ internal static class StreamCommand
             }
 
             await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
-            await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind) { Settings = settings, Plan = plan, Profile = prepared.Profile }, ct)
+            await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind) { Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride }, ct)
                 .ConfigureAwait(false);
             Console.WriteLine($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}");
             return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct).ConfigureAwait(false);

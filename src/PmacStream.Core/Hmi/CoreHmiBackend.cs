@@ -1,5 +1,6 @@
 using PmacStream.GCode;
 using PmacStream.Jobs;
+using PmacStream.Preview;
 using PmacStream.Streaming;
 
 namespace PmacStream.Hmi;
@@ -60,10 +61,10 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
             Settings = request.Settings,
             Plan = plan,
             SingleBlock = request.SingleBlock,
-            Feed = request.Feed,
+            FeedOverride = request.FeedOverride,
             Profile = _profile,
         }, cancellationToken).ConfigureAwait(false);
-        return await StartedAsync(job, request.Feed, cancellationToken).ConfigureAwait(false);
+        return await StartedAsync(job, cancellationToken).ConfigureAwait(false);
     }
 
     /// <inheritdoc />
@@ -75,27 +76,30 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
 
     /// <inheritdoc />
     /// <remarks>The operator confirmed the restart preamble before (the presenter shows it), so a restart goes ahead.</remarks>
-    public async Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default)
+    public async Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default)
     {
         var resumable = job.Record as ResumableJob ?? throw new ArgumentException("not a job recorded in the job store", nameof(job));
-        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, _ => Task.FromResult(true), feed, _profile, cancellationToken)
+        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, _ => Task.FromResult(true), feedOverride, _profile, cancellationToken)
             .ConfigureAwait(false);
         var resumed = result.Job!;
         return result.Kind == ResumeKind.Restart
-            ? await StartedAsync(resumed, feed, cancellationToken).ConfigureAwait(false)
-            : new SessionJob(resumed, feed);
+            ? await StartedAsync(resumed, cancellationToken).ConfigureAwait(false)
+            : new SessionJob(resumed);
     }
+
+    /// <inheritdoc />
+    public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath, _profile);
 
     private static ChunkedProgram Program(HmiSplitResult split) => ChunkedProgram.FromManifest(split.Manifest, split.Directory);
 
     private static StrategyKind Strategy(string name) => string.IsNullOrWhiteSpace(name) ? StrategyKind.Chunk : StreamingStrategies.Parse(name);
 
-    private static async Task<IHmiJob> StartedAsync(Job job, double feed, CancellationToken cancellationToken)
+    private static async Task<IHmiJob> StartedAsync(Job job, CancellationToken cancellationToken)
     {
         try
         {
             await job.StartAsync(cancellationToken).ConfigureAwait(false);
-            return new SessionJob(job, feed);
+            return new SessionJob(job);
         }
         catch
         {
@@ -105,7 +109,7 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
     }
 
     /// <summary>A job as the presenter drives it.</summary>
-    private sealed class SessionJob(Job job, double feed) : IHmiJob
+    private sealed class SessionJob(Job job) : IHmiJob
     {
         public HmiJobStatus Status
         {
@@ -121,7 +125,7 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
                     SessionState.Faulted => HmiJobState.Failed,
                     _ => HmiJobState.Idle,
                 };
-                return new HmiJobStatus(state, s.CurrentChunk, s.CurrentLine, s.Percent, s.Feed ?? feed, s.Elapsed, s.Eta,
+                return new HmiJobStatus(state, s.CurrentChunk, s.CurrentLine, s.Percent, s.Feed, job.ProgrammedFeed, s.Elapsed, s.Eta,
                     string.IsNullOrEmpty(s.Message) ? null : s.Message);
             }
         }
@@ -134,7 +138,7 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
 
         public Task AbortAsync(CancellationToken cancellationToken = default) => job.AbortAsync(cancellationToken);
 
-        public Task SetFeedAsync(double value, CancellationToken cancellationToken = default) => job.SetFeedAsync(value, cancellationToken);
+        public Task SetFeedOverrideAsync(double percent, CancellationToken cancellationToken = default) => job.SetFeedOverrideAsync(percent, cancellationToken);
 
         public Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default)
         {

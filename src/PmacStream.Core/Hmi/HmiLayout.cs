@@ -9,9 +9,10 @@ public readonly record struct LayoutBox(int X, int Y, int Width, int Height);
 
 /// <summary>
 /// The screen's geometry: the WinForms form places its controls here, and its UI test clicks at these places, so
-/// the two cannot drift apart. Settings across the top, the chunk files
-/// (ListBox1) and the program lines (ListBox2) in the middle, commands and status on the right, diagnostics and the
-/// log at the bottom.
+/// the two cannot drift apart. Settings across the top (connection; program, strategy and download window; feed
+/// override), the chunk files (ListBox1) and their lines and the program lines (ListBox2) in the middle, commands
+/// and status on the right, diagnostics, the log and the toolpath pane at the bottom. Places are kept free for the
+/// machine profile selector and the program-stop indication (<see cref="ProfileCombo"/>, <see cref="ProgramStopBanner"/>).
 /// </summary>
 public static class HmiLayout
 {
@@ -19,7 +20,7 @@ public static class HmiLayout
     public const int ClientWidth = 1280;
 
     /// <summary>Client area height above the status strip.</summary>
-    public const int ClientHeight = 780;
+    public const int ClientHeight = 960;
 
     /// <summary>Status strip height (docked at the bottom).</summary>
     public const int StatusStripHeight = 22;
@@ -27,7 +28,7 @@ public static class HmiLayout
     // ---- top row: group boxes and their children (child boxes are relative to the group)
 
     /// <summary>Connection group box.</summary>
-    public static readonly LayoutBox ConnectionGroup = new(8, 8, 430, 152);
+    public static readonly LayoutBox ConnectionGroup = new(8, 8, 430, 160);
     /// <summary>Device type label.</summary>
     public static readonly LayoutBox DeviceLabel = new(12, 26, 80, 20);
     /// <summary>Device type combo.</summary>
@@ -53,101 +54,119 @@ public static class HmiLayout
     /// <summary>Disconnect button.</summary>
     public static readonly LayoutBox DisconnectButton = new(336, 52, 84, 28);
     /// <summary>Connection state label.</summary>
-    public static readonly LayoutBox ConnectionStateLabel = new(170, 110, 250, 36);
+    public static readonly LayoutBox ConnectionStateLabel = new(170, 110, 250, 40);
 
     /// <summary>Program group box.</summary>
-    public static readonly LayoutBox ProgramGroup = new(446, 8, 420, 152);
+    public static readonly LayoutBox ProgramGroup = new(446, 8, 420, 160);
     /// <summary>Open button.</summary>
-    public static readonly LayoutBox OpenButton = new(12, 20, 90, 30);
+    public static readonly LayoutBox OpenButton = new(12, 20, 90, 28);
     /// <summary>Program path label.</summary>
-    public static readonly LayoutBox PathLabel = new(108, 27, 300, 20);
+    public static readonly LayoutBox PathLabel = new(108, 26, 300, 20);
     /// <summary>Check button.</summary>
-    public static readonly LayoutBox CheckButton = new(12, 56, 90, 30);
+    public static readonly LayoutBox CheckButton = new(12, 54, 90, 28);
     /// <summary>Split button.</summary>
-    public static readonly LayoutBox SplitButton = new(108, 56, 90, 30);
+    public static readonly LayoutBox SplitButton = new(108, 54, 90, 28);
     /// <summary>Lines per chunk label.</summary>
-    public static readonly LayoutBox LinesPerChunkLabel = new(206, 63, 100, 20);
+    public static readonly LayoutBox LinesPerChunkLabel = new(206, 60, 100, 20);
     /// <summary>Lines per chunk box.</summary>
-    public static readonly LayoutBox LinesPerChunkBox = new(310, 59, 96, 23);
+    public static readonly LayoutBox LinesPerChunkBox = new(310, 56, 96, 23);
     /// <summary>Strategy label.</summary>
-    public static readonly LayoutBox StrategyLabel = new(12, 100, 90, 20);
+    public static readonly LayoutBox StrategyLabel = new(12, 92, 90, 20);
     /// <summary>Strategy combo.</summary>
-    public static readonly LayoutBox StrategyCombo = new(108, 96, 110, 23);
+    public static readonly LayoutBox StrategyCombo = new(108, 88, 110, 23);
+    /// <summary>Download window label (percent of a chunk).</summary>
+    public static readonly LayoutBox WindowLabel = new(226, 92, 80, 20);
+    /// <summary>Download window start box (percent).</summary>
+    public static readonly LayoutBox WindowStartBox = new(310, 88, 44, 23);
+    /// <summary>The dash between the window's boxes.</summary>
+    public static readonly LayoutBox WindowDash = new(354, 92, 10, 20);
+    /// <summary>Download window end box (percent).</summary>
+    public static readonly LayoutBox WindowEndBox = new(364, 88, 44, 23);
+    /// <summary>Kept free: the machine profile label (profile selection comes with named profiles).</summary>
+    public static readonly LayoutBox ProfileLabel = new(12, 128, 90, 20);
+    /// <summary>Kept free: the machine profile combo box.</summary>
+    public static readonly LayoutBox ProfileCombo = new(108, 124, 110, 23);
     /// <summary>Language label.</summary>
-    public static readonly LayoutBox LanguageLabel = new(226, 100, 80, 20);
+    public static readonly LayoutBox LanguageLabel = new(226, 128, 80, 20);
     /// <summary>Language combo.</summary>
-    public static readonly LayoutBox LanguageCombo = new(310, 96, 96, 23);
+    public static readonly LayoutBox LanguageCombo = new(310, 124, 96, 23);
 
-    /// <summary>Feed group box.</summary>
-    public static readonly LayoutBox FeedGroup = new(874, 8, 398, 152);
-    /// <summary>Feed label.</summary>
-    public static readonly LayoutBox FeedLabel = new(12, 24, 120, 20);
-    /// <summary>Feed slider.</summary>
-    public static readonly LayoutBox FeedTrackBar = new(12, 46, 280, 45);
-    /// <summary>Feed numeric box.</summary>
-    public static readonly LayoutBox FeedBox = new(300, 48, 84, 23);
-    /// <summary>Feed unit label (P500 or %).</summary>
-    public static readonly LayoutBox FeedUnitLabel = new(300, 76, 84, 20);
+    /// <summary>Feed override group box.</summary>
+    public static readonly LayoutBox FeedGroup = new(874, 8, 398, 160);
+    /// <summary>What the feed override does (two lines).</summary>
+    public static readonly LayoutBox FeedLabel = new(12, 20, 374, 32);
+    /// <summary>Feed override slider.</summary>
+    public static readonly LayoutBox FeedTrackBar = new(12, 56, 280, 45);
+    /// <summary>Feed override numeric box.</summary>
+    public static readonly LayoutBox FeedBox = new(300, 58, 84, 23);
+    /// <summary>Feed override unit label (%).</summary>
+    public static readonly LayoutBox FeedUnitLabel = new(300, 86, 84, 20);
     /// <summary>Single-block check box.</summary>
-    public static readonly LayoutBox SingleBlockCheck = new(12, 110, 200, 24);
+    public static readonly LayoutBox SingleBlockCheck = new(12, 126, 200, 24);
 
     // ---- middle: ListBox1 (chunk files and their lines), ListBox2 (program lines), commands and status
 
     /// <summary>Chunk files label.</summary>
-    public static readonly LayoutBox ChunkFilesLabel = new(8, 168, 360, 18);
+    public static readonly LayoutBox ChunkFilesLabel = new(8, 176, 360, 18);
     /// <summary>ListBox1: chunk files.</summary>
-    public static readonly LayoutBox ChunkFilesList = new(8, 188, 360, 170);
+    public static readonly LayoutBox ChunkFilesList = new(8, 196, 360, 140);
     /// <summary>Chunk lines label.</summary>
-    public static readonly LayoutBox ChunkLinesLabel = new(8, 366, 360, 18);
+    public static readonly LayoutBox ChunkLinesLabel = new(8, 344, 360, 18);
     /// <summary>Lines of the selected chunk file (virtual).</summary>
-    public static readonly LayoutBox ChunkLinesList = new(8, 386, 360, 222);
+    public static readonly LayoutBox ChunkLinesList = new(8, 364, 360, 252);
     /// <summary>Program lines label.</summary>
-    public static readonly LayoutBox ProgramLinesLabel = new(376, 168, 496, 18);
+    public static readonly LayoutBox ProgramLinesLabel = new(376, 176, 420, 18);
     /// <summary>ListBox2: program lines (virtual).</summary>
-    public static readonly LayoutBox ProgramLinesList = new(376, 188, 496, 420);
+    public static readonly LayoutBox ProgramLinesList = new(376, 196, 420, 420);
 
+    /// <summary>Kept free: the program-stop indication (M00/M01: stopped at line n, Resume continues).</summary>
+    public static readonly LayoutBox ProgramStopBanner = new(804, 176, 468, 18);
     /// <summary>Execute button.</summary>
-    public static readonly LayoutBox ExecuteButton = new(880, 188, 190, 48);
+    public static readonly LayoutBox ExecuteButton = new(804, 196, 114, 44);
     /// <summary>Hold button.</summary>
-    public static readonly LayoutBox HoldButton = new(1082, 188, 190, 48);
+    public static readonly LayoutBox HoldButton = new(922, 196, 114, 44);
     /// <summary>Resume button.</summary>
-    public static readonly LayoutBox ResumeButton = new(880, 244, 190, 40);
+    public static readonly LayoutBox ResumeButton = new(1040, 196, 114, 44);
     /// <summary>Abort button.</summary>
-    public static readonly LayoutBox AbortButton = new(1082, 244, 190, 40);
+    public static readonly LayoutBox AbortButton = new(1158, 196, 114, 44);
     /// <summary>Start from selected line button.</summary>
-    public static readonly LayoutBox StartFromLineButton = new(880, 292, 392, 36);
+    public static readonly LayoutBox StartFromLineButton = new(804, 248, 232, 34);
     /// <summary>Resume after interruption button.</summary>
-    public static readonly LayoutBox ResumeInterruptedButton = new(880, 336, 392, 36);
+    public static readonly LayoutBox ResumeInterruptedButton = new(1040, 248, 232, 34);
 
     /// <summary>Status group box.</summary>
-    public static readonly LayoutBox StatusGroup = new(880, 380, 392, 228);
+    public static readonly LayoutBox StatusGroup = new(804, 290, 468, 326);
 
     /// <summary>Status rows inside the status group, in display order (caption left, value right).</summary>
     public static IReadOnlyList<TextId> StatusRows { get; } =
     [
         TextId.JobState, TextId.TotalFiles, TextId.TotalLines, TextId.CurrentFile, TextId.CurrentLine,
-        TextId.Progress, TextId.Feed, TextId.Elapsed, TextId.Eta,
+        TextId.Progress, TextId.FeedOverride, TextId.Feed, TextId.DownloadWindow, TextId.Elapsed, TextId.Eta,
     ];
 
     /// <summary>Caption box of status row <paramref name="row"/> (relative to the status group).</summary>
-    public static LayoutBox StatusCaption(int row) => new(10, 20 + (row * 21), 130, 19);
+    public static LayoutBox StatusCaption(int row) => new(10, 20 + (row * 24), 150, 20);
 
     /// <summary>Value box of status row <paramref name="row"/> (relative to the status group).</summary>
-    public static LayoutBox StatusValue(int row) => new(144, 20 + (row * 21), 238, 19);
+    public static LayoutBox StatusValue(int row) => new(164, 20 + (row * 24), 294, 20);
 
     /// <summary>Progress bar (relative to the status group).</summary>
-    public static readonly LayoutBox ProgressBar = new(10, 210, 372, 12);
+    public static readonly LayoutBox ProgressBar = new(10, 290, 448, 16);
 
-    // ---- bottom: diagnostics and log
+    // ---- bottom: diagnostics, log and the toolpath pane
 
     /// <summary>Diagnostics label.</summary>
-    public static readonly LayoutBox DiagnosticsLabel = new(8, 616, 430, 18);
+    public static readonly LayoutBox DiagnosticsLabel = new(8, 624, 360, 18);
     /// <summary>Diagnostics list.</summary>
-    public static readonly LayoutBox DiagnosticsList = new(8, 636, 430, 136);
+    public static readonly LayoutBox DiagnosticsList = new(8, 644, 360, 308);
     /// <summary>Log label.</summary>
-    public static readonly LayoutBox LogLabel = new(446, 616, 826, 18);
+    public static readonly LayoutBox LogLabel = new(376, 624, 420, 18);
     /// <summary>Log pane.</summary>
-    public static readonly LayoutBox LogText = new(446, 636, 826, 136);
+    public static readonly LayoutBox LogText = new(376, 644, 420, 308);
+    /// <summary>Toolpath pane caption.</summary>
+    public static readonly LayoutBox ToolpathLabel = new(804, 624, 468, 18);
+    /// <summary>Toolpath pane: the planned path with the executed part over it (the presenter draws it at this size).</summary>
+    public static readonly LayoutBox ToolpathPane = new(804, 644, 468, 308);
 
     /// <summary>Width of the line-number column of the program and chunk-line lists.</summary>
     public const int LineNumberColumnWidth = 80;

@@ -81,8 +81,30 @@ public enum TextId
     ResumeInterrupted,
     /// <summary>Single block check box.</summary>
     SingleBlock,
-    /// <summary>Feed label.</summary>
+    /// <summary>Status: feed (programmed x override = resulting).</summary>
     Feed,
+    /// <summary>Feed override group and status row.</summary>
+    FeedOverride,
+    /// <summary>What the feed override control does.</summary>
+    FeedOverrideHint,
+    /// <summary>Download window status row.</summary>
+    DownloadWindow,
+    /// <summary>Download window control label (percent of a chunk file).</summary>
+    WindowControl,
+    /// <summary>Download window: {0}-{1} % of a file.</summary>
+    WindowPercent,
+    /// <summary>Download window while the chunk strategy runs: {0}-{1} %, file {4} at lines {2}-{3}.</summary>
+    WindowLines,
+    /// <summary>Download window under another strategy: {0}-{1} %, not used by {2}.</summary>
+    WindowNotUsed,
+    /// <summary>Toolpath pane header (no program).</summary>
+    Toolpath,
+    /// <summary>Toolpath pane header while drawing: {0} program, {1} percent.</summary>
+    ToolpathDrawing,
+    /// <summary>Toolpath pane header: {0} program, {1} moves.</summary>
+    ToolpathReady,
+    /// <summary>Toolpath pane header: {0} program cannot be drawn, {1} why.</summary>
+    ToolpathFailed,
     /// <summary>Language selector label.</summary>
     Language,
     /// <summary>Status: total files.</summary>
@@ -186,6 +208,19 @@ public static class HmiText
         [TextId.ResumeInterrupted] = ("Resume after interruption", "断点续加工"),
         [TextId.SingleBlock] = ("Single block", "单段"),
         [TextId.Feed] = ("Feed", "进给速度"),
+        [TextId.FeedOverride] = ("Feed override", "进给倍率"),
+        [TextId.FeedOverrideHint] = ("% of the programmed feed (&1 %); the program's F values stay as written",
+            "编程进给速度的百分比（&1 %），程序中的 F 值保持不变"),
+        [TextId.DownloadWindow] = ("Download window", "下载窗口"),
+        [TextId.WindowControl] = ("Window %", "下载窗口 %"),
+        [TextId.WindowPercent] = ("{0:0.#}–{1:0.#} % of a file", "文件的 {0:0.#}–{1:0.#} %"),
+        [TextId.WindowLines] = ("{0:0.#}–{1:0.#} %: file {4} at lines {2:N0}–{3:N0}", "{0:0.#}–{1:0.#} %：第 {2:N0}–{3:N0} 行下载文件 {4}"),
+        [TextId.WindowNotUsed] = ("{0:0.#}–{1:0.#} % (not used by {2})", "{0:0.#}–{1:0.#} %（{2} 策略不使用）"),
+        [TextId.Toolpath] = ("Toolpath", "刀具路径"),
+        [TextId.ToolpathDrawing] = ("Toolpath of {0}: drawing… {1} %", "{0} 的刀具路径：正在绘制… {1} %"),
+        [TextId.ToolpathReady] = ("Toolpath of {0}: {1:N0} moves; executed in green, the tool at the red mark",
+            "{0} 的刀具路径：{1:N0} 个移动；绿色为已执行部分，红色标记为刀具位置"),
+        [TextId.ToolpathFailed] = ("Toolpath of {0} cannot be drawn: {1}", "{0} 的刀具路径无法绘制：{1}"),
         [TextId.Language] = ("Language", "语言"),
         [TextId.TotalFiles] = ("Files", "文件总数"),
         [TextId.TotalLines] = ("Program lines", "程序行数"),

@@ -1,6 +1,7 @@
 using PmacStream.GCode;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
+using PmacStream.Preview;
 using PmacStream.Program;
 
 namespace PmacStream.Hmi;
@@ -102,7 +103,8 @@ public enum HmiJobState
 /// <param name="CurrentChunk">1-based chunk executing (0 before the first).</param>
 /// <param name="CurrentLine">Source line executing, from the tracking variable (0 before the first move).</param>
 /// <param name="Percent">Executed share of the program, 0..100.</param>
-/// <param name="Feed">Current feed: P500 value in paper mode, override percent otherwise.</param>
+/// <param name="FeedOverride">The coordinate system's feed override in percent as the controller last reported it (it slews to a new setting); null when unknown.</param>
+/// <param name="ProgrammedFeed">The program's feed (F) in force at the executing block; null before the first block or when unknown.</param>
 /// <param name="Elapsed">Time since start.</param>
 /// <param name="Eta">Estimated time to the end, when known.</param>
 /// <param name="Message">Why it stopped, for Failed (and Aborted) jobs.</param>
@@ -111,7 +113,8 @@ public sealed record HmiJobStatus(
     int CurrentChunk,
     int CurrentLine,
     double Percent,
-    double Feed,
+    double? FeedOverride,
+    double? ProgrammedFeed,
     TimeSpan Elapsed,
     TimeSpan? Eta,
     string? Message = null)
@@ -125,9 +128,9 @@ public sealed record HmiJobStatus(
 /// <param name="Strategy">Download strategy name (one of <see cref="IHmiBackend.Strategies"/>).</param>
 /// <param name="FromLine">Start at this source line (with the restore preamble), or null for the beginning.</param>
 /// <param name="SingleBlock">One block per start.</param>
-/// <param name="Feed">Initial feed (P500 value or override percent).</param>
+/// <param name="FeedOverride">The feed override (percent) set before the start.</param>
 /// <param name="Settings">Buffer words, download window, tick period and safe Z of the job.</param>
-public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int? FromLine, bool SingleBlock, double Feed, RunSettings Settings);
+public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int? FromLine, bool SingleBlock, double FeedOverride, RunSettings Settings);
 
 /// <summary>A job that stopped before its end, as the job store recorded it.</summary>
 /// <param name="JobId">Job record id.</param>
@@ -160,8 +163,8 @@ public interface IHmiJob : IAsyncDisposable
     /// <summary>Abort (<c>A</c>); the job stays resumable from its checkpoint.</summary>
     Task AbortAsync(CancellationToken cancellationToken = default);
 
-    /// <summary>Live feed change: P500 in paper mode, <c>%</c> in override mode (never written into an open buffer).</summary>
-    Task SetFeedAsync(double value, CancellationToken cancellationToken = default);
+    /// <summary>Live feed override change in percent (<c>&amp;n %</c>; never written into an open buffer).</summary>
+    Task SetFeedOverrideAsync(double percent, CancellationToken cancellationToken = default);
 
     /// <summary>Single-block mode on or off.</summary>
     Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default);
@@ -198,6 +201,12 @@ public interface IHmiBackend
     /// <summary>The newest unfinished job recorded for a program, or null.</summary>
     Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default);
 
-    /// <summary>Continues an interrupted job from its checkpoint, without losing or repeating a block.</summary>
-    Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default);
+    /// <summary>
+    /// Continues an interrupted job from its checkpoint, without losing or repeating a block, with the operator's feed
+    /// override (percent) in force.
+    /// </summary>
+    Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default);
+
+    /// <summary>The program's moves as the job's machine profile interprets them, for the toolpath pane (read anew on each pass).</summary>
+    IToolpathSource OpenToolpath(string sourcePath);
 }

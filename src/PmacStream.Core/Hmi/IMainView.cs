@@ -28,23 +28,19 @@ public sealed record CommandStates(
     public static CommandStates None { get; } = new(false, false, false, false, false, false, false, false, false, false, false);
 }
 
-/// <summary>The feed control's scale: P500 in units/min in paper mode, percent in override mode.</summary>
-/// <param name="Minimum">Lowest value.</param>
-/// <param name="Maximum">Highest value.</param>
-/// <param name="Unit">Unit label shown beside the box (<c>P500</c> or <c>%</c>).</param>
-public sealed record FeedScale(double Minimum, double Maximum, string Unit)
-{
-    /// <summary>F(P500): feed in units per minute.</summary>
-    public static FeedScale Paper { get; } = new(1, 20000, "P500");
-
-    /// <summary>Feed override in percent.</summary>
-    public static FeedScale Override { get; } = new(0, 200, "%");
-
-    /// <summary>Clamps a value into the scale.</summary>
-    public double Clamp(double value) => Math.Clamp(value, Minimum, Maximum);
-}
-
-/// <summary>The status strip's texts, formatted by the presenter in the chosen language.</summary>
+/// <summary>The status panel's texts, formatted by the presenter in the chosen language.</summary>
+/// <param name="State">Job state.</param>
+/// <param name="TotalFiles">Chunk files of the split.</param>
+/// <param name="ProgramLines">Lines of the program (or the indexing progress).</param>
+/// <param name="CurrentFile">The chunk file executing.</param>
+/// <param name="CurrentLine">The source line executing.</param>
+/// <param name="ProgressPercent">Progress bar value.</param>
+/// <param name="Progress">Progress text.</param>
+/// <param name="FeedOverride">The feed override in force (and the setting it slews to).</param>
+/// <param name="Feed">Programmed feed x override = resulting feed.</param>
+/// <param name="DownloadWindow">The chunk strategy's download window, and the lines it spans in the executing chunk.</param>
+/// <param name="Elapsed">Time since the start.</param>
+/// <param name="Eta">Time remaining.</param>
 public sealed record StatusDisplay(
     string State,
     string TotalFiles,
@@ -53,9 +49,16 @@ public sealed record StatusDisplay(
     string CurrentLine,
     int ProgressPercent,
     string Progress,
+    string FeedOverride,
     string Feed,
+    string DownloadWindow,
     string Elapsed,
-    string Eta);
+    string Eta)
+{
+    /// <summary>The values in <see cref="HmiLayout.StatusRows"/> order (what the panel's value labels show).</summary>
+    public IReadOnlyList<string> Rows =>
+        [State, TotalFiles, ProgramLines, CurrentFile, CurrentLine, Progress, FeedOverride, Feed, DownloadWindow, Elapsed, Eta];
+}
 
 /// <summary>
 /// The HMI screen as a passive view: the form raises events and shows what the presenter
@@ -133,11 +136,17 @@ public interface IMainView
     /// <summary>Chunk file rows (file name and source line range).</summary>
     IReadOnlyList<string> ChunkFiles { set; }
 
-    /// <summary>A chunk file row was selected (its index, -1 for none).</summary>
+    /// <summary>A chunk file row was selected by the operator (its index, -1 for none).</summary>
     event EventHandler<int>? ChunkSelected;
+
+    /// <summary>Selects a chunk file row (-1 for none) as the chunk lines follow execution; raises no <see cref="ChunkSelected"/>.</summary>
+    int SelectedChunk { set; }
 
     /// <summary>Lines of the selected chunk file (virtual list size).</summary>
     int ChunkLineCount { set; }
+
+    /// <summary>The row of the selected chunk file that holds the executing block (its <c>M0==line</c>), highlighted and kept in view; 0 for none.</summary>
+    int ChunkExecutingLine { set; }
 
     /// <summary>The chunk-lines list needs a row's text.</summary>
     event EventHandler<LineRequestEventArgs>? ChunkLineNeeded;
@@ -188,16 +197,28 @@ public interface IMainView
     /// <summary>Single-block check box changed.</summary>
     event EventHandler? SingleBlockChanged;
 
-    // ---- feed
+    // ---- feed override
 
-    /// <summary>Feed slider and box range and unit.</summary>
-    FeedScale FeedScale { set; }
+    /// <summary>
+    /// The feed override in percent, <see cref="Jobs.FeedOverrides.Minimum"/>..<see cref="Jobs.FeedOverrides.Maximum"/>
+    /// (slider and box; setting it raises no <see cref="FeedOverrideChanged"/>).
+    /// </summary>
+    double FeedOverride { get; set; }
 
-    /// <summary>Feed value shown in the slider and box (setting it raises no <see cref="FeedChanged"/>).</summary>
-    double Feed { get; set; }
+    /// <summary>The operator changed the feed override (slider or box).</summary>
+    event EventHandler? FeedOverrideChanged;
 
-    /// <summary>The operator changed the feed (slider or box).</summary>
-    event EventHandler? FeedChanged;
+    // ---- toolpath pane
+
+    /// <summary>
+    /// The toolpath pane's picture: the same frame each time it is set, set again whenever its pixels changed (the
+    /// executed part grew, the marker moved); the view shows its pixels as they are, at
+    /// <see cref="HmiLayout.ToolpathPane"/>'s size.
+    /// </summary>
+    ToolpathFrame Toolpath { set; }
+
+    /// <summary>The line above the toolpath pane: program, drawing progress, what the colours mean.</summary>
+    string ToolpathCaption { set; }
 
     // ---- status, log, dialogs
 

@@ -1,15 +1,15 @@
 using System.Globalization;
 using PmacStream.GCode;
 using PmacStream.Jobs;
-using PmacStream.Program;
 using Serilog;
 
 namespace PmacStream.Hmi;
 
 /// <summary>
 /// All the HMI's logic, driven by the view's events and by <see cref="TickAsync"/> (the form's
-/// <c>timer1_Tick</c>). It owns the open program's line index, the split result, the controller connection and the
-/// running job, and tells the passive <see cref="IMainView"/> what to show. Runs on the UI thread.
+/// <c>timer1_Tick</c>). It owns the open program's line index, the split result, the controller connection, the
+/// running job, the chunk lines that follow it and the toolpath pane, and tells the passive <see cref="IMainView"/>
+/// what to show. Runs on the UI thread.
 /// </summary>
 public sealed class MainPresenter : IAsyncDisposable
 {
@@ -20,26 +20,25 @@ public sealed class MainPresenter : IAsyncDisposable
     private readonly IMainView _view;
     private readonly IHmiBackend _backend;
     private readonly HmiLogSink? _logSink;
-    private readonly List<Task> _pending = [];
     private readonly CancellationTokenSource _life = new();
+    private readonly ViewOperations _ops;
 
     private HmiLanguage _language;
-    private ControllerLink? _connection;
-    private bool _connecting;
-    private int _busy;
+    private readonly ConnectionPanel _connection;
     private bool _ticking;
     private ProgramLineSource? _program;
     private int _shownLineCount;
+    private readonly ChunkLinesPane _chunkLines;
+    private readonly ToolpathPane _toolpath;
     private HmiCheckResult? _check;
     private HmiSplitResult? _split;
-    private int _selectedChunk = -1;
-    private ProgramLineSource? _chunkLines;
     private IHmiJob? _job;
     private HmiJobStatus? _lastStatus;
     private int _shownExecutingLine;
-    private double _feed;
-    private FeedScale _feedScale = FeedScale.Paper;
+    private double _feedOverride = FeedOverrides.Default;
     private RunSettings _settings;
+    private RunSettings _jobSettings;
+    private string _jobStrategy = string.Empty;
 
     /// <summary>
     /// Wires the presenter to a view and the core. <paramref name="logSink"/> feeds the log pane (the application
@@ -50,22 +49,26 @@ public sealed class MainPresenter : IAsyncDisposable
     public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null, ILogger? logger = null, RunSettings? settings = null)
     {
         _settings = settings ?? RunSettings.Default;
+        _jobSettings = _settings;
         _log = logger ?? Serilog.Log.ForContext<MainPresenter>();
         _view = view;
         _backend = backend;
         _logSink = logSink;
         _language = view.Language;
-        _feed = 1000;
+        _ops = new ViewOperations(_life.Token, OperationsChanged, OperationFailed);
+        _connection = new ConnectionPanel(view, backend, _log);
+        _chunkLines = new ChunkLinesPane(view);
+        _toolpath = new ToolpathPane(view, backend, _log) { Language = _language };
 
         view.LanguageChanged += (_, _) => Run(ChangeLanguageAsync);
-        view.ConnectRequested += (_, _) => Run(ConnectAsync);
-        view.DisconnectRequested += (_, _) => Run(DisconnectAsync);
+        view.ConnectRequested += (_, _) => Run(() => _connection.ConnectAsync(_language, _life.Token));
+        view.DisconnectRequested += (_, _) => Run(() => _connection.DisconnectAsync(_job is not null, _language));
         view.OpenRequested += (_, path) => Run(() => OpenAsync(path));
         view.CheckRequested += (_, _) => Run(CheckAsync);
         view.DiagnosticActivated += (_, index) => JumpToDiagnostic(index);
         view.SplitRequested += (_, _) => Run(SplitAsync);
         view.ChunkSelected += (_, index) => SelectChunk(index);
-        view.ChunkLineNeeded += (_, e) => e.Text = ChunkLine(e.Line);
+        view.ChunkLineNeeded += (_, e) => e.Text = _chunkLines.Line(e.Line);
         view.ProgramLineNeeded += (_, e) => e.Text = ProgramLine(e.Line);
         view.ExecuteRequested += (_, _) => Run(() => StartAsync(null));
         view.StartFromLineRequested += (_, _) => Run(StartFromSelectedLineAsync);
@@ -74,14 +77,13 @@ public sealed class MainPresenter : IAsyncDisposable
         view.ResumeRequested += (_, _) => Run(() => JobCommandAsync(j => j.ResumeAsync(_life.Token), "resume"));
         view.AbortRequested += (_, _) => Run(() => JobCommandAsync(j => j.AbortAsync(_life.Token), "abort"));
         view.SingleBlockChanged += (_, _) => Run(SingleBlockChangedAsync);
-        view.FeedChanged += (_, _) => Run(FeedChangedAsync);
+        view.FeedOverrideChanged += (_, _) => Run(FeedOverrideChangedAsync);
         view.DownloadWindowChanged += (_, _) => Run(DownloadWindowChangedAsync);
 
         view.Texts = HmiText.All(_language);
         view.Strategies = backend.Strategies;
         view.ConnectionState = T(TextId.StateDisconnected);
-        view.FeedScale = _feedScale;
-        view.Feed = _feed;
+        view.FeedOverride = _feedOverride;
         view.LinesPerChunk = _settings.LinesPerChunk;
         view.DownloadWindow = (_settings.WindowStart, _settings.WindowEnd);
         view.ProgramLineCount = 0;
@@ -105,31 +107,26 @@ public sealed class MainPresenter : IAsyncDisposable
     /// <summary>True while a job is running or held.</summary>
     public bool JobActive => _job is not null;
 
+    /// <summary>The chunk shown in the chunk-lines list (0-based, -1 for none).</summary>
+    public int ShownChunk => _chunkLines.Shown;
+
+    /// <summary>True while the chunk-lines list follows execution.</summary>
+    public bool ChunkLinesFollow => _chunkLines.Following;
+
+    /// <summary>True once the toolpath pane shows the planned toolpath of the open program.</summary>
+    public bool ToolpathReady => _toolpath.Ready;
+
+    /// <summary>Executed moves drawn in the toolpath pane for the current job.</summary>
+    public long ToolpathExecutedMoves => _toolpath.ExecutedMoves;
+
     /// <summary>Completes when every operation started by a view event has finished (tests await it).</summary>
-    public async Task WhenIdleAsync()
-    {
-        while (true)
-        {
-            Task[] pending;
-            lock (_pending)
-            {
-                _pending.RemoveAll(t => t.IsCompleted);
-                pending = [.. _pending];
-            }
-
-            if (pending.Length == 0)
-            {
-                return;
-            }
-
-            await Task.WhenAll(pending).ConfigureAwait(true);
-        }
-    }
+    public Task WhenIdleAsync() => _ops.WhenIdleAsync();
 
     /// <summary>
     /// One timer period (the form's <c>timer1_Tick</c>): moves log lines to the pane, shows indexing progress,
-    /// lets the job stream (read M0, download the next chunk once) and shows its line and status. A tick that
-    /// arrives while the previous one is still at work is skipped, so ticks never overlap.
+    /// lets the job stream (read M0, download the next chunk once), shows its line and status, and brings the
+    /// toolpath pane up to it. A tick that arrives while the previous one is still at work is skipped, so ticks
+    /// never overlap.
     /// </summary>
     public async Task TickAsync()
     {
@@ -154,6 +151,7 @@ public sealed class MainPresenter : IAsyncDisposable
                     _log.Error(e, "Streaming stopped: {Message:l}. The job can be resumed after interruption", e.Message);
                     _lastStatus = job.Status with { State = HmiJobState.Failed, Message = e.Message };
                     await FinishJobAsync().ConfigureAwait(true);
+                    _toolpath.Tick(_lastStatus);
                     return;
                 }
 
@@ -168,6 +166,7 @@ public sealed class MainPresenter : IAsyncDisposable
                 }
             }
 
+            _toolpath.Tick(_lastStatus);
             DrainLog();
         }
         finally
@@ -193,6 +192,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var source = ProgramLineSource.Open(path);
         _program = source;
         _view.ProgramPath = path;
+        _toolpath.Open(path);
         await source.WaitForLinesAsync(FirstScreenLines, _life.Token).ConfigureAwait(true);
         if (source.Completion.IsFaulted)
         {
@@ -210,9 +210,8 @@ public sealed class MainPresenter : IAsyncDisposable
     public string ProgramLine(int line) =>
         _program is { } p && line >= 1 && line <= p.IndexedLines ? p.GetLine(line) : string.Empty;
 
-    /// <summary>The text of line <paramref name="line"/> of the selected chunk file.</summary>
-    public string ChunkLine(int line) =>
-        _chunkLines is { } c && line >= 1 && line <= c.IndexedLines ? c.GetLine(line) : string.Empty;
+    /// <summary>The text of line <paramref name="line"/> of the chunk file shown.</summary>
+    public string ChunkLine(int line) => _chunkLines.Line(line);
 
     /// <inheritdoc />
     public async ValueTask DisposeAsync()
@@ -233,17 +232,13 @@ public sealed class MainPresenter : IAsyncDisposable
             _job = null;
         }
 
-        if (_connection is not null)
-        {
-            await _connection.DisposeAsync().ConfigureAwait(false);
-            _connection = null;
-        }
+        await _connection.DisposeAsync().ConfigureAwait(false);
 
         // No view calls here: the window may already be gone (the application disposes after the message loop).
         _program?.Dispose();
         _program = null;
-        _chunkLines?.Dispose();
-        _chunkLines = null;
+        _chunkLines.Dispose();
+        _toolpath.Dispose();
         _life.Dispose();
     }
 
@@ -252,91 +247,29 @@ public sealed class MainPresenter : IAsyncDisposable
     private string F(TextId id, params object[] args) => HmiText.Format(id, _language, args);
 
     /// <summary>Runs an operation started by a view event: commands are disabled meanwhile, errors are shown.</summary>
-    private void Run(Func<Task> operation)
+    private void Run(Func<Task> operation) => _ops.Run(operation);
+
+    private void OperationFailed(Exception e)
     {
-        var task = RunGuarded(operation);
-        lock (_pending)
-        {
-            _pending.Add(task);
-        }
+        _log.Error("{Message:l}", e.Message);
+        _view.ShowError(e.Message);
     }
 
-    private async Task RunGuarded(Func<Task> operation)
+    private void OperationsChanged()
     {
-        _busy++;
+        DrainLog();
         RefreshCommands();
-        try
-        {
-            await operation().ConfigureAwait(true);
-        }
-        catch (OperationCanceledException) when (_life.IsCancellationRequested)
-        {
-        }
-        catch (Exception e)
-        {
-            _log.Error("{Message:l}", e.Message);
-            _view.ShowError(e.Message);
-        }
-        finally
-        {
-            _busy--;
-            DrainLog();
-            RefreshCommands();
-            RefreshStatus();
-        }
+        RefreshStatus();
     }
 
     private Task ChangeLanguageAsync()
     {
         _language = _view.Language;
+        _toolpath.Language = _language;
         _view.Texts = HmiText.All(_language);
-        _view.ConnectionState = _connection is null ? T(TextId.StateDisconnected) : F(TextId.StateConnected, _connection.Description);
+        _connection.ShowState(_language);
         ShowChunkFiles();
         return Task.CompletedTask;
-    }
-
-    private async Task ConnectAsync()
-    {
-        if (_connection is not null)
-        {
-            return;
-        }
-
-        var settings = _view.ConnectionSettings;
-        _connecting = true;
-        _view.ConnectionState = T(TextId.StateConnecting);
-        try
-        {
-            _connection = await _backend.ConnectAsync(settings, _life.Token).ConfigureAwait(true);
-            _view.ConnectionState = F(TextId.StateConnected, _connection.Description);
-            _log.Information("Connected to {Device:l}", _connection.Description);
-        }
-        catch
-        {
-            _view.ConnectionState = T(TextId.StateDisconnected);
-            throw;
-        }
-        finally
-        {
-            _connecting = false;
-        }
-    }
-
-    private async Task DisconnectAsync()
-    {
-        if (_job is not null)
-        {
-            throw new InvalidOperationException("A job is running: hold or abort it before disconnecting.");
-        }
-
-        if (_connection is { } c)
-        {
-            _connection = null;
-            await c.DisposeAsync().ConfigureAwait(true);
-            _log.Information("Disconnected from {Device:l}", c.Description);
-        }
-
-        _view.ConnectionState = T(TextId.StateDisconnected);
     }
 
     private async Task CheckAsync()
@@ -407,20 +340,8 @@ public sealed class MainPresenter : IAsyncDisposable
     private void SetSplit(HmiSplitResult split)
     {
         _split = split;
-        _selectedChunk = -1;
-        _chunkLines?.Dispose();
-        _chunkLines = null;
-        _view.ChunkLineCount = 0;
+        _chunkLines.SetProgram(split);
         ShowChunkFiles();
-        _feedScale = split.Manifest.Feed == FeedMode.Override ? FeedScale.Override : FeedScale.Paper;
-        if (split.Manifest.Feed == FeedMode.Override)
-        {
-            _feed = 100;
-        }
-
-        _feed = _feedScale.Clamp(_feed);
-        _view.FeedScale = _feedScale;
-        _view.Feed = _feed;
     }
 
     private void ShowChunkFiles()
@@ -432,32 +353,17 @@ public sealed class MainPresenter : IAsyncDisposable
 
     private void SelectChunk(int index)
     {
-        _chunkLines?.Dispose();
-        _chunkLines = null;
-        _selectedChunk = -1;
-        if (_split is not { } split || index < 0 || index >= split.Manifest.Chunks.Count)
+        _chunkLines.Select(index, _job is null ? 0 : _lastStatus?.CurrentChunk ?? 0);
+        if (_split is { } split && index >= 0 && index < split.Manifest.Chunks.Count)
         {
-            _view.ChunkLineCount = 0;
-            return;
+            _view.FocusedLine = split.Manifest.Chunks[index].FirstSourceLine;
         }
 
-        var chunk = split.Manifest.Chunks[index];
-        _selectedChunk = index;
-        try
+        if (_lastStatus is { } s)
         {
-            // Chunk files are small (the rotary-buffer budget), so waiting for the whole index is quick.
-            var lines = ProgramLineSource.Open(split.ChunkPath(chunk));
-            lines.Completion.Wait(TimeSpan.FromSeconds(5));
-            _chunkLines = lines;
-            _view.ChunkLineCount = lines.IndexedLines;
+            // The executing block stays highlighted when it lies in the chunk chosen.
+            _chunkLines.Follow(s.CurrentChunk, s.CurrentLine);
         }
-        catch (Exception e) when (e is IOException or UnauthorizedAccessException or AggregateException)
-        {
-            _view.ChunkLineCount = 0;
-            _view.ShowError($"{chunk.FileName}: {e.GetBaseException().Message}");
-        }
-
-        _view.FocusedLine = chunk.FirstSourceLine;
     }
 
     private async Task StartFromSelectedLineAsync()
@@ -483,11 +389,11 @@ public sealed class MainPresenter : IAsyncDisposable
     private async Task StartAsync(int? fromLine)
     {
         var split = RequireReady();
-        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feed, _settings);
-        var job = await _backend.StartAsync(_connection!, request, _life.Token).ConfigureAwait(true);
-        BeginJob(job);
-        _log.Information("Job started{From:l} with strategy {Strategy:l}, feed {Feed} {Unit:l}",
-            fromLine is null ? string.Empty : $" from line {fromLine}", request.Strategy, _feed, _feedScale.Unit);
+        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings);
+        var job = await _backend.StartAsync(_connection.Link!, request, _life.Token).ConfigureAwait(true);
+        BeginJob(job, request.Strategy, fromLine ?? 1);
+        _log.Information("Job started{From:l} with strategy {Strategy:l}, feed override {Override} %",
+            fromLine is null ? string.Empty : $" from line {fromLine}", request.Strategy, _feedOverride);
     }
 
     private async Task ResumeInterruptedAsync()
@@ -498,7 +404,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
 
         var program = _program ?? throw new InvalidOperationException("Open a program first.");
-        var connection = _connection ?? throw new InvalidOperationException("Connect to a controller first.");
+        var connection = _connection.Link ?? throw new InvalidOperationException("Connect to a controller first.");
         var interrupted = await _backend.FindInterruptedAsync(program.Path, _life.Token).ConfigureAwait(true)
             ?? throw new InvalidOperationException(T(TextId.NoInterruptedJob));
         var preamble = await _backend.BuildPreambleAsync(interrupted.Program, interrupted.ResumeLine, _settings, _life.Token).ConfigureAwait(true);
@@ -514,8 +420,8 @@ public sealed class MainPresenter : IAsyncDisposable
             SetSplit(interrupted.Program);
         }
 
-        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feed, _settings, _life.Token).ConfigureAwait(true);
-        BeginJob(job);
+        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feedOverride, _settings, _life.Token).ConfigureAwait(true);
+        BeginJob(job, interrupted.Strategy, interrupted.ResumeLine);
         _log.Information("Job {Job} resumed at line {Line} (chunk {Chunk})", interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk);
     }
 
@@ -526,7 +432,7 @@ public sealed class MainPresenter : IAsyncDisposable
             throw new InvalidOperationException("A job is already running.");
         }
 
-        if (_connection is null)
+        if (_connection.Link is null)
         {
             throw new InvalidOperationException("Connect to a controller first.");
         }
@@ -534,11 +440,15 @@ public sealed class MainPresenter : IAsyncDisposable
         return _split ?? throw new InvalidOperationException("Split the program first.");
     }
 
-    private void BeginJob(IHmiJob job)
+    private void BeginJob(IHmiJob job, string strategy, int firstLine)
     {
         _job = job;
+        _jobSettings = _settings;
+        _jobStrategy = strategy;
         _lastStatus = job.Status;
         _shownExecutingLine = -1;
+        _chunkLines.BeginJob();
+        _toolpath.BeginJob(firstLine);
         ShowJob();
     }
 
@@ -594,17 +504,18 @@ public sealed class MainPresenter : IAsyncDisposable
         _log.Information("Single block {State:l}", on ? "on" : "off");
     }
 
-    private async Task FeedChangedAsync()
+    private async Task FeedOverrideChangedAsync()
     {
-        var value = _feedScale.Clamp(_view.Feed);
-        _feed = value;
+        // The operator's setting holds: the program's F words never change it (they set the programmed feed only).
+        var value = Math.Clamp(_view.FeedOverride, FeedOverrides.Minimum, FeedOverrides.Maximum);
+        _feedOverride = value;
         if (_job is { } job)
         {
-            await job.SetFeedAsync(value, _life.Token).ConfigureAwait(true);
+            await job.SetFeedOverrideAsync(value, _life.Token).ConfigureAwait(true);
             _lastStatus = job.Status;
         }
 
-        _log.Information("Feed set to {Feed} {Unit:l}", value, _feedScale.Unit);
+        _log.Information("Feed override set to {Override} %", value);
     }
 
     private void ShowJob()
@@ -616,11 +527,9 @@ public sealed class MainPresenter : IAsyncDisposable
             _view.ExecutingLine = line;
         }
 
-        if (_lastStatus is { } s && Math.Abs(s.Feed - _feed) > 1e-9 && s.Feed > 0)
+        if (_lastStatus is { } s)
         {
-            // The controller's feed is the truth (another port or the override knob may have changed it).
-            _feed = _feedScale.Clamp(s.Feed);
-            _view.Feed = _feed;
+            _chunkLines.Follow(s.CurrentChunk, s.CurrentLine);
         }
 
         RefreshStatus();
@@ -650,42 +559,17 @@ public sealed class MainPresenter : IAsyncDisposable
         }
     }
 
-    private void RefreshCommands()
+    private void RefreshCommands() =>
+        _view.Commands = CommandRules.For(_ops.Busy > 0 || _connection.Connecting, _connection.Link is not null, _program is not null, _split is not null, _job is not null,
+            _lastStatus?.State == HmiJobState.Held);
+
+    private void RefreshStatus()
     {
-        if (_busy > 0 || _connecting)
-        {
-            // Hold and abort must stay reachable while a slow command runs.
-            _view.Commands = CommandStates.None with { Hold = _job is not null, Abort = _job is not null };
-            return;
-        }
-
-        var connected = _connection is not null;
-        var open = _program is not null;
-        var running = _job is not null;
-        var held = _lastStatus?.State == HmiJobState.Held;
-        var ready = connected && _split is not null && !running;
-        _view.Commands = new CommandStates(
-            Connect: !connected,
-            Disconnect: connected && !running,
-            Open: !running,
-            Check: open && !running,
-            Split: open && !running,
-            Execute: ready,
-            Hold: running && !held,
-            Resume: running,
-            Abort: running,
-            StartFromLine: ready,
-            ResumeInterrupted: connected && open && !running);
+        var active = _job is not null;
+        _view.Status = StatusStrip.Show(
+            new StatusFacts(_lastStatus, active, _split?.Manifest, _program, _feedOverride, active ? _jobSettings : _settings, active ? _jobStrategy : _view.SelectedStrategy),
+            _language);
     }
-
-    private void RefreshStatus() =>
-        _view.Status = StatusStrip.Show(_lastStatus, _split?.Manifest, _program, ShownFeed(_lastStatus), _feedScale, _language);
-
-    /// <summary>
-    /// The feed in force: the job's status carries what the controller holds (P500 as the program's F values set it,
-    /// or the override), unclamped by the slider's range; the panel's value when no job runs or it is unknown.
-    /// </summary>
-    private double ShownFeed(HmiJobStatus? s) => _job is not null && s is { Feed: > 0 } ? s.Feed : _feed;
 
     private void CloseProgram()
     {
@@ -694,11 +578,9 @@ public sealed class MainPresenter : IAsyncDisposable
         _shownLineCount = 0;
         _check = null;
         _split = null;
-        _selectedChunk = -1;
-        _chunkLines?.Dispose();
-        _chunkLines = null;
+        _chunkLines.SetProgram(null);
+        _toolpath.Close();
         _view.ProgramLineCount = 0;
-        _view.ChunkLineCount = 0;
         _view.Diagnostics = [];
         ShowChunkFiles();
     }

@@ -28,15 +28,15 @@ public sealed class Job : IAsyncDisposable
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<Job>();
     private readonly JobStore? _store;
-    private readonly double? _feed;
+    private readonly double? _feedOverride;
 
-    internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feed, JobStore? store, long? id)
+    internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feedOverride, JobStore? store, long? id)
     {
         Controller = controller;
         Session = session;
         Settings = settings;
         Plan = plan;
-        _feed = feed;
+        _feedOverride = feedOverride;
         _store = store;
         Id = id;
     }
@@ -59,8 +59,14 @@ public sealed class Job : IAsyncDisposable
     /// <summary>The split program.</summary>
     public ChunkedProgram Program => Session.Program;
 
-    /// <summary>The status after the last tick or command.</summary>
+    /// <summary>The status after the last tick or command; its feed is the feed override in percent.</summary>
     public StreamingStatus Status => Session.Status;
+
+    /// <summary>
+    /// The programmed feed (F, program units per minute) in force at the executing block, from the interpreter's move
+    /// table (what P500 carries in paper mode), without asking the controller; null before the first block or unknown.
+    /// </summary>
+    public double? ProgrammedFeed => Session.Status.CurrentLine > 0 ? Session.MoveTimes?.ProgrammedFeedAt(Session.Status.CurrentLine) : null;
 
     /// <summary>Job events: downloads, late windows, chunk changes, faults, completion.</summary>
     public event EventHandler<StreamingEvent>? EventRaised
@@ -70,18 +76,18 @@ public sealed class Job : IAsyncDisposable
     }
 
     /// <summary>
-    /// Starts the job: when a feed is given, first makes sure the coordinate system runs nothing (the feed of a running
-    /// program is not touched) and sets it; then the session's start (buffer, preamble, first chunk, run command).
-    /// A failure is kept as the job's message and thrown.
+    /// Starts the job: when a feed override is given, first makes sure the coordinate system runs nothing (the override
+    /// of a running program is not touched) and sets it; then the session's start (buffer, preamble, first chunk, run
+    /// command). A failure is kept as the job's message and thrown.
     /// </summary>
     public async Task StartAsync(CancellationToken cancellationToken = default)
     {
         try
         {
-            if (_feed is { } feed)
+            if (_feedOverride is { } percent)
             {
                 await Session.EnsureIdleAsync(cancellationToken).ConfigureAwait(false);
-                await SetFeedBeforeStartAsync(feed, cancellationToken).ConfigureAwait(false);
+                await SetOverrideBeforeStartAsync(percent, cancellationToken).ConfigureAwait(false);
             }
 
             await Session.StartAsync(Plan?.Line, Plan?.PmacLines, cancellationToken).ConfigureAwait(false);
@@ -109,8 +115,9 @@ public sealed class Job : IAsyncDisposable
     /// <summary>Abort; the job stays resumable from its checkpoint.</summary>
     public Task AbortAsync(CancellationToken cancellationToken = default) => Session.AbortAsync(cancellationToken);
 
-    /// <summary>Live feed change.</summary>
-    public Task SetFeedAsync(double value, CancellationToken cancellationToken = default) => Session.SetFeedAsync(value, cancellationToken);
+    /// <summary>Live feed override change (percent, <c>&amp;n %</c>): applies at once, the program's feeds stay as programmed.</summary>
+    public Task SetFeedOverrideAsync(double percent, CancellationToken cancellationToken = default) =>
+        Session.SetFeedAsync(FeedOverrides.Validate(percent), cancellationToken);
 
     /// <summary>Single-block mode on or off.</summary>
     public void SetSingleBlock(bool on) => Session.SetSingleBlock(on);
@@ -174,17 +181,12 @@ public sealed class Job : IAsyncDisposable
         }
     }
 
-    /// <summary>The operator's feed is in force before the first block is calculated (no buffer is open then).</summary>
-    private async Task SetFeedBeforeStartAsync(double feed, CancellationToken cancellationToken)
+    /// <summary>The operator's feed override is in force before the first block is calculated (no buffer is open then).</summary>
+    private async Task SetOverrideBeforeStartAsync(double percent, CancellationToken cancellationToken)
     {
         var connection = Controller.Connection;
-        var value = feed.ToString("0.###", CultureInfo.InvariantCulture);
         await connection.GetResponseAsync("CLOSE", cancellationToken).ConfigureAwait(false);
-        var manifest = Program.Manifest;
-        var variable = string.IsNullOrWhiteSpace(manifest.FeedVariable) ? RunSettings.DefaultFeedVariable : manifest.FeedVariable.Trim();
-        var command = (Session.Options.Feed ?? manifest.Feed) == FeedMode.Paper
-            ? $"{variable}={value}"
-            : string.Create(CultureInfo.InvariantCulture, $"&{Session.Options.CoordinateSystem} %{value}");
+        var command = string.Create(CultureInfo.InvariantCulture, $"&{Session.Options.CoordinateSystem} %{FeedOverrides.Validate(percent):0.###}");
         await connection.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
     }
 }

@@ -51,8 +51,11 @@ public sealed record JobRequest(ChunkedProgram Program, StrategyKind Strategy)
     /// <summary>Single-block mode.</summary>
     public bool SingleBlock { get; init; }
 
-    /// <summary>The feed to set before the start (P500 value or override percent), once the coordinate system is known idle; null leaves it.</summary>
-    public double? Feed { get; init; }
+    /// <summary>
+    /// The coordinate system's feed override in percent (<c>&amp;n %</c>, 0-200), set before the start once the
+    /// coordinate system is known idle, so a value left by an earlier job never carries over.
+    /// </summary>
+    public double FeedOverride { get; init; } = FeedOverrides.Default;
 
     /// <summary>The machine profile of the program (the move times of the ETA are interpreted with it).</summary>
     public MachineProfile Profile { get; init; } = MachineProfile.Default;

@@ -175,6 +175,7 @@ public sealed class JobService
         ArgumentNullException.ThrowIfNull(controller);
         ArgumentNullException.ThrowIfNull(request);
         var program = request.Program;
+        FeedOverrides.Validate(request.FeedOverride);
         var times = await MoveTimesAsync(program.Manifest.SourcePath, request.Profile, cancellationToken).ConfigureAwait(false);
         var store = request.Record ? JobStore.Open(JobDatabase) : null;
         try
@@ -183,7 +184,7 @@ public sealed class JobService
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings));
             var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
-            return new Job(controller, session, request.Settings, request.Plan, request.Feed, store, id);
+            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id);
         }
         catch
         {
@@ -265,10 +266,12 @@ public sealed class JobService
     /// for this link), sending continues exactly where it stopped (or a start that broke off while loading is loaded
     /// again) and the job runs. Otherwise it restarts at <see cref="ResumableJob.RestartLine"/> behind a preamble,
     /// once <paramref name="confirmRestart"/> agrees: the job is returned ready for <see cref="Job.StartAsync"/>.
+    /// A <paramref name="feedOverride"/> (percent) is set on the continued job at once, or before the restart; null
+    /// leaves the controller's.
     /// </summary>
     /// <exception cref="JobException">The controller could not be asked (link or ERR).</exception>
     public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumableJob job, RunSettings settings, Func<RestartProposal, Task<bool>> confirmRestart,
-        double? feed = null, MachineProfile? profile = null, CancellationToken cancellationToken = default)
+        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(controller);
         ArgumentNullException.ThrowIfNull(job);
@@ -290,7 +293,13 @@ public sealed class JobService
                     await session.ResumeAsync(record, cancellationToken).ConfigureAwait(false);
                     var reloaded = cp is { Loaded: false, Started: false };
                     Log.Information("Job {Job} resumed from its checkpoint at line {Line}{How:l}", record.Id, cp.LastExecutedLine, reloaded ? " (its start loaded again)" : string.Empty);
-                    return new ResumeResult(reloaded ? ResumeKind.Reloaded : ResumeKind.Continued, new Job(controller, session, settings, null, feed, store, record.Id));
+                    var continued = new Job(controller, session, settings, null, feedOverride, store, record.Id);
+                    if (feedOverride is { } percent)
+                    {
+                        await continued.SetFeedOverrideAsync(percent, cancellationToken).ConfigureAwait(false);
+                    }
+
+                    return new ResumeResult(reloaded ? ResumeKind.Reloaded : ResumeKind.Continued, continued);
                 }
                 catch (InvalidOperationException e)
                 {
@@ -311,7 +320,7 @@ public sealed class JobService
                 return new ResumeResult(ResumeKind.Declined, null, reason);
             }
 
-            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), settings, plan, feed, store, record.Id), reason);
+            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), settings, plan, feedOverride, store, record.Id), reason);
         }
         catch
         {

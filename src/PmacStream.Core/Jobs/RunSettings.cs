@@ -158,7 +158,9 @@ public sealed record RunSettings
     /// <summary>
     /// The streaming session's options. <paramref name="clockFactor"/> is virtual seconds per real second when the
     /// host steps a simulator's clock (the session reasons in machine time); <paramref name="defineBuffer"/> defines
-    /// the rotary buffer to <see cref="BufferWords"/> before the start.
+    /// the rotary buffer to <see cref="BufferWords"/> before the start. The operator's feed control is the coordinate
+    /// system's feed override (<c>&amp;n %</c>) whatever the split's feed mode: the program's own feeds (carried in
+    /// P500 in paper mode) stay the program's.
     /// </summary>
     public StreamingOptions ToStreamingOptions(StrategyKind strategy, bool singleBlock, bool defineBuffer, double clockFactor = 1) => new()
     {
@@ -170,6 +172,7 @@ public sealed record RunSettings
         WindowEnd = WindowEnd,
         TickPeriod = TickPeriod * clockFactor,
         SingleBlock = singleBlock,
+        Feed = FeedMode.Override,
     };
 
     /// <summary>How a start from a line is planned for a split program (its feed mode and variable, this safe Z).</summary>

@@ -43,12 +43,16 @@ public static class StreamingStrategies
 /// The chunk method: every tick read M0; when M0 lies in the download window of the current chunk (a fraction of
 /// it, 0.6-0.7 by default) download the next chunk file exactly once, guarded by a bool flag that is reset when
 /// execution enters the next chunk. Never early; never without room; once late (with a log) when the window was missed.
+/// A job that starts (or resumes) inside a chunk past its window did not miss it: execution joined the chunk there,
+/// and the next chunk goes at once, not late.
 /// </summary>
 public sealed class ChunkStrategy : IStreamingStrategy
 {
     private bool _downloaded;
     private int _flagChunk;
     private bool _waitLogged;
+    private bool _joined;
+    private bool _joinedPastWindow;
 
     /// <inheritdoc />
     public string Name => "chunk";
@@ -62,6 +66,8 @@ public sealed class ChunkStrategy : IStreamingStrategy
         _downloaded = false;
         _flagChunk = 0;
         _waitLogged = false;
+        _joined = false;
+        _joinedPastWindow = false;
     }
 
     /// <inheritdoc />
@@ -76,9 +82,18 @@ public sealed class ChunkStrategy : IStreamingStrategy
         if (current != _flagChunk)
         {
             // Execution entered another chunk: the next chunk may be downloaded once again.
+            _joinedPastWindow = false;
             _flagChunk = current;
             _downloaded = false;
             _waitLogged = false;
+        }
+
+        var f = context.ChunkFraction;
+        if (!_joined && context.TrackedLine > 0)
+        {
+            // The first block the job executes (a preamble before it tracks as 0): where it joined its chunk.
+            _joined = true;
+            _joinedPastWindow = f > context.Options.WindowEnd;
         }
 
         var next = context.Next;
@@ -98,13 +113,12 @@ public sealed class ChunkStrategy : IStreamingStrategy
             return;
         }
 
-        var f = context.ChunkFraction;
         if (f < context.Options.WindowStart)
         {
             return;
         }
 
-        var late = f > context.Options.WindowEnd;
+        var late = f > context.Options.WindowEnd && !_joinedPastWindow;
         if (!await context.HasRoomForRestOfChunkAsync(cancellationToken).ConfigureAwait(false))
         {
             if (!_waitLogged)
@@ -114,6 +128,11 @@ public sealed class ChunkStrategy : IStreamingStrategy
             }
 
             return;
+        }
+
+        if (_joinedPastWindow)
+        {
+            context.Note($"execution joined chunk {current} at line {context.TrackedLine}, past its download window: chunk {next.Chunk} goes at once");
         }
 
         await context.DownloadNextChunkAsync(late, cancellationToken).ConfigureAwait(false);

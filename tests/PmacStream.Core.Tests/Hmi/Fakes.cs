@@ -3,6 +3,7 @@ using PmacStream.GCode;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
+using PmacStream.Preview;
 using PmacStream.Program;
 
 namespace PmacStream.Core.Tests.Hmi;
@@ -21,7 +22,11 @@ internal sealed class FakeView : IMainView
     public IReadOnlyList<string> Strategies { get; set; } = [];
     public string SelectedStrategy { get; set; } = "chunk";
     public IReadOnlyList<string> ChunkFiles { get; set; } = [];
+    public List<int> SelectedChunks { get; } = [];
+    public int SelectedChunk { get => SelectedChunks.Count == 0 ? -1 : SelectedChunks[^1]; set => SelectedChunks.Add(value); }
     public int ChunkLineCount { get; set; }
+    public List<int> ChunkExecutingLines { get; } = [];
+    public int ChunkExecutingLine { get => ChunkExecutingLines.Count == 0 ? 0 : ChunkExecutingLines[^1]; set => ChunkExecutingLines.Add(value); }
     public int ProgramLineCount { get; set; }
     public List<int> ExecutingLines { get; } = [];
     public int ExecutingLine { get => ExecutingLines.Count == 0 ? 0 : ExecutingLines[^1]; set => ExecutingLines.Add(value); }
@@ -29,8 +34,11 @@ internal sealed class FakeView : IMainView
     public int SelectedLine { get; set; }
     public CommandStates Commands { get; set; } = CommandStates.None;
     public bool SingleBlock { get; set; }
-    public FeedScale FeedScale { get; set; } = FeedScale.Paper;
-    public double Feed { get; set; }
+    public double FeedOverride { get; set; }
+    private ToolpathFrame? _toolpath;
+    public ToolpathFrame? Toolpath { get => _toolpath; set { _toolpath = value; ToolpathShown++; } }
+    public int ToolpathShown { get; private set; }
+    public string ToolpathCaption { get; set; } = string.Empty;
     public StatusDisplay Status { get; set; } = null!;
     public List<string> Log { get; } = [];
     public List<string> Errors { get; } = [];
@@ -54,7 +62,7 @@ internal sealed class FakeView : IMainView
     public event EventHandler? StartFromLineRequested;
     public event EventHandler? ResumeInterruptedRequested;
     public event EventHandler? SingleBlockChanged;
-    public event EventHandler? FeedChanged;
+    public event EventHandler? FeedOverrideChanged;
     public event EventHandler? DownloadWindowChanged;
 
     public void AppendLog(IReadOnlyList<string> lines) => Log.AddRange(lines);
@@ -83,7 +91,7 @@ internal sealed class FakeView : IMainView
     public void ClickStartFromLine() => StartFromLineRequested?.Invoke(this, EventArgs.Empty);
     public void ClickResumeInterrupted() => ResumeInterruptedRequested?.Invoke(this, EventArgs.Empty);
     public void ToggleSingleBlock(bool on) { SingleBlock = on; SingleBlockChanged?.Invoke(this, EventArgs.Empty); }
-    public void MoveFeed(double v) { Feed = v; FeedChanged?.Invoke(this, EventArgs.Empty); }
+    public void MoveFeedOverride(double v) { FeedOverride = v; FeedOverrideChanged?.Invoke(this, EventArgs.Empty); }
     public void SetWindow(double start, double end) { DownloadWindow = (start, end); DownloadWindowChanged?.Invoke(this, EventArgs.Empty); }
 
     public string ProgramRow(int line)
@@ -120,7 +128,6 @@ internal sealed class FakeBackend : IHmiBackend
 {
     public IReadOnlyList<string> Strategies { get; } = ["chunk", "pr", "adaptive"];
     public int LinesPerTick { get; set; } = 7;
-    public FeedMode Feed { get; set; } = FeedMode.Paper;
     public List<HmiJobRequest> Started { get; } = [];
     public List<RunSettings> Prepared { get; } = [];
     public List<RunSettings> Resumed { get; } = [];
@@ -196,7 +203,7 @@ internal sealed class FakeBackend : IHmiBackend
             chunks.Add(new ChunkInfo(index, name, first, last, last - first + 1, last - first + 1, sb.Length, 0, ""));
         }
 
-        var manifest = new ChunkManifest(sourcePath, 0, "", lines.Length, lines.Length, "M0", TrackingPlacement.Exact, Feed, "P500", chunks);
+        var manifest = new ChunkManifest(sourcePath, 0, "", lines.Length, lines.Length, "M0", TrackingPlacement.Exact, FeedMode.Paper, "P500", chunks);
         return new HmiSplitResult(manifest, dir);
     }
 
@@ -206,7 +213,7 @@ internal sealed class FakeBackend : IHmiBackend
     public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         Started.Add(request);
-        var job = new FakeJob(request.Program.Manifest, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.Feed);
+        var job = new FakeJob(request.Program.Manifest, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.FeedOverride);
         Jobs.Add(job);
         return Task.FromResult<IHmiJob>(job);
     }
@@ -214,20 +221,22 @@ internal sealed class FakeBackend : IHmiBackend
     public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
         Task.FromResult(Interrupted is { } j && j.Program.Manifest.SourcePath == sourcePath ? j : null);
 
-    public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feed, RunSettings settings, CancellationToken cancellationToken = default)
+    public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default)
     {
         Resumed.Add(settings);
-        var j = new FakeJob(job.Program.Manifest, job.ResumeLine, LinesPerTick, false, feed);
+        var j = new FakeJob(job.Program.Manifest, job.ResumeLine, LinesPerTick, false, feedOverride);
         Jobs.Add(j);
         return Task.FromResult<IHmiJob>(j);
     }
+
+    public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath);
 }
 
-internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPerTick, bool singleBlock, double feed) : IHmiJob
+internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPerTick, bool singleBlock, double feedOverride) : IHmiJob
 {
     private int _line = firstLine - 1;
     private HmiJobState _state = HmiJobState.Running;
-    private double _feed = feed;
+    private double _override = feedOverride;
     private int _ticks;
 
     public List<string> Commands { get; } = [];
@@ -235,11 +244,14 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
     public bool Disposed { get; private set; }
     public Exception? FailOnTick { get; set; }
 
-    /// <summary>What the controller's P500 holds when the program's own F values changed it (null: the panel's feed).</summary>
-    public double? ControllerFeed { get; set; }
+    /// <summary>The override the controller reports while it slews to a new setting (null: the setting).</summary>
+    public double? ControllerOverride { get; set; }
+
+    /// <summary>The program's feed at the executing block (what P500 carries).</summary>
+    public double? ProgrammedFeed { get; set; }
 
     public HmiJobStatus Status => new(_state, manifest.ChunkOfLine(Math.Max(1, _line))?.Index ?? 0, _line,
-        100.0 * _line / manifest.TotalBlocks, ControllerFeed ?? _feed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line));
+        100.0 * _line / manifest.TotalBlocks, ControllerOverride ?? _override, ProgrammedFeed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line));
 
     public TaskCompletionSource? TickGate { get; set; }
     public int TickCalls { get; private set; }
@@ -288,7 +300,7 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
     }
 
     public Task AbortAsync(CancellationToken cancellationToken = default) { Commands.Add("A"); _state = HmiJobState.Aborted; return Task.CompletedTask; }
-    public Task SetFeedAsync(double value, CancellationToken cancellationToken = default) { Commands.Add($"P500={value}"); _feed = value; return Task.CompletedTask; }
+    public Task SetFeedOverrideAsync(double percent, CancellationToken cancellationToken = default) { Commands.Add($"%{percent}"); _override = percent; return Task.CompletedTask; }
     public Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default) { Commands.Add($"single={on}"); SingleBlock = on; return Task.CompletedTask; }
     public ValueTask DisposeAsync() { Disposed = true; return ValueTask.CompletedTask; }
 }

@@ -177,18 +177,19 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     {
         var (p, v) = await ReadyAsync();
         var pendant = _sim.OpenPort("pendant");
-        foreach (var line in new[] { "P500=123", "OPEN PROG 7 CLEAR", "LINEAR", "F600", "X100", "X0", "CLOSE", "&1 B7 R" })
+        foreach (var line in new[] { "P500=123", "&1 %90", "OPEN PROG 7 CLEAR", "LINEAR", "F600", "X100", "X0", "CLOSE", "&1 B7 R" })
         {
             pendant.ExecuteText(line).Should().NotContain("ERR", line);
         }
 
         _sim.Advance(TimeSpan.FromSeconds(1));
-        v.Feed = 800;
+        v.FeedOverride = 40;
         await Do(p, v.ClickExecute);
 
         v.Errors.Should().ContainSingle().Which.Should().Contain("running a program");
         p.JobActive.Should().BeFalse();
         pendant.ExecuteText("P500").Should().StartWith("123", "the feed variable belongs to the program that is running");
+        pendant.ExecuteText("&1 %").Should().StartWith("90", "so does the coordinate system's feed override");
         _sim.Advance(TimeSpan.FromSeconds(30));
         _sim.ExecutedMoves.Should().HaveCount(2, "the other program ran to its end");
     }
@@ -298,39 +299,52 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     }
 
     [Fact]
-    public async Task Feed_change_sets_p500_live_in_paper_mode()
+    public async Task The_feed_override_holds_across_the_programs_feeds_and_the_machine_runs_programmed_times_override()
     {
         var (p, v) = await ReadyAsync();
-        v.FeedScale.Unit.Should().Be("P500");
-        await Do(p, () => v.MoveFeed(800));
-        await Do(p, v.ClickExecute);
-        v.Status.Feed.Should().Be("800 P500", "the chosen feed was set before the first block (the program's own F words follow)");
-        await Tick(p, 50);
-
-        await Do(p, () => v.MoveFeed(2400));
-        _sim.ReadVariable('P', 500).Should().Be(2400);
-        v.Status.Feed.Should().Be("2400 P500");
-        await Do(p, v.ClickAbort);
-        v.Status.State.Should().Be("Aborted");
-    }
-
-    [Fact]
-    public async Task Status_feed_shows_the_programmed_f_values_carried_into_p500()
-    {
-        var (p, v) = await ReadyAsync();
-        await Do(p, () => v.MoveFeed(800));
+        await Do(p, () => v.MoveFeedOverride(50));
         await Do(p, v.ClickExecute);
         var shown = new HashSet<string>();
-        for (var i = 0; i < 3000 && p.JobActive && !(shown.Contains("1200 P500") && shown.Contains("900 P500")); i++)
+        var controls = new HashSet<double>();
+        for (var i = 0; i < 3000 && p.JobActive && !(shown.Contains("F1200 × 50 % = 600") && shown.Contains("F900 × 50 % = 450")); i++)
         {
             await Tick(p);
             shown.Add(v.Status.Feed);
+            controls.Add(v.FeedOverride);
         }
 
-        shown.Should().Contain(["1200 P500", "900 P500"], "demo.nc programs F1200 and F900; the splitter carries them into P500");
-        shown.Should().BeSubsetOf(new[] { 800, 300, 400, 900, 1200, 1500 }.Select(f => $"{f} P500"), "only the operator's and the program's feeds");
+        // demo.nc programs F1200 and F900; paper-mode chunks carry them into P500, and the override scales them.
+        shown.Should().Contain(["F1200 × 50 % = 600", "F900 × 50 % = 450"]);
+        controls.Should().Equal([50.0], "the program's F words never move the operator's control");
+        v.Status.FeedOverride.Should().Be("50 %");
+        var pendant = _sim.OpenPort("pendant");
+        pendant.ExecuteText("&1 %").Should().StartWith("50");
+        var from = _sim.ExecutedMoves[0].StartTime + 2; // the override slews from 100 % in the first second
+        for (var i = 0; i < 200 && !RunFeeds(from).Any(m => m.Programmed == 900); i++)
+        {
+            await Tick(p); // until an F900 move has finished
+        }
+
+        var half = RunFeeds(from);
+        half.Select(m => m.Programmed).Should().Contain([1200.0, 900.0], "the programmed feeds reached the controller (P500)");
+        half.Should().OnlyContain(m => Math.Abs(m.Actual - (m.Programmed * 0.5)) < m.Programmed * 0.01, "every move ran at programmed x 50 %");
+
+        // A live change: &1 %150 at once, the program's feeds still its own.
+        await Do(p, () => v.MoveFeedOverride(150));
+        var changedAt = _sim.ExecutedMoves[^1].EndTime;
+        await Tick(p, 20);
+        var fast = RunFeeds(from: changedAt + 3);
+        fast.Should().NotBeEmpty().And.OnlyContain(m => Math.Abs(m.Actual - (m.Programmed * 1.5)) < m.Programmed * 0.01, "programmed x 150 % after the slew");
+        v.Status.FeedOverride.Should().Be("150 %");
         await Do(p, v.ClickAbort);
     }
+
+    /// <summary>Programmed and actual feed (length over time, per minute) of the linear moves that started at or after <paramref name="from"/>.</summary>
+    private List<(double Programmed, double Actual)> RunFeeds(double from) =>
+        _sim.ExecutedMoves
+            .Where(m => m.Kind == MoveKind.Linear && m.StartTime >= from && m.Length > 0.5 && m.Duration > 0)
+            .Select(m => (m.Feed, m.Length / m.Duration * 60))
+            .ToList();
 
     [Fact]
     public async Task Resume_refuses_a_program_changed_since_the_job_started()

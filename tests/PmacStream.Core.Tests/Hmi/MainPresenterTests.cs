@@ -213,7 +213,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
         _view.Commands.Hold.Should().BeTrue();
         await TickUntilFinished();
 
-        _backend.Started.Single().Should().Match<HmiJobRequest>(r => r.FromLine == null && r.Strategy == "chunk" && r.Feed == 1000);
+        _backend.Started.Single().Should().Match<HmiJobRequest>(r => r.FromLine == null && r.Strategy == "chunk" && r.FeedOverride == 100);
         var highlighted = _view.ExecutingLines.Where(l => l > 0).ToList();
         highlighted.Should().BeInAscendingOrder().And.OnlyHaveUniqueItems();
         highlighted.Should().StartWith(7).And.EndWith(100);
@@ -343,46 +343,167 @@ public sealed class MainPresenterTests : IAsyncLifetime
     }
 
     [Fact]
-    public async Task Feed_changes_go_to_the_job_and_follow_the_feed_mode()
+    public async Task The_feed_control_is_the_override_and_it_goes_to_the_job()
     {
         await ReadyToRun();
-        _view.FeedScale.Should().Be(FeedScale.Paper);
-        await Do(() => _view.MoveFeed(2500));
+        _view.FeedOverride.Should().Be(100, "a job runs the programmed feeds as written unless the operator says otherwise");
+        _view.Status.FeedOverride.Should().Be("100 %");
+        await Do(() => _view.MoveFeedOverride(80));
         await Do(_view.ClickExecute);
-        _backend.Started.Single().Feed.Should().Be(2500, "the feed chosen before the start is the first P500");
+        _backend.Started.Single().FeedOverride.Should().Be(80, "the override chosen before the start is set before the first block");
 
-        await Do(() => _view.MoveFeed(800));
-        await Do(() => _view.MoveFeed(99999));
-        _backend.Jobs[0].Commands.Should().Equal("P500=800", "P500=20000");
-        _view.Status.Feed.Should().Be("20000 P500");
+        await Do(() => _view.MoveFeedOverride(120));
+        await Do(() => _view.MoveFeedOverride(999));
+        _backend.Jobs[0].Commands.Should().Equal("%120", "%200");
+        _view.Status.FeedOverride.Should().Be("200 %", "clamped to the control's 0-200 %");
+        _view.Log.Should().Contain(l => l.Contains("Feed override set to 200 %"));
         await Do(_view.ClickAbort);
-
-        _backend.Feed = FeedMode.Override;
-        await Do(_view.ClickSplit);
-        _view.FeedScale.Should().Be(FeedScale.Override);
-        _view.Feed.Should().Be(100);
-        _view.Status.Feed.Should().Be("100 %");
     }
 
     [Fact]
-    public async Task Status_feed_is_the_controllers_feed_in_force_even_beyond_the_slider_range()
+    public async Task The_override_holds_across_the_programs_feeds_and_the_status_shows_programmed_times_override()
     {
         await ReadyToRun();
-        await Do(() => _view.MoveFeed(800));
+        await Do(() => _view.MoveFeedOverride(80));
         await Do(_view.ClickExecute);
-        _view.Status.Feed.Should().Be("800 P500");
-
-        // The program's F word, carried into P500 by the splitter, is what the machine runs at.
-        _backend.Jobs[0].ControllerFeed = 1200;
+        var job = _backend.Jobs[0];
+        job.ProgrammedFeed = 1000;
         await _p.TickAsync();
-        _view.Status.Feed.Should().Be("1200 P500");
-        _view.Feed.Should().Be(1200, "the slider follows the controller");
+        _view.Status.Feed.Should().Be("F1000 × 80 % = 800");
 
-        _backend.Jobs[0].ControllerFeed = 30000;
+        // The program's F1200 changes the programmed feed (P500), never the operator's override.
+        job.ProgrammedFeed = 1200;
         await _p.TickAsync();
-        _view.Status.Feed.Should().Be("30000 P500", "the status shows the feed in force, not the slider's clamped value");
-        _view.Feed.Should().Be(20000, "the slider stops at its maximum");
-        _backend.Jobs[0].Commands.Should().BeEmpty("following the controller sends nothing back");
+        _view.Status.Feed.Should().Be("F1200 × 80 % = 960");
+        _view.FeedOverride.Should().Be(80, "the operator's setting holds");
+        _view.Status.FeedOverride.Should().Be("80 %");
+
+        // While the controller slews to a new setting the status shows both.
+        job.ControllerOverride = 92.5;
+        await Do(() => _view.MoveFeedOverride(60));
+        job.ControllerOverride = 72.5;
+        await _p.TickAsync();
+        _view.Status.FeedOverride.Should().Be("72.5 % → 60 %");
+        _view.Status.Feed.Should().Be("F1200 × 72.5 % = 870");
+        _view.FeedOverride.Should().Be(60, "the control keeps the setting, not the slewing value");
+        job.Commands.Should().Equal(["%60"], "showing the controller's value sends nothing back");
+    }
+
+    [Fact]
+    public async Task The_download_window_is_shown_with_the_lines_of_the_executing_chunk()
+    {
+        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        _view.Status.DownloadWindow.Should().Be("60–70 % of a file");
+        await Do(() => _view.SetWindow(0.5, 0.6));
+        _view.Status.DownloadWindow.Should().Be("50–60 % of a file");
+        await Do(_view.ClickExecute);
+        await _p.TickAsync();
+        _view.Status.DownloadWindow.Should().Be("50–60 %: file 2 at lines 15–18", "chunk 1 holds lines 1-30: M0 at 15-18 is 50-60 % into it");
+        for (var i = 0; i < 4; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        _view.Status.DownloadWindow.Should().Be("50–60 %: file 3 at lines 45–48");
+        await Do(() => _view.SetWindow(0.7, 0.8));
+        _view.Status.DownloadWindow.Should().StartWith("50–60 %", "a running job keeps the window it started with");
+        await Do(_view.ClickAbort);
+        _view.Status.DownloadWindow.Should().Be("70–80 % of a file", "the next job's window");
+    }
+
+    [Fact]
+    public async Task The_chunk_lines_follow_execution_until_the_operator_looks_elsewhere()
+    {
+        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        await Do(_view.ClickExecute);
+        await _p.TickAsync();
+        _view.SelectedChunk.Should().Be(0, "the executing chunk is selected in ListBox1");
+        _p.ShownChunk.Should().Be(0);
+        _view.ChunkLineCount.Should().Be(33);
+        _view.ChunkRow(_view.ChunkExecutingLine).Should().StartWith("M0==7 ", "the highlighted row is the executing block's synchronous assignment");
+
+        for (var i = 0; i < 4; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        _view.ExecutingLine.Should().Be(35);
+        _view.SelectedChunk.Should().Be(1, "execution entered chunk 2 and the list followed");
+        _view.ChunkRow(_view.ChunkExecutingLine).Should().StartWith("M0==35 ");
+
+        // The operator looks at chunk 4: the list stays there while chunk 2 and 3 execute.
+        await Do(() => _view.SelectChunk(3));
+        _p.ChunkLinesFollow.Should().BeFalse();
+        var focused = _view.FocusedLine;
+        var selections = _view.SelectedChunks.Count;
+        for (var i = 0; i < 5; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        _view.ExecutingLine.Should().Be(70);
+        _p.ShownChunk.Should().Be(3, "the operator's choice is kept");
+        _view.SelectedChunks.Should().HaveCount(selections, "nothing moved ListBox1");
+        _view.ChunkExecutingLine.Should().Be(0, "the executing block is not in the chunk shown");
+        _view.FocusedLine.Should().Be(focused, "following never moves the operator's selection in ListBox2");
+
+        // Selecting the executing chunk again follows again.
+        await Do(() => _view.SelectChunk(2));
+        _p.ChunkLinesFollow.Should().BeTrue();
+        _view.ChunkRow(_view.ChunkExecutingLine).Should().StartWith("M0==70 ");
+
+        // Looking ahead at chunk 4 again: following resumes when execution gets there.
+        await Do(() => _view.SelectChunk(3));
+        await TickUntilFinished();
+        _p.ShownChunk.Should().Be(3);
+        _p.ChunkLinesFollow.Should().BeTrue("execution reached the chunk the operator was looking at");
+        _view.ChunkRow(_view.ChunkExecutingLine).Should().StartWith("M0==100 ");
+    }
+
+    [Fact]
+    public async Task The_toolpath_pane_shows_the_planned_path_and_the_executed_part_grows()
+    {
+        // A square spiral: every line a feed move of its own, so the executed part grows line by line.
+        await Do(() => _view.ChooseFile(Program(100, i => i == 1 ? "G21 G90 G01 X0 Y0 F500" : $"G01 X{(i % 2 == 0 ? i : -i)} Y{(i % 4 < 2 ? i : -i)}")));
+        await Do(_view.ClickConnect);
+        _view.LinesPerChunk = 30;
+        await Do(_view.ClickSplit);
+        for (var i = 0; i < 200 && !_p.ToolpathReady; i++)
+        {
+            await _p.TickAsync();
+            await Task.Delay(20);
+        }
+
+        _p.ToolpathReady.Should().BeTrue("the planned path is drawn in the background");
+        var frame = _view.Toolpath!;
+        (frame.Width, frame.Height).Should().Be((HmiLayout.ToolpathPane.Width, HmiLayout.ToolpathPane.Height));
+        _view.ToolpathCaption.Should().Be("Toolpath of part.nc: 99 moves; executed in green, the tool at the red mark");
+        var palette = new PmacStream.Preview.PreviewPalette();
+        frame.CountPixels(palette.Feed).Should().BeGreaterThan(500, "the planned feed moves are drawn");
+        frame.CountPixels(palette.Executed).Should().Be(0, "nothing executed yet");
+
+        await Do(_view.ClickExecute);
+        var executed = new List<int>();
+        while (_p.JobActive)
+        {
+            await _p.TickAsync();
+            executed.Add(frame.CountPixels(palette.Executed));
+        }
+
+        await _p.TickAsync();
+        executed.Add(frame.CountPixels(palette.Executed));
+        executed.Should().HaveCountGreaterThan(10);
+        for (var i = 1; i < executed.Count; i++)
+        {
+            // Only the moving position marker may hide a few executed pixels from one tick to the next.
+            executed[i].Should().BeGreaterThan(executed[i - 1] - 200, "the executed part only grows");
+        }
+
+        executed[1].Should().BeGreaterThan(0);
+        executed[executed.Count / 2].Should().BeGreaterThan(executed[1] + 500);
+        executed[^1].Should().BeGreaterThan(executed[executed.Count / 2] + 500, "it grew to the end");
+        frame.CountPixels(palette.Marker).Should().BeGreaterThan(10, "the tool's position is marked");
+        _p.ToolpathExecutedMoves.Should().Be(99, "every move drawn once, when its line had executed");
     }
 
     [Fact]

@@ -31,6 +31,13 @@ public sealed class ScreenLayoutTests
             placed.Add(new Placed($"status value {row}", HmiLayout.StatusValue(row), "grpStatus"));
         }
 
+        // The places kept free for the profile selector and the program-stop indication: nothing may take them.
+        placed.Add(new Placed("reserved ProfileLabel", HmiLayout.ProfileLabel, "grpProgram"));
+        placed.Add(new Placed("reserved ProfileCombo", HmiLayout.ProfileCombo, "grpProgram"));
+        placed.Add(new Placed("reserved ProgramStopBanner", HmiLayout.ProgramStopBanner, "this"));
+        source.Should().NotContain("HmiLayout.ProfileCombo").And.NotContain("HmiLayout.ProgramStopBanner", "the places are kept free until their controls come");
+        placed.Should().Contain(c => c.Box == HmiLayout.ToolpathPane, "the toolpath pane is on the form");
+
         foreach (var group in placed.GroupBy(c => c.Parent))
         {
             var items = group.ToList();

@@ -233,6 +233,47 @@ public class StreamingSessionTests
         raw.Skip(3).Should().Equal(all.Skip(500));
     }
 
+    [Theory]
+    [InlineData(0.95)]
+    [InlineData(0.65)]
+    [InlineData(0.3)]
+    public async Task A_start_from_a_line_late_in_its_chunk_downloads_the_next_chunk_at_once_not_late(double into)
+    {
+        // A start mid-chunk loads the rest of that chunk behind the preamble: when the start lies in or past the
+        // download window, execution joined the chunk there; the next chunk goes at once and no window was missed.
+        var program = FakeSplit.Write(FakeSplit.TempFolder("from-late"), FakeSplit.Program(1200, 6), 100);
+        var chunk = program.Chunk(5);
+        var size = chunk.LastSourceLine - chunk.FirstSourceLine + 1;
+        var all = program.TrackedLines().ToList();
+        var from = all.First(l => l >= chunk.FirstSourceLine + (int)(into * size));
+        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 30_000 }, moveSeconds: 0.02, capacityWords: 30_000);
+        var downloads = new List<StreamingEvent>();
+        rig.Session.EventRaised += (_, e) =>
+        {
+            if (e.Kind is StreamingEventKind.ChunkDownloaded or StreamingEventKind.ChunkDownloadedLate)
+            {
+                downloads.Add(e);
+            }
+        };
+
+        await rig.Session.StartAsync(from, ["G90", "G00 Z10", "G00 X1 Y1", "G01 Z0 F(P500)"]);
+        (await rig.RunAsync()).Should().BeTrue();
+
+        downloads.Should().NotContain(d => d.Kind == StreamingEventKind.ChunkDownloadedLate, "the start, not a slow timer, put execution past the window");
+        downloads.Select(d => d.Chunk).Should().Equal(Enumerable.Range(5, program.TotalChunks - 4));
+        var next = downloads[1];
+        if (into >= 0.6)
+        {
+            next.TrackedLine.Should().BeLessThanOrEqualTo(from + 2, "the next chunk goes as soon as the job runs");
+        }
+        else
+        {
+            ((double)(next.TrackedLine - chunk.FirstSourceLine + 1) / size).Should().BeInRange(0.6, 0.72, "a start before the window waits for it");
+        }
+
+        Raw(rig).Skip(3).Should().Equal(all.Where(l => l >= from));
+    }
+
     [Fact]
     public async Task Status_reports_chunks_lines_percent_and_eta()
     {

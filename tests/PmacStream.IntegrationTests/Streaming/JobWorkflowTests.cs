@@ -140,6 +140,44 @@ public sealed class JobWorkflowTests : IDisposable
     }
 
     [Fact]
+    public async Task Stream_sets_the_feed_override_before_the_start_whatever_the_controller_held()
+    {
+        var src = Program(300);
+        using var sim = new PmacSimulator(new SimOptions { Speed = SimSpeed.Factor(20) });
+        var setup = new InProcessConnection(sim.OpenPort("setup"));
+        await setup.DownloadAsync(SimRig.Library);
+        await setup.GetResponseAsync("&1 %30"); // left by an earlier session
+        var ethernet = sim.OpenPort("ethernet");
+        await using var server = new PmacTcpServer(() => ethernet, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
+        server.Start();
+        sim.StartClock();
+        var spec = $"127.0.0.1:{server.Port}";
+
+        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--tcp", spec, "--feed-override", "70", "--job-db", Db);
+        code.Should().Be(0, stderr + stdout);
+        sim.StopClock();
+        sim.RunUntilIdle(TimeSpan.FromMinutes(5));
+        (await setup.GetResponseAsync("&1 %")).Should().StartWith("70");
+        var from = sim.ExecutedMoves[0].StartTime + 2; // the override slews from where it was in the first second
+        var moves = sim.ExecutedMoves.Where(m => m.Kind == MoveKind.Linear && m.StartTime >= from && m.Length > 0.5).ToList();
+        moves.Should().HaveCountGreaterThan(100).And.OnlyContain(m => m.Feed == 3000, "the program's F3000, carried in P500");
+        moves.Should().OnlyContain(m => Math.Abs((m.Length / m.Duration * 60) - 2100) < 21, "programmed x 70 %");
+
+        // Without the option the start sets 100 %: an override left by an earlier session never carries over.
+        await setup.GetResponseAsync("&1 A"); // the rotary program of the job above still waits for lines
+        await setup.GetResponseAsync("&1 %30");
+        sim.StartClock();
+        var again = CliProcess.Run("stream", src, "--tcp", spec, "--job-db", Db);
+        again.Code.Should().Be(0, again.Err + again.Out);
+        sim.StopClock();
+        sim.RunUntilIdle(TimeSpan.FromMinutes(5));
+        (await setup.GetResponseAsync("&1 %")).Should().StartWith("100");
+        var refused = CliProcess.Run("stream", src, "--sim", "--feed-override", "250", "--job-db", Db);
+        refused.Code.Should().Be(2);
+        refused.Err.Should().Contain("--feed-override: feed override 250 % is outside 0-200 %");
+    }
+
+    [Fact]
     public void A_bad_settings_file_is_reported_with_its_position_and_exit_2()
     {
         var settings = Path.Combine(_folder, "settings.json");
