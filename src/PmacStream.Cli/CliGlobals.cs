@@ -83,6 +83,12 @@ internal static class CliGlobals
             await ReportRefusalAsync(prefix, e).ConfigureAwait(false);
             return Failed;
         }
+        catch (PmacStream.Streaming.JobStoreException e)
+        {
+            // Names the file and what is wrong (a damaged database is already moved aside); no stack trace.
+            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+            return UsageOrIo;
+        }
         catch (JobException e)
         {
             await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
