@@ -41,6 +41,7 @@ public sealed partial class PmacSimulator : IDisposable
     private long _underruns;
     private long _errors;
     private long _linesReceived;
+    private long _movesExecuted;
     private Thread? _clock;
     private volatile bool _clockStop;
     private bool _disposed;
@@ -75,7 +76,7 @@ public sealed partial class PmacSimulator : IDisposable
         }
     }
 
-    /// <summary>A snapshot of every move executed so far, in order.</summary>
+    /// <summary>A snapshot of every move executed so far, in order (empty unless <see cref="SimOptions.RetainExecutedMoves"/>).</summary>
     public IReadOnlyList<ExecutedMove> ExecutedMoves
     {
         get
@@ -104,7 +105,7 @@ public sealed partial class PmacSimulator : IDisposable
 
     /// <summary>
     /// The executed moves from 0-based index <paramref name="fromIndex"/> on (Sequence = index + 1): for pollers that
-    /// should not copy the whole log each time.
+    /// should not copy the whole log each time. Empty unless <see cref="SimOptions.RetainExecutedMoves"/>.
     /// </summary>
     public IReadOnlyList<ExecutedMove> ExecutedMovesFrom(int fromIndex)
     {
@@ -122,7 +123,7 @@ public sealed partial class PmacSimulator : IDisposable
         {
             lock (_sync)
             {
-                return new SimCounters(_executed.Count, _underruns, _errors, _linesReceived);
+                return new SimCounters(_movesExecuted, _underruns, _errors, _linesReceived);
             }
         }
     }
@@ -224,23 +225,11 @@ public sealed partial class PmacSimulator : IDisposable
         t?.Join();
     }
 
-    /// <summary>Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,kind</c>.</summary>
-    public void WriteExecutedLog(string path)
-    {
-        var moves = ExecutedMoves;
-        var tmp = path + ".tmp";
-        using (var w = new StreamWriter(tmp, false, new UTF8Encoding(false)))
-        {
-            w.NewLine = "\n";
-            w.WriteLine("sequence,line,start_s,end_s,x,y,z,kind");
-            foreach (var m in moves)
-            {
-                w.WriteLine(string.Create(CultureInfo.InvariantCulture, $"{m.Sequence},{m.SourceLine},{m.StartTime:0.######},{m.EndTime:0.######},{m.X:0.######},{m.Y:0.######},{m.Z:0.######},{m.Kind}"));
-            }
-        }
-
-        File.Move(tmp, path, overwrite: true);
-    }
+    /// <summary>
+    /// Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,kind</c> (the moves kept in memory;
+    /// a host that does not keep them streams the log with <see cref="ExecutedLogWriter.Attach"/>).
+    /// </summary>
+    public void WriteExecutedLog(string path) => ExecutedLogWriter.WriteAll(path, ExecutedMoves);
 
     /// <summary>Sets a simulated X: or Y: memory word (24 bits), e.g. an input card word that M-variables point into.</summary>
     public void SetWord(char space, int address, int value)
@@ -499,7 +488,7 @@ public sealed partial class PmacSimulator : IDisposable
         while (true)
         {
             var before = _now;
-            var movesBefore = _executed.Count;
+            var movesBefore = _movesExecuted;
             Settle();
             if (_now >= until)
             {
@@ -564,7 +553,7 @@ public sealed partial class PmacSimulator : IDisposable
             }
 
             // Guard against a clock that cannot move on (a bug must never hang a host or a test run).
-            stalled = _now > before || _executed.Count > movesBefore ? 0 : stalled + 1;
+            stalled = _now > before || _movesExecuted > movesBefore ? 0 : stalled + 1;
             if (stalled > 10_000)
             {
                 Log.Error("simulated clock stalled at {Time} s; giving up this advance", _now);
@@ -621,7 +610,7 @@ public sealed partial class PmacSimulator : IDisposable
             center = [c[0], c[1], c[2]];
         }
 
-        var move = new ExecutedMove(_executed.Count + 1, seg.SourceLine, seg.StartTime, _now, seg.End[0], seg.End[1], seg.End[2], seg.Kind)
+        var move = new ExecutedMove(++_movesExecuted, seg.SourceLine, seg.StartTime, _now, seg.End[0], seg.End[1], seg.End[2], seg.Kind)
         {
             CoordinateSystem = cs.Number,
             StartX = seg.Start[0],
@@ -635,7 +624,11 @@ public sealed partial class PmacSimulator : IDisposable
             Feed = seg.Feed,
             Rotary = (seg.End[3], seg.End[4], seg.End[5]),
         };
-        _executed.Add(move);
+        if (Options.RetainExecutedMoves)
+        {
+            _executed.Add(move);
+        }
+
         if (MoveExecuted is not null)
         {
             _pendingEvents.Add(move);
