@@ -18,6 +18,9 @@ internal static class CliGlobals
     /// <summary>Usage or I/O error.</summary>
     public const int UsageOrIo = 2;
 
+    /// <summary>How long a command may take to stop cleanly after Ctrl-C or SIGTERM before the process is ended.</summary>
+    public static readonly TimeSpan TerminationGrace = TimeSpan.FromSeconds(30);
+
     public static readonly Option<bool> Verbose = new("--verbose", "-v")
     {
         Description = "Log every controller command and reply (Debug level) to stderr.",
@@ -64,8 +67,10 @@ internal static class CliGlobals
 
         try
         {
-            // System.CommandLine's own handler would print a stack trace and exit 1 for these.
-            return await parse.InvokeAsync(new InvocationConfiguration { EnableDefaultExceptionHandler = false }).ConfigureAwait(false);
+            // System.CommandLine's own handler would print a stack trace and exit 1 for these. Ctrl-C and SIGTERM cancel
+            // the command's token (2.0.0 leaves that off unless a timeout is given): a split removes its work folder,
+            // a stream stops sending and leaves the job resumable, a check stops. After the timeout the process ends.
+            return await parse.InvokeAsync(new InvocationConfiguration { EnableDefaultExceptionHandler = false, ProcessTerminationTimeout = TerminationGrace }).ConfigureAwait(false);
         }
         catch (CliException e)
         {
@@ -101,7 +106,7 @@ internal static class CliGlobals
         }
         catch (OperationCanceledException)
         {
-            await Console.Error.WriteLineAsync($"{prefix}: cancelled").ConfigureAwait(false);
+            await Console.Error.WriteLineAsync($"{prefix}: interrupted").ConfigureAwait(false);
             return Failed;
         }
         catch (Exception e)

@@ -67,6 +67,11 @@ internal static class JobConsole
             {
                 throw new CliException(e.Message, CliGlobals.Failed);
             }
+            catch (OperationCanceledException) when (ct.IsCancellationRequested)
+            {
+                Console.Error.WriteLine($"pmacstream: interrupted while starting the job; {Resumable(job)}");
+                return CliGlobals.Failed;
+            }
             catch (Exception e) when (e is PmacLinkException or PmacErrorException)
             {
                 Console.Error.WriteLine($"pmacstream: {job.Status.Message}");
@@ -79,7 +84,7 @@ internal static class JobConsole
         var status = job.Status;
         if (outcome == JobOutcome.Interrupted)
         {
-            Console.Error.WriteLine($"interrupted at line {status.CurrentLine}; the controller keeps the lines it holds. Resume with: pmacstream resume --job {job.Id}");
+            Console.Error.WriteLine($"interrupted at line {status.CurrentLine}: sending stopped; the controller keeps the lines it holds. {Resumable(job)}");
             return CliGlobals.Failed;
         }
 
@@ -103,6 +108,9 @@ internal static class JobConsole
         Console.WriteLine($"executed {status.ExecutedBlocks} of {program.Manifest.TotalMotionBlocks} blocks, {status.Underruns} underruns (from M0 and PR)");
         return status.ExecutedBlocks == program.Manifest.TotalMotionBlocks || countFrom is not null ? CliGlobals.Ok : CliGlobals.Failed;
     }
+
+    private static string Resumable(Job job) =>
+        job.Id is { } id ? $"The job is resumable: pmacstream resume --job {id}" : "This run is not recorded as a job (nothing to resume).";
 
     private static string Describe(StreamingStatus s)
     {

@@ -93,6 +93,11 @@ internal static class SplitCommand
                     }), ct), ct);
                 }).ConfigureAwait(false);
             }
+            catch (OperationCanceledException) when (ct.IsCancellationRequested)
+            {
+                await Console.Error.WriteLineAsync($"pmacstream split: interrupted; the partial split was removed, {path} was not split").ConfigureAwait(false);
+                return CliGlobals.Failed;
+            }
             catch (SplitException e)
             {
                 foreach (var d in e.Diagnostics)
