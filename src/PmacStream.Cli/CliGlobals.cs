@@ -118,6 +118,20 @@ internal static class CliGlobals
         }
     }
 
+    /// <summary>An input file that exists, or a one-line error (exit 2) that says what is there instead.</summary>
+    public static void RequireFile(string path, string expected)
+    {
+        if (Directory.Exists(path))
+        {
+            throw new CliException($"{path}: is a directory, expected {expected}");
+        }
+
+        if (!File.Exists(path))
+        {
+            throw new CliException($"{path}: no such file");
+        }
+    }
+
     /// <summary>Every error the check found, as <c>FILE:LINE:COL: error CODE: message</c>, then what was (not) done.</summary>
     private static async Task ReportRefusalAsync(string prefix, ProgramRefusedException e)
     {

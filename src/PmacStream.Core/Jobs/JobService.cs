@@ -328,6 +328,11 @@ public sealed class JobService
     private PreparedProgram Prepare(PrepareRequest request, IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
     {
         var source = Path.GetFullPath(request.SourcePath);
+        if (Directory.Exists(source))
+        {
+            throw new JobException($"{request.SourcePath}: is a directory, expected a G-code file", JobErrorKind.BadRequest);
+        }
+
         if (!File.Exists(source))
         {
             throw new JobException($"{request.SourcePath}: no such file", JobErrorKind.BadRequest);
