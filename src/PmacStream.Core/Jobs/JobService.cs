@@ -378,7 +378,7 @@ public sealed class JobService
     private JobStore OpenExistingStore()
     {
         // Reading jobs must not leave an empty database (and its folders) behind a mistyped path.
-        return File.Exists(JobDatabase)
+        return File.Exists(JobDatabase) || Directory.Exists(JobDatabase)
             ? JobStore.Open(JobDatabase)
             : throw new JobException($"{JobDatabase}: no job database there; jobs are recorded when they start", JobErrorKind.BadRequest);
     }
