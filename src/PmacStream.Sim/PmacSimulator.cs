@@ -16,6 +16,7 @@ public sealed partial class PmacSimulator : IDisposable
     private static readonly ILogger Log = Serilog.Log.ForContext<PmacSimulator>();
 
     private readonly object _sync = new();
+    private readonly object _raiseLock = new();
     private readonly CoordinateSystem[] _cs = new CoordinateSystem[SimMemory.CoordinateSystems + 1];
     private readonly Dictionary<int, ProgramBuffer> _programs = [];
     private readonly PlcProgram?[] _plcs = new PlcProgram?[32];
@@ -61,7 +62,10 @@ public sealed partial class PmacSimulator : IDisposable
     /// <summary>The options this simulator was created with.</summary>
     public SimOptions Options { get; }
 
-    /// <summary>Raised (outside the lock, on the thread that advanced the clock) for every finished move or dwell.</summary>
+    /// <summary>
+    /// Raised (outside the lock, on the thread that advanced the clock) for every finished move or dwell, in execution
+    /// order, one delivery at a time.
+    /// </summary>
     public event Action<ExecutedMove>? MoveExecuted;
 
     /// <summary>Virtual time in seconds since power-on.</summary>
@@ -637,36 +641,42 @@ public sealed partial class PmacSimulator : IDisposable
 
     private void RaiseEvents()
     {
-        ExecutedMove[] events;
-        lock (_sync)
+        // One thread delivers at a time, taking what is pending under the same lock: the clock thread and a command's
+        // thread both raise events, and without this a log or a check saw moves out of their execution order.
+        // Lock order is always _raiseLock then _sync (nothing holds _sync while it raises).
+        lock (_raiseLock)
         {
-            if (_pendingEvents.Count == 0)
+            ExecutedMove[] events;
+            lock (_sync)
+            {
+                if (_pendingEvents.Count == 0)
+                {
+                    return;
+                }
+
+                events = _pendingEvents.ToArray();
+                _pendingEvents.Clear();
+            }
+
+            var handler = MoveExecuted;
+            if (handler is null)
             {
                 return;
             }
 
-            events = _pendingEvents.ToArray();
-            _pendingEvents.Clear();
-        }
-
-        var handler = MoveExecuted;
-        if (handler is null)
-        {
-            return;
-        }
-
-        foreach (var e in events)
-        {
-            foreach (var subscriber in handler.GetInvocationList())
+            foreach (var e in events)
             {
-                try
+                foreach (var subscriber in handler.GetInvocationList())
                 {
-                    ((Action<ExecutedMove>)subscriber)(e);
-                }
-                catch (Exception ex)
-                {
-                    // A subscriber's bug must not stop the clock or lose the other subscribers' events.
-                    Log.Error(ex, "MoveExecuted subscriber failed for move {Sequence}", e.Sequence);
+                    try
+                    {
+                        ((Action<ExecutedMove>)subscriber)(e);
+                    }
+                    catch (Exception ex)
+                    {
+                        // A subscriber's bug must not stop the clock or lose the other subscribers' events.
+                        Log.Error(ex, "MoveExecuted subscriber failed for move {Sequence}", e.Sequence);
+                    }
                 }
             }
         }

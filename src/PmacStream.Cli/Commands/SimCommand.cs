@@ -1,7 +1,6 @@
 using System.CommandLine;
 using System.Globalization;
 using System.Net;
-using System.Runtime.InteropServices;
 using PmacStream.Pmac;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
@@ -79,18 +78,9 @@ internal static class SimCommand
                 Console.Error.WriteLine($"pmacstream sim: warning: {endPoint} is reachable from other machines and a PMAC port has no authentication: anyone who can connect can run motion programs. Serve 127.0.0.1 unless the network is isolated.");
             }
 
-            // SIGTERM and Ctrl-C both end the wait below; the host then stops and writes the log.
-            using var stop = CancellationTokenSource.CreateLinkedTokenSource(ct);
-            using var sigterm = PosixSignalRegistration.Create(PosixSignal.SIGTERM, c =>
-            {
-                c.Cancel = true;
-                stop.Cancel();
-            });
-            using var sigint = PosixSignalRegistration.Create(PosixSignal.SIGINT, c =>
-            {
-                c.Cancel = true;
-                stop.Cancel();
-            });
+            // SIGTERM and Ctrl-C cancel the command's token (CliGlobals): the wait below ends and the host stops and
+            // moves the executed-move log into place. (A handler of its own here raced the command line's, and one
+            // of them cancelled a disposed token: the process aborted on SIGTERM.)
             try
             {
                 try
@@ -119,7 +109,7 @@ internal static class SimCommand
                 Console.Out.Flush();
                 try
                 {
-                    await Task.Delay(Timeout.Infinite, stop.Token).ConfigureAwait(false);
+                    await Task.Delay(Timeout.Infinite, ct).ConfigureAwait(false);
                 }
                 catch (OperationCanceledException)
                 {

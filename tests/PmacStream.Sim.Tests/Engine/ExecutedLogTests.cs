@@ -51,6 +51,50 @@ public sealed class ExecutedLogTests : IDisposable
         File.Exists(log.Path + ".tmp").Should().BeTrue("rows so far are on disk, for a host killed meanwhile");
     }
 
+    [Fact]
+    public async Task A_later_move_waits_while_an_earlier_one_is_still_being_delivered()
+    {
+        // Two threads advance the clock (in a server: the clock thread, and a command's thread settling its
+        // instant). The first is held inside its delivery of move 1 while the second finishes move 2.
+        using var h = new SimHarness();
+        RunMovesLater(h);
+        var seen = new List<long>();
+        using var entered = new ManualResetEventSlim();
+        using var gate = new ManualResetEventSlim();
+        h.Sim.MoveExecuted += m =>
+        {
+            if (m.Sequence == 1)
+            {
+                entered.Set();
+                gate.Wait(TimeSpan.FromSeconds(5));
+            }
+
+            lock (seen)
+            {
+                seen.Add(m.Sequence);
+            }
+        };
+
+        var first = Task.Run(() => h.Sim.Advance(TimeSpan.FromSeconds(1.5)));
+        entered.Wait(TimeSpan.FromSeconds(5)).Should().BeTrue();
+        var second = Task.Run(() => h.Sim.Advance(TimeSpan.FromSeconds(1)));
+        await Task.Delay(300);
+        lock (seen)
+        {
+            seen.Should().BeEmpty("move 2 must not overtake move 1, still being delivered");
+        }
+
+        gate.Set();
+        await Task.WhenAll(first, second);
+        seen.Should().Equal(1, 2);
+    }
+
+    private static void RunMovesLater(SimHarness h)
+    {
+        h.Download("&1 B0", "OPEN ROT", "M0==1 LINEAR X10 F600", "M0==2 X20", "CLOSE");
+        h.Ok("&1 R");
+    }
+
     [Theory]
     [InlineData(new[] { 1, 1, 2, 0, 3 }, 3, null)]
     [InlineData(new[] { 1, 2, 2, 1, 2, 3 }, 5, "block order broken at block 3: expected line 3, executed line 1")]
