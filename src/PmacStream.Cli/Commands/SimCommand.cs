@@ -1,6 +1,7 @@
 using System.CommandLine;
 using System.Globalization;
 using System.Net;
+using System.Runtime.InteropServices;
 using PmacStream.Pmac;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
@@ -78,9 +79,26 @@ internal static class SimCommand
                 Console.Error.WriteLine($"pmacstream sim: warning: {endPoint} is reachable from other machines and a PMAC port has no authentication: anyone who can connect can run motion programs. Serve 127.0.0.1 unless the network is isolated.");
             }
 
-            // SIGTERM and Ctrl-C cancel the command's token (CliGlobals): the wait below ends and the host stops and
-            // moves the executed-move log into place. (A handler of its own here raced the command line's, and one
-            // of them cancelled a disposed token: the process aborted on SIGTERM.)
+            // SIGTERM and Ctrl-C end the wait below; the host then stops and moves the executed-move log into place.
+            // The command line cancels the token too, but only once this action has returned its task, which is after
+            // "listening" is printed: a script that signals as soon as it reads that line would find no handler yet.
+            // Both handlers run; this one may come after the token is gone.
+            using var stop = CancellationTokenSource.CreateLinkedTokenSource(ct);
+            void OnSignal(PosixSignalContext c)
+            {
+                c.Cancel = true;
+                try
+                {
+                    stop.Cancel();
+                }
+                catch (ObjectDisposedException)
+                {
+                    // Already stopped by the other handler and disposed: nothing left to do.
+                }
+            }
+
+            using var sigterm = PosixSignalRegistration.Create(PosixSignal.SIGTERM, OnSignal);
+            using var sigint = PosixSignalRegistration.Create(PosixSignal.SIGINT, OnSignal);
             try
             {
                 try
@@ -109,7 +127,7 @@ internal static class SimCommand
                 Console.Out.Flush();
                 try
                 {
-                    await Task.Delay(Timeout.Infinite, ct).ConfigureAwait(false);
+                    await Task.Delay(Timeout.Infinite, stop.Token).ConfigureAwait(false);
                 }
                 catch (OperationCanceledException)
                 {
