@@ -18,6 +18,9 @@ internal static class CliGlobals
     /// <summary>Usage or I/O error.</summary>
     public const int UsageOrIo = 2;
 
+    /// <summary>How long a command may take to stop cleanly after Ctrl-C or SIGTERM before the process is ended.</summary>
+    public static readonly TimeSpan TerminationGrace = TimeSpan.FromSeconds(30);
+
     public static readonly Option<bool> Verbose = new("--verbose", "-v")
     {
         Description = "Log every controller command and reply (Debug level) to stderr.",
@@ -64,8 +67,10 @@ internal static class CliGlobals
 
         try
         {
-            // System.CommandLine's own handler would print a stack trace and exit 1 for these.
-            return await parse.InvokeAsync(new InvocationConfiguration { EnableDefaultExceptionHandler = false }).ConfigureAwait(false);
+            // System.CommandLine's own handler would print a stack trace and exit 1 for these. Ctrl-C and SIGTERM cancel
+            // the command's token (2.0.0 leaves that off unless a timeout is given): a split removes its work folder,
+            // a stream stops sending and leaves the job resumable, a check stops. After the timeout the process ends.
+            return await parse.InvokeAsync(new InvocationConfiguration { EnableDefaultExceptionHandler = false, ProcessTerminationTimeout = TerminationGrace }).ConfigureAwait(false);
         }
         catch (CliException e)
         {
@@ -83,6 +88,12 @@ internal static class CliGlobals
             await ReportRefusalAsync(prefix, e).ConfigureAwait(false);
             return Failed;
         }
+        catch (PmacStream.Streaming.JobStoreException e)
+        {
+            // Names the file and what is wrong (a damaged database is already moved aside); no stack trace.
+            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+            return UsageOrIo;
+        }
         catch (JobException e)
         {
             await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
@@ -95,7 +106,7 @@ internal static class CliGlobals
         }
         catch (OperationCanceledException)
         {
-            await Console.Error.WriteLineAsync($"{prefix}: cancelled").ConfigureAwait(false);
+            await Console.Error.WriteLineAsync($"{prefix}: interrupted").ConfigureAwait(false);
             return Failed;
         }
         catch (Exception e)
@@ -104,6 +115,20 @@ internal static class CliGlobals
             Log.Fatal(e, "unexpected error");
             await Console.Error.WriteLineAsync($"{prefix}: unexpected error: {e.Message} (run with --log-file for details)").ConfigureAwait(false);
             return Failed;
+        }
+    }
+
+    /// <summary>An input file that exists, or a one-line error (exit 2) that says what is there instead.</summary>
+    public static void RequireFile(string path, string expected)
+    {
+        if (Directory.Exists(path))
+        {
+            throw new CliException($"{path}: is a directory, expected {expected}");
+        }
+
+        if (!File.Exists(path))
+        {
+            throw new CliException($"{path}: no such file");
         }
     }
 

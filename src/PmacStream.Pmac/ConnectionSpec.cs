@@ -57,7 +57,10 @@ public sealed record ConnectionSpec
     /// <summary>True for the built-in simulator.</summary>
     public bool IsSimulator => Kind == LinkKind.Simulator;
 
-    /// <summary>An Ethernet link; <paramref name="address"/> is <c>HOST</c>, <c>HOST:PORT</c> or <c>tcp://HOST[:PORT]</c>.</summary>
+    /// <summary>
+    /// An Ethernet link; <paramref name="address"/> is <c>HOST</c>, <c>HOST:PORT</c>, <c>tcp://HOST[:PORT]</c> or a port
+    /// alone (on 127.0.0.1).
+    /// </summary>
     /// <exception cref="FormatException">Not a host with an optional port 1..65535.</exception>
     public static ConnectionSpec Ethernet(string address)
     {
@@ -103,6 +106,16 @@ public sealed record ConnectionSpec
         var host = tcp ? s["tcp://".Length..] : s;
         var port = DefaultPort;
         var colon = host.LastIndexOf(':');
+
+        // A bare number is a port on this machine, as `pmacstream sim --tcp PORT` serves it: the resolver would
+        // read "44887" as the address 0.0.175.87 and connect to whatever listens there.
+        if (host.Length > 0 && host.All(char.IsAsciiDigit))
+        {
+            return int.TryParse(host, NumberStyles.None, CultureInfo.InvariantCulture, out port) && port is >= 1 and <= 65535
+                ? new ConnectionSpec(LinkKind.Ethernet) { Host = "127.0.0.1", Port = port }
+                : throw new FormatException($"'{spec}': port '{host}' is not 1..65535");
+        }
+
         if (colon >= 0 && !host.EndsWith(']'))
         {
             if (!int.TryParse(host.AsSpan(colon + 1), NumberStyles.None, CultureInfo.InvariantCulture, out port) || port is < 1 or > 65535)
@@ -117,8 +130,13 @@ public sealed record ConnectionSpec
             throw new FormatException($"'{spec}': expected sim, tcp://HOST[:PORT], HOST:PORT, serial:PORT[@BAUD][,PARITY] or pcomm32:N");
         }
 
-        return host.Length == 0
-            ? throw new FormatException($"'{spec}': no host")
+        if (host.Length == 0)
+        {
+            throw new FormatException($"'{spec}': no host");
+        }
+
+        return host.All(char.IsAsciiDigit)
+            ? throw new FormatException($"'{spec}': '{host}' is a number, not a host: give HOST:PORT, or the port alone for 127.0.0.1")
             : new ConnectionSpec(LinkKind.Ethernet) { Host = host.Trim('[', ']'), Port = port };
     }
 

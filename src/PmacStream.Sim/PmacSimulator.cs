@@ -16,6 +16,7 @@ public sealed partial class PmacSimulator : IDisposable
     private static readonly ILogger Log = Serilog.Log.ForContext<PmacSimulator>();
 
     private readonly object _sync = new();
+    private readonly object _raiseLock = new();
     private readonly CoordinateSystem[] _cs = new CoordinateSystem[SimMemory.CoordinateSystems + 1];
     private readonly Dictionary<int, ProgramBuffer> _programs = [];
     private readonly PlcProgram?[] _plcs = new PlcProgram?[32];
@@ -41,6 +42,7 @@ public sealed partial class PmacSimulator : IDisposable
     private long _underruns;
     private long _errors;
     private long _linesReceived;
+    private long _movesExecuted;
     private Thread? _clock;
     private volatile bool _clockStop;
     private bool _disposed;
@@ -60,7 +62,10 @@ public sealed partial class PmacSimulator : IDisposable
     /// <summary>The options this simulator was created with.</summary>
     public SimOptions Options { get; }
 
-    /// <summary>Raised (outside the lock, on the thread that advanced the clock) for every finished move or dwell.</summary>
+    /// <summary>
+    /// Raised (outside the lock, on the thread that advanced the clock) for every finished move or dwell, in execution
+    /// order, one delivery at a time.
+    /// </summary>
     public event Action<ExecutedMove>? MoveExecuted;
 
     /// <summary>Virtual time in seconds since power-on.</summary>
@@ -75,7 +80,7 @@ public sealed partial class PmacSimulator : IDisposable
         }
     }
 
-    /// <summary>A snapshot of every move executed so far, in order.</summary>
+    /// <summary>A snapshot of every move executed so far, in order (empty unless <see cref="SimOptions.RetainExecutedMoves"/>).</summary>
     public IReadOnlyList<ExecutedMove> ExecutedMoves
     {
         get
@@ -104,7 +109,7 @@ public sealed partial class PmacSimulator : IDisposable
 
     /// <summary>
     /// The executed moves from 0-based index <paramref name="fromIndex"/> on (Sequence = index + 1): for pollers that
-    /// should not copy the whole log each time.
+    /// should not copy the whole log each time. Empty unless <see cref="SimOptions.RetainExecutedMoves"/>.
     /// </summary>
     public IReadOnlyList<ExecutedMove> ExecutedMovesFrom(int fromIndex)
     {
@@ -122,7 +127,7 @@ public sealed partial class PmacSimulator : IDisposable
         {
             lock (_sync)
             {
-                return new SimCounters(_executed.Count, _underruns, _errors, _linesReceived);
+                return new SimCounters(_movesExecuted, _underruns, _errors, _linesReceived);
             }
         }
     }
@@ -224,23 +229,11 @@ public sealed partial class PmacSimulator : IDisposable
         t?.Join();
     }
 
-    /// <summary>Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,kind</c>.</summary>
-    public void WriteExecutedLog(string path)
-    {
-        var moves = ExecutedMoves;
-        var tmp = path + ".tmp";
-        using (var w = new StreamWriter(tmp, false, new UTF8Encoding(false)))
-        {
-            w.NewLine = "\n";
-            w.WriteLine("sequence,line,start_s,end_s,x,y,z,kind");
-            foreach (var m in moves)
-            {
-                w.WriteLine(string.Create(CultureInfo.InvariantCulture, $"{m.Sequence},{m.SourceLine},{m.StartTime:0.######},{m.EndTime:0.######},{m.X:0.######},{m.Y:0.######},{m.Z:0.######},{m.Kind}"));
-            }
-        }
-
-        File.Move(tmp, path, overwrite: true);
-    }
+    /// <summary>
+    /// Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,kind</c> (the moves kept in memory;
+    /// a host that does not keep them streams the log with <see cref="ExecutedLogWriter.Attach"/>).
+    /// </summary>
+    public void WriteExecutedLog(string path) => ExecutedLogWriter.WriteAll(path, ExecutedMoves);
 
     /// <summary>Sets a simulated X: or Y: memory word (24 bits), e.g. an input card word that M-variables point into.</summary>
     public void SetWord(char space, int address, int value)
@@ -499,7 +492,7 @@ public sealed partial class PmacSimulator : IDisposable
         while (true)
         {
             var before = _now;
-            var movesBefore = _executed.Count;
+            var movesBefore = _movesExecuted;
             Settle();
             if (_now >= until)
             {
@@ -564,7 +557,7 @@ public sealed partial class PmacSimulator : IDisposable
             }
 
             // Guard against a clock that cannot move on (a bug must never hang a host or a test run).
-            stalled = _now > before || _executed.Count > movesBefore ? 0 : stalled + 1;
+            stalled = _now > before || _movesExecuted > movesBefore ? 0 : stalled + 1;
             if (stalled > 10_000)
             {
                 Log.Error("simulated clock stalled at {Time} s; giving up this advance", _now);
@@ -621,7 +614,7 @@ public sealed partial class PmacSimulator : IDisposable
             center = [c[0], c[1], c[2]];
         }
 
-        var move = new ExecutedMove(_executed.Count + 1, seg.SourceLine, seg.StartTime, _now, seg.End[0], seg.End[1], seg.End[2], seg.Kind)
+        var move = new ExecutedMove(++_movesExecuted, seg.SourceLine, seg.StartTime, _now, seg.End[0], seg.End[1], seg.End[2], seg.Kind)
         {
             CoordinateSystem = cs.Number,
             StartX = seg.Start[0],
@@ -635,7 +628,11 @@ public sealed partial class PmacSimulator : IDisposable
             Feed = seg.Feed,
             Rotary = (seg.End[3], seg.End[4], seg.End[5]),
         };
-        _executed.Add(move);
+        if (Options.RetainExecutedMoves)
+        {
+            _executed.Add(move);
+        }
+
         if (MoveExecuted is not null)
         {
             _pendingEvents.Add(move);
@@ -644,36 +641,42 @@ public sealed partial class PmacSimulator : IDisposable
 
     private void RaiseEvents()
     {
-        ExecutedMove[] events;
-        lock (_sync)
+        // One thread delivers at a time, taking what is pending under the same lock: the clock thread and a command's
+        // thread both raise events, and without this a log or a check saw moves out of their execution order.
+        // Lock order is always _raiseLock then _sync (nothing holds _sync while it raises).
+        lock (_raiseLock)
         {
-            if (_pendingEvents.Count == 0)
+            ExecutedMove[] events;
+            lock (_sync)
+            {
+                if (_pendingEvents.Count == 0)
+                {
+                    return;
+                }
+
+                events = _pendingEvents.ToArray();
+                _pendingEvents.Clear();
+            }
+
+            var handler = MoveExecuted;
+            if (handler is null)
             {
                 return;
             }
 
-            events = _pendingEvents.ToArray();
-            _pendingEvents.Clear();
-        }
-
-        var handler = MoveExecuted;
-        if (handler is null)
-        {
-            return;
-        }
-
-        foreach (var e in events)
-        {
-            foreach (var subscriber in handler.GetInvocationList())
+            foreach (var e in events)
             {
-                try
+                foreach (var subscriber in handler.GetInvocationList())
                 {
-                    ((Action<ExecutedMove>)subscriber)(e);
-                }
-                catch (Exception ex)
-                {
-                    // A subscriber's bug must not stop the clock or lose the other subscribers' events.
-                    Log.Error(ex, "MoveExecuted subscriber failed for move {Sequence}", e.Sequence);
+                    try
+                    {
+                        ((Action<ExecutedMove>)subscriber)(e);
+                    }
+                    catch (Exception ex)
+                    {
+                        // A subscriber's bug must not stop the clock or lose the other subscribers' events.
+                        Log.Error(ex, "MoveExecuted subscriber failed for move {Sequence}", e.Sequence);
+                    }
                 }
             }
         }

@@ -125,6 +125,14 @@ public sealed class SimOptions
     /// </summary>
     public bool RecordRotaryLines { get; set; }
 
+    /// <summary>
+    /// When true (default), every executed move is kept in memory (<see cref="PmacSimulator.ExecutedMoves"/>): what
+    /// tests read. A long-running host turns it off and takes the moves from <see cref="PmacSimulator.MoveExecuted"/>
+    /// instead (an <see cref="ExecutedLogWriter"/> streaming them to disk, an <see cref="ExecutedLineCheck"/>), so memory
+    /// does not grow with the program; the counters stay exact.
+    /// </summary>
+    public bool RetainExecutedMoves { get; set; } = true;
+
     /// <summary>Firmware version answered to <c>VERSION</c>.</summary>
     public string Version { get; set; } = SimInfo.Version;
 

@@ -7,17 +7,5 @@ public static class MoveLines
     /// The source lines of executed moves in execution order, consecutive repeats folded (one block can be several
     /// moves) and line 0 (a preamble move, no M0 yet) left out: the list a demo counts as "executed N of N".
     /// </summary>
-    public static List<int> Fold(IEnumerable<int> sourceLines)
-    {
-        var list = new List<int>();
-        foreach (var line in sourceLines)
-        {
-            if (line > 0 && (list.Count == 0 || list[^1] != line))
-            {
-                list.Add(line);
-            }
-        }
-
-        return list;
-    }
+    public static List<int> Fold(IEnumerable<int> sourceLines) => PmacStream.Sim.ExecutedLineCheck.Fold(sourceLines).ToList();
 }

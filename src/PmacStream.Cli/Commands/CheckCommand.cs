@@ -33,8 +33,10 @@ internal static class CheckCommand
         cmd.Options.Add(json);
         cmd.Options.Add(db);
         cmd.Options.Add(lang);
+        // On the pool: System.CommandLine registers its Ctrl-C/SIGTERM handling once the action returns its task, so a
+        // check that ran on the calling thread could only be killed, not stopped.
         cmd.SetAction((parse, ct) =>
-            Task.FromResult(Run(parse.GetValue(file)!, parse.GetValue(profile), parse.GetValue(json), parse.GetValue(db), parse.GetValue(lang), ct)));
+            Task.Run(() => Run(parse.GetValue(file)!, parse.GetValue(profile), parse.GetValue(json), parse.GetValue(db), parse.GetValue(lang), ct), CancellationToken.None));
         return cmd;
     }
 

@@ -6,7 +6,8 @@ namespace PmacStream.Cli.Commands;
 
 /// <summary>
 /// The built-in simulator of one command: made when the job service connects to <c>sim</c>, its virtual clock stepped
-/// by the job's tick loop (deterministic; <c>instant</c> means as fast as sensible), its executed-move log counted at the end.
+/// by the job's tick loop (deterministic; <c>instant</c> means as fast as sensible). Its executed moves are not kept:
+/// the job's <see cref="ExecutedLineCheck"/> counts them as they finish, so memory does not grow with the program.
 /// </summary>
 internal sealed class CliSimulator(SimSpeed speed) : IDisposable
 {
@@ -17,7 +18,7 @@ internal sealed class CliSimulator(SimSpeed speed) : IDisposable
     public Task<SimulatorLink> OpenAsync(CancellationToken cancellationToken)
     {
         Sim?.Dispose();
-        var sim = Sim = new PmacSimulator(new SimOptions { Speed = speed });
+        var sim = Sim = new PmacSimulator(new SimOptions { Speed = speed, RetainExecutedMoves = false });
         var connection = new InProcessConnection(sim.OpenPort("stream"), "sim");
         return Task.FromResult(new SimulatorLink(connection, new SimTimeProvider(sim))
         {

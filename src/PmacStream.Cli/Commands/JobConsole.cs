@@ -44,7 +44,11 @@ internal static class JobConsole
     public static async Task<int> RunAsync(Job job, CliSimulator sim, bool start, int? countFrom, CancellationToken ct, string title = "stream", bool showUnderruns = true)
     {
         var program = job.Program;
-        var expected = program.TrackedLines().Where(l => countFrom is null || l >= countFrom).ToList();
+
+        // Counted as the moves finish, against the program read lazily: nothing grows with the program.
+        var check = job.Controller.IsSimulator && sim.Sim is { } counted
+            ? new ExecutedLineCheck(program.TrackedLines().Where(l => countFrom is null || l >= countFrom), countFrom).Attach(counted)
+            : null;
         job.EventRaised += (_, e) =>
         {
             if (e.Kind is StreamingEventKind.ChunkDownloadedLate or StreamingEventKind.Fault or StreamingEventKind.Underrun)
@@ -63,6 +67,11 @@ internal static class JobConsole
             {
                 throw new CliException(e.Message, CliGlobals.Failed);
             }
+            catch (OperationCanceledException) when (ct.IsCancellationRequested)
+            {
+                Console.Error.WriteLine($"pmacstream: interrupted while starting the job; {Resumable(job)}");
+                return CliGlobals.Failed;
+            }
             catch (Exception e) when (e is PmacLinkException or PmacErrorException)
             {
                 Console.Error.WriteLine($"pmacstream: {job.Status.Message}");
@@ -75,7 +84,7 @@ internal static class JobConsole
         var status = job.Status;
         if (outcome == JobOutcome.Interrupted)
         {
-            Console.Error.WriteLine($"interrupted at line {status.CurrentLine}; the controller keeps the lines it holds. Resume with: pmacstream resume --job {job.Id}");
+            Console.Error.WriteLine($"interrupted at line {status.CurrentLine}: sending stopped; the controller keeps the lines it holds. {Resumable(job)}");
             return CliGlobals.Failed;
         }
 
@@ -90,15 +99,18 @@ internal static class JobConsole
             return CliGlobals.Failed;
         }
 
-        if (job.Controller.IsSimulator && sim.Sim is { } simulator)
+        if (check is not null && sim.Sim is { } simulator)
         {
             simulator.RunUntilIdle(TimeSpan.FromHours(24));
-            return Report(simulator, expected, program.Manifest.TotalMotionBlocks, countFrom, showUnderruns);
+            return Report(check.Finish(), simulator.Counters.Underruns, program.Manifest.TotalMotionBlocks, countFrom, showUnderruns);
         }
 
         Console.WriteLine($"executed {status.ExecutedBlocks} of {program.Manifest.TotalMotionBlocks} blocks, {status.Underruns} underruns (from M0 and PR)");
         return status.ExecutedBlocks == program.Manifest.TotalMotionBlocks || countFrom is not null ? CliGlobals.Ok : CliGlobals.Failed;
     }
+
+    private static string Resumable(Job job) =>
+        job.Id is { } id ? $"The job is resumable: pmacstream resume --job {id}" : "This run is not recorded as a job (nothing to resume).";
 
     private static string Describe(StreamingStatus s)
     {
@@ -108,40 +120,22 @@ internal static class JobConsole
     }
 
     /// <summary>
-    /// Counts executed blocks from the simulator's executed-move log: distinct source lines in order (a block may make
-    /// several moves; tracked 0 is the preamble). Exit 1 when a block was skipped, repeated or reordered.
+    /// Reports the blocks the simulator executed: distinct source lines in order (a block may make several moves;
+    /// tracked 0 is the preamble). Exit 1 when a block was skipped, repeated or reordered.
     /// </summary>
-    private static int Report(PmacSimulator sim, IReadOnlyList<int> expected, int total, int? fromLine, bool showUnderruns)
+    private static int Report(ExecutedLineResult result, long underruns, int total, int? fromLine, bool showUnderruns)
     {
-        var executed = new List<int>();
-        foreach (var m in sim.ExecutedMoves)
+        var n = fromLine is null ? total : result.Expected;
+        Console.WriteLine(showUnderruns ? $"executed {result.Executed} of {n} blocks, {underruns} underruns" : $"executed {result.Executed} of {n} blocks");
+        if (result.FirstBreak is { } broken)
         {
-            if (m.SourceLine > 0 && (executed.Count == 0 || executed[^1] != m.SourceLine))
-            {
-                executed.Add(m.SourceLine);
-            }
+            Console.Error.WriteLine($"pmacstream: {broken}");
+            return CliGlobals.Failed;
         }
 
-        if (fromLine is not null)
+        if (result.Executed != n || result.Expected != n)
         {
-            executed.RemoveAll(l => l < fromLine);
-        }
-
-        var n = fromLine is null ? total : expected.Count;
-        var underruns = sim.Counters.Underruns;
-        Console.WriteLine(showUnderruns ? $"executed {executed.Count} of {n} blocks, {underruns} underruns" : $"executed {executed.Count} of {n} blocks");
-        for (var i = 0; i < Math.Min(executed.Count, expected.Count); i++)
-        {
-            if (executed[i] != expected[i])
-            {
-                Console.Error.WriteLine($"pmacstream: block order broken at block {i + 1}: expected line {expected[i]}, executed line {executed[i]}");
-                return CliGlobals.Failed;
-            }
-        }
-
-        if (executed.Count != n || expected.Count != n)
-        {
-            Console.Error.WriteLine($"pmacstream: {n - executed.Count} blocks missing (or extra) against the manifest");
+            Console.Error.WriteLine($"pmacstream: {n - result.Executed} blocks missing (or extra) against the manifest");
             return CliGlobals.Failed;
         }
 

@@ -28,7 +28,7 @@ internal sealed class JobOptions
     private static readonly RunSettings D = RunSettings.Default;
 
     private readonly Option<bool> _sim = new("--sim") { Description = "Stream into the built-in simulator." };
-    private readonly Option<string?> _tcp = new("--tcp") { Description = "Stream to a controller over Ethernet: HOST[:PORT] (port 1025 by default)." };
+    private readonly Option<string?> _tcp = new("--tcp") { Description = "Stream to a controller over Ethernet: HOST[:PORT] (port 1025 by default), or PORT alone on 127.0.0.1." };
     private readonly Option<string?> _serial = new("--serial") { Description = "Stream over RS-232: DEV[,BAUD] (38400 by default)." };
     private readonly Option<bool> _yes = new("--yes", "-y") { Description = "Confirm a start from a line / restart without asking." };
     private readonly Option<string?> _jobDb = new("--job-db") { Description = "Job database (SQLite) for crash-safe resume; default $PMACSTREAM_JOB_DB or ~/.pmacstream/jobs.db." };

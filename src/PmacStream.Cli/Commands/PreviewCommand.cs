@@ -48,14 +48,10 @@ internal static class PreviewCommand
         var (width, height) = ParseSize(parse.GetValue(size)!);
         var log = parse.GetValue(executed);
         var culture = parse.GetValue(lang) is { } l ? CliGlobals.ParseLanguage(l) : CultureInfo.CurrentUICulture;
-        if (!File.Exists(path))
+        CliGlobals.RequireFile(path, "a G-code file");
+        if (log is not null)
         {
-            throw new CliException($"{path}: no such file");
-        }
-
-        if (log is not null && !File.Exists(log))
-        {
-            throw new CliException($"{log}: no such file (--executed)");
+            CliGlobals.RequireFile(log, "an executed-move log (--executed)");
         }
 
         var outDir = Path.GetDirectoryName(Path.GetFullPath(output));
@@ -87,24 +83,29 @@ internal static class PreviewCommand
         }
 
         using var drawn = picture;
+        var exit = CliGlobals.Ok;
+        var ci = CultureInfo.InvariantCulture;
+        var x = picture.Extents;
+        if (x.IsEmpty)
+        {
+            // An empty picture is no preview: nothing is written, and the caller learns it from the exit code.
+            foreach (var issue in source.Issues.Take(MaxListed))
+            {
+                Console.Error.WriteLine(issue.Format(path));
+            }
+
+            Console.Error.WriteLine($"{path}: error: no moves to draw ({(source.IssueCount > 0 ? "none could be interpreted" : "an empty program")}); {output} not written");
+            return CliGlobals.Failed;
+        }
+
         drawn.WritePng(output);
         foreach (var warning in drawn.Warnings)
         {
             Console.Error.WriteLine($"{output}: warning: {warning}");
         }
 
-        var exit = CliGlobals.Ok;
-        var ci = CultureInfo.InvariantCulture;
-        var x = picture.Extents;
         Console.Out.WriteLine($"wrote {output} ({width}x{height}, view {parse.GetValue(view)}): {x.Moves.ToString(ci)} moves ({x.Lines.ToString(ci)} linear, {x.Arcs.ToString(ci)} arc, {x.Rapids.ToString(ci)} rapid)");
-        if (x.IsEmpty)
-        {
-            Console.Error.WriteLine($"{path}: warning: no moves to draw");
-        }
-        else
-        {
-            Console.Out.WriteLine(string.Create(ci, $"extents (mm): X {x.Min.X:0.###} .. {x.Max.X:0.###}, Y {x.Min.Y:0.###} .. {x.Max.Y:0.###}, Z {x.Min.Z:0.###} .. {x.Max.Z:0.###}; program units {(picture.Units == LengthUnits.Inches ? "inch" : "mm")}"));
-        }
+        Console.Out.WriteLine(string.Create(ci, $"extents (mm): X {x.Min.X:0.###} .. {x.Max.X:0.###}, Y {x.Min.Y:0.###} .. {x.Max.Y:0.###}, Z {x.Min.Z:0.###} .. {x.Max.Z:0.###}; program units {(picture.Units == LengthUnits.Inches ? "inch" : "mm")}"));
 
         if (source.IssueCount > 0)
         {

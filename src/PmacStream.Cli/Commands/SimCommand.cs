@@ -13,22 +13,25 @@ internal static class SimCommand
 {
     public static Command Create()
     {
-        var tcp = new Option<string>("--tcp") { Description = "Serve Ethernet (VR_PMAC packets) on HOST:PORT; port 0 = any free port; 'none' = no Ethernet.", DefaultValueFactory = _ => "127.0.0.1:1025" };
+        var tcp = new Option<string>("--tcp") { Description = "Serve Ethernet (VR_PMAC packets) on HOST:PORT, or PORT alone (on 127.0.0.1); port 0 = any free port; 'none' = no Ethernet. A PMAC port has no authentication: anything but loopback is reachable by every host that can route to it.", DefaultValueFactory = _ => "127.0.0.1:1025" };
         var serial = new Option<string?>("--serial") { Description = "Also serve the serial ASCII protocol on this tty or pty path (one end of a socat pair)." };
         var baud = new Option<int>("--baud") { Description = "Baud rate set on the --serial line.", DefaultValueFactory = _ => 38400 };
         var speed = new Option<string>("--speed") { Description = "Virtual clock: realtime, Nx (e.g. 50x) or instant.", DefaultValueFactory = _ => "realtime" };
         var rotWords = new Option<int?>("--rot-words") { Description = "Rotary buffer words of C.S. 1 at power-on (default: the simulator's, 65536; 0 = host must DEFINE ROT)." };
-        var executedLog = new Option<string?>("--executed-log") { Description = "Write the executed-move log (CSV) here when the simulator stops." };
+        var executedLog = new Option<string?>("--executed-log") { Description = "Write the executed-move log (CSV) here: streamed to FILE.tmp as moves run, moved to FILE when the simulator stops." };
+        var idleTimeout = new Option<double>("--idle-timeout") { Description = "Close an Ethernet connection after this many seconds without a packet (0 = never).", DefaultValueFactory = _ => 300 };
+        var maxClients = new Option<int>("--max-clients") { Description = "Ethernet connections served at once; when all are taken, the one idle longest (2 s or more) makes room for a new client.", DefaultValueFactory = _ => 32 };
 
         var cmd = new Command("sim", "Run the simulated Turbo PMAC as a server until Ctrl-C or SIGTERM.");
-        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog })
+        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients })
         {
             cmd.Options.Add(o);
         }
 
         cmd.SetAction(async (parse, ct) =>
         {
-            var options = new SimOptions();
+            // The executed-move log is streamed to its file (or not kept): memory does not grow with the program.
+            var options = new SimOptions { RetainExecutedMoves = false };
             try
             {
                 options.Speed = SimSpeed.Parse(parse.GetValue(speed)!);
@@ -51,6 +54,13 @@ internal static class SimCommand
                 throw new CliException("nothing to serve: give --tcp HOST:PORT and/or --serial PATH");
             }
 
+            var idle = parse.GetValue(idleTimeout);
+            var slots = parse.GetValue(maxClients);
+            if (!(idle >= 0) || slots < 1)
+            {
+                throw new CliException("--idle-timeout must be 0 or more seconds and --max-clients 1 or more");
+            }
+
             await using var host = new SimHost(new SimHostOptions
             {
                 Simulator = options,
@@ -58,20 +68,37 @@ internal static class SimCommand
                 SerialPath = serialPath,
                 Serial = new SerialSettings(parse.GetValue(baud)),
                 ExecutedLogPath = parse.GetValue(executedLog),
+                TcpServer = new PmacTcpServerOptions
+                {
+                    IdleTimeout = idle == 0 ? Timeout.InfiniteTimeSpan : TimeSpan.FromSeconds(idle),
+                    MaxClients = slots,
+                },
             });
+            if (endPoint is not null && SimHost.IsExposed(endPoint))
+            {
+                Console.Error.WriteLine($"pmacstream sim: warning: {endPoint} is reachable from other machines and a PMAC port has no authentication: anyone who can connect can run motion programs. Serve 127.0.0.1 unless the network is isolated.");
+            }
 
-            // SIGTERM and Ctrl-C both end the wait below; the host then stops and writes the log.
+            // SIGTERM and Ctrl-C end the wait below; the host then stops and moves the executed-move log into place.
+            // The command line cancels the token too, but only once this action has returned its task, which is after
+            // "listening" is printed: a script that signals as soon as it reads that line would find no handler yet.
+            // Both handlers run; this one may come after the token is gone.
             using var stop = CancellationTokenSource.CreateLinkedTokenSource(ct);
-            using var sigterm = PosixSignalRegistration.Create(PosixSignal.SIGTERM, c =>
+            void OnSignal(PosixSignalContext c)
             {
                 c.Cancel = true;
-                stop.Cancel();
-            });
-            using var sigint = PosixSignalRegistration.Create(PosixSignal.SIGINT, c =>
-            {
-                c.Cancel = true;
-                stop.Cancel();
-            });
+                try
+                {
+                    stop.Cancel();
+                }
+                catch (ObjectDisposedException)
+                {
+                    // Already stopped by the other handler and disposed: nothing left to do.
+                }
+            }
+
+            using var sigterm = PosixSignalRegistration.Create(PosixSignal.SIGTERM, OnSignal);
+            using var sigint = PosixSignalRegistration.Create(PosixSignal.SIGINT, OnSignal);
             try
             {
                 try
@@ -81,6 +108,10 @@ internal static class SimCommand
                 catch (System.Net.Sockets.SocketException e)
                 {
                     throw new CliException($"cannot listen on {endPoint}: {e.Message}");
+                }
+                catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+                {
+                    throw new CliException(e.Message);
                 }
 
                 if (host.TcpEndPoint is { } bound)
@@ -114,27 +145,40 @@ internal static class SimCommand
         return cmd;
     }
 
-    private static IPEndPoint ParseEndPoint(string spec)
+    /// <summary>
+    /// <c>HOST:PORT</c>, <c>[V6]:PORT</c>, <c>HOST</c> (port 1025) or <c>PORT</c> alone (127.0.0.1); <c>localhost</c> and
+    /// an empty host are 127.0.0.1. Only dotted IPv4 or IPv6 addresses: a bare number is a port, never an address.
+    /// </summary>
+    internal static IPEndPoint ParseEndPoint(string spec)
     {
-        var colon = spec.LastIndexOf(':');
-        var host = colon >= 0 ? spec[..colon] : spec;
-        var port = 1025;
-        if (colon >= 0 && (!int.TryParse(spec.AsSpan(colon + 1), NumberStyles.None, CultureInfo.InvariantCulture, out port) || port > 65535))
+        if (spec.Length > 0 && spec.All(char.IsAsciiDigit))
         {
-            throw new CliException($"--tcp '{spec}': the port must be 0..65535");
+            return new IPEndPoint(IPAddress.Loopback, ParsePort(spec, spec));
         }
 
+        var bracket = spec.StartsWith('[') ? spec.IndexOf(']', StringComparison.Ordinal) : -1;
+        var colon = spec.LastIndexOf(':');
+        var hasPort = bracket >= 0 ? colon > bracket : colon >= 0 && spec.IndexOf(':') == colon;
+        var host = hasPort ? spec[..colon] : spec;
+        var port = hasPort ? ParsePort(spec[(colon + 1)..], spec) : 1025;
         host = host.Trim('[', ']');
-        if (host.Length == 0 || host == "localhost")
+        if (host.Length == 0 || host.Equals("localhost", StringComparison.OrdinalIgnoreCase))
         {
             host = "127.0.0.1";
         }
 
-        if (!IPAddress.TryParse(host, out var address))
+        // IPAddress.TryParse takes "44887" or "1.2" as IPv4 numbers; only the dotted quad or IPv6 is an address here.
+        var dotted = host.Count(c => c == '.') == 3 && host.All(c => char.IsAsciiDigit(c) || c == '.');
+        if (!(dotted || host.Contains(':')) || !IPAddress.TryParse(host, out var address))
         {
-            throw new CliException($"--tcp '{spec}': expected an IP address and port, e.g. 127.0.0.1:1025");
+            throw new CliException($"--tcp '{spec}': expected PORT, HOST:PORT or [IPv6]:PORT with an IP address, e.g. 1025 or 127.0.0.1:1025");
         }
 
         return new IPEndPoint(address, port);
     }
+
+    private static int ParsePort(string text, string spec) =>
+        int.TryParse(text, NumberStyles.None, CultureInfo.InvariantCulture, out var port) && port <= 65535
+            ? port
+            : throw new CliException($"--tcp '{spec}': the port must be 0..65535");
 }

@@ -28,7 +28,7 @@ internal static class SplitCommand
         var profile = CliProfiles.Option();
         var keepN = new Option<bool>("--keep-n") { Description = "Keep N numbers (a PMAC reads them as labels)." };
         var noBlockDelete = new Option<bool>("--no-block-delete") { Description = "Block delete off: emit / blocks instead of skipping them." };
-        var force = new Option<bool>("--force") { Description = "Split even if the program has errors (what is not G-code is dropped)." };
+        var force = new Option<bool>("--force") { Description = "Split even if the check finds errors: they are listed, text that is not G-code is dropped, and every other word is written as it is (a code or letter the profile does not know included: the controller may refuse or misread it)." };
 
         var cmd = new Command("split", "Split a program into rotary-buffer chunk files with line tracking.");
         cmd.Arguments.Add(file);
@@ -66,14 +66,13 @@ internal static class SplitCommand
                 throw new CliException(e.Message, CliGlobals.UsageOrIo);
             }
 
-            if (!File.Exists(path))
-            {
-                throw new CliException($"{path}: no such file", CliGlobals.UsageOrIo);
-            }
+            CliGlobals.RequireFile(path, "a G-code file");
 
             // Without --force the checker runs in the splitter's own pass (one read of the program): any error
-            // refuses the split and the half-made chunk set is deleted.
+            // refuses the split and the half-made chunk set is deleted. With --force the check still runs, in a pass
+            // of its own, so that what is written despite it is listed, not hidden.
             options = options with { CheckProfile = machine, MaxReportedErrors = MaxListed };
+            var forced = options.AllowErrors ? await Task.Run(() => ListForcedErrors(path, machine, ct), ct).ConfigureAwait(false) : 0;
 
             SplitResult result;
             try
@@ -92,6 +91,11 @@ internal static class SplitCommand
                         }
                     }), ct), ct);
                 }).ConfigureAwait(false);
+            }
+            catch (OperationCanceledException) when (ct.IsCancellationRequested)
+            {
+                await Console.Error.WriteLineAsync($"pmacstream split: interrupted; the partial split was removed, {path} was not split").ConfigureAwait(false);
+                return CliGlobals.Failed;
             }
             catch (SplitException e)
             {
@@ -126,9 +130,37 @@ internal static class SplitCommand
                     string.Join(", ", notYet.OrderBy(c => c.Value).Select(c => $"{c.Key} (line {c.Value})")));
             }
 
+            if (forced > 0)
+            {
+                await Console.Error.WriteLineAsync($"pmacstream split: --force: {forced} error(s) listed above; the words they name are in the chunks as written (only text that is not G-code was dropped)").ConfigureAwait(false);
+            }
+
             return CliGlobals.Ok;
         });
         return cmd;
+    }
+
+    /// <summary>The check's errors of a forced split, listed (the first <see cref="MaxListed"/>) and counted.</summary>
+    private static int ListForcedErrors(string path, MachineProfile machine, CancellationToken ct)
+    {
+        var errors = 0;
+        new Checker(machine).CheckFile(
+            path,
+            d =>
+            {
+                if (d.Severity == Severity.Error && ++errors <= MaxListed)
+                {
+                    Console.Error.WriteLine(d.Format(path));
+                }
+            },
+            null,
+            ct);
+        if (errors > MaxListed)
+        {
+            Console.Error.WriteLine($"... and {errors - MaxListed} more");
+        }
+
+        return errors;
     }
 }
 

@@ -256,6 +256,11 @@ public sealed class JobService
         }
 
         var cp = record.Checkpoint;
+        if (RecordMismatch(record, program) is { } mismatch)
+        {
+            throw new JobException($"job {record.Id}: {mismatch}: the record does not fit its program and cannot be resumed from it (check where the machine is, then start the program again from a line)");
+        }
+
         var restart = cp is { LastExecutedLine: > 0 } ? cp.LastExecutedLine : record.FromLine;
         var chunk = cp?.CurrentChunk ?? (restart is { } r ? program.PositionOfBlock(r)?.Chunk : null) ?? 1;
         return new ResumableJob(record, program, restart, chunk, RecordedSettings(record));
@@ -332,6 +337,11 @@ public sealed class JobService
     private PreparedProgram Prepare(PrepareRequest request, IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
     {
         var source = Path.GetFullPath(request.SourcePath);
+        if (Directory.Exists(source))
+        {
+            throw new JobException($"{request.SourcePath}: is a directory, expected a G-code file", JobErrorKind.BadRequest);
+        }
+
         if (!File.Exists(source))
         {
             throw new JobException($"{request.SourcePath}: no such file", JobErrorKind.BadRequest);
@@ -377,9 +387,31 @@ public sealed class JobService
     private JobStore OpenExistingStore()
     {
         // Reading jobs must not leave an empty database (and its folders) behind a mistyped path.
-        return File.Exists(JobDatabase)
+        return File.Exists(JobDatabase) || Directory.Exists(JobDatabase)
             ? JobStore.Open(JobDatabase)
             : throw new JobException($"{JobDatabase}: no job database there; jobs are recorded when they start", JobErrorKind.BadRequest);
+    }
+
+    /// <summary>What in a job's record lies outside its program (a chunk or line it does not have), or null.</summary>
+    private static string? RecordMismatch(JobRecord record, ChunkedProgram program)
+    {
+        var chunks = program.TotalChunks;
+        var last = program.FinalTrackedLine;
+        var lastSourceLine = program.Manifest.Chunks.Count > 0 ? program.Manifest.Chunks[^1].LastSourceLine : 0;
+        if (record.FromLine is { } from && from > lastSourceLine)
+        {
+            return $"its start line {from} is beyond the program's last block (line {lastSourceLine})";
+        }
+
+        return record.Checkpoint switch
+        {
+            null => null,
+            { CurrentChunk: var c } when c > chunks => $"its checkpoint's current chunk {c} is beyond the split's {chunks} chunks",
+            { Next.Chunk: var n } when n > chunks + 1 => $"its checkpoint's next chunk {n} is beyond the split's {chunks} chunks",
+            { ChunksDownloaded: var d } when d > chunks => $"its checkpoint counts {d} chunks downloaded of {chunks}",
+            { LastExecutedLine: var l } when l > last => $"its checkpoint's last executed line {l} is beyond the program's last block (line {last})",
+            _ => null,
+        };
     }
 
     private static RunSettings? RecordedSettings(JobRecord record)

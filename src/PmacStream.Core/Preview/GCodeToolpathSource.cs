@@ -67,6 +67,13 @@ public sealed class GCodeToolpathSource : IToolpathSource
                 _position = reader.Position;
             }
 
+            if (lines == 1 && reader.StartsWithUtf16Bom)
+            {
+                // As the check says it: the bytes are not G-code text, so nothing of it can be drawn.
+                AddIssue(new Diagnostic(Severity.Error, DiagnosticCodes.Utf16File, 1, 1, DiagnosticText.Format(DiagnosticCodes.Utf16File)));
+                break;
+            }
+
             var block = reader.Current;
             foreach (var d in block.LexicalDiagnostics)
             {

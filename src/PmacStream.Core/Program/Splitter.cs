@@ -59,10 +59,8 @@ public static class Splitter
 
         var outDir = Path.GetFullPath(options.OutDir ?? DefaultOutDir(source));
         EnsureReplaceable(outDir);
-        var parent = Path.GetDirectoryName(outDir) ?? throw new IOException($"{outDir}: cannot write to a root folder");
-        Directory.CreateDirectory(parent);
-        var temp = Path.Combine(parent, $".{Path.GetFileName(outDir)}.tmp-{Guid.NewGuid():N}");
-        Directory.CreateDirectory(temp);
+        using var work = SplitWorkFolder.Create(outDir);
+        var temp = work.Path;
         Logger.Information("Splitting {Source} into {OutDir} ({Lines} blocks, {Words} words, {Bytes} bytes per chunk)",
             source, outDir, options.LinesPerChunk, options.RotWords, options.MaxChunkBytes);
         try

@@ -27,7 +27,9 @@ public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256
 /// <summary>
 /// Jobs and their checkpoints in SQLite (WAL). A checkpoint is written every tick with <c>synchronous=NORMAL</c>
 /// (survives a host process crash) and with <c>synchronous=FULL</c> at chunk boundaries, faults and the end
-/// (survives a power loss).
+/// (survives a power loss). Opening checks the files (header, write-ahead log frames, <c>PRAGMA quick_check</c>, a
+/// write-ahead log lost after a crash) and moves a damaged set aside instead of using or replacing it; every field
+/// read is checked (<see cref="JobRecordReader"/>). Failures are <see cref="JobStoreException"/>s naming the file.
 /// </summary>
 public sealed class JobStore : IDisposable
 {
@@ -71,11 +73,13 @@ public sealed class JobStore : IDisposable
     private readonly object _lock = new();
     private SqliteCommand? _update;
     private bool _full;
+    private long _opener;
 
-    private JobStore(SqliteConnection db, string path)
+    private JobStore(SqliteConnection db, string path, long opener)
     {
         _db = db;
         Path = path;
+        _opener = opener;
     }
 
     /// <summary>The database file.</summary>
@@ -90,22 +94,123 @@ public sealed class JobStore : IDisposable
             ? env
             : System.IO.Path.Combine(Environment.GetFolderPath(Environment.SpecialFolder.UserProfile), ".pmacstream", "jobs.db");
 
-    /// <summary>Opens (creating when needed) a job database in WAL mode.</summary>
+    /// <summary>Opens (creating when needed) a job database in WAL mode, after checking it is sound.</summary>
+    /// <exception cref="JobStoreException">
+    /// Damaged (moved aside, <see cref="JobStoreException.KeptAs"/>), or it cannot be opened, read or written.
+    /// </exception>
     public static JobStore Open(string path)
     {
         var full = System.IO.Path.GetFullPath(path);
-        Directory.CreateDirectory(System.IO.Path.GetDirectoryName(full)!);
-        var db = new SqliteConnection(new SqliteConnectionStringBuilder { DataSource = full, Pooling = false }.ToString());
-        db.Open();
-        using (var cmd = db.CreateCommand())
+        try
         {
-            cmd.CommandText = "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;" + Schema;
-            cmd.ExecuteNonQuery();
+            Directory.CreateDirectory(System.IO.Path.GetDirectoryName(full)!);
+            if (Directory.Exists(full))
+            {
+                throw new JobStoreException(full, JobStoreProblem.Unavailable, $"{full}: is a folder, not a job database");
+            }
+
+            var walExisted = File.Exists(JobStoreFiles.Wal(full));
+            if ((JobStoreFiles.HeaderProblem(full) ?? JobStoreFiles.WalProblem(JobStoreFiles.Wal(full))) is { } problem)
+            {
+                throw Damaged(full, problem);
+            }
+
+            return OpenChecked(full, walExisted);
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            throw new JobStoreException(full, JobStoreProblem.Unavailable, $"{full}: the job database cannot be used: {e.Message}", e);
+        }
+    }
+
+    private static JobStore OpenChecked(string full, bool walExisted)
+    {
+        var db = new SqliteConnection(new SqliteConnectionStringBuilder { DataSource = full, Pooling = false }.ToString());
+        try
+        {
+            db.Open();
+            using (var cmd = db.CreateCommand())
+            {
+                cmd.CommandText = "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;";
+                cmd.ExecuteNonQuery();
+            }
+
+            if (QuickCheck(db) is { } problem)
+            {
+                db.Dispose();
+                throw Damaged(full, problem);
+            }
+
+            using (var cmd = db.CreateCommand())
+            {
+                cmd.CommandText = Schema + JobStoreOpeners.Schema;
+                cmd.ExecuteNonQuery();
+            }
+
+            Migrate(db);
+            if (!walExisted && JobStoreOpeners.Recorded(db) is { Count: > 0 } openers)
+            {
+                db.Dispose();
+                throw Damaged(full, $"its write-ahead log {JobStoreFiles.Wal(full)} is missing although {string.Join("; ", openers)} did not close it: the jobs and checkpoints written last are lost");
+            }
+
+            return new JobStore(db, full, JobStoreOpeners.Register(db));
+        }
+        catch (SqliteException e)
+        {
+            db.Dispose();
+            throw IsDamage(e) ? Damaged(full, e.Message) : Unavailable(full, "open", e);
+        }
+        catch
+        {
+            db.Dispose();
+            throw;
+        }
+    }
+
+    /// <summary><c>PRAGMA quick_check</c>: null when it says ok, else its first findings.</summary>
+    private static string? QuickCheck(SqliteConnection db)
+    {
+        using var cmd = db.CreateCommand();
+        cmd.CommandText = "PRAGMA quick_check(5)";
+        using var r = cmd.ExecuteReader();
+        var findings = new List<string>();
+        while (r.Read())
+        {
+            findings.Add(r.GetValue(0)?.ToString() ?? string.Empty);
         }
 
-        Migrate(db);
-        return new JobStore(db, full);
+        return findings is ["ok"] ? null : $"the integrity check found: {string.Join("; ", findings)}";
     }
+
+    private static bool IsDamage(SqliteException e) => e.SqliteErrorCode is 11 or 26; // SQLITE_CORRUPT, SQLITE_NOTADB
+
+    private static JobStoreException Damaged(string full, string problem)
+    {
+        SqliteConnection.ClearAllPools();
+        string kept;
+        try
+        {
+            kept = JobStoreFiles.KeepAside(full);
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            Logger.Error("job database {Path} is damaged ({Problem}) and could not be moved aside: {Error}", full, problem, e.Message);
+            return new JobStoreException(full, JobStoreProblem.Damaged, $"{full}: the job database is damaged: {problem}. It could not be moved aside ({e.Message}); move it away yourself, then check where the machine is before starting again", e);
+        }
+
+        Logger.Error("job database {Path} is damaged ({Problem}); moved aside to {Kept}", full, problem, kept);
+        return new JobStoreException(
+            full,
+            JobStoreProblem.Damaged,
+            $"{full}: the job database is damaged: {problem}. It was moved aside to {kept} (kept, nothing deleted); the next job starts a new database. The jobs recorded in it cannot be resumed from here: check where the machine is, then start the program again from a line")
+        {
+            KeptAs = kept,
+        };
+    }
+
+    private static JobStoreException Unavailable(string full, string doing, SqliteException e) =>
+        new(full, IsDamage(e) ? JobStoreProblem.Damaged : JobStoreProblem.Unavailable, $"{full}: cannot {doing} the job database: {e.Message}", e);
 
     private static void Migrate(SqliteConnection db)
     {
@@ -142,24 +247,36 @@ public sealed class JobStore : IDisposable
     {
         lock (_lock)
         {
-            using var cmd = _db.CreateCommand();
-            cmd.CommandText = """
-                INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe, settings)
-                VALUES ($c, $p, $h, $m, $s, $conn, $f, $lp, $set); SELECT last_insert_rowid();
-                """;
-            cmd.Parameters.AddWithValue("$set", (object?)settings ?? DBNull.Value);
-            cmd.Parameters.AddWithValue("$lp", lineProbe ?? string.Empty);
-            cmd.Parameters.AddWithValue("$c", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
-            cmd.Parameters.AddWithValue("$p", System.IO.Path.GetFullPath(programPath));
-            cmd.Parameters.AddWithValue("$h", programSha256);
-            cmd.Parameters.AddWithValue("$m", System.IO.Path.GetFullPath(manifestPath));
-            cmd.Parameters.AddWithValue("$s", strategy.ToString().ToLowerInvariant());
-            cmd.Parameters.AddWithValue("$conn", connection);
-            cmd.Parameters.AddWithValue("$f", fromLine is { } f ? f : DBNull.Value);
-            var id = (long)cmd.ExecuteScalar()!;
-            Logger.Information("job {Job} created for {Program} ({Strategy}, {Connection})", id, programPath, strategy, connection);
-            return id;
+            try
+            {
+                return Insert(programPath, programSha256, manifestPath, strategy, connection, fromLine, lineProbe, settings);
+            }
+            catch (SqliteException e)
+            {
+                throw Unavailable(Path, "record the job in", e);
+            }
         }
+    }
+
+    private long Insert(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe, string? settings)
+    {
+        using var cmd = _db.CreateCommand();
+        cmd.CommandText = """
+            INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe, settings)
+            VALUES ($c, $p, $h, $m, $s, $conn, $f, $lp, $set); SELECT last_insert_rowid();
+            """;
+        cmd.Parameters.AddWithValue("$set", (object?)settings ?? DBNull.Value);
+        cmd.Parameters.AddWithValue("$lp", lineProbe ?? string.Empty);
+        cmd.Parameters.AddWithValue("$c", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
+        cmd.Parameters.AddWithValue("$p", System.IO.Path.GetFullPath(programPath));
+        cmd.Parameters.AddWithValue("$h", programSha256);
+        cmd.Parameters.AddWithValue("$m", System.IO.Path.GetFullPath(manifestPath));
+        cmd.Parameters.AddWithValue("$s", strategy.ToString().ToLowerInvariant());
+        cmd.Parameters.AddWithValue("$conn", connection);
+        cmd.Parameters.AddWithValue("$f", fromLine is { } f ? f : DBNull.Value);
+        var id = (long)cmd.ExecuteScalar()!;
+        Logger.Information("job {Job} created for {Program} ({Strategy}, {Connection})", id, programPath, strategy, connection);
+        return id;
     }
 
     /// <summary>Writes a job's checkpoint; durable ones are committed with <c>synchronous=FULL</c>.</summary>
@@ -167,26 +284,38 @@ public sealed class JobStore : IDisposable
     {
         lock (_lock)
         {
-            SetSynchronous(durable);
-            _update ??= Prepare();
-            var p = _update.Parameters;
-            p["$id"].Value = jobId;
-            p["$t"].Value = cp.TimeUtc.ToString("O", CultureInfo.InvariantCulture);
-            p["$st"].Value = cp.State.ToString();
-            p["$l"].Value = cp.LastExecutedLine;
-            p["$c"].Value = cp.CurrentChunk;
-            p["$nc"].Value = cp.Next.Chunk;
-            p["$nl"].Value = cp.Next.Line;
-            p["$ne"].Value = cp.NextExact ? 1 : 0;
-            p["$cd"].Value = cp.ChunksDownloaded;
-            p["$sd"].Value = cp.Started ? 1 : 0;
-            p["$ld"].Value = cp.Loaded ? 1 : 0;
-            _update.ExecuteNonQuery();
-            CheckpointWrites++;
-            if (durable)
+            try
             {
-                SetSynchronous(false);
+                Update(jobId, cp, durable);
             }
+            catch (SqliteException e)
+            {
+                throw Unavailable(Path, "write a checkpoint to", e);
+            }
+        }
+    }
+
+    private void Update(long jobId, Checkpoint cp, bool durable)
+    {
+        SetSynchronous(durable);
+        _update ??= Prepare();
+        var p = _update.Parameters;
+        p["$id"].Value = jobId;
+        p["$t"].Value = cp.TimeUtc.ToString("O", CultureInfo.InvariantCulture);
+        p["$st"].Value = cp.State.ToString();
+        p["$l"].Value = cp.LastExecutedLine;
+        p["$c"].Value = cp.CurrentChunk;
+        p["$nc"].Value = cp.Next.Chunk;
+        p["$nl"].Value = cp.Next.Line;
+        p["$ne"].Value = cp.NextExact ? 1 : 0;
+        p["$cd"].Value = cp.ChunksDownloaded;
+        p["$sd"].Value = cp.Started ? 1 : 0;
+        p["$ld"].Value = cp.Loaded ? 1 : 0;
+        _update.ExecuteNonQuery();
+        CheckpointWrites++;
+        if (durable)
+        {
+            SetSynchronous(false);
         }
     }
 
@@ -195,16 +324,28 @@ public sealed class JobStore : IDisposable
     {
         lock (_lock)
         {
-            SetSynchronous(true);
-            using var cmd = _db.CreateCommand();
-            cmd.CommandText = "UPDATE jobs SET from_line=$f, preamble=$pre, line_probe=$lp WHERE id=$id";
-            cmd.Parameters.AddWithValue("$f", start.FromLine is { } f ? f : DBNull.Value);
-            cmd.Parameters.AddWithValue("$pre", start.Preamble is { } pre ? string.Join('\n', pre) : DBNull.Value);
-            cmd.Parameters.AddWithValue("$lp", start.LineProbeVariable ?? string.Empty);
-            cmd.Parameters.AddWithValue("$id", jobId);
-            cmd.ExecuteNonQuery();
-            SetSynchronous(false);
+            try
+            {
+                WriteStart(jobId, start);
+            }
+            catch (SqliteException e)
+            {
+                throw Unavailable(Path, "record the job's start in", e);
+            }
         }
+    }
+
+    private void WriteStart(long jobId, JobStart start)
+    {
+        SetSynchronous(true);
+        using var cmd = _db.CreateCommand();
+        cmd.CommandText = "UPDATE jobs SET from_line=$f, preamble=$pre, line_probe=$lp WHERE id=$id";
+        cmd.Parameters.AddWithValue("$f", start.FromLine is { } f ? f : DBNull.Value);
+        cmd.Parameters.AddWithValue("$pre", start.Preamble is { } pre ? string.Join('\n', pre) : DBNull.Value);
+        cmd.Parameters.AddWithValue("$lp", start.LineProbeVariable ?? string.Empty);
+        cmd.Parameters.AddWithValue("$id", jobId);
+        cmd.ExecuteNonQuery();
+        SetSynchronous(false);
     }
 
     /// <summary>Sets the job's message (fault text, completion).</summary>
@@ -212,11 +353,18 @@ public sealed class JobStore : IDisposable
     {
         lock (_lock)
         {
-            using var cmd = _db.CreateCommand();
-            cmd.CommandText = "UPDATE jobs SET message=$m WHERE id=$id";
-            cmd.Parameters.AddWithValue("$m", message);
-            cmd.Parameters.AddWithValue("$id", jobId);
-            cmd.ExecuteNonQuery();
+            try
+            {
+                using var cmd = _db.CreateCommand();
+                cmd.CommandText = "UPDATE jobs SET message=$m WHERE id=$id";
+                cmd.Parameters.AddWithValue("$m", message);
+                cmd.Parameters.AddWithValue("$id", jobId);
+                cmd.ExecuteNonQuery();
+            }
+            catch (SqliteException e)
+            {
+                throw Unavailable(Path, "write to", e);
+            }
         }
     }
 
@@ -231,13 +379,32 @@ public sealed class JobStore : IDisposable
         Query("WHERE cp_state IS NULL OR cp_state <> 'Completed' ORDER BY id DESC LIMIT 1").FirstOrDefault();
 
     /// <summary>All jobs, newest first.</summary>
-    public IReadOnlyList<JobRecord> List() => Query("ORDER BY id DESC").ToList();
+    public IReadOnlyList<JobRecord> List() => Query("ORDER BY id DESC");
 
     /// <inheritdoc />
     public void Dispose()
     {
-        _update?.Dispose();
-        _db.Dispose();
+        lock (_lock)
+        {
+            _update?.Dispose();
+            _update = null;
+            if (_opener != 0)
+            {
+                try
+                {
+                    JobStoreOpeners.Unregister(_db, _opener);
+                }
+                catch (SqliteException e)
+                {
+                    // The row stays: the next open still sees the write-ahead log, so nothing is reported wrongly.
+                    Logger.Warning("job database {Path}: could not record a clean close: {Error}", Path, e.Message);
+                }
+
+                _opener = 0;
+            }
+
+            _db.Dispose();
+        }
     }
 
     private void SetSynchronous(bool full)
@@ -269,46 +436,29 @@ public sealed class JobStore : IDisposable
         return cmd;
     }
 
-    private IEnumerable<JobRecord> Query(string where, params (string Name, object Value)[] args)
+    private List<JobRecord> Query(string where, params (string Name, object Value)[] args)
     {
         var list = new List<JobRecord>();
         lock (_lock)
         {
-            using var cmd = _db.CreateCommand();
-            cmd.CommandText = "SELECT id, created, program_path, program_sha256, manifest_path, strategy, connection, from_line, message, "
-                + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded, settings FROM jobs " + where;
-            foreach (var (n, v) in args)
+            try
             {
-                cmd.Parameters.AddWithValue(n, v);
-            }
+                using var cmd = _db.CreateCommand();
+                cmd.CommandText = $"SELECT {JobRecordReader.Columns} FROM jobs {where}";
+                foreach (var (n, v) in args)
+                {
+                    cmd.Parameters.AddWithValue(n, v);
+                }
 
-            using var r = cmd.ExecuteReader();
-            while (r.Read())
+                using var r = cmd.ExecuteReader();
+                while (r.Read())
+                {
+                    list.Add(JobRecordReader.Read(r, Path));
+                }
+            }
+            catch (SqliteException e)
             {
-                Checkpoint? cp = r.IsDBNull(9) ? null : new Checkpoint(
-                    r.GetInt32(11),
-                    r.GetInt32(12),
-                    new StreamPosition(r.GetInt32(13), r.GetInt32(14)),
-                    r.GetInt32(15) != 0,
-                    r.GetInt32(16),
-                    Enum.Parse<SessionState>(r.GetString(10)),
-                    DateTimeOffset.Parse(r.GetString(9), CultureInfo.InvariantCulture),
-                    r.GetInt32(17) != 0,
-                    r.IsDBNull(20) || r.GetInt32(20) != 0);
-                list.Add(new JobRecord(
-                    r.GetInt64(0),
-                    r.GetString(2),
-                    r.GetString(3),
-                    r.GetString(4),
-                    StreamingStrategies.Parse(r.GetString(5)),
-                    r.GetString(6),
-                    r.IsDBNull(7) ? null : r.GetInt32(7),
-                    r.GetString(8),
-                    cp,
-                    DateTimeOffset.Parse(r.GetString(1), CultureInfo.InvariantCulture),
-                    r.IsDBNull(19) ? null : r.GetString(19).Split('\n'),
-                    r.GetString(18) is { Length: > 0 } probe ? probe : null,
-                    r.IsDBNull(21) ? null : r.GetString(21)));
+                throw Unavailable(Path, "read", e);
             }
         }
 

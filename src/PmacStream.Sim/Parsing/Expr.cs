@@ -114,13 +114,22 @@ internal sealed class ExprParser(List<Token> tokens)
     private static readonly HashSet<string> Functions = ["SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "ATAN2", "LN", "EXP", "SQRT", "ABS", "INT"];
     private static readonly HashSet<string> Comparisons = ["=", "!=", "<", ">", "<=", ">=", "!<", "!>", "~"];
 
+    /// <summary>
+    /// Deepest nesting of parentheses, functions and signs in one expression. The parser recurses per level, and a
+    /// line of thousands of "(" from a client must be an illegal command (ERR003), not a stack overflow that ends
+    /// the simulator's process. A simulator limit, far beyond what programs write.
+    /// </summary>
+    public const int MaxNesting = 64;
+
     private List<Token> tokens = tokens;
+    private int _nesting;
 
     /// <summary>Starts over on a new token list (one parser reused per simulator: no allocation per line).</summary>
     public void Reset(List<Token> newTokens)
     {
         tokens = newTokens;
         Pos = 0;
+        _nesting = 0;
     }
 
     public int Pos { get; set; }
@@ -253,19 +262,31 @@ internal sealed class ExprParser(List<Token> tokens)
 
     private Expr ParseUnary(bool condition)
     {
-        if (Peek.Is("-"))
+        if (++_nesting > MaxNesting)
         {
-            Pos++;
-            return new UnaryExpr('-', ParseUnary(condition));
+            throw new SimSyntaxException(3);
         }
 
-        if (Peek.Is("+"))
+        try
         {
-            Pos++;
-            return ParseUnary(condition);
-        }
+            if (Peek.Is("-"))
+            {
+                Pos++;
+                return new UnaryExpr('-', ParseUnary(condition));
+            }
 
-        return ParsePrimary(condition);
+            if (Peek.Is("+"))
+            {
+                Pos++;
+                return ParseUnary(condition);
+            }
+
+            return ParsePrimary(condition);
+        }
+        finally
+        {
+            _nesting--;
+        }
     }
 
     private Expr ParsePrimary(bool condition)

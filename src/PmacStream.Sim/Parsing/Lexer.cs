@@ -130,8 +130,13 @@ internal static class Lexer
                     throw new SimSyntaxException(3);
                 }
 
-                var hex = line[(start + 1)..i];
-                tokens.Add(new Token(TokenKind.Number, line[start..i], long.Parse(hex, NumberStyles.HexNumber, CultureInfo.InvariantCulture), start, i));
+                // More hex digits than a 64-bit word holds is an illegal constant, not a fault of the controller.
+                if (!long.TryParse(line.AsSpan(start + 1, i - start - 1), NumberStyles.AllowHexSpecifier, CultureInfo.InvariantCulture, out var hex))
+                {
+                    throw new SimSyntaxException(3);
+                }
+
+                tokens.Add(new Token(TokenKind.Number, line[start..i], hex, start, i));
                 continue;
             }
 

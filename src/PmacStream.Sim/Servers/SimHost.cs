@@ -19,8 +19,17 @@ public sealed record SimHostOptions
     /// <summary>Line settings of <see cref="SerialPath"/>.</summary>
     public SerialSettings Serial { get; init; } = new();
 
-    /// <summary>Where the executed-move log (CSV) is written when the host stops; null for none.</summary>
+    /// <summary>
+    /// Where the executed-move log (CSV) goes: written as moves finish (to <c>PATH.tmp</c>) and moved into place when
+    /// the host stops; null for none.
+    /// </summary>
     public string? ExecutedLogPath { get; init; }
+
+    /// <summary>
+    /// The Ethernet server's settings (idle timeout, client slots, reply buffer); its end point and engine lock are
+    /// the host's.
+    /// </summary>
+    public PmacTcpServerOptions TcpServer { get; init; } = new();
 }
 
 /// <summary>
@@ -37,6 +46,7 @@ public sealed class SimHost : IAsyncDisposable
     private PmacTcpServer? _tcp;
     private PmacSerialServer? _serial;
     private SimCounters? _stopped;
+    private ExecutedLogWriter? _log;
 
     /// <summary>Creates the simulator; nothing is served before <see cref="Start"/>.</summary>
     /// <exception cref="ArgumentException">Neither Ethernet nor a serial line is asked for.</exception>
@@ -60,6 +70,19 @@ public sealed class SimHost : IAsyncDisposable
     /// <summary>The bound Ethernet address (the free port chosen when 0 was asked), or null when no Ethernet is served.</summary>
     public IPEndPoint? TcpEndPoint => _tcp?.LocalEndPoint;
 
+    /// <summary>The Ethernet server once started (its counters: clients, idle closes, evictions, dropped replies), else null.</summary>
+    public PmacTcpServer? TcpServer => _tcp;
+
+    /// <summary>
+    /// True when <paramref name="endPoint"/> is reachable from other machines (not a loopback address): a PMAC port
+    /// has no authentication, so whoever reaches it can move the machine.
+    /// </summary>
+    public static bool IsExposed(IPEndPoint endPoint)
+    {
+        ArgumentNullException.ThrowIfNull(endPoint);
+        return !IPAddress.IsLoopback(endPoint.Address);
+    }
+
     /// <summary>
     /// Starts the clock and the servers. A <see cref="System.Net.Sockets.SocketException"/> says the TCP address could
     /// not be bound; an <see cref="IOException"/> or <see cref="UnauthorizedAccessException"/> that the serial path
@@ -72,13 +95,23 @@ public sealed class SimHost : IAsyncDisposable
             throw new InvalidOperationException("the simulator host was already started");
         }
 
+        if (Options.ExecutedLogPath is { } log)
+        {
+            _log = new ExecutedLogWriter(log).Attach(Simulator);
+        }
+
         Simulator.StartClock();
         if (Options.TcpEndPoint is { } endPoint)
         {
+            if (IsExposed(endPoint))
+            {
+                Log.Warning("serving the simulated PMAC on {EndPoint}, reachable from other machines: a PMAC port has no authentication", endPoint);
+            }
+
             // A Turbo PMAC's Ethernet interface is one communication port shared by every connection, so a host
             // that reconnects (or a new host after a crash) can CLOSE the rotary buffer the old one opened.
             var ethernet = Simulator.OpenPort("ethernet");
-            _tcp = new PmacTcpServer(() => ethernet, new PmacTcpServerOptions { EndPoint = endPoint, EngineLock = _engineLock });
+            _tcp = new PmacTcpServer(() => ethernet, Options.TcpServer with { EndPoint = endPoint, EngineLock = _engineLock });
             _tcp.Start();
         }
 
@@ -119,11 +152,7 @@ public sealed class SimHost : IAsyncDisposable
             counters.Underruns,
             counters.Errors,
             counters.LinesReceived);
-        if (Options.ExecutedLogPath is { } log)
-        {
-            Simulator.WriteExecutedLog(log);
-        }
-
+        _log?.Complete();
         return counters;
     }
 

@@ -31,6 +31,24 @@ public class ConnectionSpecTests
         new ConnectionSettings(DeviceKind.Simulator).ToSpec().IsSimulator.Should().BeTrue();
     }
 
+    [Theory]
+    [InlineData("44887", "tcp://127.0.0.1:44887")]
+    [InlineData("tcp://44887", "tcp://127.0.0.1:44887")]
+    public void A_bare_number_is_a_port_on_this_machine_never_an_address(string address, string canonical)
+    {
+        // Before, "44887" was a host the resolver read as 0.0.175.87: a stream went to whatever listened there.
+        ConnectionSpec.Ethernet(address).ToString().Should().Be(canonical);
+    }
+
+    [Theory]
+    [InlineData("44887:1025", "'44887' is a number, not a host")]
+    [InlineData("99999", "port '99999' is not 1..65535")]
+    public void A_number_with_a_port_or_beyond_the_ports_is_refused(string address, string why)
+    {
+        var act = () => ConnectionSpec.Ethernet(address);
+        act.Should().Throw<FormatException>().Which.Message.Should().Contain(why);
+    }
+
     [Fact]
     public void Only_the_host_opens_the_built_in_simulator()
     {

@@ -119,7 +119,10 @@ public sealed class ProgramStore : IDisposable
                 using var cmd = store._connection.CreateCommand();
                 // Back to the store's normal mode for the readers that open it later; nothing to checkpoint yet.
                 cmd.CommandText = "PRAGMA locking_mode=NORMAL; PRAGMA journal_mode=WAL;";
-                cmd.ExecuteNonQuery();
+                using var results = cmd.ExecuteReader();
+                while (results.NextResult())
+                {
+                }
             }
 
             File.Move(temp, full, overwrite: false);
@@ -152,7 +155,14 @@ public sealed class ProgramStore : IDisposable
             connection.Open();
             using var cmd = connection.CreateCommand();
             cmd.CommandText = pragmas + Schema;
-            cmd.ExecuteNonQuery();
+
+            // Every statement's result is stepped: after a PRAGMA that returns a row, ExecuteNonQuery runs the rest
+            // while disposing its reader and drops their errors, so a full disk surfaced later as "no such table".
+            using var results = cmd.ExecuteReader();
+            while (results.NextResult())
+            {
+            }
+
             AddMissingColumns(connection);
         }
         catch

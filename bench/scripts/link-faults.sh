@@ -1,0 +1,180 @@
+#!/usr/bin/env bash
+# Real link faults between the streamer and the simulator (issue 20): two network namespaces joined by two TUN devices
+# and a user-space netem (netem-relay.py: delay, jitter, loss, reordering, because this kernel has no sch_netem), the
+# link taken down for DOWN_FOR seconds mid-job. `pmacstream sim` runs in one namespace at real time, `pmacstream
+# stream --tcp` in the other (then `resume --yes` while the job is not done, as an operator would); the simulator's
+# executed-move log must show every block once, in order. Underruns are the simulator's own count.
+#
+# Needs root, ip(8), /dev/net/tun and python3. Usage: sudo bench/scripts/link-faults.sh
+# Environment (defaults): STRATEGIES="chunk pr adaptive" RATES="1000 5000" (blocks/s) BLOCKS=20000 PR_BLOCKS=4000
+#   DOWN_AT=3 DOWN_FOR=5 (s) DELAY_MS=2 JITTER_MS=1 LOSS=0.01 REORDER=0.05 SEED=1 PMACSTREAM_CLI=path/to/pmacstream.dll
+#   KEEP=1 keeps the work folder. Prints one result line per run and exits 1 if any run lost, repeated or reordered a block;
+#   ALLOW_REPEATS=1 (CI) lets a run whose only fault is a repeat pass as KNOWN: after a send whose reply the outage
+#   swallowed, resume sends those lines again (issue 20 item 1, phase 2; seen in about 1 run in 20).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+ROOT=$PWD
+STRATEGIES="${STRATEGIES:-chunk pr adaptive}"
+RATES="${RATES:-1000 5000}"
+BLOCKS="${BLOCKS:-20000}"
+PR_BLOCKS="${PR_BLOCKS:-4000}"
+DOWN_AT="${DOWN_AT:-3}"
+DOWN_FOR="${DOWN_FOR:-5}"
+DELAY_MS="${DELAY_MS:-2}" JITTER_MS="${JITTER_MS:-1}" LOSS="${LOSS:-0.01}" REORDER="${REORDER:-0.05}" SEED="${SEED:-1}"
+
+[ "$(id -u)" = 0 ] || { echo "link-faults: needs root (network namespaces and TUN devices)"; exit 2; }
+[ -c /dev/net/tun ] || { echo "link-faults: no /dev/net/tun"; exit 2; }
+if [ -z "${PMACSTREAM_CLI:-}" ]; then
+  dotnet build src/PmacStream.Cli -c Release -v q -nologo >/dev/null
+  PMACSTREAM_CLI="$ROOT/src/PmacStream.Cli/bin/Release/net10.0/pmacstream.dll"
+fi
+CLI=(dotnet "$PMACSTREAM_CLI")
+
+# Names and addresses of this run only: other engineers may run it on the same machine at the same time.
+ID=$$
+NS_SIM="pmsim$ID" NS_HOST="pmhost$ID" TUN_SIM="pmS$ID" TUN_HOST="pmH$ID"
+NET="10.$(( (ID >> 8) % 200 + 20 )).$(( ID % 250 ))"
+SIM_ADDR="$NET.1" HOST_ADDR="$NET.2" PORT=1025
+WORK=$(mktemp -d /tmp/pmacstream-linkfaults.XXXXXX)
+RELAY_PID="" SIM_PID=""
+
+cleanup() {
+  [ -n "$SIM_PID" ] && kill -TERM "$SIM_PID" 2>/dev/null || true
+  [ -n "$RELAY_PID" ] && kill -TERM "$RELAY_PID" 2>/dev/null || true
+  wait 2>/dev/null || true
+  ip netns del "$NS_SIM" 2>/dev/null || true
+  ip netns del "$NS_HOST" 2>/dev/null || true
+  [ -n "${KEEP:-}" ] && echo "link-faults: work folder kept: $WORK" || rm -rf "$WORK"
+}
+trap cleanup EXIT INT TERM
+
+ip netns add "$NS_SIM"
+ip netns add "$NS_HOST"
+ip -n "$NS_SIM" link set lo up
+ip -n "$NS_HOST" link set lo up
+
+# A program of N moves of 0.25 mm at the feed that makes RATE blocks per second, a zig-zag raster.
+make_program() { # RATE N OUT
+  python3 - "$1" "$2" "$3" <<'EOF'
+import sys
+rate, n, out = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
+step = 0.25
+with open(out, "w") as f:
+    f.write("G21 G17 G90\nG00 X0 Y0 Z0\nG01 F%d\n" % (rate * step * 60))
+    for i in range(n):
+        row, col = divmod(i, 400)
+        f.write("G01 X%.2f Y%.2f\n" % ((col if row % 2 == 0 else 399 - col) * step, row * step))
+    f.write("M30\n")
+EOF
+}
+
+# Every block once and in order: the executed log's source lines (repeats of one block's moves folded, 0 left out)
+# against the synchronous assignments M0==line of the chunks, in order (they rise through the program). Lost and
+# repeated are counted by line; a break in order is a line executed after a later one.
+check_log() { # LOG CHUNK_DIR -> "executed expected lost repeated breaks breaks-without-repeats first-break lines-run-twice"
+  python3 - "$1" "$2" <<'EOF'
+import csv, glob, re, sys
+from collections import Counter
+log, chunks = sys.argv[1], sys.argv[2]
+expected = []
+for path in sorted(glob.glob(chunks + "/*.pmc")):
+    for line in open(path, encoding="ascii"):
+        m = re.match(r"M0==(\d+)", line)
+        if m:
+            expected.append(int(m.group(1)))
+executed, last = [], 0
+with open(log) as f:
+    for row in csv.DictReader(f):
+        n = int(row["line"])
+        if n > 0 and n != last:
+            executed.append(n)
+        last = n
+want, got = Counter(expected), Counter(executed)
+lost = sum(max(0, c - got[k]) for k, c in want.items())
+repeated = sum(max(0, c - want[k]) for k, c in got.items())
+breaks = [i for i in range(1, len(executed)) if executed[i] < executed[i - 1]]
+first = "line %d after line %d" % (executed[breaks[0]], executed[breaks[0] - 1]) if breaks else "-"
+twice = sorted(k for k, c in got.items() if c > want[k])
+runs = "%d-%d" % (twice[0], twice[-1]) if twice else "-"
+# Order once the repeats' second runs are left out: a break left is a reordering, not only a repeat.
+once, kept = [], Counter()
+for x in executed:
+    kept[x] += 1
+    if kept[x] <= want[x]:
+        once.append(x)
+reordered = sum(1 for i in range(1, len(once)) if once[i] < once[i - 1])
+print(len(executed), len(expected), lost, repeated, len(breaks), reordered, first.replace(" ", "_"), runs)
+EOF
+}
+
+run_one() { # STRATEGY RATE
+  local strategy=$1 rate=$2 blocks=$BLOCKS
+  [ "$strategy" = pr ] && blocks=$PR_BLOCKS
+  local dir="$WORK/$strategy-$rate"
+  mkdir -p "$dir"
+  make_program "$rate" "$blocks" "$dir/part.nc"
+  "${CLI[@]}" split "$dir/part.nc" >/dev/null
+
+  # The relay creates both TUN devices; each is moved into its namespace and addressed as a point-to-point link.
+  python3 "$ROOT/bench/scripts/netem-relay.py" "$TUN_SIM" "$TUN_HOST" --delay-ms "$DELAY_MS" --jitter-ms "$JITTER_MS" \
+    --loss "$LOSS" --reorder "$REORDER" --seed "$SEED" --stats "$dir/relay.json" >"$dir/relay.out" 2>"$dir/relay.err" &
+  RELAY_PID=$!
+  for _ in $(seq 50); do grep -q ready "$dir/relay.out" 2>/dev/null && break; sleep 0.1; done
+  ip link set "$TUN_SIM" netns "$NS_SIM"
+  ip link set "$TUN_HOST" netns "$NS_HOST"
+  ip -n "$NS_SIM" addr add "$SIM_ADDR/30" dev "$TUN_SIM"
+  ip -n "$NS_HOST" addr add "$HOST_ADDR/30" dev "$TUN_HOST"
+  ip -n "$NS_SIM" link set "$TUN_SIM" up
+  ip -n "$NS_HOST" link set "$TUN_HOST" up
+
+  ip netns exec "$NS_SIM" "${CLI[@]}" sim --tcp "$SIM_ADDR:$PORT" --speed realtime --executed-log "$dir/executed.csv" \
+    >"$dir/sim.log" 2>&1 &
+  SIM_PID=$!
+  for _ in $(seq 100); do grep -q "listening" "$dir/sim.log" 2>/dev/null && break; sleep 0.1; done
+
+  local start=$SECONDS
+  ip netns exec "$NS_HOST" "${CLI[@]}" stream "$dir/part.nc" --tcp "$SIM_ADDR:$PORT" --strategy "$strategy" \
+    --job-db "$dir/jobs.db" >"$dir/host.log" 2>&1 &
+  local host=$!
+  sleep "$DOWN_AT"
+  ip -n "$NS_HOST" link set "$TUN_HOST" down
+  sleep "$DOWN_FOR"
+  ip -n "$NS_HOST" link set "$TUN_HOST" up
+  local rc=0 resumes=0
+  wait "$host" || rc=$?
+  # As an operator would: resume while the job is not done (the simulator still holds it).
+  while [ "$rc" != 0 ] && [ "$resumes" -lt 5 ]; do
+    resumes=$((resumes + 1))
+    rc=0
+    ip netns exec "$NS_HOST" "${CLI[@]}" resume --job-db "$dir/jobs.db" --yes >>"$dir/host.log" 2>&1 || rc=$?
+  done
+  local took=$((SECONDS - start))
+
+  kill -TERM "$SIM_PID"; wait "$SIM_PID" || true; SIM_PID=""
+  kill -TERM "$RELAY_PID"; wait "$RELAY_PID" || true; RELAY_PID=""
+  local underruns
+  underruns=$(grep -o "[0-9]* underruns" "$dir/sim.log" | tail -n 1 | grep -o "[0-9]*" || echo "?")
+  local executed expected lost repeated breaks reordered first twice
+  read -r executed expected lost repeated breaks reordered first twice < <(check_log "$dir/executed.csv" "$dir/part_chunks")
+  local verdict=ok
+  if [ "$lost$repeated$breaks" != 000 ]; then
+    verdict="BROKEN (first break: ${first//_/ }; lines run twice: $twice)"
+    # A repeat alone is the known defect of issue 20 item 1 (a send whose reply was lost is sent again on resume).
+    if [ -n "${ALLOW_REPEATS:-}" ] && [ "$lost$reordered" = 00 ]; then
+      verdict="KNOWN: lines $twice ran twice (issue 20 item 1: resume trusts the record over the controller)"
+    fi
+  fi
+  printf '%-8s %5s blocks/s  %6s of %6s blocks  lost %s repeated %s order breaks %s  underruns %-6s host exit %s after %s resume(s), %3ss  relay %s  %s\n' \
+    "$strategy" "$rate" "$executed" "$expected" "$lost" "$repeated" "$breaks" "$underruns" "$rc" "$resumes" "$took" \
+    "$(tr -d '{}"' <"$dir/relay.json" 2>/dev/null)" "$verdict"
+  [ "$verdict" = ok ] || [ "${verdict#KNOWN}" != "$verdict" ]
+}
+
+echo "link-faults: $DELAY_MS ms +- $JITTER_MS ms, loss $LOSS, reorder $REORDER each way; link down ${DOWN_FOR}s at ${DOWN_AT}s; sim $SIM_ADDR, host $HOST_ADDR"
+failed=0
+for rate in $RATES; do
+  for strategy in $STRATEGIES; do
+    run_one "$strategy" "$rate" || failed=1
+  done
+done
+exit "$failed"

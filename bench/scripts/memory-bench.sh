@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Peak memory where issue 20 found it unbounded, for this tree's CLI or another build (PMACSTREAM_CLI=path/to/
+# pmacstream.dll, e.g. main's, for the numbers before):
+#  1. stream --sim: the in-process simulator's executed-move log (was kept in memory, now checked as it runs);
+#  2. pmacstream sim --executed-log + stream --tcp: the simulator server's log (was kept until stop, now streamed);
+#  3. pmacstream sim + a client that sends SENDLINE packets and never fetches the replies (were all kept, now at most
+#     16 KiB per connection, the oldest dropped).
+# Usage: bench/scripts/memory-bench.sh [LINES] [PACKETS]   (defaults 220000 and 20000)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+LINES="${1:-220000}"
+PACKETS="${2:-20000}"
+if [ -z "${PMACSTREAM_CLI:-}" ]; then
+  dotnet build src/PmacStream.Cli -c Release -v q -nologo >/dev/null
+  PMACSTREAM_CLI="$PWD/src/PmacStream.Cli/bin/Release/net10.0/pmacstream.dll"
+fi
+CLI=(dotnet "$PMACSTREAM_CLI")
+WORK=$(mktemp -d /tmp/pmacstream-memory.XXXXXX)
+trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$WORK"' EXIT
+dotnet build bench/PmacStream.Benchmarks -c Release -v q -nologo >/dev/null
+bench/PmacStream.Benchmarks/bin/Release/net10.0/PmacStream.Benchmarks gen-surfacing "$WORK/part.nc" "$LINES" >/dev/null
+"${CLI[@]}" split "$WORK/part.nc" >/dev/null
+echo "cli: $PMACSTREAM_CLI; program: $LINES lines (surfacing, $(du -h "$WORK/part.nc" | cut -f1))"
+
+peak_kb() { grep VmHWM "/proc/$1/status" | awk '{print $2}'; }
+rss_kb() { grep VmRSS "/proc/$1/status" | awk '{print $2}'; }
+
+start_sim() { # LOG ARGS... -> sets SIM and PORT
+  "${CLI[@]}" sim --tcp 127.0.0.1:0 "${@:2}" >"$1" 2>&1 &
+  SIM=$!
+  for _ in $(seq 200); do grep -q "listening" "$1" 2>/dev/null && break; sleep 0.05; done
+  PORT=$(grep -o "port [0-9]*" "$1" | grep -o "[0-9]*")
+}
+
+echo "== 1. stream --sim (built-in simulator, instant clock)"
+/usr/bin/time -v "${CLI[@]}" stream "$WORK/part.nc" --sim --sim-speed instant --job-db "$WORK/jobs1.db" >"$WORK/s1.out" 2>"$WORK/s1.err" || true
+grep -h "^executed" "$WORK/s1.out" || tail -n 3 "$WORK/s1.err"
+echo "peak RSS $(grep 'Maximum resident' "$WORK/s1.err" | awk '{print $6}') KB"
+
+echo "== 2. pmacstream sim --executed-log, stream --tcp (simulator process measured)"
+start_sim "$WORK/sim2.log" --speed instant --executed-log "$WORK/executed.csv"
+"${CLI[@]}" stream "$WORK/part.nc" --tcp "127.0.0.1:$PORT" --job-db "$WORK/jobs2.db" >"$WORK/s2.out" 2>&1 || true
+grep -h "^executed" "$WORK/s2.out" || tail -n 3 "$WORK/s2.out"
+echo "simulator peak RSS $(peak_kb $SIM) KB before stop"
+kill -TERM $SIM; wait $SIM || true
+echo "executed log: $(($(wc -l <"$WORK/executed.csv") - 1)) moves"
+
+echo "== 3. pmacstream sim, $PACKETS SENDLINE packets (P0..4095) whose replies are never fetched"
+start_sim "$WORK/sim3.log" --speed instant
+before=$(rss_kb $SIM)
+python3 - "$PORT" "$PACKETS" "$SIM" <<'EOF'
+import socket, struct, sys
+port, n, pid = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
+s = socket.create_connection(("127.0.0.1", port))
+s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+cmd = b"P0..4095"
+packet = struct.pack(">BBHHH", 0x40, 0xB0, 0, 0, len(cmd)) + cmd
+for _ in range(n):
+    s.sendall(packet)
+    s.recv(1)  # SENDLINE answers one byte; the reply text waits for GETLINE, which never comes
+status = dict(l.split(":", 1) for l in open("/proc/%s/status" % pid) if ":" in l)
+print("sent %d packets; simulator RSS %s with the connection still open" % (n, status["VmRSS"].strip()))
+EOF
+echo "simulator RSS $before KB before the client; peak $(peak_kb $SIM) KB"
+kill -TERM $SIM; wait $SIM || true
