@@ -1,4 +1,5 @@
 using System.Text;
+using PmacStream.Pmac;
 using PmacStream.Sim.Parsing;
 using Serilog;
 
@@ -429,7 +430,7 @@ public sealed class PmacSimulator : IDisposable
             if (text is null)
             {
                 _errors++;
-                return [ReplyFrame.Bel];
+                return [ReplyParser.Bel];
             }
         }
 

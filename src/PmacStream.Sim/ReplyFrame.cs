@@ -1,25 +1,20 @@
 using System.Globalization;
 using System.Text;
+using PmacStream.Pmac;
 
 namespace PmacStream.Sim;
 
 /// <summary>
 /// How a port frames the reply to one command line, by its I3 (handshake) and I6 (error reporting): each value ends
 /// in CR (I3=3: led by LF), then ACK (I3=2/3) or LF (I3=1); an error is BEL, with <c>ERRnnn</c> CR unless I6=0.
+/// The bytes are the protocol's (<see cref="ReplyParser"/> reads them on the host side).
 /// </summary>
 internal static class ReplyFrame
 {
-    /// <summary>ACK: the command was taken.</summary>
-    public const byte Ack = 0x06;
-
-    /// <summary>BEL: the command was refused.</summary>
-    public const byte Bel = 0x07;
-
-    /// <summary>CR: ends a value.</summary>
-    public const byte Cr = 0x0D;
-
-    /// <summary>LF.</summary>
-    public const byte Lf = 0x0A;
+    private const byte Ack = ReplyParser.Ack;
+    private const byte Bel = ReplyParser.Bel;
+    private const byte Cr = ReplyParser.Cr;
+    private const byte Lf = 0x0A;
 
     /// <summary>The reply bytes for <paramref name="outputs"/> and <paramref name="error"/> (0: none).</summary>
     public static byte[] Build(List<string> outputs, int error, int i3, int i6)
