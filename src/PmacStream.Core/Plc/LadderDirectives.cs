@@ -95,14 +95,8 @@ internal sealed class LadderDirectives(Action<int, int, string> error)
 
     private IoWordConfig IoDirective(List<LadderWord> words, IoWordConfig io)
     {
-        foreach (var w in words.Skip(1))
+        foreach (var (key, vw, w) in Clauses(words))
         {
-            if (!SplitClause(w, out var key, out var value, out var valueCol))
-            {
-                continue;
-            }
-
-            var vw = new LadderWord(value, w.Line, valueCol);
             switch (key)
             {
                 case "word":
@@ -151,14 +145,8 @@ internal sealed class LadderDirectives(Action<int, int, string> error)
 
     private InternalConfig InternalsDirective(List<LadderWord> words, InternalConfig cfg)
     {
-        foreach (var w in words.Skip(1))
+        foreach (var (key, vw, w) in Clauses(words))
         {
-            if (!SplitClause(w, out var key, out var value, out var valueCol))
-            {
-                continue;
-            }
-
-            var vw = new LadderWord(value, w.Line, valueCol);
             switch (key)
             {
                 case "image":
@@ -182,6 +170,18 @@ internal sealed class LadderDirectives(Action<int, int, string> error)
         }
 
         return cfg;
+    }
+
+    /// <summary>The KEY=VALUE clauses after the keyword: the key (lower case), the value as a word with its column, the clause; a malformed one is reported and skipped.</summary>
+    private IEnumerable<(string Key, LadderWord Value, LadderWord Clause)> Clauses(List<LadderWord> words)
+    {
+        foreach (var w in words.Skip(1))
+        {
+            if (SplitClause(w, out var key, out var value, out var valueColumn))
+            {
+                yield return (key, new LadderWord(value, w.Line, valueColumn), w);
+            }
+        }
     }
 
     private bool SplitClause(LadderWord w, out string key, out string value, out int valueColumn)

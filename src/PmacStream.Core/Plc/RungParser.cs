@@ -42,63 +42,42 @@ internal sealed class RungParser(List<LadderToken> tokens, Dictionary<string, La
 
     private static string Describe(LadderToken t) => t.Kind == LadderTokenKind.End ? "the end of the rung" : $"'{t.Text}'";
 
-    private LadderExpr? Parallel()
+    private LadderExpr? Parallel() => Chain(LadderTokenKind.Or, Series, parallel: true);
+
+    private LadderExpr? Series() => Chain(LadderTokenKind.And, Factor, parallel: false);
+
+    /// <summary>Operands joined by <paramref name="op"/>: one list, nested lists of the same kind spliced in.</summary>
+    private LadderExpr? Chain(LadderTokenKind op, Func<LadderExpr?> operand, bool parallel)
     {
-        var first = Series();
+        var first = operand();
         if (first is null)
         {
             return null;
         }
 
         List<LadderExpr>? items = null;
-        while (!_failed && Peek.Kind == LadderTokenKind.Or)
+        while (!_failed && Peek.Kind == op)
         {
             _pos++;
-            var next = Series();
+            var next = operand();
             if (next is null)
             {
                 return null;
             }
 
-            items ??= [.. Splice<LadderParallel>(first)];
-            items.AddRange(Splice<LadderParallel>(next));
+            items ??= [.. Splice(first, parallel)];
+            items.AddRange(Splice(next, parallel));
         }
 
-        return items is null ? first : new LadderParallel(items);
+        return items is null ? first : parallel ? new LadderParallel(items) : new LadderSeries(items);
     }
 
-    private LadderExpr? Series()
+    private static IEnumerable<LadderExpr> Splice(LadderExpr e, bool parallel) => e switch
     {
-        var first = Factor();
-        if (first is null)
-        {
-            return null;
-        }
-
-        List<LadderExpr>? items = null;
-        while (!_failed && Peek.Kind == LadderTokenKind.And)
-        {
-            _pos++;
-            var next = Factor();
-            if (next is null)
-            {
-                return null;
-            }
-
-            items ??= [.. Splice<LadderSeries>(first)];
-            items.AddRange(Splice<LadderSeries>(next));
-        }
-
-        return items is null ? first : new LadderSeries(items);
-    }
-
-    private static IEnumerable<LadderExpr> Splice<T>(LadderExpr e)
-        where T : LadderExpr => e switch
-        {
-            LadderSeries s when typeof(T) == typeof(LadderSeries) => s.Items,
-            LadderParallel p when typeof(T) == typeof(LadderParallel) => p.Items,
-            _ => [e],
-        };
+        LadderSeries s when !parallel => s.Items,
+        LadderParallel p when parallel => p.Items,
+        _ => [e],
+    };
 
     private LadderExpr? Factor()
     {
