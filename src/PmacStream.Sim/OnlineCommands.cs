@@ -11,31 +11,20 @@ namespace PmacStream.Sim;
 /// (<c>R S H Q A K B</c>), the feed override, status queries, buffer commands, PLC enabling, resets. Refusals throw
 /// <see cref="SimSyntaxException"/> with the ERR number. Guarded by the simulator's lock.
 /// </summary>
-internal sealed class OnlineCommands
+/// <param name="sim">The simulator: variables, options, resets.</param>
+/// <param name="coordinateSystems">The coordinate systems (index 0 unused).</param>
+/// <param name="buffers">The program buffers and the one open.</param>
+/// <param name="plcs">The PLC programs.</param>
+/// <param name="motors">The motor definitions.</param>
+internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coordinateSystems, ProgramBuffers buffers, PlcTable plcs, MotorMap motors)
 {
-    private readonly PmacSimulator _sim;
-    private readonly CoordinateSystem[] _cs;
-    private readonly ProgramBuffers _buffers;
-    private readonly PlcTable _plcs;
-    private readonly MotorMap _motors;
-
     // Per-line scratch, reused so that storing a line allocates only what is kept.
     private readonly List<Token> _tokens = new(32);
     private readonly List<Stmt> _stmts = new(8);
     private readonly ExprParser _parser = new([]);
     private bool _lineBusy;
 
-    /// <summary>Interprets commands for <paramref name="sim"/>'s coordinate systems, buffers, PLCs and motors.</summary>
-    public OnlineCommands(PmacSimulator sim, CoordinateSystem[] coordinateSystems, ProgramBuffers buffers, PlcTable plcs, MotorMap motors)
-    {
-        _sim = sim;
-        _cs = coordinateSystems;
-        _buffers = buffers;
-        _plcs = plcs;
-        _motors = motors;
-    }
-
-    private SimMemory Memory => _sim.Memory;
+    private SimMemory Memory => sim.Memory;
 
     /// <summary>Runs one command line from <paramref name="port"/>; values to send back go to <paramref name="outputs"/>.</summary>
     public void Execute(SimPort port, string line, List<string> outputs)
@@ -52,14 +41,14 @@ internal sealed class OnlineCommands
             p.Reset(tokens);
             while (p.Peek.Kind != TokenKind.End)
             {
-                if (_buffers.IsOpenOn(port))
+                if (buffers.IsOpenOn(port))
                 {
                     var start = p.Pos;
                     ProgramParser.ParseRun(p, stmts);
                     if (stmts.Count > 0)
                     {
                         var text = StoredText(upper, tokens[start].Start, tokens[p.Pos - 1].End);
-                        _buffers.Store(port, new ProgramLine(text, [.. stmts]));
+                        buffers.Store(port, new ProgramLine(text, [.. stmts]));
                         continue;
                     }
                 }
@@ -85,10 +74,10 @@ internal sealed class OnlineCommands
         return c switch
         {
             'X' => string.Empty,
-            'B' => string.Join(" ", Enumerable.Range(1, 8).Select(_motors.Status)) + "\r",
-            'C' => string.Join(" ", Enumerable.Range(1, 8).Select(n => StatusOf(_cs[n]))) + "\r",
+            'B' => string.Join(" ", Enumerable.Range(1, 8).Select(motors.Status)) + "\r",
+            'C' => string.Join(" ", Enumerable.Range(1, 8).Select(n => StatusOf(coordinateSystems[n]))) + "\r",
             'G' => "000000000000\r",
-            'P' => string.Join(" ", Enumerable.Range(1, 8).Select(n => ReplyFrame.Number(_motors.Position(n)))) + "\r",
+            'P' => string.Join(" ", Enumerable.Range(1, 8).Select(n => ReplyFrame.Number(motors.Position(n)))) + "\r",
             'V' or 'F' => string.Join(" ", Enumerable.Repeat("0", 8)) + "\r",
             _ => null,
         };
@@ -189,7 +178,7 @@ internal sealed class OnlineCommands
     private void ExecuteOnline(SimPort port, ExprParser p, List<string> outputs)
     {
         var t = p.Next();
-        var cs = _cs[port.CoordinateSystem];
+        var cs = coordinateSystems[port.CoordinateSystem];
         if (t.Kind == TokenKind.Symbol)
         {
             Symbol(port, cs, t.Text, p, outputs);
@@ -216,37 +205,37 @@ internal sealed class OnlineCommands
                 Check(cs.Begin(p.IntArgument(0, 65535)));
                 return;
             case "P" when !p.AtValue:
-                outputs.Add(ReplyFrame.Number(_motors.Position(port.Motor)));
+                outputs.Add(ReplyFrame.Number(motors.Position(port.Motor)));
                 return;
             case "PR":
                 outputs.Add(cs.RotaryLinesAhead().ToString(CultureInfo.InvariantCulture));
                 return;
             case "OPEN":
-                _buffers.Open(port, p);
+                buffers.Open(port, p);
                 return;
             case "CLOSE":
-                _buffers.Close(port);
+                buffers.Close(port);
                 return;
             case "CLEAR":
-                _buffers.Clear(port);
+                buffers.Clear(port);
                 return;
             case "DEFINE" or "DEF":
-                _buffers.Define(port, p);
+                buffers.Define(port, p);
                 return;
             case "DELETE" or "DEL":
-                _buffers.Delete(port, p);
+                buffers.Delete(port, p);
                 return;
             case "LIST":
-                _buffers.List(port, p, outputs);
+                buffers.List(port, p, outputs);
                 return;
             case "VERSION" or "VER":
-                outputs.Add(_sim.Options.Version);
+                outputs.Add(sim.Options.Version);
                 return;
             case "TYPE":
-                outputs.Add(_sim.Options.TypeText);
+                outputs.Add(sim.Options.TypeText);
                 return;
             case "CID":
-                outputs.Add(_sim.Options.CardId.ToString(CultureInfo.InvariantCulture));
+                outputs.Add(sim.Options.CardId.ToString(CultureInfo.InvariantCulture));
                 return;
             case "DATE":
                 outputs.Add("05/18/2010");
@@ -306,7 +295,7 @@ internal sealed class OnlineCommands
 
                     outputs.Add(n switch
                     {
-                        1 => _motors.Status(port.Motor),
+                        1 => motors.Status(port.Motor),
                         2 => StatusOf(cs),
                         3 => "000000000000",
                         _ => throw new SimSyntaxException(3),
@@ -315,10 +304,10 @@ internal sealed class OnlineCommands
                 }
 
             case "$$$":
-                _sim.Reset(factory: false);
+                sim.Reset(factory: false);
                 return;
             case "$$$***":
-                _sim.Reset(factory: true);
+                sim.Reset(factory: true);
                 return;
             default:
                 throw new SimSyntaxException(3);
@@ -371,7 +360,7 @@ internal sealed class OnlineCommands
         var csNumber = port.CoordinateSystem;
         if (p.Accept("="))
         {
-            var value = p.ParseExpression().Eval(_cs[csNumber]);
+            var value = p.ParseExpression().Eval(coordinateSystems[csNumber]);
             for (var i = first; i <= last; i++)
             {
                 Write(port, kind, i, value);
@@ -409,7 +398,7 @@ internal sealed class OnlineCommands
                 'Q' => Memory.GetQ(csNumber, i),
                 'I' when i is 3 => port.I3,
                 'I' when i is 6 => port.I6,
-                _ => _sim.GetVariable(kind, i),
+                _ => sim.GetVariable(kind, i),
             };
             outputs.Add(ReplyFrame.Number(v));
         }
@@ -430,7 +419,7 @@ internal sealed class OnlineCommands
                 break;
         }
 
-        _sim.SetVariable(kind, index, value);
+        sim.SetVariable(kind, index, value);
     }
 
     /// <summary>An M-variable definition: <c>*</c>, <c>X:$addr[,bit[,width[,U|S]]]</c>, <c>Y:...</c>, <c>D:/L:/F:/DP:$addr</c>.</summary>
@@ -497,18 +486,18 @@ internal sealed class OnlineCommands
     {
         if (p.Peek.Kind == TokenKind.End)
         {
-            outputs.Add(_motors.Describe(motor));
+            outputs.Add(motors.Describe(motor));
             return;
         }
 
         var scale = 1.0;
         if (p.Peek.Kind == TokenKind.Number || p.Peek.Is("-"))
         {
-            scale = p.ParseValue().Eval(_cs[1]);
+            scale = p.ParseValue().Eval(coordinateSystems[1]);
         }
 
         var letter = p.Next();
-        if (!letter.IsLetter || !_motors.Define(motor, letter.Text[0], scale))
+        if (!letter.IsLetter || !motors.Define(motor, letter.Text[0], scale))
         {
             throw new SimSyntaxException(3);
         }
@@ -543,6 +532,6 @@ internal sealed class OnlineCommands
             }
         }
 
-        _plcs.Enable(numbers, enable);
+        plcs.Enable(numbers, enable);
     }
 }
