@@ -11,7 +11,7 @@ namespace PmacStream.Streaming;
 /// </summary>
 internal sealed class BufferDrain
 {
-    private static readonly ILogger Log = Serilog.Log.ForContext<BufferDrain>();
+    private static readonly ILogger Log = Serilog.Log.ForContext<StreamingSession>();
 
     private int _stableReads;
     private int _lastTracked = -1;
