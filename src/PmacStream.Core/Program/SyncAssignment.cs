@@ -23,7 +23,7 @@ public sealed class SyncAssignment
     // One compiled pattern per variable name: a program is opened many times in a job store's life.
     private static readonly ConcurrentDictionary<string, Regex> Markers = new(StringComparer.OrdinalIgnoreCase);
 
-    private readonly Regex _marker;
+    private Regex? _marker;
 
     /// <summary>Creates the assignment of <paramref name="variable"/> (blank: <see cref="DefaultVariable"/>) at <paramref name="placement"/>.</summary>
     public SyncAssignment(string? variable = null, TrackingPlacement placement = TrackingPlacement.Exact)
@@ -31,9 +31,6 @@ public sealed class SyncAssignment
         Variable = string.IsNullOrWhiteSpace(variable) ? DefaultVariable : variable.Trim();
         Placement = placement;
         Prefix = Variable + Operator;
-        _marker = Markers.GetOrAdd(Variable, static v => new Regex(
-            $@"(?<![A-Z0-9]){Regex.Escape(v)}\s*==\s*(\d+)",
-            RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase));
     }
 
     /// <summary>The assignment a split program's manifest records.</summary>
@@ -89,17 +86,22 @@ public sealed class SyncAssignment
             : $"{lead}{words} {Format(sourceLine)}";
     }
 
+    // Built when first read: the splitter only writes.
+    private Regex Marker => _marker ??= Markers.GetOrAdd(Variable, static v => new Regex(
+        $@"(?<![A-Z0-9]){Regex.Escape(v)}\s*==\s*(\d+)",
+        RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase));
+
     /// <summary>
     /// Reads the source line a program line tracks (its first assignment; blanks around <c>==</c> allowed, any case);
     /// false, with 0, when the line carries none.
     /// </summary>
     public bool TryRead(string line, out int sourceLine)
     {
-        var m = _marker.Match(line);
+        var m = Marker.Match(line);
         sourceLine = m.Success && int.TryParse(m.Groups[1].ValueSpan, NumberStyles.None, CultureInfo.InvariantCulture, out var n) ? n : 0;
         return m.Success;
     }
 
     /// <summary>The line with every tracking assignment replaced by a blank: what is left to classify (motion or not).</summary>
-    public string Without(string line) => _marker.Replace(line, " ");
+    public string Without(string line) => Marker.Replace(line, " ");
 }
