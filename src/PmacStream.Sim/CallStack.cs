@@ -24,8 +24,8 @@ internal sealed class CallStack
     /// <summary>Forgets every call (a new start, a cleared buffer).</summary>
     public void Clear() => _frames.Clear();
 
-    /// <summary>Enters <paramref name="buffer"/> at <paramref name="target"/> from <paramref name="pc"/> (the return address); returns where calculation goes on. ERR016 when nested too deep.</summary>
-    public Cursor Call(Cursor pc, ProgramBuffer buffer, (long Line, int Stmt) target)
+    /// <summary>Enters <paramref name="buffer"/> at <paramref name="target"/> from <paramref name="pc"/>, which is kept as the return address and moves there. ERR016 when nested too deep.</summary>
+    public void Call(ref Cursor pc, ProgramBuffer buffer, (long Line, int Stmt) target)
     {
         if (_frames.Count >= MaxDepth)
         {
@@ -33,15 +33,16 @@ internal sealed class CallStack
         }
 
         _frames.Add(pc);
-        return AtStatement(new Cursor(buffer, target.Line, target.Stmt));
+        pc = new Cursor(buffer, target.Line, target.Stmt);
+        AtStatement(ref pc);
     }
 
-    /// <summary>Returns from the innermost call: where calculation goes on in the caller.</summary>
-    public Cursor Return()
+    /// <summary>Returns from the innermost call: <paramref name="pc"/> moves to where calculation goes on in the caller.</summary>
+    public void Return(ref Cursor pc)
     {
-        var pc = _frames[^1];
+        pc = _frames[^1];
         _frames.RemoveAt(_frames.Count - 1);
-        return AtStatement(pc);
+        AtStatement(ref pc);
     }
 
     /// <summary>
@@ -71,14 +72,12 @@ internal sealed class CallStack
     }
 
     /// <summary>A cursor past the end of its line's statements moves on to the next line.</summary>
-    private static Cursor AtStatement(Cursor pc)
+    private static void AtStatement(ref Cursor pc)
     {
         if (!pc.AtEnd && pc.Stmt >= pc.Buffer[pc.Line].Statements.Length)
         {
             pc.EndLine();
         }
-
-        return pc;
     }
 
     /// <summary>Any letter-value pair after a call is an argument READ can take (F and M/G/T/D included).</summary>

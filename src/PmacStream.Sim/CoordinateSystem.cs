@@ -321,13 +321,6 @@ internal sealed class CoordinateSystem : IVariableAccess
             return;
         }
 
-        if (_moves.Apply(stmt, this))
-        {
-            _pc.Step();
-            AfterAdvance();
-            return;
-        }
-
         switch (stmt)
         {
             case WordStmt:
@@ -421,6 +414,10 @@ internal sealed class CoordinateSystem : IVariableAccess
             case ReadStmt r:
                 _calls.Read(r.Letters, this);
                 break;
+            default:
+                // Modes, ABS/INC, F/TA/TS/TM/CC, NORMAL (last: moves and assignments are by far the most frequent).
+                _moves.Apply(stmt, this);
+                break;
         }
 
         _pc.Step();
@@ -462,12 +459,12 @@ internal sealed class CoordinateSystem : IVariableAccess
             }
         }
 
-        _pc = _calls.Call(_pc, buffer, target);
+        _calls.Call(ref _pc, buffer, target);
     }
 
     private void Return()
     {
-        _pc = _calls.Return();
+        _calls.Return(ref _pc);
         AfterAdvance();
     }
 

@@ -21,8 +21,8 @@ internal sealed class MotionQueue(SimOptions options)
     /// <summary>Segments calculated and waiting.</summary>
     public int Count => _queue.Count;
 
-    /// <summary>True while a segment executes or waits.</summary>
-    public bool IsMoving => Current is not null || _queue.Count > 0;
+    /// <summary>True while a segment executes or waits (a field: the clock asks every coordinate system at every event).</summary>
+    public bool IsMoving { get; private set; }
 
     /// <summary>The override set (<c>%n</c>), percent.</summary>
     public double OverrideTarget { get; set; } = 100;
@@ -35,6 +35,7 @@ internal sealed class MotionQueue(SimOptions options)
     {
         seg.Remaining = seg.Duration;
         _queue.Enqueue(seg);
+        IsMoving = true;
         if (seg.BlocksCalculation)
         {
             BlockedBy = seg;
@@ -55,6 +56,7 @@ internal sealed class MotionQueue(SimOptions options)
     {
         Current = null;
         _queue.Clear();
+        IsMoving = false;
         BlockedBy = null;
         OverrideCurrent = OverrideTarget;
     }
@@ -149,6 +151,7 @@ internal sealed class MotionQueue(SimOptions options)
         }
 
         Current = null;
+        IsMoving = _queue.Count > 0;
         if (ReferenceEquals(cur, BlockedBy))
         {
             BlockedBy = null;

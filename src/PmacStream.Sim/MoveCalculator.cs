@@ -1,3 +1,4 @@
+using System.Runtime.CompilerServices;
 using PmacStream.Sim.Parsing;
 
 namespace PmacStream.Sim;
@@ -148,6 +149,7 @@ internal sealed class MoveCalculator(SimOptions options)
     }
 
     /// <summary>One word of the move: an axis, the I/J/K centre vector or the R radius (other letters are ignored).</summary>
+    [MethodImpl(MethodImplOptions.AggressiveInlining)] // once per word of every move
     public void SetWord(char letter, double value)
     {
         var axis = Axes.IndexOf(letter);

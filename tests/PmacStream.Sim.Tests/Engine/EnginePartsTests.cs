@@ -185,8 +185,8 @@ public class EnginePartsTests
         var calls = new CallStack();
         var pc = new Cursor(main, 0, 1); // after the CALL statement
 
-        var inSub = calls.Call(pc, sub, (0, 0));
-        inSub.Buffer.Should().BeSameAs(sub);
+        calls.Call(ref pc, sub, (0, 0));
+        pc.Buffer.Should().BeSameAs(sub);
         calls.Depth.Should().Be(1);
 
         var q = new Dictionary<int, double>();
@@ -196,9 +196,9 @@ public class EnginePartsTests
         q[100].Should().Be((1L << 23) | (1L << 24));
         q.Should().NotContainKey(126, "Z is not read");
 
-        var back = calls.Return();
-        back.Buffer.Should().BeSameAs(main);
-        back.Stmt.Should().Be(3, "the caller goes on after the arguments READ took");
+        calls.Return(ref pc);
+        pc.Buffer.Should().BeSameAs(main);
+        pc.Stmt.Should().Be(3, "the caller goes on after the arguments READ took");
         calls.Depth.Should().Be(0);
     }
 
@@ -207,12 +207,18 @@ public class EnginePartsTests
     {
         var b = Buffer("X1");
         var calls = new CallStack();
+        var pc = new Cursor(b, 0, 0);
         for (var i = 0; i < 255; i++)
         {
-            calls.Call(new Cursor(b, 0, 0), b, (0, 0));
+            calls.Call(ref pc, b, (0, 0));
         }
 
-        FluentActions.Invoking(() => calls.Call(new Cursor(b, 0, 0), b, (0, 0))).Should().Throw<SimRuntimeException>().Which.Error.Should().Be(16);
+        FluentActions.Invoking(() =>
+        {
+            var top = new Cursor(b, 0, 0);
+            calls.Call(ref top, b, (0, 0));
+        }).Should().Throw<SimRuntimeException>().Which.Error.Should().Be(16);
+        calls.Depth.Should().Be(255);
     }
 
     [Fact]
