@@ -33,18 +33,18 @@ internal sealed class ControllerQueries
     public bool StatusUnknown { get; private set; }
 
     /// <summary>Reads the tracking variable: the source line executing (its round trip is measured).</summary>
-    public async Task<int> TrackedLineAsync(CancellationToken cancellationToken)
+    public async ValueTask<int> TrackedLineAsync(CancellationToken cancellationToken)
     {
         var text = await _channel.QueryTimedAsync(_sync.ReadCommand, cancellationToken).ConfigureAwait(false);
         return ParseInt(text, _sync.ReadCommand);
     }
 
     /// <summary>Reads <c>PR</c>: program lines in the rotary buffer ahead of the calculation.</summary>
-    public async Task<int> LinesAheadAsync(CancellationToken cancellationToken) =>
+    public async ValueTask<int> LinesAheadAsync(CancellationToken cancellationToken) =>
         ParseInt(await _channel.OnlineAsync("PR", cancellationToken).ConfigureAwait(false), "PR");
 
     /// <summary>Reads the line-probe variable (the position value of the last line calculated).</summary>
-    public async Task<long> ProbeAsync(string probe, CancellationToken cancellationToken)
+    public async ValueTask<long> ProbeAsync(string probe, CancellationToken cancellationToken)
     {
         var text = FirstValue(await _channel.OnlineAsync(probe, cancellationToken).ConfigureAwait(false));
         return double.TryParse(text, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) && v >= 0 && v < 1e15
@@ -53,7 +53,7 @@ internal sealed class ControllerQueries
     }
 
     /// <summary>Reads the live feed (the feed variable, or <c>&amp;n %</c>); null when refused or not a number.</summary>
-    public async Task<double?> FeedAsync(CancellationToken cancellationToken)
+    public async ValueTask<double?> FeedAsync(CancellationToken cancellationToken)
     {
         try
         {
@@ -71,7 +71,7 @@ internal sealed class ControllerQueries
     /// reply of another shape sets <see cref="StatusUnknown"/> and counts as stopped; an ERR reply is a fault like any
     /// other (it must not be mistaken for "stopped").
     /// </summary>
-    public async Task<bool> MotionStoppedAsync(CancellationToken cancellationToken)
+    public async ValueTask<bool> MotionStoppedAsync(CancellationToken cancellationToken)
     {
         if (StatusUnknown)
         {
@@ -90,7 +90,7 @@ internal sealed class ControllerQueries
     }
 
     /// <summary>The program-running bit of the status (first word, bit 0); null when the reply is not understood.</summary>
-    public async Task<bool?> ProgramRunningAsync(CancellationToken cancellationToken) =>
+    public async ValueTask<bool?> ProgramRunningAsync(CancellationToken cancellationToken) =>
         ProgramRunning(await StatusAsync(cancellationToken).ConfigureAwait(false));
 
     /// <summary>The motion-stopped bits of a status reply (blanks removed); null when it is not two hex words.</summary>
@@ -119,6 +119,6 @@ internal sealed class ControllerQueries
             ? (int)Math.Round(v)
             : throw new PmacLinkException($"unexpected reply '{text}' to {what}");
 
-    private async Task<string> StatusAsync(CancellationToken cancellationToken) =>
+    private async ValueTask<string> StatusAsync(CancellationToken cancellationToken) =>
         FirstValue(await _channel.OnlineAsync(_cs.Status, cancellationToken).ConfigureAwait(false)).Replace(" ", string.Empty, StringComparison.Ordinal);
 }

@@ -265,11 +265,21 @@ internal sealed class ProgramSender(ChunkedProgram program, ControllerChannel ch
     }
 
     /// <summary>The program lines from <see cref="Next"/> to the end, in order (chunk bodies read as they are reached).</summary>
-    private IEnumerable<ProgramLine> Ahead()
+    private LinesAhead Ahead() => new(program, Next);
+
+    /// <summary>A <c>foreach</c> over the program's lines from a position on, without an enumerator object per batch.</summary>
+    private struct LinesAhead(ChunkedProgram program, StreamPosition from)
     {
-        for (var p = program.Normalize(Next); p.Chunk <= program.TotalChunks; p = program.Normalize(new StreamPosition(p.Chunk, p.Line + 1)))
+        private StreamPosition _at = new(from.Chunk, from.Line - 1);
+
+        public readonly ProgramLine Current => program.Body(_at.Chunk)[_at.Line];
+
+        public readonly LinesAhead GetEnumerator() => this;
+
+        public bool MoveNext()
         {
-            yield return program.Body(p.Chunk)[p.Line];
+            _at = program.Normalize(new StreamPosition(_at.Chunk, _at.Line + 1));
+            return _at.Chunk <= program.TotalChunks;
         }
     }
 

@@ -8,6 +8,7 @@ public sealed class StreamingContext
     private readonly RotaryBufferModel _buffer;
     private readonly ControllerChannel _channel;
     private readonly ExecutionPace _pace;
+    private readonly Func<int, int, double> _leadThrough;
 
     internal StreamingContext(StreamingSession session, ProgramSender sender, RotaryBufferModel buffer, ControllerChannel channel, ExecutionPace pace)
     {
@@ -16,6 +17,7 @@ public sealed class StreamingContext
         _buffer = buffer;
         _channel = channel;
         _pace = pace;
+        _leadThrough = (line, moves) => _pace.LeadSeconds(TrackedLine, line, moves);
     }
 
     /// <summary>The session's options.</summary>
@@ -67,7 +69,7 @@ public sealed class StreamingContext
 
     /// <summary>Sends lines until the lead reaches <paramref name="targetSeconds"/>, bounded by free words and <paramref name="maxLines"/>.</summary>
     public Task SendUntilLeadAsync(double targetSeconds, int maxLines, CancellationToken cancellationToken) =>
-        _sender.SendUntilLeadAsync(targetSeconds, maxLines, (line, moves) => _pace.LeadSeconds(TrackedLine, line, moves), cancellationToken);
+        _sender.SendUntilLeadAsync(targetSeconds, maxLines, _leadThrough, cancellationToken);
 
     /// <summary>Logs a note and shows it in the status message.</summary>
     public void Note(string message) => _session.Note(message);

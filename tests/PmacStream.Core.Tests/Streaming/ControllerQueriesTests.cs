@@ -34,9 +34,9 @@ public class ControllerQueriesTests
     public async Task A_reply_that_is_no_number_is_a_link_fault_not_a_zero()
     {
         var (queries, _) = Rig(_ => "HELLO");
-        await FluentActions.Awaiting(() => queries.TrackedLineAsync(default)).Should().ThrowAsync<PmacLinkException>();
-        await FluentActions.Awaiting(() => queries.LinesAheadAsync(default)).Should().ThrowAsync<PmacLinkException>();
-        await FluentActions.Awaiting(() => queries.ProbeAsync("P501", default)).Should().ThrowAsync<PmacLinkException>();
+        await FluentActions.Awaiting(() => queries.TrackedLineAsync(default).AsTask()).Should().ThrowAsync<PmacLinkException>();
+        await FluentActions.Awaiting(() => queries.LinesAheadAsync(default).AsTask()).Should().ThrowAsync<PmacLinkException>();
+        await FluentActions.Awaiting(() => queries.ProbeAsync("P501", default).AsTask()).Should().ThrowAsync<PmacLinkException>();
     }
 
     [Fact]
@@ -64,7 +64,7 @@ public class ControllerQueriesTests
     public async Task An_error_reply_to_the_status_is_a_fault_not_stopped()
     {
         var (queries, _) = Rig(_ => "ERR001");
-        await FluentActions.Awaiting(() => queries.MotionStoppedAsync(default)).Should().ThrowAsync<PmacErrorException>();
+        await FluentActions.Awaiting(() => queries.MotionStoppedAsync(default).AsTask()).Should().ThrowAsync<PmacErrorException>();
         queries.StatusUnknown.Should().BeFalse();
     }
 
@@ -74,7 +74,7 @@ public class ControllerQueriesTests
         var port = new ScriptedPort(_ => string.Empty);
         var channel = new ControllerChannel(new InProcessConnection(port)) { BufferOpen = true };
 
-        await FluentActions.Awaiting(() => channel.OnlineAsync("M0", default)).Should().ThrowAsync<InvalidOperationException>();
+        await FluentActions.Awaiting(() => channel.OnlineAsync("M0", default).AsTask()).Should().ThrowAsync<InvalidOperationException>();
         port.Sent.Should().BeEmpty("it would have been stored in the buffer");
 
         await channel.OnlineAsync("close", default);
