@@ -66,7 +66,7 @@ internal sealed class ProgramSender(ChunkedProgram program, ControllerChannel ch
     }
 
     /// <summary>
-    /// Sends the next chunk: the whole file through <c>Download</c> (the paper's call, all four flags set), or the rest
+    /// Sends the next chunk: the whole file through <c>Download</c> (with PComm's macro, map, log and dnld flags all set), or the rest
     /// of a chunk that broke off as one batch. Returns null when everything was sent. A refused line leaves the
     /// position exactly before it and throws <see cref="PmacErrorException"/>.
     /// </summary>
