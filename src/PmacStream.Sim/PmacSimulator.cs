@@ -1,6 +1,5 @@
-using System.Diagnostics;
-using System.Globalization;
 using System.Text;
+using PmacStream.Pmac;
 using PmacStream.Sim.Parsing;
 using Serilog;
 
@@ -11,51 +10,48 @@ namespace PmacStream.Sim;
 /// that executes moves. Every port (<see cref="OpenPort"/>) speaks the ASCII protocol with its own I3/I6 framing.
 /// All state is guarded by one lock; ports may be called from any thread.
 /// </summary>
-public sealed partial class PmacSimulator : IDisposable
+/// <remarks>
+/// This type is the engine: the coordinate systems (<see cref="CoordinateSystem"/>) calculating and executing on the
+/// virtual clock, the PLC scan, power-on and the public view. Command lines go to <see cref="OnlineCommands"/>
+/// (with <see cref="ProgramBuffers"/> for the buffer commands and <see cref="MotorMap"/> for motors) and replies are
+/// framed by <see cref="ReplyFrame"/>; <see cref="ExecutionLog"/> keeps what ran, <see cref="SimClock"/> runs time
+/// in the background.
+/// </remarks>
+public sealed class PmacSimulator : IDisposable
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<PmacSimulator>();
 
     private readonly object _sync = new();
     private readonly object _raiseLock = new();
     private readonly CoordinateSystem[] _cs = new CoordinateSystem[SimMemory.CoordinateSystems + 1];
-    private readonly Dictionary<int, ProgramBuffer> _programs = [];
-    private readonly PlcProgram?[] _plcs = new PlcProgram?[32];
+    private readonly PlcTable _plcs = new();
     private readonly List<SimPort> _ports = [];
-    private readonly List<ExecutedMove> _executed = [];
-    private readonly List<ExecutedMove> _pendingEvents = [];
-    private readonly List<ExecutedRotaryLine> _rotaryLines = [];
-    private readonly (int Cs, int Axis, double Scale)[] _motors = new (int, int, double)[33];
-    private readonly double[] _scratch = new double[CoordinateSystem.AxisCount];
-    private readonly AutoResetEvent _wake = new(false);
-
-    // Per-line scratch for ExecuteLine, reused under _sync so that storing a line allocates only what is kept.
-    private readonly List<string> _outputs = new(2);
-    private readonly List<Token> _tokens = new(32);
-    private readonly List<Stmt> _stmts = new(8);
-    private readonly ExprParser _parser = new([]);
-    private bool _lineBusy;
-    private SimPort? _openOwner;
-    private BufferKind _openKind;
-    private ProgramBuffer? _openBuffer;
-    private double _now;
-    private double _nextPlcScan;
+    private readonly ExecutionLog _log;
+    private readonly MotorMap _motors;
+    private readonly ProgramBuffers _buffers;
+    private readonly OnlineCommands _commands;
+    private readonly SimClock _clock;
+    private readonly List<string> _outputs = new(2); // a command line's values, reused under the lock
+    private readonly VirtualClock _time;
     private long _underruns;
     private long _errors;
-    private long _linesReceived;
-    private long _movesExecuted;
-    private Thread? _clock;
-    private volatile bool _clockStop;
     private bool _disposed;
 
     /// <summary>Creates a simulator in its power-on state.</summary>
     public PmacSimulator(SimOptions? options = null)
     {
         Options = options ?? new SimOptions();
+        _log = new ExecutionLog(Options.RetainExecutedMoves);
         for (var i = 1; i < _cs.Length; i++)
         {
             _cs[i] = new CoordinateSystem(this, i);
         }
 
+        _motors = new MotorMap(_cs);
+        _buffers = new ProgramBuffers(_cs, _plcs, Options);
+        _commands = new OnlineCommands(this, _cs, _buffers, _plcs, _motors);
+        _time = new VirtualClock(_cs, _plcs, _log, Memory, Options, () => MoveExecuted is not null, PlcError);
+        _clock = new SimClock(_sync, _time.Step, RaiseEvents, _ => InternalFaults++);
         PowerOn(factory: true);
     }
 
@@ -75,7 +71,7 @@ public sealed partial class PmacSimulator : IDisposable
         {
             lock (_sync)
             {
-                return _now;
+                return _time.Now;
             }
         }
     }
@@ -87,7 +83,7 @@ public sealed partial class PmacSimulator : IDisposable
         {
             lock (_sync)
             {
-                return _executed.ToArray();
+                return _log.Moves();
             }
         }
     }
@@ -102,7 +98,7 @@ public sealed partial class PmacSimulator : IDisposable
         {
             lock (_sync)
             {
-                return _rotaryLines.ToArray();
+                return _log.RotaryLines();
             }
         }
     }
@@ -115,8 +111,7 @@ public sealed partial class PmacSimulator : IDisposable
     {
         lock (_sync)
         {
-            var start = Math.Clamp(fromIndex, 0, _executed.Count);
-            return _executed.GetRange(start, _executed.Count - start);
+            return _log.MovesFrom(fromIndex);
         }
     }
 
@@ -127,13 +122,13 @@ public sealed partial class PmacSimulator : IDisposable
         {
             lock (_sync)
             {
-                return new SimCounters(_movesExecuted, _underruns, _errors, _linesReceived);
+                return new SimCounters(_log.Count, _underruns, _errors, _buffers.LinesReceived);
             }
         }
     }
 
     /// <summary>True while the clock thread runs.</summary>
-    public bool ClockRunning => _clock is not null;
+    public bool ClockRunning => _clock.Running;
 
     internal SimMemory Memory { get; } = new();
 
@@ -161,7 +156,7 @@ public sealed partial class PmacSimulator : IDisposable
 
         lock (_sync)
         {
-            Pump(_now + virtualTime.TotalSeconds, untilIdle: false, maxIterations: long.MaxValue);
+            _time.Pump(_time.Now + virtualTime.TotalSeconds, untilIdle: false, maxIterations: long.MaxValue);
         }
 
         RaiseEvents();
@@ -176,9 +171,9 @@ public sealed partial class PmacSimulator : IDisposable
         double used;
         lock (_sync)
         {
-            var start = _now;
-            Pump(start + (maxVirtualTime ?? TimeSpan.FromDays(1)).TotalSeconds, untilIdle: true, maxIterations: long.MaxValue);
-            used = _now - start;
+            var start = _time.Now;
+            _time.Pump(start + (maxVirtualTime ?? TimeSpan.FromDays(1)).TotalSeconds, untilIdle: true, maxIterations: long.MaxValue);
+            used = _time.Now - start;
         }
 
         RaiseEvents();
@@ -190,7 +185,7 @@ public sealed partial class PmacSimulator : IDisposable
     {
         lock (_sync)
         {
-            ScanPlcs();
+            _plcs.Scan(_cs[1], (int)Memory.GetI(5), Options.MaxStatementsPerCalculation, PlcError);
         }
     }
 
@@ -203,31 +198,12 @@ public sealed partial class PmacSimulator : IDisposable
         lock (_sync)
         {
             ObjectDisposedException.ThrowIf(_disposed, this);
-            if (_clock is not null)
-            {
-                return;
-            }
-
-            _clockStop = false;
-            _clock = new Thread(ClockLoop) { IsBackground = true, Name = "pmac-sim-clock" };
             _clock.Start();
         }
     }
 
     /// <summary>Stops the background clock (waits for its thread).</summary>
-    public void StopClock()
-    {
-        Thread? t;
-        lock (_sync)
-        {
-            t = _clock;
-            _clock = null;
-            _clockStop = true;
-        }
-
-        _wake.Set();
-        t?.Join();
-    }
+    public void StopClock() => _clock.Stop();
 
     /// <summary>
     /// Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,kind</c> (the moves kept in memory;
@@ -332,15 +308,11 @@ public sealed partial class PmacSimulator : IDisposable
             return;
         }
 
-        StopClock();
+        _clock.Dispose();
         _disposed = true;
-        lock (_sync)
-        {
-            _wake.Dispose();
-        }
     }
 
-    internal ProgramBuffer? FindProgram(int number) => _programs.GetValueOrDefault(number);
+    internal ProgramBuffer? FindProgram(int number) => _buffers.FindProgram(number);
 
     internal double GetVariable(char kind, int index) => kind switch
     {
@@ -375,14 +347,14 @@ public sealed partial class PmacSimulator : IDisposable
     {
         if (Options.RecordRotaryLines)
         {
-            _rotaryLines.Add(new ExecutedRotaryLine(_rotaryLines.Count + 1, cs.Number, text, _now));
+            _log.RecordRotaryLine(cs.Number, text, _time.Now);
         }
     }
 
     internal void CountUnderrun(CoordinateSystem cs)
     {
         _underruns++;
-        Log.Debug("C.S.{Cs} rotary underrun at {Time:0.000} s (lines ahead 0)", cs.Number, _now);
+        Log.Debug("C.S.{Cs} rotary underrun at {Time:0.000} s (lines ahead 0)", cs.Number, _time.Now);
     }
 
     internal void RuntimeError(CoordinateSystem cs, int error)
@@ -395,30 +367,89 @@ public sealed partial class PmacSimulator : IDisposable
     {
         lock (_sync)
         {
-            if (_openOwner == port)
+            if (_buffers.IsOpenOn(port))
             {
-                CloseBuffer();
+                _buffers.Close();
             }
 
             _ports.Remove(port);
         }
     }
 
-    internal void Wake()
+    /// <summary>Runs one command line from <paramref name="port"/> and returns the framed reply.</summary>
+    internal byte[] ExecuteLine(SimPort port, string line)
     {
-        if (_disposed || _clock is null)
+        int error = 0;
+        byte[] reply;
+        bool wake, events;
+        lock (_sync)
         {
-            return; // nobody waits; after Dispose the event is gone
+            var outputs = _outputs;
+            outputs.Clear();
+            try
+            {
+                _commands.Execute(port, line, outputs);
+            }
+            catch (SimSyntaxException e)
+            {
+                error = e.Error;
+                _errors++;
+            }
+            catch (Exception e) when (e is not OutOfMemoryException)
+            {
+                // A simulator bug must not take a server down: answer ERR003 and remember it for the tests.
+                error = 3;
+                _errors++;
+                InternalFaults++;
+                Log.Error(e, "simulator fault on {Port} for '{Line}'", port.Name, line);
+            }
+
+            // Let the controller react at this instant (calculation after R, zero-time moves).
+            _time.Pump(_time.Now, untilIdle: false, maxIterations: 1);
+            reply = ReplyFrame.Build(outputs, error, port.I3, port.I6);
+            outputs.Clear();
+
+            // Waking the clock thread costs a futex call and lock contention per line. It only matters while a
+            // coordinate system has motion to run or a PLC scans; otherwise the clock's own 1 ms tick does the same.
+            wake = _time.AnyRunningOrMoving() || _plcs.AnyEnabled;
+            events = _log.HasPending;
         }
 
-        try
+        if (wake)
         {
-            _wake.Set();
+            _clock.Wake();
         }
-        catch (ObjectDisposedException)
+
+        if (events)
         {
-            // disposed concurrently: nothing to wake
+            RaiseEvents();
         }
+
+        return reply;
+    }
+
+    /// <summary>Answers a control character from <paramref name="port"/> (raw bytes, no terminator); one not known is a BEL.</summary>
+    internal byte[] ExecuteControl(SimPort port, char control)
+    {
+        string? text;
+        lock (_sync)
+        {
+            text = _commands.Control(control);
+            if (text is null)
+            {
+                _errors++;
+                return [ReplyParser.Bel];
+            }
+        }
+
+        return Encoding.ASCII.GetBytes(text);
+    }
+
+    /// <summary><c>$$$</c> (values cleared, programs kept) or <c>$$$***</c> (everything cleared).</summary>
+    internal void Reset(bool factory)
+    {
+        PowerOn(factory);
+        Log.Information("simulated PMAC reset ({Kind})", factory ? "factory" : "$$$");
     }
 
     private static char NormalizeSpace(char space)
@@ -438,12 +469,12 @@ public sealed partial class PmacSimulator : IDisposable
             cs.OverrideTarget = 100;
         }
 
-        CloseBuffer();
+        _buffers.Close();
         if (factory)
         {
             Memory.ClearAll();
-            _programs.Clear();
-            Array.Clear(_plcs);
+            _buffers.ClearPrograms();
+            _plcs.Clear();
         }
         else
         {
@@ -456,10 +487,7 @@ public sealed partial class PmacSimulator : IDisposable
         Memory.SetI(16, Options.I16);
         Memory.SetI(17, Options.I17);
         Memory.SetI(10, 3713991);
-        for (var m = 1; m < _motors.Length; m++)
-        {
-            _motors[m] = (1, m <= CoordinateSystem.AxisCount ? m - 1 : -1, 1.0);
-        }
+        _motors.PowerOn();
 
         foreach (var port in _ports)
         {
@@ -471,172 +499,15 @@ public sealed partial class PmacSimulator : IDisposable
             _cs[1].Rotary = new ProgramBuffer(BufferKind.Rotary, 0, Options.DefaultRotWords);
         }
 
-        // At power-on every PLC program in memory runs (subject to I5).
-        foreach (var plc in _plcs)
-        {
-            if (plc is not null)
-            {
-                plc.Enabled = true;
-                plc.Restart();
-            }
-        }
+        _plcs.PowerOn();
 
-        _nextPlcScan = _now;
+        _time.PowerOn();
     }
 
-    private void Pump(double until, bool untilIdle, long maxIterations)
+    private void PlcError(int plc, int error)
     {
-        long iterations = 0;
-        var stalled = 0;
-        var interval = Math.Max(1e-6, Options.PlcScanIntervalMs / 1000.0);
-        while (true)
-        {
-            var before = _now;
-            var movesBefore = _movesExecuted;
-            Settle();
-            if (_now >= until)
-            {
-                break;
-            }
-
-            var motionNext = double.PositiveInfinity;
-            for (var i = 1; i < _cs.Length; i++)
-            {
-                var cs = _cs[i];
-                if (cs.IsMoving)
-                {
-                    motionNext = Math.Min(motionNext, cs.NextEventTime(_now));
-                }
-            }
-
-            // Idle means no motion that can progress (none, or all held at 0 %).
-            if (untilIdle && double.IsPositiveInfinity(motionNext))
-            {
-                break;
-            }
-
-            var next = Math.Min(until, motionNext);
-
-            var plcActive = AnyPlcEnabled();
-            if (plcActive)
-            {
-                next = Math.Min(next, Math.Max(_nextPlcScan, _now));
-            }
-
-            if (double.IsPositiveInfinity(next))
-            {
-                break; // held at 0 % with nothing else to do
-            }
-
-            if (next > _now)
-            {
-                for (var i = 1; i < _cs.Length; i++)
-                {
-                    if (_cs[i].IsMoving)
-                    {
-                        _cs[i].AdvanceTime(_now, next);
-                    }
-                }
-
-                _now = next;
-            }
-
-            if (plcActive && _now >= _nextPlcScan)
-            {
-                ScanPlcs();
-                _nextPlcScan = Math.Max(_nextPlcScan + interval, _now);
-            }
-            else if (!plcActive)
-            {
-                _nextPlcScan = _now;
-            }
-
-            if (++iterations >= maxIterations)
-            {
-                break;
-            }
-
-            // Guard against a clock that cannot move on (a bug must never hang a host or a test run).
-            stalled = _now > before || _movesExecuted > movesBefore ? 0 : stalled + 1;
-            if (stalled > 10_000)
-            {
-                Log.Error("simulated clock stalled at {Time} s; giving up this advance", _now);
-                break;
-            }
-        }
-    }
-
-    /// <summary>At the current instant: calculate ahead, start and finish zero-time segments until nothing changes.</summary>
-    private void Settle()
-    {
-        var guard = 0;
-        bool changed;
-        do
-        {
-            changed = false;
-            for (var i = 1; i < _cs.Length; i++)
-            {
-                var cs = _cs[i];
-                if (!cs.Running && !cs.IsMoving)
-                {
-                    continue;
-                }
-
-                cs.Calculate();
-                var before = cs.Current;
-                cs.TryStartNext(_now);
-                if (cs.Current is not null && !ReferenceEquals(before, cs.Current))
-                {
-                    changed = true; // a move started: calculation may run one further ahead
-                }
-
-                if (cs.CompleteIfDone(_now) is { } seg)
-                {
-                    Record(cs, seg);
-                    changed = true;
-                }
-
-                cs.UpdateFullBit();
-            }
-        }
-        while (changed && ++guard < 1_000_000);
-    }
-
-    private void Record(CoordinateSystem cs, Segment seg)
-    {
-        var center = new double[3] { double.NaN, double.NaN, double.NaN };
-        if (seg.IsArc)
-        {
-            var c = new double[CoordinateSystem.AxisCount];
-            c[seg.A1] = seg.C1;
-            c[seg.A2] = seg.C2;
-            c[seg.An] = seg.Start[seg.An];
-            center = [c[0], c[1], c[2]];
-        }
-
-        var move = new ExecutedMove(++_movesExecuted, seg.SourceLine, seg.StartTime, _now, seg.End[0], seg.End[1], seg.End[2], seg.Kind)
-        {
-            CoordinateSystem = cs.Number,
-            StartX = seg.Start[0],
-            StartY = seg.Start[1],
-            StartZ = seg.Start[2],
-            CenterX = center[0],
-            CenterY = center[1],
-            CenterZ = center[2],
-            Radius = seg.IsArc ? seg.Radius : 0,
-            Length = seg.Length,
-            Feed = seg.Feed,
-            Rotary = (seg.End[3], seg.End[4], seg.End[5]),
-        };
-        if (Options.RetainExecutedMoves)
-        {
-            _executed.Add(move);
-        }
-
-        if (MoveExecuted is not null)
-        {
-            _pendingEvents.Add(move);
-        }
+        _errors++;
+        Log.Warning("PLC {Plc} disabled by run-time error ERR{Error:000}", plc, error);
     }
 
     private void RaiseEvents()
@@ -649,173 +520,14 @@ public sealed partial class PmacSimulator : IDisposable
             ExecutedMove[] events;
             lock (_sync)
             {
-                if (_pendingEvents.Count == 0)
-                {
-                    return;
-                }
-
-                events = _pendingEvents.ToArray();
-                _pendingEvents.Clear();
+                events = _log.TakePending();
             }
 
-            var handler = MoveExecuted;
-            if (handler is null)
+            if (events.Length > 0)
             {
-                return;
-            }
-
-            foreach (var e in events)
-            {
-                foreach (var subscriber in handler.GetInvocationList())
-                {
-                    try
-                    {
-                        ((Action<ExecutedMove>)subscriber)(e);
-                    }
-                    catch (Exception ex)
-                    {
-                        // A subscriber's bug must not stop the clock or lose the other subscribers' events.
-                        Log.Error(ex, "MoveExecuted subscriber failed for move {Sequence}", e.Sequence);
-                    }
-                }
+                ExecutionLog.Deliver(MoveExecuted, events);
             }
         }
     }
 
-    private bool AnyPlcEnabled()
-    {
-        foreach (var p in _plcs)
-        {
-            if (p is { Enabled: true })
-            {
-                return true;
-            }
-        }
-
-        return false;
-    }
-
-    private void ScanPlcs()
-    {
-        var i5 = (int)Memory.GetI(5);
-        for (var n = 0; n < _plcs.Length; n++)
-        {
-            var plc = _plcs[n];
-            if (plc is not { Enabled: true } || (n == 0 ? (i5 & 1) == 0 : (i5 & 2) == 0))
-            {
-                continue;
-            }
-
-            var error = plc.Scan(_cs[1], Options.MaxStatementsPerCalculation);
-            if (error != 0)
-            {
-                _errors++;
-                Log.Warning("PLC {Plc} disabled by run-time error ERR{Error:000}", n, error);
-            }
-        }
-    }
-
-    private void ClockLoop()
-    {
-        // An exception on this thread would take the whole host process down (a server, a test run), so a fault
-        // is logged and counted like a command fault, and the clock goes on.
-        while (!_clockStop)
-        {
-            try
-            {
-                RunClock();
-            }
-            catch (Exception e)
-            {
-                lock (_sync)
-                {
-                    InternalFaults++;
-                }
-
-                Log.Error(e, "simulator clock fault");
-                Thread.Sleep(1);
-            }
-        }
-    }
-
-    private void RunClock()
-    {
-        var sw = Stopwatch.StartNew();
-        var last = sw.Elapsed.TotalSeconds;
-        while (!_clockStop)
-        {
-            var speed = Options.Speed;
-            var nowReal = sw.Elapsed.TotalSeconds;
-            var realDt = Math.Min(nowReal - last, 0.25); // a stalled thread does not make time jump
-            last = nowReal;
-            bool busy;
-            lock (_sync)
-            {
-                if (_clockStop)
-                {
-                    break;
-                }
-
-                if (speed.IsInstant)
-                {
-                    Pump(double.PositiveInfinity, untilIdle: true, maxIterations: 20_000);
-                    busy = AnyMotion() && !AllHeld();
-                    if (!busy && realDt > 0)
-                    {
-                        Pump(_now + realDt, untilIdle: false, maxIterations: long.MaxValue);
-                    }
-                }
-                else
-                {
-                    Pump(_now + (realDt * speed.Multiplier), untilIdle: false, maxIterations: long.MaxValue);
-                    busy = false;
-                }
-            }
-
-            RaiseEvents();
-            if (!busy)
-            {
-                _wake.WaitOne(1);
-            }
-        }
-    }
-
-    private bool AllHeld()
-    {
-        for (var i = 1; i < _cs.Length; i++)
-        {
-            if (_cs[i].IsMoving && !double.IsPositiveInfinity(_cs[i].NextEventTime(_now)))
-            {
-                return false;
-            }
-        }
-
-        return true;
-    }
-
-    private bool AnyRunningOrMoving()
-    {
-        for (var i = 1; i < _cs.Length; i++)
-        {
-            if (_cs[i].Running || _cs[i].IsMoving)
-            {
-                return true;
-            }
-        }
-
-        return false;
-    }
-
-    private bool AnyMotion()
-    {
-        for (var i = 1; i < _cs.Length; i++)
-        {
-            if (_cs[i].IsMoving)
-            {
-                return true;
-            }
-        }
-
-        return false;
-    }
 }

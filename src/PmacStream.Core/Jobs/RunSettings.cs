@@ -28,7 +28,7 @@ public sealed record RunSettings
     public const double DefaultWindowEnd = 0.7;
 
     /// <summary>The M-variable the synchronous tracking assignment writes (<c>M0==line</c>).</summary>
-    public const string DefaultTrackVariable = "M0";
+    public const string DefaultTrackVariable = SyncAssignment.DefaultVariable;
 
     /// <summary>The live feed variable moves read (<c>F(P500)</c>).</summary>
     public const string DefaultFeedVariable = "P500";

@@ -40,25 +40,9 @@ public static class LadderParser
         return diagnostics.Count == 0 ? state.Program : null;
     }
 
-    internal readonly record struct Word(string Text, int Line, int Column);
+    private sealed record PendingDecl(LadderSymbolKind Kind, LadderWord Name, LadderWord? Bit, string? Comment);
 
-    internal enum TokKind
-    {
-        Name,
-        Assign,
-        And,
-        Or,
-        Not,
-        Open,
-        Close,
-        End,
-    }
-
-    internal readonly record struct Token(TokKind Kind, string Text, int Line, int Column);
-
-    private sealed record PendingDecl(LadderSymbolKind Kind, Word Name, Word? Bit, string? Comment);
-
-    private sealed record PendingRung(Word Coil, List<Token> Tokens, int Line);
+    private sealed record PendingRung(LadderWord Coil, List<LadderToken> Tokens, int Line);
 
     private sealed class ParseState
     {
@@ -66,18 +50,21 @@ public static class LadderParser
 
         public LadderProgram? Program { get; private set; }
 
-        private int? _plc;
-        private int? _plcLine;
-        private IoWordConfig _inputs = IoWordConfig.DefaultInputs;
-        private IoWordConfig _outputs = IoWordConfig.DefaultOutputs;
-        private InternalConfig _internals = InternalConfig.Default;
-        private readonly Dictionary<string, int> _directiveLines = new(StringComparer.OrdinalIgnoreCase);
         private readonly List<PendingDecl> _decls = [];
         private readonly List<PendingRung> _rungs = [];
+        private readonly LadderDirectives _directives;
+
+        public ParseState() => _directives = new LadderDirectives(Error);
+
+        private IoWordConfig Inputs => _directives.Inputs;
+
+        private IoWordConfig Outputs => _directives.Outputs;
+
+        private InternalConfig Internals => _directives.Internals;
 
         private void Error(int line, int column, string message) => Diagnostics.Add(new LadderDiagnostic(line, column, message));
 
-        private void Error(Word w, string message) => Error(w.Line, w.Column, message);
+        private void Error(LadderWord w, string message) => Error(w.Line, w.Column, message);
 
         public void Run(string text)
         {
@@ -88,7 +75,7 @@ public static class LadderParser
             {
                 var lineNo = i + 1;
                 var raw = lines[i];
-                var (code, comment) = SplitComment(raw);
+                var (code, comment) = LadderLexer.SplitComment(raw);
                 if (code.Trim().Length == 0)
                 {
                     continue;
@@ -98,14 +85,14 @@ public static class LadderParser
                 {
                     // A rung continues while a bracket is open or the previous line ended with an operator, unless
                     // the line plainly starts a new rung (a forgotten ')' is then reported on the unfinished rung).
-                    var more = new List<Token>();
-                    Tokenize(code, lineNo, more);
-                    var startsRung = more.Count >= 2 && more[0].Kind == TokKind.Name && more[1].Kind == TokKind.Assign;
+                    var more = new List<LadderToken>();
+                    LadderLexer.Tokenize(code, lineNo, more, Error);
+                    var startsRung = more.Count >= 2 && more[0].Kind == LadderTokenKind.Name && more[1].Kind == LadderTokenKind.Assign;
                     if (!startsRung)
                     {
                         open.Tokens.AddRange(more);
                         previousRung = open;
-                        if (!NeedsContinuation(open.Tokens))
+                        if (!LadderLexer.NeedsContinuation(open.Tokens))
                         {
                             open = null;
                         }
@@ -120,8 +107,8 @@ public static class LadderParser
                 if (previousRung is not null && (trimmed[0] == '&' || trimmed[0] == '|'))
                 {
                     // A line that starts with an operator carries on the rung just above it.
-                    Tokenize(code, lineNo, previousRung.Tokens);
-                    if (NeedsContinuation(previousRung.Tokens))
+                    LadderLexer.Tokenize(code, lineNo, previousRung.Tokens, Error);
+                    if (LadderLexer.NeedsContinuation(previousRung.Tokens))
                     {
                         open = previousRung;
                     }
@@ -130,27 +117,31 @@ public static class LadderParser
                 }
 
                 previousRung = null;
-                var words = SplitWords(code, lineNo);
+                var words = LadderLexer.SplitWords(code, lineNo);
                 var first = words[0];
                 var isRung = words.Count >= 2 && words[1].Text.StartsWith('=') || first.Text.Contains('=', StringComparison.Ordinal);
                 if (!isRung && Keywords.Contains(first.Text))
                 {
-                    Directive(words, comment);
+                    if (!_directives.Apply(words))
+                    {
+                        Declaration(first.Text.ToLowerInvariant(), words, comment);
+                    }
+
                     continue;
                 }
 
-                var tokens = new List<Token>();
-                Tokenize(code, lineNo, tokens);
-                if (tokens.Count < 2 || tokens[0].Kind != TokKind.Name || tokens[1].Kind != TokKind.Assign)
+                var tokens = new List<LadderToken>();
+                LadderLexer.Tokenize(code, lineNo, tokens, Error);
+                if (tokens.Count < 2 || tokens[0].Kind != LadderTokenKind.Name || tokens[1].Kind != LadderTokenKind.Assign)
                 {
                     Error(first, $"expected a rung 'COIL = contacts' or a declaration (input, output, internal, plc, inputs, outputs, internals), found '{first.Text}'");
                     continue;
                 }
 
-                var rung = new PendingRung(new Word(tokens[0].Text, tokens[0].Line, tokens[0].Column), tokens.Skip(2).ToList(), lineNo);
+                var rung = new PendingRung(new LadderWord(tokens[0].Text, tokens[0].Line, tokens[0].Column), tokens.Skip(2).ToList(), lineNo);
                 _rungs.Add(rung);
                 previousRung = rung;
-                if (NeedsContinuation(rung.Tokens))
+                if (LadderLexer.NeedsContinuation(rung.Tokens))
                 {
                     open = rung;
                 }
@@ -158,7 +149,7 @@ public static class LadderParser
 
             if (open is not null)
             {
-                var last = open.Tokens.Count > 0 ? open.Tokens[^1] : new Token(TokKind.End, "", open.Coil.Line, open.Coil.Column);
+                var last = open.Tokens.Count > 0 ? open.Tokens[^1] : new LadderToken(LadderTokenKind.End, "", open.Coil.Line, open.Coil.Column);
                 Error(last.Line, last.Column, "the rung is not finished at the end of the file (an open '(' or a trailing operator)");
                 _rungs.Remove(open);
             }
@@ -166,373 +157,7 @@ public static class LadderParser
             Build();
         }
 
-        private static bool NeedsContinuation(List<Token> tokens)
-        {
-            if (tokens.Count == 0)
-            {
-                return true;
-            }
-
-            var depth = 0;
-            foreach (var t in tokens)
-            {
-                depth += t.Kind == TokKind.Open ? 1 : t.Kind == TokKind.Close ? -1 : 0;
-            }
-
-            var last = tokens[^1].Kind;
-            return depth > 0 || last is TokKind.And or TokKind.Or or TokKind.Not or TokKind.Open;
-        }
-
-        private static (string Code, string? Comment) SplitComment(string raw)
-        {
-            var cut = raw.IndexOfAny(['#', ';']);
-            if (cut < 0)
-            {
-                return (raw, null);
-            }
-
-            var comment = raw[(cut + 1)..].Trim();
-            return (raw[..cut], comment.Length == 0 ? null : comment);
-        }
-
-        private static List<Word> SplitWords(string code, int line)
-        {
-            var words = new List<Word>();
-            var i = 0;
-            while (i < code.Length)
-            {
-                if (char.IsWhiteSpace(code[i]))
-                {
-                    i++;
-                    continue;
-                }
-
-                var start = i;
-                while (i < code.Length && !char.IsWhiteSpace(code[i]))
-                {
-                    i++;
-                }
-
-                words.Add(new Word(code[start..i], line, start + 1));
-            }
-
-            return words;
-        }
-
-        private void Tokenize(string code, int line, List<Token> into)
-        {
-            var i = 0;
-            while (i < code.Length)
-            {
-                var c = code[i];
-                if (char.IsWhiteSpace(c))
-                {
-                    i++;
-                    continue;
-                }
-
-                var col = i + 1;
-                TokKind? single = c switch
-                {
-                    '=' => TokKind.Assign,
-                    '&' => TokKind.And,
-                    '|' => TokKind.Or,
-                    '!' => TokKind.Not,
-                    '(' => TokKind.Open,
-                    ')' => TokKind.Close,
-                    _ => null,
-                };
-                if (single is { } k)
-                {
-                    into.Add(new Token(k, c.ToString(), line, col));
-                    i++;
-                    continue;
-                }
-
-                if (char.IsLetter(c) || c == '_')
-                {
-                    var start = i;
-                    while (i < code.Length && (char.IsLetterOrDigit(code[i]) || code[i] == '_'))
-                    {
-                        i++;
-                    }
-
-                    into.Add(new Token(TokKind.Name, code[start..i], line, col));
-                    continue;
-                }
-
-                var hint = c switch
-                {
-                    '^' => " (write a normally-closed contact as !NAME; the generator emits the ^1 form)",
-                    '~' or '/' => " (write a normally-closed contact as !NAME)",
-                    '+' => " (write parallel branches with |)",
-                    '*' => " (write contacts in series with &)",
-                    _ => "",
-                };
-                Error(line, col, $"unexpected character '{c}'; expected a name, '&', '|', '!', '(' or ')'{hint}");
-                i++;
-            }
-        }
-
-        private void Directive(List<Word> words, string? comment)
-        {
-            var kw = words[0].Text.ToLowerInvariant();
-            switch (kw)
-            {
-                case "plc":
-                    if (words.Count != 2 || !int.TryParse(words[1].Text, NumberStyles.None, CultureInfo.InvariantCulture, out var n) || n > 31)
-                    {
-                        Error(words.Count > 1 ? words[1] : words[0], "expected 'plc N' with N a PLC program number 0..31");
-                        return;
-                    }
-
-                    if (_plcLine is { } prev)
-                    {
-                        Error(words[0], $"the PLC number is already set on line {prev}");
-                        return;
-                    }
-
-                    _plc = n;
-                    _plcLine = words[0].Line;
-                    return;
-                case "inputs":
-                case "outputs":
-                    if (!Once(words[0]))
-                    {
-                        return;
-                    }
-
-                    var io = kw == "inputs" ? _inputs : _outputs;
-                    io = IoDirective(words, io);
-                    if (kw == "inputs")
-                    {
-                        _inputs = io;
-                    }
-                    else
-                    {
-                        _outputs = io;
-                    }
-
-                    return;
-                case "internals":
-                    if (Once(words[0]))
-                    {
-                        _internals = InternalsDirective(words, _internals);
-                    }
-
-                    return;
-                default:
-                    Declaration(kw, words, comment);
-                    return;
-            }
-        }
-
-        private bool Once(Word keyword)
-        {
-            if (_directiveLines.TryGetValue(keyword.Text, out var prev))
-            {
-                Error(keyword, $"'{keyword.Text.ToLowerInvariant()}' is already given on line {prev}");
-                return false;
-            }
-
-            _directiveLines[keyword.Text] = keyword.Line;
-            return true;
-        }
-
-        private IoWordConfig IoDirective(List<Word> words, IoWordConfig io)
-        {
-            foreach (var w in words.Skip(1))
-            {
-                if (!SplitClause(w, out var key, out var value, out var valueCol))
-                {
-                    continue;
-                }
-
-                var vw = new Word(value, w.Line, valueCol);
-                switch (key)
-                {
-                    case "word":
-                        if (ParseAddress(vw, allowX: true, allowBits: true) is { } a)
-                        {
-                            io = io with { Memory = a.Memory, WordAddress = a.Address, Offset = a.Offset ?? 0, Width = a.Width ?? io.Width };
-                        }
-
-                        break;
-                    case "image":
-                        if (ParseAddress(vw, allowX: false, allowBits: false) is { } img)
-                        {
-                            io = io with { ImageAddress = img.Address };
-                        }
-
-                        break;
-                    case "word-var":
-                        if (ParseMVar(vw) is { } wv)
-                        {
-                            io = io with { WordVariable = wv };
-                        }
-
-                        break;
-                    case "image-var":
-                        if (ParseMVar(vw) is { } iv)
-                        {
-                            io = io with { ImageVariable = iv };
-                        }
-
-                        break;
-                    case "bits":
-                        if (ParseMVar(vw) is { } bv)
-                        {
-                            io = io with { BitBase = bv };
-                        }
-
-                        break;
-                    default:
-                        Error(w, $"unknown setting '{key}'; expected word=, image=, word-var=, image-var= or bits=");
-                        break;
-                }
-            }
-
-            return io;
-        }
-
-        private InternalConfig InternalsDirective(List<Word> words, InternalConfig cfg)
-        {
-            foreach (var w in words.Skip(1))
-            {
-                if (!SplitClause(w, out var key, out var value, out var valueCol))
-                {
-                    continue;
-                }
-
-                var vw = new Word(value, w.Line, valueCol);
-                switch (key)
-                {
-                    case "image":
-                        if (ParseAddress(vw, allowX: false, allowBits: false) is { } img)
-                        {
-                            cfg = cfg with { Address = img.Address };
-                        }
-
-                        break;
-                    case "bits":
-                        if (ParseMVar(vw) is { } bv)
-                        {
-                            cfg = cfg with { BitBase = bv };
-                        }
-
-                        break;
-                    default:
-                        Error(w, $"unknown setting '{key}'; expected image= or bits=");
-                        break;
-                }
-            }
-
-            return cfg;
-        }
-
-        private bool SplitClause(Word w, out string key, out string value, out int valueColumn)
-        {
-            var eq = w.Text.IndexOf('=', StringComparison.Ordinal);
-            if (eq <= 0 || eq == w.Text.Length - 1)
-            {
-                Error(w, $"expected KEY=VALUE (no spaces around '='), found '{w.Text}'");
-                key = value = "";
-                valueColumn = w.Column;
-                return false;
-            }
-
-            key = w.Text[..eq].ToLowerInvariant();
-            value = w.Text[(eq + 1)..];
-            valueColumn = w.Column + eq + 1;
-            return true;
-        }
-
-        private readonly record struct ParsedAddress(char Memory, int Address, int? Offset, int? Width);
-
-        private ParsedAddress? ParseAddress(Word w, bool allowX, bool allowBits)
-        {
-            var expected = allowBits ? "an address like Y:$078800 or Y:$078800,0,8" : "an address like Y:$0010F0";
-            var t = w.Text;
-            if (t.Length < 4 || t[1] != ':' || t[2] != '$')
-            {
-                Error(w, $"expected {expected}, found '{t}'");
-                return null;
-            }
-
-            var mem = char.ToUpperInvariant(t[0]);
-            if (mem != 'Y' && !(allowX && mem == 'X'))
-            {
-                Error(w, allowX ? $"memory must be X or Y, found '{t[0]}'" : $"image words live in Y memory, found '{t[0]}'");
-                return null;
-            }
-
-            var parts = t[3..].Split(',');
-            if (!int.TryParse(parts[0], NumberStyles.AllowHexSpecifier, CultureInfo.InvariantCulture, out var addr) || addr > 0xFFFFFF)
-            {
-                Error(w.Line, w.Column + 3, $"expected a hexadecimal address after '$' (at most $FFFFFF), found '{parts[0]}'");
-                return null;
-            }
-
-            if (!allowBits && parts.Length > 1)
-            {
-                Error(w, $"expected {expected} (the image width follows the physical word), found '{t}'");
-                return null;
-            }
-
-            int? offset = null, width = null;
-            if (parts.Length > 3)
-            {
-                Error(w, $"expected {expected}, found '{t}'");
-                return null;
-            }
-
-            var col = w.Column + 3 + parts[0].Length + 1;
-            if (parts.Length > 1)
-            {
-                if (!int.TryParse(parts[1], NumberStyles.None, CultureInfo.InvariantCulture, out var o) || o > 23)
-                {
-                    Error(w.Line, col, $"expected a bit offset 0..23, found '{parts[1]}'");
-                    return null;
-                }
-
-                offset = o;
-                col += parts[1].Length + 1;
-            }
-
-            if (parts.Length > 2)
-            {
-                if (!int.TryParse(parts[2], NumberStyles.None, CultureInfo.InvariantCulture, out var wd) || wd < 1 || wd > 24)
-                {
-                    Error(w.Line, col, $"expected a width 1..24, found '{parts[2]}'");
-                    return null;
-                }
-
-                width = wd;
-            }
-
-            if ((offset ?? 0) + (width ?? 1) > 24)
-            {
-                Error(w, $"offset {offset} + width {width} goes past bit 23 of a 24-bit word");
-                return null;
-            }
-
-            return new ParsedAddress(mem, addr, offset, width);
-        }
-
-        private int? ParseMVar(Word w)
-        {
-            var t = w.Text;
-            if (t.Length < 2 || char.ToUpperInvariant(t[0]) != 'M'
-                || !int.TryParse(t.AsSpan(1), NumberStyles.None, CultureInfo.InvariantCulture, out var n) || n > MaxMVariable)
-            {
-                Error(w, $"expected an M-variable M0..M{MaxMVariable}, found '{t}'");
-                return null;
-            }
-
-            return n;
-        }
-
-        private void Declaration(string kw, List<Word> words, string? comment)
+        private void Declaration(string kw, List<LadderWord> words, string? comment)
         {
             var kind = kw switch
             {
@@ -562,7 +187,7 @@ public static class LadderParser
                 return;
             }
 
-            Word? bit = kind == LadderSymbolKind.Internal ? null : words[2];
+            LadderWord? bit = kind == LadderSymbolKind.Internal ? null : words[2];
             _decls.Add(new PendingDecl(kind, name, bit, comment));
         }
 
@@ -571,8 +196,8 @@ public static class LadderParser
 
         private void Build()
         {
-            ValidateIo("inputs", _inputs);
-            ValidateIo("outputs", _outputs);
+            ValidateIo("inputs", Inputs);
+            ValidateIo("outputs", Outputs);
             var symbols = new List<LadderSymbol>();
             var byName = new Dictionary<string, LadderSymbol>(StringComparer.OrdinalIgnoreCase);
             var bitsTaken = new Dictionary<(LadderSymbolKind, int), LadderSymbol>();
@@ -590,11 +215,11 @@ public static class LadderParser
                 if (d.Kind == LadderSymbolKind.Internal)
                 {
                     bit = internalIndex++;
-                    mvar = _internals.BitBase + bit;
+                    mvar = Internals.BitBase + bit;
                 }
                 else
                 {
-                    var io = d.Kind == LadderSymbolKind.Input ? _inputs : _outputs;
+                    var io = d.Kind == LadderSymbolKind.Input ? Inputs : Outputs;
                     var bw = d.Bit!.Value;
                     if (!int.TryParse(bw.Text, NumberStyles.None, CultureInfo.InvariantCulture, out bit) || bit >= io.Width)
                     {
@@ -653,7 +278,7 @@ public static class LadderParser
                     driven[c] = r.Line;
                 }
 
-                var parser = new ExprParser(r.Tokens, byName, this, r.Line);
+                var parser = new RungParser(r.Tokens, byName, Error, r.Line);
                 var network = parser.ParseRung();
                 if (coil is not null && network is not null)
                 {
@@ -666,14 +291,14 @@ public static class LadderParser
                 Error(1, 1, "the file has no rungs; write at least one 'COIL = contacts' line");
             }
 
-            Program = new LadderProgram(_plc, _inputs, _outputs, _internals, symbols, rungs);
+            Program = new LadderProgram(_directives.Plc, Inputs, Outputs, Internals, symbols, rungs);
         }
 
         private void ValidateIo(string kw, IoWordConfig io)
         {
             if (io.Offset + io.Width > 24)
             {
-                var line = _directiveLines.GetValueOrDefault(kw, 1);
+                var line = _directives.LineOf(kw);
                 Error(line, 1, $"{kw}: offset {io.Offset} + width {io.Width} goes past bit 23 of a 24-bit word");
             }
         }
@@ -693,10 +318,10 @@ public static class LadderParser
                 }
             }
 
-            Claim(_inputs.WordVariable, "the physical inputs word", _directiveLines.GetValueOrDefault("inputs", 1));
-            Claim(_inputs.ImageVariable, "the input image", _directiveLines.GetValueOrDefault("inputs", 1));
-            Claim(_outputs.WordVariable, "the physical outputs word", _directiveLines.GetValueOrDefault("outputs", 1));
-            Claim(_outputs.ImageVariable, "the output image", _directiveLines.GetValueOrDefault("outputs", 1));
+            Claim(Inputs.WordVariable, "the physical inputs word", _directives.LineOf("inputs"));
+            Claim(Inputs.ImageVariable, "the input image", _directives.LineOf("inputs"));
+            Claim(Outputs.WordVariable, "the physical outputs word", _directives.LineOf("outputs"));
+            Claim(Outputs.ImageVariable, "the output image", _directives.LineOf("outputs"));
             foreach (var s in symbols)
             {
                 Claim(s.MVariable, $"'{s.Name}'", s.Line);
@@ -706,161 +331,18 @@ public static class LadderParser
         private void CheckAddressClashes(int internalCount)
         {
             var internalWords = (internalCount + 23) / 24;
-            var images = new[] { (_inputs.ImageAddress, "inputs"), (_outputs.ImageAddress, "outputs") };
-            if (_inputs.ImageAddress == _outputs.ImageAddress)
+            var images = new[] { (Inputs.ImageAddress, "inputs"), (Outputs.ImageAddress, "outputs") };
+            if (Inputs.ImageAddress == Outputs.ImageAddress)
             {
-                Error(_directiveLines.GetValueOrDefault("outputs", 1), 1, $"the input and output images are both at Y:${_inputs.ImageAddress:X6}; give them different image= words");
+                Error(_directives.LineOf("outputs"), 1, $"the input and output images are both at Y:${Inputs.ImageAddress:X6}; give them different image= words");
             }
 
             foreach (var (addr, kw) in images)
             {
-                if (internalWords > 0 && addr >= _internals.Address && addr < _internals.Address + internalWords)
+                if (internalWords > 0 && addr >= Internals.Address && addr < Internals.Address + internalWords)
                 {
-                    Error(_directiveLines.GetValueOrDefault("internals", _directiveLines.GetValueOrDefault(kw, 1)), 1,
-                        $"the internal relays (Y:${_internals.Address:X6}, {internalWords} word(s)) overlap the {kw} image at Y:${addr:X6}");
-                }
-            }
-        }
-
-        /// <summary>Recursive descent over one rung's tokens: | is lowest, then &amp;, then ! and brackets.</summary>
-        private sealed class ExprParser(List<Token> tokens, Dictionary<string, LadderSymbol> names, ParseState state, int line)
-        {
-            private int _pos;
-            private bool _failed;
-
-            private Token Peek => _pos < tokens.Count ? tokens[_pos] : EndToken;
-
-            private Token EndToken => tokens.Count > 0
-                ? new Token(TokKind.End, "", tokens[^1].Line, tokens[^1].Column + tokens[^1].Text.Length)
-                : new Token(TokKind.End, "", line, 1);
-
-            public LadderExpr? ParseRung()
-            {
-                var e = Parallel();
-                if (!_failed && Peek.Kind != TokKind.End)
-                {
-                    var t = Peek;
-                    Fail(t, t.Kind == TokKind.Close
-                        ? "unmatched ')'"
-                        : $"expected '&', '|' or the end of the rung, found {Describe(t)}");
-                }
-
-                return _failed ? null : e;
-            }
-
-            private void Fail(Token t, string message)
-            {
-                if (!_failed)
-                {
-                    state.Error(t.Line, t.Column, message);
-                }
-
-                _failed = true;
-            }
-
-            private static string Describe(Token t) => t.Kind == TokKind.End ? "the end of the rung" : $"'{t.Text}'";
-
-            private LadderExpr? Parallel()
-            {
-                var first = Series();
-                if (first is null)
-                {
-                    return null;
-                }
-
-                List<LadderExpr>? items = null;
-                while (!_failed && Peek.Kind == TokKind.Or)
-                {
-                    _pos++;
-                    var next = Series();
-                    if (next is null)
-                    {
-                        return null;
-                    }
-
-                    items ??= [.. Splice<LadderParallel>(first)];
-                    items.AddRange(Splice<LadderParallel>(next));
-                }
-
-                return items is null ? first : new LadderParallel(items);
-            }
-
-            private LadderExpr? Series()
-            {
-                var first = Factor();
-                if (first is null)
-                {
-                    return null;
-                }
-
-                List<LadderExpr>? items = null;
-                while (!_failed && Peek.Kind == TokKind.And)
-                {
-                    _pos++;
-                    var next = Factor();
-                    if (next is null)
-                    {
-                        return null;
-                    }
-
-                    items ??= [.. Splice<LadderSeries>(first)];
-                    items.AddRange(Splice<LadderSeries>(next));
-                }
-
-                return items is null ? first : new LadderSeries(items);
-            }
-
-            private static IEnumerable<LadderExpr> Splice<T>(LadderExpr e)
-                where T : LadderExpr => e switch
-                {
-                    LadderSeries s when typeof(T) == typeof(LadderSeries) => s.Items,
-                    LadderParallel p when typeof(T) == typeof(LadderParallel) => p.Items,
-                    _ => [e],
-                };
-
-            private LadderExpr? Factor()
-            {
-                var t = Peek;
-                switch (t.Kind)
-                {
-                    case TokKind.Not:
-                        _pos++;
-                        var inner = Factor();
-                        return inner switch
-                        {
-                            null => null,
-                            LadderContact c => c with { NormallyClosed = !c.NormallyClosed },
-                            LadderNot n => n.Inner,
-                            _ => new LadderNot(inner),
-                        };
-                    case TokKind.Open:
-                        _pos++;
-                        var group = Parallel();
-                        if (group is null)
-                        {
-                            return null;
-                        }
-
-                        if (Peek.Kind != TokKind.Close)
-                        {
-                            Fail(Peek, $"expected ')' to close the '(' at column {t.Column}{(t.Line != Peek.Line ? $" of line {t.Line}" : "")}, found {Describe(Peek)}");
-                            return null;
-                        }
-
-                        _pos++;
-                        return group;
-                    case TokKind.Name:
-                        _pos++;
-                        if (!names.TryGetValue(t.Text, out var sym))
-                        {
-                            Fail(t, $"'{t.Text}' is not declared; declare it with input, output or internal");
-                            return null;
-                        }
-
-                        return new LadderContact(sym, false);
-                    default:
-                        Fail(t, $"expected a contact name, '!' or '(', found {Describe(t)}");
-                        return null;
+                    Error(_directives.LineOf("internals", _directives.LineOf(kw)), 1,
+                        $"the internal relays (Y:${Internals.Address:X6}, {internalWords} word(s)) overlap the {kw} image at Y:${addr:X6}");
                 }
             }
         }

@@ -235,7 +235,8 @@ public static class Splitter
             _progress = progress;
             _ct = ct;
             _feedVar = Encoding.ASCII.GetBytes(options.FeedVariable);
-            _trackPrefix = Encoding.ASCII.GetBytes(options.TrackVariable + "==");
+            var sync = SyncAssignment.Of(options);
+            _trackPrefix = sync.PrefixBytes();
             _trackPrefixWord = Word8(_trackPrefix);
             _feedSuffix = Encoding.ASCII.GetBytes($" F({options.FeedVariable})");
             _feedSuffixWord = Word8(_feedSuffix);
@@ -256,7 +257,7 @@ public static class Splitter
             _rotWords = options.RotWords;
             _wordsPerBlock = options.WordsPerBlock;
             _limitReserve = _tail.Length + FooterBytes.Length;
-            _exactTracking = options.Tracking == TrackingPlacement.Exact;
+            _exactTracking = sync.Placement == TrackingPlacement.Exact;
             _paperFeed = options.Feed == FeedMode.Paper;
             _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
             _chunk.Append(HeaderBytes);
@@ -684,7 +685,7 @@ public static class Splitter
                 }
 
                 var tracked = motion != BlockMotion.None;
-                if (tracked && _o.Tracking == TrackingPlacement.Exact)
+                if (tracked && _exactTracking)
                 {
                     if (sep)
                     {
@@ -722,7 +723,7 @@ public static class Splitter
                     values++;
                 }
 
-                if (tracked && _o.Tracking == TrackingPlacement.Paper)
+                if (tracked && !_exactTracking)
                 {
                     o[0] = (byte)' ';
                     o = Track(o[1..], lineNumber);

@@ -34,7 +34,6 @@ public sealed class ChunkedProgram
 
     private static readonly Regex Values = new(@"[A-Z]+\s*(?:==|=)?\s*[-+]?[\d.(]", RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
 
-    private readonly Regex _marker;
     private readonly Regex _feedExpression;
     private readonly Dictionary<int, IReadOnlyList<ProgramLine>> _cache = new();
     private readonly Queue<int> _cacheOrder = new();
@@ -48,14 +47,16 @@ public sealed class ChunkedProgram
     {
         Manifest = manifest;
         Folder = folder;
-        var v = Regex.Escape(string.IsNullOrWhiteSpace(manifest.TrackVariable) ? "M0" : manifest.TrackVariable.Trim());
-        _marker = new Regex($@"(?<![A-Z0-9]){v}\s*==\s*(\d+)", RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
+        Sync = SyncAssignment.Of(manifest);
         var f = Regex.Escape(string.IsNullOrWhiteSpace(manifest.FeedVariable) ? "P500" : manifest.FeedVariable.Trim());
         _feedExpression = new Regex($@"F\s*\(\s*{f}\s*\)", RegexOptions.Compiled | RegexOptions.CultureInvariant | RegexOptions.IgnoreCase);
     }
 
     /// <summary>The manifest.</summary>
     public ChunkManifest Manifest { get; }
+
+    /// <summary>The tracking assignment (<c>M0==n</c>) the chunk lines carry.</summary>
+    public SyncAssignment Sync { get; }
 
     /// <summary>The folder holding the manifest and chunk files.</summary>
     public string Folder { get; }
@@ -77,7 +78,7 @@ public sealed class ChunkedProgram
     /// marker is only written when the next move starts, so after a drain M0 names the move before the last one
     /// that arrived, and only the probe tells that the last one arrived.
     /// </summary>
-    public bool ProbesEveryLine => _lineProbe is not null && Manifest.Tracking == TrackingPlacement.Paper;
+    public bool ProbesEveryLine => _lineProbe is not null && Sync.LagsOneMove;
 
     /// <summary>Sets <see cref="LineProbeVariable"/> (null or empty: off); bodies read before are re-read. True when it changed.</summary>
     public bool UseLineProbe(string? variable)
@@ -288,9 +289,8 @@ public sealed class ChunkedProgram
     /// <summary>Classifies one program line (marker, motion, words).</summary>
     public ProgramLine Classify(string text, int fileLine = 0)
     {
-        var m = _marker.Match(text);
-        var tracked = m.Success && int.TryParse(m.Groups[1].ValueSpan, out var n) ? n : 0;
-        var rest = _feedExpression.Replace(m.Success ? _marker.Replace(text, " ") : text, " ");
+        var marked = Sync.TryRead(text, out var tracked);
+        var rest = _feedExpression.Replace(marked ? Sync.Without(text) : text, " ");
         return new ProgramLine(text, tracked, MotionWords.IsMatch(rest), Math.Max(1, Values.Count(text)), fileLine);
     }
 
@@ -351,6 +351,14 @@ public sealed class ChunkedProgram
 
             return _finalTrackedLine;
         }
+    }
+
+    /// <summary>Where <paramref name="trackedLine"/> lies in chunk <paramref name="index"/>, as a fraction of its source lines (0.65 = line 650 of 1000).</summary>
+    public double FractionOfChunk(int index, int trackedLine)
+    {
+        var c = Chunk(index);
+        var size = Math.Max(1, c.LastSourceLine - c.FirstSourceLine + 1);
+        return (double)(trackedLine - c.FirstSourceLine + 1) / size;
     }
 
     /// <summary>The chunk executing when the tracking variable reads <paramref name="trackedLine"/> (0: before the first).</summary>

@@ -159,6 +159,18 @@ internal sealed class ExprParser(List<Token> tokens)
         }
     }
 
+    /// <summary>A whole-number argument of a command (<c>&amp;2</c>, <c>OPEN PROG 1000</c>) in [min, max]; anything else is ERR003.</summary>
+    public int IntArgument(int min, int max)
+    {
+        var t = Next();
+        if (t.Kind != TokenKind.Number || t.Value < min || t.Value > max)
+        {
+            throw new SimSyntaxException(3);
+        }
+
+        return (int)t.Value;
+    }
+
     /// <summary>Parses a full expression; comparisons and AND/OR only when <paramref name="condition"/> is set.</summary>
     public Expr ParseExpression(bool condition = false) => condition ? ParseOr() : ParseAdditive(false);
 
