@@ -65,22 +65,11 @@ public sealed class ProfilesCommandTests
     {
         var (code, output) = Run("--markdown");
         code.Should().Be(0);
-        var doc = Path.Combine(Root(), "docs", "profiles.md");
+        var doc = Path.Combine(RepoRoot.Path, "docs", "profiles.md");
         File.ReadAllText(doc).Replace("\r\n", "\n").Should().Be(output, "docs/profiles.md is generated: pmacstream profiles --markdown > docs/profiles.md");
         foreach (var name in MachineProfile.BuiltInNames)
         {
             output.Should().Contain("## " + name);
         }
-    }
-
-    private static string Root()
-    {
-        var dir = new DirectoryInfo(AppContext.BaseDirectory);
-        while (dir != null && !File.Exists(Path.Combine(dir.FullName, "PmacStream.sln")))
-        {
-            dir = dir.Parent;
-        }
-
-        return dir!.FullName;
     }
 }
