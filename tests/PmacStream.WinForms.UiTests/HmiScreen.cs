@@ -146,6 +146,25 @@ internal sealed class HmiScreen(string channelDirectory, string display, string 
         return path;
     }
 
+    /// <summary>
+    /// Takes screenshots until <paramref name="painted"/> holds for one (at most <paramref name="attempts"/>, 0.3 s
+    /// apart) and returns the last: the lists repaint as M0 moves on, and a screenshot may catch one half drawn.
+    /// </summary>
+    public string ScreenshotWhenPainted(string name, Func<string, bool> painted, int attempts = 8)
+    {
+        for (var attempt = 1; ; attempt++)
+        {
+            var shot = Screenshot(name);
+            if (painted(shot) || attempt >= attempts)
+            {
+                return shot;
+            }
+
+            output.WriteLine("  (a list was being repainted; again)");
+            Thread.Sleep(300);
+        }
+    }
+
     /// <summary>Pixels of colour <paramref name="hex"/> (e.g. <c>#FFD700</c>) inside a region of a screenshot.</summary>
     public static int CountColour(string png, LayoutBox region, string hex)
     {

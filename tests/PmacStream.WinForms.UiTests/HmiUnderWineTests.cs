@@ -168,21 +168,10 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s.Status[CurrentFileRow].Should().StartWith("2/4", "the current chunk file is the second");
         s.Status[WindowRow].Should().StartWith("55–70 %: file 3 at lines ", "the status names the lines where the next file goes");
         s.Status[FeedRow].Should().MatchRegex(@"^F\d+ × 100 % = [\d.]+$", "programmed feed x override = resulting feed");
-        // The lists repaint as M0 moves on: a screenshot may catch one half drawn, so a few are taken until both
-        // highlighted rows are on it.
-        for (var attempt = 1; ; attempt++)
-        {
-            shot = screen.Screenshot("06-executing");
-            var rows = (HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour), HmiScreen.CountColour(shot, HmiLayout.ChunkLinesList, ExecutingColour));
-            if ((rows.Item1 > 200 && rows.Item2 > 200) || attempt == 4)
-            {
-                rows.Item1.Should().BeGreaterThan(200, "the executing row is highlighted on the screen");
-                rows.Item2.Should().BeGreaterThan(200, "so is the executing row of the chunk's lines");
-                break;
-            }
-
-            output.WriteLine($"  (a list was being repainted: gold pixels {rows}; again)");
-        }
+        shot = screen.ScreenshotWhenPainted("06-executing", png =>
+            HmiScreen.CountColour(png, HmiLayout.ProgramLinesList, ExecutingColour) > 200 && HmiScreen.CountColour(png, HmiLayout.ChunkLinesList, ExecutingColour) > 200);
+        HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted on the screen");
+        HmiScreen.CountColour(shot, HmiLayout.ChunkLinesList, ExecutingColour).Should().BeGreaterThan(200, "so is the executing row of the chunk's lines");
 
         Step("hold (real click): the line stops");
         screen.Click(HmiLayout.HoldButton);
@@ -275,8 +264,11 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("Chinese texts", v => v.Controls["btnExecute"].Text == Zh[TextId.Execute] && v.Controls["cboLanguage"].Text == "简体中文");
         s.Status[StateRow].Should().BeOneOf(Zh[TextId.StateRunning], Zh[TextId.StateCompleted]);
         s.Controls["btnResumeInterrupted"].Text.Should().Be(Zh[TextId.ResumeInterrupted]);
-        shot = screen.Screenshot("15-chinese");
-        if (s.Status[StateRow] == Zh[TextId.StateRunning])
+        var running = s.Status[StateRow] == Zh[TextId.StateRunning];
+        shot = running
+            ? screen.ScreenshotWhenPainted("15-chinese", png => HmiScreen.CountColour(png, HmiLayout.ProgramLinesList, ExecutingColour) > 200)
+            : screen.Screenshot("15-chinese");
+        if (running)
         {
             HmiScreen.CountColour(shot, HmiLayout.ProgramLinesList, ExecutingColour).Should().BeGreaterThan(200, "the executing row is highlighted");
         }
