@@ -146,6 +146,12 @@ internal sealed class CheckRun
     /// <summary>The interpreter the check runs (tests compare its state).</summary>
     public Interpreter Interpreter => _interp;
 
+    /// <summary>
+    /// The findings of the last line given to <see cref="Line"/>, whether already reported or held while the program's
+    /// numbering is undecided: the splitter reads which words the controller would be sent to no purpose (W003).
+    /// </summary>
+    public IReadOnlyList<Diagnostic> LineDiagnostics => _diags;
+
     /// <summary>The file starts with a UTF-16 byte-order mark: one error, and the check ends there.</summary>
     public CheckSummary Utf16(string fileName, long bytes, TimeSpan elapsed)
     {

@@ -71,12 +71,28 @@ internal sealed class LineBatch
 
     /// <summary>
     /// Copies a line (the reader's shared block is overwritten by the next line), its first <paramref name="wordCount"/>
-    /// words (all by default: fewer when block delete skips the part of the block after a <c>/</c> inside it).
+    /// words (all by default: fewer when block delete skips the part of the block after a <c>/</c> inside it), less the
+    /// words at <paramref name="dropColumns"/> (words the check found unused: the controller must not get them).
     /// </summary>
-    public void Add(GBlock block, int wordCount = int.MaxValue)
+    public void Add(GBlock block, int wordCount = int.MaxValue, IReadOnlyList<int>? dropColumns = null)
     {
         var words = CollectionsMarshal.AsSpan(block.WordList);
         words = words[..Math.Min(wordCount, words.Length)];
+        if (dropColumns is { Count: > 0 })
+        {
+            // Rare (a warned line): compacted in place, the reader's block is not read again after this.
+            var kept = 0;
+            for (var i = 0; i < words.Length; i++)
+            {
+                if (!Contains(dropColumns, words[i].Column))
+                {
+                    words[kept++] = words[i];
+                }
+            }
+
+            words = words[..kept];
+        }
+
         var length = block.Length;
         if (TextLength + length > _text.Length)
         {
@@ -93,6 +109,19 @@ internal sealed class LineBatch
         _lines[Count++] = new LineRecord(block.LineNumber, TextLength, length, WordCount, words.Length);
         TextLength += length;
         WordCount += words.Length;
+    }
+
+    private static bool Contains(IReadOnlyList<int> columns, int column)
+    {
+        for (var i = 0; i < columns.Count; i++)
+        {
+            if (columns[i] == column)
+            {
+                return true;
+            }
+        }
+
+        return false;
     }
 }
 

@@ -206,6 +206,7 @@ public static class Splitter
         private bool _refusing;
         private LineBatch? _batch;
         private CheckRun? _check;
+        private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
         private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
         private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
         private int _laneLines;        // lines the AxisLine lane took ...
@@ -273,8 +274,11 @@ public static class Splitter
         /// <summary>Of <see cref="LaneLines"/>, those scanned straight in the read buffer.</summary>
         public int BufferLaneLines => _bufferLaneLines;
 
-        /// <summary>The checker runs in this pass: it decides refusal (force skips it, as before).</summary>
-        private bool Checking => _o.CheckProfile != null && !_o.AllowErrors;
+        /// <summary>
+        /// The checker runs in this pass whenever there is a profile: it decides refusal (unless forced) and, forced or
+        /// not, which words the controller must not get (W003: a word the block does not use is not ignored by a PMAC).
+        /// </summary>
+        private bool Checking => _o.CheckProfile != null;
 
         public (ChunkManifest Manifest, int Warnings) Execute()
         {
@@ -414,6 +418,14 @@ public static class Splitter
                             }
 
                             check.Line(block);
+                            _unused.Clear();
+                            foreach (var d in check.LineDiagnostics)
+                            {
+                                if (d.Code == DiagnosticCodes.UnusedWord)
+                                {
+                                    _unused.Add(d.Column);
+                                }
+                            }
                         }
 
                         Take(block);
@@ -523,7 +535,7 @@ public static class Splitter
             }
 
             // With block delete on, the part of a block after a '/' inside it is skipped (FANUC's optional block skip).
-            _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue);
+            _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue, _unused);
             if (_batch.IsFull)
             {
                 Hand(b.ByteOffset + b.Length);
@@ -570,7 +582,7 @@ public static class Splitter
 
         private void Finish()
         {
-            if (Checking && _checkErrorCount > 0)
+            if (Checking && !_o.AllowErrors && _checkErrorCount > 0)
             {
                 throw new SplitException(
                     $"{_source}: {_checkErrorCount} error(s); not split (force splits anyway)", _checkErrors, _checkErrorCount)
