@@ -85,7 +85,7 @@ internal static class CliGlobals
         }
         catch (ProgramRefusedException e)
         {
-            await ReportRefusalAsync(prefix, e).ConfigureAwait(false);
+            Refusals.Print(Console.Error, prefix, parse.CommandResult.Command.Name, e);
             return Failed;
         }
         catch (PmacStream.Streaming.JobStoreException e)
@@ -130,26 +130,6 @@ internal static class CliGlobals
         {
             throw new CliException($"{path}: no such file");
         }
-    }
-
-    /// <summary>Every error the check found, as <c>FILE:LINE:COL: error CODE: message</c>, then what was (not) done.</summary>
-    private static async Task ReportRefusalAsync(string prefix, ProgramRefusedException e)
-    {
-        var relative = Path.GetRelativePath(Environment.CurrentDirectory, e.SourcePath);
-        var file = relative.StartsWith("..", StringComparison.Ordinal) ? e.SourcePath : relative;
-        foreach (var line in e.Lines(file))
-        {
-            await Console.Error.WriteLineAsync(line).ConfigureAwait(false);
-        }
-
-        if (e.ErrorCount > e.Diagnostics.Count)
-        {
-            await Console.Error.WriteLineAsync($"... and {e.ErrorCount - e.Diagnostics.Count} more").ConfigureAwait(false);
-        }
-
-        await Console.Error.WriteLineAsync(e.ErrorCount > 0
-            ? $"{prefix}: {file}: {e.ErrorCount} error(s); nothing sent to the controller (--force runs it anyway)"
-            : $"{prefix}: {e.Message}; nothing sent to the controller").ConfigureAwait(false);
     }
 
     /// <summary>The culture of a <c>--lang</c> value: en or zh-CN (and their usual spellings).</summary>

@@ -9,6 +9,15 @@ namespace PmacStream.Cli.Commands;
 /// <summary>What stream, resume and demo print: the start plan and its confirmation, progress, and the final count.</summary>
 internal static class JobConsole
 {
+    /// <summary>With <c>--force</c>: says which codes of the program the controller will skip (a forced run does not hide them).</summary>
+    public static void WarnForced(Program.ChunkManifest manifest, GCode.MachineProfile profile, bool forced)
+    {
+        if (forced && manifest.NotYetCodes is { Count: > 0 } codes)
+        {
+            Console.Error.WriteLine($"pmacstream: --force: the controller cannot run {ProgramGate.Describe(codes)} yet under profile '{profile.Name}': it skips each of them and runs the rest of its block");
+        }
+    }
+
     /// <summary>Shows a start plan's preamble and asks for confirmation (<c>--yes</c> answers); false when refused.</summary>
     public static bool Confirm(StartPlan plan, bool yes)
     {

@@ -6,10 +6,12 @@ using PmacStream.Preview;
 namespace PmacStream.Cli.Commands;
 
 /// <summary>
-/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN] [--profile NAME|FILE]`:
+/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN] [--profile NAME|FILE] [--force]`:
 /// draws the toolpath (two streaming passes, bounded memory) and, with a simulator executed-move log, overlays what
-/// ran and lists the lines that ran zero or several times. Exit 0 when drawn (and, with a log, every move ran exactly once),
-/// 1 when the program had blocks that could not be drawn or the log shows gaps or repeats, 2 for usage and I/O errors.
+/// ran and lists the lines that ran zero or several times. A program with errors under the profile is refused as every
+/// command refuses it (each error listed, nothing written) unless <c>--force</c>, which draws what can be read.
+/// Exit 0 when drawn (and, with a log, every move ran exactly once), 1 when the program has errors (refused) or the log
+/// shows gaps or repeats, 2 for usage and I/O errors.
 /// </summary>
 internal static class PreviewCommand
 {
@@ -25,8 +27,9 @@ internal static class PreviewCommand
         var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV: sequence,line,start_s,end_s,x,y,z,kind) to overlay; lists lines run zero or several times.", HelpName = "LOG.csv" };
         var lang = new Option<string?>("--lang") { Description = "Legend language: en or zh-CN (default: the UI culture). Chinese needs a font with Chinese glyphs, e.g. fonts-noto-cjk." };
         var profile = CliProfiles.Option();
+        var force = new Option<bool>("--force") { Description = "Draw a program that has errors under the machine profile: the blocks that cannot be read are listed and left out." };
 
-        var cmd = new Command("preview", "Draw the toolpath of a program to a PNG (rapids dashed, feeds solid, arcs as arcs). Exit 1 when the program has errors or the executed log shows moves run zero or several times.");
+        var cmd = new Command("preview", "Draw the toolpath of a program to a PNG (rapids dashed, feeds solid, arcs as arcs). A program with errors is refused (--force draws what can be read); exit 1 too when the executed log shows moves run zero or several times.");
         cmd.Arguments.Add(file);
         cmd.Options.Add(png);
         cmd.Options.Add(size);
@@ -34,13 +37,14 @@ internal static class PreviewCommand
         cmd.Options.Add(executed);
         cmd.Options.Add(lang);
         cmd.Options.Add(profile);
-        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, lang, profile, ct));
+        cmd.Options.Add(force);
+        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, lang, profile, force, ct));
         return cmd;
     }
 
     private static async Task<int> RunAsync(
         ParseResult parse, Argument<string> file, Option<string> png, Option<string> size, Option<string> view, Option<string?> executed, Option<string?> lang,
-        Option<string?> profile, CancellationToken ct)
+        Option<string?> profile, Option<bool> force, CancellationToken ct)
     {
         var machine = CliProfiles.Load(parse.GetValue(profile));
         var path = parse.GetValue(file)!;
@@ -98,6 +102,14 @@ internal static class PreviewCommand
             return CliGlobals.Failed;
         }
 
+        if (source.IssueCount > 0 && !parse.GetValue(force))
+        {
+            // The gate every command keeps: a program with errors is not drawn as if it were whole.
+            Refusals.Print(Console.Error, "pmacstream preview", "preview", Refusals.Shown(path), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
+                $"{Refusals.Shown(path)}: {source.IssueCount} error(s) under profile '{machine.Name}'; {output} not written");
+            return CliGlobals.Failed;
+        }
+
         drawn.WritePng(output);
         foreach (var warning in drawn.Warnings)
         {
@@ -109,16 +121,9 @@ internal static class PreviewCommand
 
         if (source.IssueCount > 0)
         {
-            exit = CliGlobals.Failed;
-            foreach (var issue in source.Issues.Take(MaxListed))
-            {
-                Console.Error.WriteLine(issue.Format(path));
-            }
-
-            if (source.IssueCount > MaxListed)
-            {
-                Console.Error.WriteLine($"{path}: ... and {source.IssueCount - MaxListed} more errors ('pmacstream check' lists them all); blocks that cannot be interpreted are not drawn");
-            }
+            // Forced: drawn, and what was left out is said.
+            Refusals.Print(Console.Error, "pmacstream preview", string.Empty, Refusals.Shown(path), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
+                $"--force: {source.IssueCount} error(s) listed above; the blocks that cannot be read are not drawn");
         }
 
         if (picture.Execution is { } report)

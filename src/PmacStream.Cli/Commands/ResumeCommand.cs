@@ -3,14 +3,19 @@ using PmacStream.Jobs;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream resume [--job ID] [--job-db PATH] [--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]] [--yes]`.</summary>
+/// <summary>`pmacstream resume [--job ID] [--job-db PATH] [--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]] [--profile NAME|FILE] [--force] [--yes]`.</summary>
 internal static class ResumeCommand
 {
     public static Command Create()
     {
         var jobOption = new Option<long?>("--job") { Description = "Job to resume (default: the latest unfinished one)." };
+        var profileOption = CliProfiles.Option();
+        profileOption.Description = "Machine profile: the job's own by default (the job record keeps it); a profile other than the one the job ran under is refused.";
+        var force = new Option<bool>("--force") { Description = "Resume a job whose program uses codes the controller cannot run yet, or whose split was forced past the check's errors (as stream --force started it)." };
         var cmd = new Command("resume", "Continue an interrupted job from its checkpoint without losing or repeating a block.");
         cmd.Options.Add(jobOption);
+        cmd.Options.Add(profileOption);
+        cmd.Options.Add(force);
         var options = JobOptions.AddTo(cmd, JobFace.Resume);
         cmd.SetAction(async (parse, ct) =>
         {
@@ -24,9 +29,13 @@ internal static class ResumeCommand
             }
 
             var resumable = service.OpenResumable(record, ct);
+            var machine = JobService.ProfileOf(record, parse.GetValue(profileOption)); // the job's own profile, unchanged
+            var forced = parse.GetValue(force);
+            ProgramGate.EnsureRunnable(record.ProgramPath, resumable.Program.Manifest, machine, forced, ct); // before anything reaches the controller
+            JobConsole.WarnForced(resumable.Program.Manifest, machine, forced);
             var settings = options.Settings(parse, resumable.Settings); // the job's own settings unless told otherwise
             var program = resumable.Program;
-            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), null, ct).ConfigureAwait(false);
+            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), machine, ct).ConfigureAwait(false);
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 
@@ -44,7 +53,7 @@ internal static class ResumeCommand
 
                 Console.WriteLine($"restarting at the block of line {proposal.Line} (re-runs the block that was executing from its start)");
                 return Task.FromResult(JobConsole.Confirm(plan, options.Yes(parse)));
-            }, options.FeedOverride(parse), cancellationToken: ct).ConfigureAwait(false);
+            }, options.FeedOverride(parse), machine, ct, forced).ConfigureAwait(false);
             if (result.Job is not { } job)
             {
                 return CliGlobals.UsageOrIo;

@@ -99,19 +99,9 @@ internal static class SplitCommand
             }
             catch (SplitException e)
             {
-                foreach (var d in e.Diagnostics)
-                {
-                    await Console.Error.WriteLineAsync(d.Format(path)).ConfigureAwait(false);
-                }
-
-                if (e.ErrorCount > e.Diagnostics.Count)
-                {
-                    await Console.Error.WriteLineAsync($"... and {e.ErrorCount - e.Diagnostics.Count} more").ConfigureAwait(false);
-                }
-
-                await Console.Error.WriteLineAsync(e.FromChecker
-                    ? $"pmacstream split: {path}: {e.ErrorCount} error(s); not split (--force splits anyway)"
-                    : $"pmacstream split: {e.Message}").ConfigureAwait(false);
+                // Forcing goes past the check's findings only (not an empty program, or a block no chunk holds).
+                Refusals.Print(Console.Error, "pmacstream split", e.FromChecker ? "split" : string.Empty, path, e.Diagnostics, e.ErrorCount,
+                    e.FromChecker ? $"{path}: {e.ErrorCount} error(s) under profile '{machine.Name}'; not split" : e.Message);
                 return CliGlobals.Failed;
             }
 

@@ -4,7 +4,7 @@ using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream stream FILE (--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]) [--strategy ...] [--from-line N] [--feed-override PCT] [--force] [--yes] [--job-db PATH]`.</summary>
+/// <summary>`pmacstream stream FILE (--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]) [--profile NAME|FILE] [--strategy ...] [--from-line N] [--feed-override PCT] [--force] [--yes] [--job-db PATH]`.</summary>
 internal static class StreamCommand
 {
     public static Command Create()
@@ -12,12 +12,14 @@ internal static class StreamCommand
         var file = new Argument<string>("file") { Description = "G-code program to run." };
         var strategy = new Option<string>("--strategy") { Description = "chunk (the chunk method: the next chunk once, in the download window), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "chunk" };
         var fromLine = new Option<int?>("--from-line") { Description = "Start at the block of this source line, with a preamble restoring modal state and a safe approach." };
-        var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped), as split --force does." };
+        var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped, as split --force does) or uses codes the controller cannot run yet (the PMAC skips such a code and runs the rest of its block)." };
+        var profile = CliProfiles.Option();
         var cmd = new Command("stream", "Check, split and stream a program to a controller or the simulator.");
         cmd.Arguments.Add(file);
         cmd.Options.Add(strategy);
         cmd.Options.Add(fromLine);
         cmd.Options.Add(force);
+        cmd.Options.Add(profile);
         var options = JobOptions.AddTo(cmd, JobFace.Stream);
         cmd.SetAction(async (parse, ct) =>
         {
@@ -37,13 +39,16 @@ internal static class StreamCommand
                 throw new CliException("--from-line must be 1 or more");
             }
 
+            var machine = CliProfiles.Load(parse.GetValue(profile));
             var settings = options.Settings(parse);
             var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
             using var sim = new CliSimulator(options.SimSpeed(parse));
             var service = new JobService(new JobServiceOptions { JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync });
 
-            // The gate: checked under the machine profile in the split's own pass; refused with every error, nothing sent.
-            var prepared = await service.PrepareAsync(new PrepareRequest(parse.GetValue(file)!, settings) { Force = parse.GetValue(force) }, null, ct).ConfigureAwait(false);
+            // The gate: checked under the machine profile in the split's own pass and refused with every error, or with
+            // every code the controller cannot run yet; nothing sent.
+            var prepared = await service.PrepareAsync(new PrepareRequest(parse.GetValue(file)!, settings) { Profile = machine, Force = parse.GetValue(force) }, null, ct).ConfigureAwait(false);
+            JobConsole.WarnForced(prepared.Program.Manifest, machine, parse.GetValue(force));
             var program = prepared.Program;
             StartPlan? plan = null;
             if (parse.GetValue(fromLine) is { } line)

@@ -107,6 +107,12 @@ public static class DiagnosticCodes
     /// <summary>A code the profile knows but the controller cannot run yet (reported at its first use).</summary>
     public const string NotYetOnController = "W006";
 
+    /// <summary>
+    /// The job gate's refusal of a <see cref="NotYetOnController"/> code (its first use) in a program a job is asked to
+    /// run: the PMAC would skip the code and run the rest of the block. Only the gate reports it, never <c>check</c>.
+    /// </summary>
+    public const string NotRunnableInJob = "E127";
+
     /// <summary>Text after the <c>%</c> that ends the tape: ignored.</summary>
     public const string TextAfterTapeEnd = "W007";
 
@@ -130,6 +136,7 @@ public static class DiagnosticCodes
         ArcRadiusMismatch, FeedMoveWithoutFeed, UnsupportedLetter, EmptyProgram, NulByte, Utf16File,
         NoProgramNumber, NoSequenceNumber, UnusedWord, LowercaseLetter, MissingWord,
         NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
+        NotRunnableInJob,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

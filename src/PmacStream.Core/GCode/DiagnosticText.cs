@@ -40,6 +40,7 @@ public static class DiagnosticText
         [DiagnosticCodes.ValueNotAllowed] = ("value out of range: {0}{1} with {2}: expected {3}", "参数值超出范围：{2} 的 {0}{1}：应为 {3}"),
         [DiagnosticCodes.NoMotionMode] = ("axis words but no motion mode in force: expected G00, G01, G02 or G03 first", "有坐标字但没有有效的运动方式：应先指定 G00、G01、G02 或 G03"),
         [DiagnosticCodes.NotYetOnController] = ("{0} ({1}) is accepted by profile '{2}' but the controller cannot run it yet: a job using it is refused", "机床配置 '{2}' 接受 {0}，但控制器尚不能执行它：使用它的作业将被拒绝"),
+        [DiagnosticCodes.NotRunnableInJob] = ("{0} ({1}) cannot run on the controller yet under profile '{2}': the PMAC would skip the code and run the rest of the block", "{0}（{1}）在机床配置 '{2}' 下尚不能在控制器上执行：PMAC 会跳过该代码而执行本段其余部分"),
         [DiagnosticCodes.TextAfterTapeEnd] = ("text after the closing '%' is ignored: the program ends at this line", "结束符 '%' 之后的内容被忽略：程序在此行结束"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };

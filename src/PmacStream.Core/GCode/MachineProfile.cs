@@ -34,10 +34,12 @@ public sealed class MachineProfile
     private readonly bool[] _letters = new bool[26];
     private readonly Dictionary<int, Point3> _offsets = new();
     private readonly Dictionary<int, Point3> _references = new();
+    private string? _identity;
 
     internal MachineProfile(ProfileJson.Dto dto, string source)
     {
         Name = string.IsNullOrWhiteSpace(dto.Name) ? Path.GetFileNameWithoutExtension(source) : dto.Name;
+        Source = source;
         Description = dto.Description ?? string.Empty;
         ToolCount = dto.ToolCount ?? 24;
         RapidRate = dto.RapidRate ?? 15000;
@@ -94,6 +96,18 @@ public sealed class MachineProfile
 
     /// <summary>Short name.</summary>
     public string Name { get; }
+
+    /// <summary>
+    /// Where the profile came from, as <c>--profile</c> takes it again: the name of a built-in profile, the full path of
+    /// a profile file (a job record keeps it, so a resume reads the same one), or the label given to <see cref="Parse"/>.
+    /// </summary>
+    public string Source { get; private set; }
+
+    /// <summary>
+    /// The name and the start of the SHA-256 of the profile's JSON (<c>fanuc-mill@1a2b3c4d5e6f7a8b</c>): two profiles of one
+    /// name but other codes differ. A split records the identity it was checked under, a job the one it ran under.
+    /// </summary>
+    public string Identity => _identity ??= $"{Name}@{Convert.ToHexStringLower(System.Security.Cryptography.SHA256.HashData(System.Text.Encoding.UTF8.GetBytes(ToJson())).AsSpan(0, 8))}";
 
     /// <summary>What this profile describes.</summary>
     public string Description { get; }
@@ -181,7 +195,12 @@ public sealed class MachineProfile
     }
 
     /// <summary>Loads a profile from a JSON file. Throws <see cref="InvalidDataException"/> with the reason when it is not valid.</summary>
-    public static MachineProfile Load(string path) => Parse(File.ReadAllText(path), path);
+    public static MachineProfile Load(string path)
+    {
+        var profile = Parse(File.ReadAllText(path), path);
+        profile.Source = Path.GetFullPath(path);
+        return profile;
+    }
 
     /// <summary>Parses profile JSON. Throws <see cref="InvalidDataException"/> with the reason when it is not valid.</summary>
     public static MachineProfile Parse(string json, string source = "profile") => new(ProfileJson.Read(json, source), source);
@@ -352,7 +371,9 @@ public sealed class MachineProfile
         using var s = asm.GetManifestResourceStream("PmacStream.GCode.Profiles." + name)
             ?? throw new InvalidOperationException($"embedded profile {name} is missing from {asm.GetName().Name}");
         using var r = new StreamReader(s);
-        return Parse(r.ReadToEnd(), name);
+        var profile = Parse(r.ReadToEnd(), name);
+        profile.Source = profile.Name;
+        return profile;
     }
 
     internal static InvalidDataException Bad(string source, string why) => new($"{source}: invalid machine profile: {why}");

@@ -24,8 +24,11 @@ public sealed class JobException : Exception
 }
 
 /// <summary>
-/// The check refused the program under the machine profile (or it cannot be cut into chunks): nothing was split and
-/// nothing was sent. <see cref="Diagnostics"/> lists the findings, <see cref="ErrorCount"/> counts every error.
+/// The job gate refused the program under the machine profile: the check found errors (or it cannot be cut into
+/// chunks: nothing was split), or it uses codes the controller cannot run yet (<see cref="NotRunnableCodes"/>), or a job
+/// would resume from a split forced past errors (<see cref="ForcedSplit"/>). Nothing was sent.
+/// <see cref="Diagnostics"/> lists the findings, <see cref="ErrorCount"/> counts every error. The faces say how to go
+/// on (the command line's <c>--force</c>).
 /// </summary>
 public sealed class ProgramRefusedException : Exception
 {
@@ -46,6 +49,15 @@ public sealed class ProgramRefusedException : Exception
 
     /// <summary>Errors found in all.</summary>
     public int ErrorCount { get; }
+
+    /// <summary>The codes the controller cannot run yet, with their first line; empty when the check's errors refused it.</summary>
+    public IReadOnlyDictionary<string, int> NotRunnableCodes { get; init; } = new Dictionary<string, int>();
+
+    /// <summary>True when a job would resume from a split that was forced past the check's errors.</summary>
+    public bool ForcedSplit { get; init; }
+
+    /// <summary>The name of the machine profile the program was judged under (empty when not known).</summary>
+    public string Profile { get; init; } = string.Empty;
 
     /// <summary>Every listed finding as <c>FILE:LINE:COL: error CODE: message</c>, with <paramref name="file"/> as the file's name.</summary>
     public IEnumerable<string> Lines(string file) => Diagnostics.Select(d => d.Format(file));

@@ -182,7 +182,8 @@ public sealed class JobService
         {
             var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1);
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
-                request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings));
+                request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings),
+                (request.Profile.Source, request.Profile.Identity));
             var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
             return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id);
         }
@@ -220,6 +221,39 @@ public sealed class JobService
         }
 
         return record is { Unfinished: true } ? OpenResumable(record) : null;
+    }
+
+    /// <summary>
+    /// The machine profile a recorded job ran under, read again from where it came from (a built-in name, a file),
+    /// or <paramref name="requested"/> when the face names one. Refuses a profile that is not the one the job ran
+    /// under (another name, or the same file with other contents): the program was judged, split and its move times
+    /// made under that one. A record of an older version, which does not say, takes <paramref name="requested"/> or
+    /// the default.
+    /// </summary>
+    /// <exception cref="JobException">The profile cannot be read, or it is not the job's (<see cref="JobErrorKind.BadRequest"/>).</exception>
+    public static MachineProfile ProfileOf(JobRecord record, string? requested = null)
+    {
+        ArgumentNullException.ThrowIfNull(record);
+        var source = requested ?? record.Profile;
+        MachineProfile profile;
+        try
+        {
+            profile = MachineProfile.Resolve(source);
+        }
+        catch (Exception e) when (e is InvalidDataException or IOException or UnauthorizedAccessException)
+        {
+            throw new JobException($"job {record.Id}: its machine profile {source} cannot be read ({e.Message}); resume needs the profile the job ran under", JobErrorKind.BadRequest, e);
+        }
+
+        if (record.ProfileIdentity is { } ran && !string.Equals(ran, profile.Identity, StringComparison.Ordinal))
+        {
+            var now = requested is null ? $"{source} now reads as {profile.Identity}" : $"--profile {requested} is {profile.Identity}";
+            throw new JobException(
+                $"job {record.Id} ran under machine profile {record.Profile} ({ran}); {now}: the profile changed since the job started, so the program's check, split and start plans would not be the job's. Resume with the profile the job ran under, or start the program again from a line",
+                JobErrorKind.BadRequest);
+        }
+
+        return profile;
     }
 
     /// <summary>
@@ -272,16 +306,21 @@ public sealed class JobService
     /// again) and the job runs. Otherwise it restarts at <see cref="ResumableJob.RestartLine"/> behind a preamble,
     /// once <paramref name="confirmRestart"/> agrees: the job is returned ready for <see cref="Job.StartAsync"/>.
     /// A <paramref name="feedOverride"/> (percent) is set on the continued job at once, or before the restart; null
-    /// leaves the controller's.
+    /// leaves the controller's. The job gate runs first (<see cref="ProgramGate"/>): a program with codes the controller
+    /// cannot run yet, or a split forced past errors, is resumed only with <paramref name="force"/>.
     /// </summary>
     /// <exception cref="JobException">The controller could not be asked (link or ERR).</exception>
+    /// <exception cref="ProgramRefusedException">The gate refused it; nothing was sent.</exception>
     public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumableJob job, RunSettings settings, Func<RestartProposal, Task<bool>> confirmRestart,
-        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default)
+        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default, bool force = false)
     {
         ArgumentNullException.ThrowIfNull(controller);
         ArgumentNullException.ThrowIfNull(job);
         ArgumentNullException.ThrowIfNull(confirmRestart);
         var record = job.Record;
+
+        // The gate again: a job forced past it at its start is resumed only when forced again.
+        ProgramGate.EnsureRunnable(record.ProgramPath, job.Program.Manifest, profile ?? MachineProfile.Default, force, cancellationToken);
         var times = await MoveTimesAsync(record.ProgramPath, profile ?? MachineProfile.Default, cancellationToken).ConfigureAwait(false);
         var store = OpenExistingStore();
         try
@@ -360,23 +399,35 @@ public sealed class JobService
         }
 
         var outDir = Path.GetFullPath(options.OutDir ?? Splitter.DefaultOutDir(source));
+        PreparedProgram prepared;
         if (SplitCache.TryOpen(source, outDir, options, cancellationToken) is { } reused)
         {
             Log.Information("Prepared {Source:l}: the split in {Folder:l} matches the program and the options; reused", source, outDir);
-            return new PreparedProgram(source, reused, request.Profile, true, 0);
+            prepared = new PreparedProgram(source, reused, request.Profile, true, 0);
+        }
+        else
+        {
+            try
+            {
+                var result = Splitter.Split(source, options with { OutDir = outDir }, progress, cancellationToken);
+                prepared = new PreparedProgram(source, ChunkedProgram.FromManifest(result.Manifest, result.OutputDirectory), request.Profile, false, result.Warnings);
+            }
+            catch (SplitException e)
+            {
+                var why = e.FromChecker || e.ErrorCount > 0 ? $"{e.ErrorCount} error(s) under the {request.Profile.Name} profile" : e.Message;
+                Log.Information("Refused {Source:l}: {Why:l}; nothing split, nothing sent", source, why);
+                throw new ProgramRefusedException(source, e.Diagnostics, e.ErrorCount, e.Message, e) { Profile = request.Profile.Name };
+            }
         }
 
-        try
+        // The split is kept either way (it is the program's, and reusable): what the gate refuses is running it.
+        ProgramGate.EnsureRunnable(source, prepared.Program.Manifest, request.Profile, request.Force, cancellationToken);
+        if (request.Force && prepared.Program.Manifest.NotYetCodes is { Count: > 0 } forced)
         {
-            var result = Splitter.Split(source, options with { OutDir = outDir }, progress, cancellationToken);
-            return new PreparedProgram(source, ChunkedProgram.FromManifest(result.Manifest, result.OutputDirectory), request.Profile, false, result.Warnings);
+            Log.Information("Forced: {Source:l} uses codes the controller cannot run yet under {Profile:l}: {Codes:l}", source, request.Profile.Name, ProgramGate.Describe(forced));
         }
-        catch (SplitException e)
-        {
-            var why = e.FromChecker || e.ErrorCount > 0 ? $"{e.ErrorCount} error(s) under the {request.Profile.Name} profile" : e.Message;
-            Log.Information("Refused {Source:l}: {Why:l}; nothing split, nothing sent", source, why);
-            throw new ProgramRefusedException(source, e.Diagnostics, e.ErrorCount, e.Message, e);
-        }
+
+        return prepared;
     }
 
     private async Task<IMoveTimes?> MoveTimesAsync(string sourcePath, MachineProfile profile, CancellationToken cancellationToken) =>

@@ -121,8 +121,7 @@ public sealed record SplitOptions
     public static string ProfileIdentity(MachineProfile profile)
     {
         ArgumentNullException.ThrowIfNull(profile);
-        var digest = System.Security.Cryptography.SHA256.HashData(System.Text.Encoding.UTF8.GetBytes(profile.ToJson()));
-        return $"{profile.Name}@{Convert.ToHexStringLower(digest.AsSpan(0, 8))}";
+        return profile.Identity;
     }
 
     /// <summary>P, Q or M followed by 1-4 digits (no Regex: it would load an assembly for one check).</summary>

@@ -14,7 +14,7 @@ internal static partial class JobRecordReader
 {
     /// <summary>The columns read, in order.</summary>
     public const string Columns = "id, created, program_path, program_sha256, manifest_path, strategy, connection, from_line, message, "
-        + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded, settings";
+        + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded, settings, profile, profile_identity";
 
     public static JobRecord Read(SqliteDataReader r, string path)
     {
@@ -82,7 +82,9 @@ internal static partial class JobRecordReader
             row.Time(1),
             row.Text(19, nullable: true, empty: true) is { } pre ? pre.Split('\n') : null,
             probe.Length > 0 ? probe : null,
-            row.Text(21, nullable: true, empty: true));
+            row.Text(21, nullable: true, empty: true),
+            row.Text(22, nullable: true),
+            row.Text(23, nullable: true));
     }
 
     [GeneratedRegex("^[0-9a-fA-F]{1,128}$")]

@@ -18,7 +18,9 @@ namespace PmacStream.Streaming;
 /// <param name="Preamble">The PMAC lines the (latest) start sent before its block, or null (none, or not recorded).</param>
 /// <param name="LineProbeVariable">The line-probe variable the job's lines carry (null: none); records of older versions read as <c>P501</c>.</param>
 /// <param name="Settings">The run settings the job started with, as JSON (<c>Jobs.RunSettingsFile</c>); null in records of older versions.</param>
-public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created, IReadOnlyList<string>? Preamble = null, string? LineProbeVariable = "P501", string? Settings = null)
+/// <param name="Profile">The machine profile the job ran under, as <c>--profile</c> takes it (a built-in name or a file's full path); null in records of older versions.</param>
+/// <param name="ProfileIdentity">That profile's name and digest (<c>MachineProfile.Identity</c>): a resume refuses a profile that changed since.</param>
+public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created, IReadOnlyList<string>? Preamble = null, string? LineProbeVariable = "P501", string? Settings = null, string? Profile = null, string? ProfileIdentity = null)
 {
     /// <summary>True when the job has not completed (it can be resumed).</summary>
     public bool Unfinished => Checkpoint?.State is not SessionState.Completed;
@@ -66,6 +68,8 @@ public sealed class JobStore : IDisposable
         ("preamble", "TEXT"),
         ("cp_loaded", "INTEGER"),
         ("settings", "TEXT"),
+        ("profile", "TEXT"),
+        ("profile_identity", "TEXT"),
     ];
 
     private static readonly ILogger Logger = Log.ForContext<JobStore>();
@@ -241,15 +245,17 @@ public sealed class JobStore : IDisposable
 
     /// <summary>
     /// Records a new job and returns its id; <paramref name="lineProbe"/> is the line-probe variable its lines carry
-    /// (null: none), <paramref name="settings"/> the run settings it starts with (JSON).
+    /// (null: none), <paramref name="settings"/> the run settings it starts with (JSON), <paramref name="profile"/> the
+    /// machine profile it runs under (name or file, and its identity).
     /// </summary>
-    public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe = "P501", string? settings = null)
+    public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe = "P501", string? settings = null,
+        (string Source, string Identity)? profile = null)
     {
         lock (_lock)
         {
             try
             {
-                return Insert(programPath, programSha256, manifestPath, strategy, connection, fromLine, lineProbe, settings);
+                return Insert(programPath, programSha256, manifestPath, strategy, connection, fromLine, lineProbe, settings, profile);
             }
             catch (SqliteException e)
             {
@@ -258,13 +264,16 @@ public sealed class JobStore : IDisposable
         }
     }
 
-    private long Insert(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe, string? settings)
+    private long Insert(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe, string? settings,
+        (string Source, string Identity)? profile)
     {
         using var cmd = _db.CreateCommand();
         cmd.CommandText = """
-            INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe, settings)
-            VALUES ($c, $p, $h, $m, $s, $conn, $f, $lp, $set); SELECT last_insert_rowid();
+            INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe, settings, profile, profile_identity)
+            VALUES ($c, $p, $h, $m, $s, $conn, $f, $lp, $set, $pr, $pi); SELECT last_insert_rowid();
             """;
+        cmd.Parameters.AddWithValue("$pr", (object?)profile?.Source ?? DBNull.Value);
+        cmd.Parameters.AddWithValue("$pi", (object?)profile?.Identity ?? DBNull.Value);
         cmd.Parameters.AddWithValue("$set", (object?)settings ?? DBNull.Value);
         cmd.Parameters.AddWithValue("$lp", lineProbe ?? string.Empty);
         cmd.Parameters.AddWithValue("$c", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));

@@ -96,6 +96,65 @@ public sealed class PrepareTests : IDisposable
     }
 
     [Fact]
+    public async Task Codes_the_controller_cannot_run_yet_are_refused_for_a_job_each_at_its_first_use_unless_forced()
+    {
+        // G28 then X/Y in one block: the PMAC would skip the missing G28 routine and still move to X/Y.
+        using var p = new TempProgram(Program(300, "G91 G28 Z0\nG90\nM06 T2\nG28 X0 Y0"));
+        var act = () => Prepare(p, RunSettings.Default);
+        var refused = (await act.Should().ThrowAsync<ProgramRefusedException>()).Which;
+
+        refused.NotRunnableCodes.Should().BeEquivalentTo(new Dictionary<string, int> { ["G28"] = 154, ["M06"] = 156 });
+        refused.Profile.Should().Be(MachineProfile.DefaultName);
+        refused.Lines("p.nc").Should().Equal(
+            "p.nc:154:5: error E127: G28 (return to reference position via the point given) cannot run on the controller yet under profile 'fanuc-mill': the PMAC would skip the code and run the rest of the block",
+            "p.nc:156:1: error E127: M06 (tool change) cannot run on the controller yet under profile 'fanuc-mill': the PMAC would skip the code and run the rest of the block");
+        refused.ErrorCount.Should().Be(2);
+
+        // The split itself is the program's (split writes it too) and is reused; only running it is refused.
+        var forced = await Prepare(p, RunSettings.Default, force: true);
+        forced.Program.Manifest.NotYetCodes.Should().ContainKeys("G28", "M06");
+        var again = () => Prepare(p, RunSettings.Default);
+        await again.Should().ThrowAsync<ProgramRefusedException>("forcing once does not open the gate for the next job");
+    }
+
+    [Fact]
+    public async Task A_job_resumed_from_a_forced_split_or_with_codes_not_run_yet_needs_force_again()
+    {
+        using var notYet = new TempProgram(Program(50, "M06 T2"));
+        var manifest = (await Prepare(notYet, RunSettings.Default, force: true)).Program.Manifest;
+        var gate = () => ProgramGate.EnsureRunnable(notYet.SourcePath, manifest, MachineProfile.Default, force: false);
+        gate.Should().Throw<ProgramRefusedException>().Which.NotRunnableCodes.Should().ContainKey("M06");
+        ProgramGate.EnsureRunnable(notYet.SourcePath, manifest, MachineProfile.Default, force: true);
+
+        using var bad = new TempProgram(Program(50, "G77 X3"));
+        var forcedSplit = (await Prepare(bad, RunSettings.Default, force: true)).Program.Manifest;
+        var refused = () => ProgramGate.EnsureRunnable(bad.SourcePath, forcedSplit, MachineProfile.Default, force: false);
+        refused.Should().Throw<ProgramRefusedException>().Which.ForcedSplit.Should().BeTrue();
+    }
+
+    [Fact]
+    public void A_resume_reads_the_profile_the_job_ran_under_and_refuses_one_that_changed()
+    {
+        var file = Path.Combine(_clean.Folder, "mine.json");
+        File.WriteAllText(file, MachineProfile.Default.ToJson().Replace("\"name\": \"fanuc-mill\"", "\"name\": \"mine\"", StringComparison.Ordinal));
+        var mine = MachineProfile.Resolve(file);
+        mine.Source.Should().Be(Path.GetFullPath(file));
+        var record = new PmacStream.Streaming.JobRecord(7, _clean.SourcePath, new string('a', 64), "m.json", PmacStream.Streaming.StrategyKind.Chunk, "sim", null, "", null,
+            DateTimeOffset.UnixEpoch, Profile: mine.Source, ProfileIdentity: mine.Identity);
+
+        JobService.ProfileOf(record).Identity.Should().Be(mine.Identity, "the record names the file");
+        var other = () => JobService.ProfileOf(record, "grbl");
+        other.Should().Throw<JobException>().WithMessage("job 7 ran under machine profile *mine.json (mine@*); --profile grbl is grbl@*: the profile changed since the job started*");
+
+        File.WriteAllText(file, File.ReadAllText(file).Replace("\"toolCount\": 9999", "\"toolCount\": 12", StringComparison.Ordinal));
+        var changed = () => JobService.ProfileOf(record);
+        changed.Should().Throw<JobException>().WithMessage("*mine.json now reads as mine@*: the profile changed since the job started*");
+
+        var older = record with { Profile = null, ProfileIdentity = null };
+        JobService.ProfileOf(older).Name.Should().Be(MachineProfile.DefaultName, "a record of an older version does not say: the default");
+    }
+
+    [Fact]
     public async Task Bad_settings_and_missing_programs_are_bad_requests()
     {
         var noFile = () => _service.PrepareAsync(new PrepareRequest(Path.Combine(_clean.Folder, "none.nc"), RunSettings.Default));
