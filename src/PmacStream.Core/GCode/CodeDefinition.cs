@@ -21,6 +21,19 @@ public enum ControllerSupport
     NotYet,
 }
 
+/// <summary>Whether a code stops the program on the controller until the operator continues it.</summary>
+public enum ProgramStopKind
+{
+    /// <summary>The program goes on.</summary>
+    None,
+
+    /// <summary>Always stops (<c>M00</c>; a tool change that ends in a stop).</summary>
+    Program,
+
+    /// <summary>Stops while the optional-stop switch is on (<c>M01</c>); the host sets the switch on the controller.</summary>
+    Optional,
+}
+
 /// <summary>A modal group of a profile: the codes of which at most one may stand in a block.</summary>
 /// <param name="Name">Name as the profile writes it (FANUC group numbers such as <c>01</c>, or <c>GA</c>..<c>GI</c>).</param>
 /// <param name="Description">What the group selects, for people.</param>
@@ -52,6 +65,14 @@ public sealed record CodeDefinition(string Code, string Group, string Descriptio
 
     /// <summary>PMAC statements for the code's routine when the profile gives them (a machine's own outputs); null: the library's.</summary>
     public string? Routine { get; init; }
+
+    /// <summary>
+    /// Whether the code's routine stops the program (profile JSON <c>"stop": "program"</c> or <c>"optional"</c>): the
+    /// splitter tracks such a block (<c>M0==line DWELL0 M00</c>) so a stop names its line, and a job waits there for
+    /// the operator. The library's built-in <c>M00</c> and <c>M01</c> routines stop; a profile's own routine must say
+    /// <c>STOP</c> itself.
+    /// </summary>
+    public ProgramStopKind Stop { get; init; }
 
     /// <summary>How the controller runs it, or why it does not yet, for people (the profile table and <c>pmacstream profiles</c>).</summary>
     public string Note { get; init; } = string.Empty;

@@ -112,6 +112,11 @@ internal static class ProfileJson
             w.WriteString("routine", c.Routine);
         }
 
+        if (c.Stop != ProgramStopKind.None)
+        {
+            w.WriteString("stop", c.Stop == ProgramStopKind.Optional ? "optional" : "program");
+        }
+
         if (c.Note.Length > 0)
         {
             w.WriteString("note", c.Note);
@@ -207,6 +212,14 @@ internal static class ProfileJson
                 var other => throw MachineProfile.Bad(source, $"code '{code}': controller '{other}' is not library, host or not-yet"),
             };
 
+            var stop = Text(e, "stop") switch
+            {
+                "" => ProgramStopKind.None,
+                "program" => ProgramStopKind.Program,
+                "optional" => ProgramStopKind.Optional,
+                var other => throw MachineProfile.Bad(source, $"code '{code}': stop '{other}' is not program or optional"),
+            };
+
             var values = new Dictionary<char, ValueSet>();
             if (e.TryGetProperty("values", out var vs))
             {
@@ -235,6 +248,7 @@ internal static class ProfileJson
                 Requires = Text(e, "requires").ToUpperInvariant(),
                 Values = values,
                 Routine = e.TryGetProperty("routine", out var r) ? r.GetString() : null,
+                Stop = stop,
                 Note = Text(e, "note"),
             });
         }

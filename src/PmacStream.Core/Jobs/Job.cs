@@ -28,6 +28,7 @@ public sealed class Job : IAsyncDisposable
     private static readonly ILogger Log = Serilog.Log.ForContext<Job>();
     private readonly JobStore? _store;
     private readonly double? _feedOverride;
+    private volatile bool _continueRequested;
 
     internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feedOverride, JobStore? store, long? id)
     {
@@ -107,7 +108,7 @@ public sealed class Job : IAsyncDisposable
     /// <summary>Feed hold.</summary>
     public Task HoldAsync(CancellationToken cancellationToken = default) => Session.HoldAsync(cancellationToken);
 
-    /// <summary>Resume after a hold, or the next block in single-block mode.</summary>
+    /// <summary>Resume after a hold or at a program stop, or the next block in single-block mode.</summary>
     public Task ResumeMotionAsync(CancellationToken cancellationToken = default) =>
         Session.SingleBlock && Session.State == SessionState.Running ? Session.StepAsync(cancellationToken) : Session.ResumeMotionAsync(cancellationToken);
 
@@ -120,6 +121,28 @@ public sealed class Job : IAsyncDisposable
 
     /// <summary>Single-block mode on or off.</summary>
     public void SetSingleBlock(bool on) => Session.SetSingleBlock(on);
+
+    /// <summary>The optional-stop switch on or off (<c>M01</c> stops or not), live.</summary>
+    public Task SetOptionalStopAsync(bool on, CancellationToken cancellationToken = default) => Session.SetOptionalStopAsync(on, cancellationToken);
+
+    /// <summary>
+    /// What <see cref="RunAsync"/> does at a program stop: false (the default) waits for the operator
+    /// (<see cref="ContinueFromStop"/>, or a resume command); true gives the run command by itself, for scripted runs and
+    /// the simulator (<c>--stops continue</c>).
+    /// </summary>
+    public bool ContinueAtStops { get; set; }
+
+    /// <summary>
+    /// The operator continues from the program stop the job waits at (pressed Enter): <see cref="RunAsync"/> gives the
+    /// run command on its next tick. Ignored unless the job is stopped at a program stop now.
+    /// </summary>
+    public void ContinueFromStop()
+    {
+        if (Session.State == SessionState.Stopped)
+        {
+            _continueRequested = true;
+        }
+    }
 
     /// <summary>
     /// The timer loop (timer1_Tick of the HMI) for a host without a timer: tick, report, wait one period and, when the
@@ -146,6 +169,12 @@ public sealed class Job : IAsyncDisposable
                 break;
             }
 
+            if (s.State == SessionState.Stopped && (ContinueAtStops || _continueRequested))
+            {
+                _continueRequested = false;
+                await ContinueAsync(s.Stop).ConfigureAwait(false);
+            }
+
             try
             {
                 await Task.Delay(Settings.TickPeriod, cancellationToken).ConfigureAwait(false);
@@ -162,6 +191,20 @@ public sealed class Job : IAsyncDisposable
         Log.Information("Job {Job} {Outcome} at line {Line}: {Executed} of {Total} blocks", Id, outcome, Session.Status.CurrentLine,
             Session.Status.ExecutedBlocks, Session.Status.TotalBlocks);
         return outcome;
+    }
+
+    /// <summary>The run command at a program stop, from the tick loop; a link fault there faults the session (the loop then ends).</summary>
+    private async Task ContinueAsync(ProgramStop? stop)
+    {
+        try
+        {
+            await Session.ResumeMotionAsync(CancellationToken.None).ConfigureAwait(false);
+            Log.Information("Job {Job} continued after the {Stop}", Id, stop?.ToString() ?? "program stop");
+        }
+        catch (Exception e) when (e is PmacLinkException or PmacErrorException)
+        {
+            // Already the session's fault, with what to do: the loop ends at the next tick.
+        }
     }
 
     /// <summary>Keeps the reason the job stopped with its record and closes the job store.</summary>

@@ -51,6 +51,9 @@ public sealed record JobRequest(ChunkedProgram Program, StrategyKind Strategy)
     /// <summary>Single-block mode.</summary>
     public bool SingleBlock { get; init; }
 
+    /// <summary>Optional stop on: the controller stops at <c>M01</c> (the switch is set on the controller at the start, and can be changed live).</summary>
+    public bool OptionalStop { get; init; } = true;
+
     /// <summary>
     /// The coordinate system's feed override in percent (<c>&amp;n %</c>, 0-200), set before the start once the
     /// coordinate system is known idle, so a value left by an earlier job never carries over.

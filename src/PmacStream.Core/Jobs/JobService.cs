@@ -180,7 +180,8 @@ public sealed class JobService
         var store = request.Record ? JobStore.Open(JobDatabase) : null;
         try
         {
-            var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1);
+            var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
+                with { OptionalStop = request.OptionalStop };
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings),
                 (request.Profile.Source, request.Profile.Identity));
@@ -312,7 +313,7 @@ public sealed class JobService
     /// <exception cref="JobException">The controller could not be asked (link or ERR).</exception>
     /// <exception cref="ProgramRefusedException">The gate refused it; nothing was sent.</exception>
     public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumableJob job, RunSettings settings, Func<RestartProposal, Task<bool>> confirmRestart,
-        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default, bool force = false)
+        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default, bool force = false, bool optionalStop = true)
     {
         ArgumentNullException.ThrowIfNull(controller);
         ArgumentNullException.ThrowIfNull(job);
@@ -325,7 +326,8 @@ public sealed class JobService
         var store = OpenExistingStore();
         try
         {
-            var options = settings.ToStreamingOptions(record.Strategy, singleBlock: false, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1);
+            var options = settings.ToStreamingOptions(record.Strategy, singleBlock: false, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
+                with { OptionalStop = optionalStop };
             StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
             string? reason = null;
             if (record.Checkpoint is { State: not SessionState.Aborted } cp && controller.Simulator?.Fresh != true)

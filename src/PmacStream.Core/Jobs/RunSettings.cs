@@ -33,6 +33,9 @@ public sealed record RunSettings
     /// <summary>The live feed variable moves read (<c>F(P500)</c>).</summary>
     public const string DefaultFeedVariable = "P500";
 
+    /// <summary>The optional-stop switch the library's <c>M01</c> routine reads (1: stop there, 0: go on).</summary>
+    public const string DefaultOptionalStopVariable = "P502";
+
     /// <summary>Words the session keeps free in the rotary buffer against the splitter's estimate.</summary>
     public const int BufferMarginWords = 64;
 

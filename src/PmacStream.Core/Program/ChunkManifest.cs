@@ -95,6 +95,13 @@ public sealed record ChunkManifest(
     /// </summary>
     public IReadOnlyDictionary<string, int>? NotYetCodes { get; init; }
 
+    /// <summary>
+    /// The codes in the chunks whose routine stops the program (<c>M00</c>, <c>M01</c>: the profile's <c>"stop"</c>
+    /// codes), with the source line of their first use; each such block is tracked (<c>M0==line DWELL0 M00</c>), so a
+    /// job names the stop's line and code. Empty or null (manifests of older versions) when the program never stops.
+    /// </summary>
+    public IReadOnlyDictionary<string, int>? StopCodes { get; init; }
+
     /// <summary>Reads a manifest.</summary>
     public static ChunkManifest Load(string path)
     {
@@ -182,6 +189,13 @@ public sealed record ChunkManifest(
             w.WriteEndObject();
         }
 
+        w.WriteStartObject("stopCodes");
+        foreach (var (code, line) in StopCodes ?? new Dictionary<string, int>())
+        {
+            w.WriteNumber(code, line);
+        }
+
+        w.WriteEndObject();
         w.WriteEndObject();
     }
 

@@ -13,6 +13,12 @@ internal enum BlockMotion
 
     /// <summary><c>G04</c>: a dwell, logged as one executed move by the simulator.</summary>
     Dwell,
+
+    /// <summary>
+    /// A program stop (<c>M00</c>, <c>M01</c>) without a move: written <c>M0==line DWELL0 M00</c>, so the tracking
+    /// variable names the stop's line while the controller waits there, and the dwell is its one executed "move".
+    /// </summary>
+    Stop,
 }
 
 /// <summary>
@@ -51,8 +57,23 @@ internal struct MotionScan
     /// <summary>The block carries M02 or M30.</summary>
     public bool EndsProgram { get; private set; }
 
+    /// <summary>The first stop code of the block (<see cref="ProgramStopCodes"/>), or null.</summary>
+    public string? StopCode { get; private set; }
+
     /// <summary>What the words seen so far make of the block.</summary>
-    public readonly BlockMotion Result => _dwell ? BlockMotion.Dwell : _axis && !_dataOnly ? BlockMotion.Move : BlockMotion.None;
+    public readonly BlockMotion Result => _dwell ? BlockMotion.Dwell : _axis && !_dataOnly ? BlockMotion.Move : StopCode is not null ? BlockMotion.Stop : BlockMotion.None;
+
+    /// <summary>Takes one word of the block; <paramref name="stops"/> names the codes that stop the program (null: none).</summary>
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+    public void Add(in GWord w, ProgramStopCodes? stops)
+    {
+        if (w.Letter == 'M' && StopCode is null && stops?.Find(w.CodeTimesTen) is { } stop)
+        {
+            StopCode = stop;
+        }
+
+        Add(w);
+    }
 
     /// <summary>Takes one word of the block.</summary>
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]

@@ -16,6 +16,12 @@ public sealed record Prog1000Options
     /// <summary>M-variable of the coolant output.</summary>
     public string Coolant { get; init; } = "M904";
 
+    /// <summary>
+    /// The optional-stop switch the <c>M01</c> routine reads (1: stop, 0: go on): a P-variable the host sets before a
+    /// job and while it runs (<c>--optional-stop</c>, the HMI's check box), so switching it needs no new split.
+    /// </summary>
+    public string OptionalStop { get; init; } = Jobs.RunSettings.DefaultOptionalStopVariable;
+
     /// <summary>Write <c>;</c> comment lines (PComm's download strips them; turn off for a raw terminal).</summary>
     public bool Comments { get; init; } = true;
 }
@@ -96,7 +102,21 @@ public static class Prog1000Library
                     Line($"; {r.Code} {r.Description}{(r.Body.Length == 0 && r.Note.Length > 0 ? $" ({r.Note})" : "")}");
                 }
 
-                Line(r.Body.Length == 0 ? $"N{r.Label} RET" : $"N{r.Label} {r.Body} RET");
+                var body = r.Body.Split('\n', StringSplitOptions.TrimEntries | StringSplitOptions.RemoveEmptyEntries);
+                if (body.Length <= 1)
+                {
+                    Line(body.Length == 0 ? $"N{r.Label} RET" : $"N{r.Label} {body[0]} RET");
+                    continue;
+                }
+
+                // A one-line IF takes everything after it on its line as its action: RET stands on a line of its own.
+                Line($"N{r.Label} {body[0]}");
+                foreach (var statement in body.Skip(1))
+                {
+                    Line(statement);
+                }
+
+                Line("RET");
             }
 
             Line("CLOSE");
@@ -156,8 +176,10 @@ public static class Prog1000Library
 
     private static string? MBody(int codeTimesTen, Prog1000Options o) => codeTimesTen switch
     {
-        // Stops wait for the moves ahead (DWELL0 ends lookahead), so the spindle is not stopped early.
-        0 or 10 => "DWELL0 STOP",
+        // Stops wait for the moves ahead (DWELL0 ends lookahead), so the spindle is not stopped early. STOP leaves the
+        // program where it is: the run command continues after it. M01 asks the optional-stop switch (a one-line IF).
+        0 => "DWELL0 STOP",
+        10 => $"DWELL0\nIF ({o.OptionalStop}=1) STOP",
         20 or 300 => $"DWELL0 {o.SpindleOn}=0 {o.Coolant}=0",
         30 => $"DWELL0 {o.SpindleReverse}=0 {o.SpindleOn}=1",
         40 => $"DWELL0 {o.SpindleReverse}=1 {o.SpindleOn}=1",

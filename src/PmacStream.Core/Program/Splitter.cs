@@ -166,6 +166,7 @@ public static class Splitter
 
         private static readonly byte[] HeaderBytes = Encoding.ASCII.GetBytes(Header);
         private static readonly byte[] FooterBytes = Encoding.ASCII.GetBytes(Footer);
+        private static readonly byte[] DwellZero = Encoding.ASCII.GetBytes("DWELL0");
 
         private readonly string _source;
         private readonly string _folder;
@@ -207,6 +208,8 @@ public static class Splitter
         private LineBatch? _batch;
         private CheckRun? _check;
         private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
+        private readonly ProgramStopCodes _stops;
+        private readonly Dictionary<string, int> _stopCodes = new(StringComparer.Ordinal); // stop codes used, first line
         private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
         private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
         private int _laneLines;        // lines the AxisLine lane took ...
@@ -263,6 +266,7 @@ public static class Splitter
             _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
             _chunk.Append(HeaderBytes);
             _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null;
+            _stops = ProgramStopCodes.Of(options.CheckProfile ?? MachineProfile.Default);
         }
 
         /// <summary>The codes the program uses that the controller cannot run yet, with their first line (null without a profile).</summary>
@@ -350,6 +354,7 @@ public static class Splitter
                 BlockDelete = _o.BlockDelete,
                 CheckedProfile = _o.CheckedProfile,
                 NotYetCodes = _notYet,
+                StopCodes = _stopCodes,
             };
             return (manifest, _warnings);
         }
@@ -650,7 +655,7 @@ public static class Splitter
                         break;
                     default:
                         any = true;
-                        scan.Add(words[i]);
+                        scan.Add(words[i], _stops);
                         break;
                 }
             }
@@ -706,6 +711,22 @@ public static class Splitter
                     }
 
                     o = Track(o, lineNumber);
+                    sep = true;
+                    values++;
+                }
+
+                if (motion == BlockMotion.Stop)
+                {
+                    // The dwell ends lookahead and carries the marker: M0 names the stop's line while the controller
+                    // waits there, whatever the stop code's routine does.
+                    _stopCodes.TryAdd(scan.StopCode!, lineNumber);
+                    if (sep)
+                    {
+                        o[0] = (byte)' ';
+                        o = o[1..];
+                    }
+
+                    o = Put(o, DwellZero);
                     sep = true;
                     values++;
                 }

@@ -480,6 +480,69 @@ public sealed class ChunkedProgram
         return n;
     }
 
+    /// <summary>
+    /// Where the program stands stopped: the stop block of <paramref name="trackedLine"/> (the tracking variable names a
+    /// stop block while the controller waits there), or with paper placement, where the variable lags a block, the
+    /// line the probe says was calculated last (<paramref name="probeValue"/>). The code is the block's first stop code
+    /// (<see cref="ChunkManifest.StopCodes"/>); null when the block has none (the program was stopped otherwise).
+    /// </summary>
+    public ProgramStop StopAt(int trackedLine, long? probeValue = null)
+    {
+        var line = trackedLine;
+        string? text = null;
+        if (Sync.LagsOneMove && probeValue is { } value && PositionAfterProbe(value) is { } after && LastLineBefore(after) is { } calculated)
+        {
+            line = calculated.TrackedLine > 0 ? calculated.TrackedLine : line;
+            text = calculated.Text;
+        }
+        else if (trackedLine > 0 && PositionAfterBlock(trackedLine) is { } end && LastLineBefore(end) is { } block)
+        {
+            text = block.Text;
+        }
+
+        return new ProgramStop(line, text is null ? null : StopCodeIn(text));
+    }
+
+    /// <summary>The first of the manifest's stop codes on a chunk line (the tracking assignment and the probe left out).</summary>
+    private string? StopCodeIn(string text)
+    {
+        if (Manifest.StopCodes is not { Count: > 0 } codes)
+        {
+            return null;
+        }
+
+        var rest = Sync.Without(text);
+        foreach (Match m in Regex.Matches(rest, @"(?<![A-Z0-9.=])M\s*(\d+(?:\.\d+)?)(?![=\d])", RegexOptions.IgnoreCase | RegexOptions.CultureInvariant))
+        {
+            var value = double.Parse(m.Groups[1].ValueSpan, System.Globalization.CultureInfo.InvariantCulture);
+            foreach (var code in codes.Keys)
+            {
+                if (double.TryParse(code.AsSpan(1), System.Globalization.NumberStyles.Float, System.Globalization.CultureInfo.InvariantCulture, out var c) && c == value)
+                {
+                    return code;
+                }
+            }
+        }
+
+        return null;
+    }
+
+    /// <summary>The body line just before <paramref name="position"/>, or null at the very start.</summary>
+    private ProgramLine? LastLineBefore(StreamPosition position)
+    {
+        for (var c = Math.Min(position.Chunk, TotalChunks); c >= 1; c--)
+        {
+            var body = Body(c);
+            var i = c == position.Chunk ? position.Line - 1 : body.Count - 1;
+            if (i >= 0 && i < body.Count)
+            {
+                return body[i];
+            }
+        }
+
+        return null;
+    }
+
     /// <summary>The tracked line of the last marker before <paramref name="position"/> (0 when none).</summary>
     public int LastTrackedBefore(StreamPosition position)
     {

@@ -25,7 +25,8 @@ internal sealed class JobLog
     /// <summary>Logs and raises an event of chunk <paramref name="chunk"/> while the tracking variable reads <paramref name="trackedLine"/>.</summary>
     public void Raise(StreamingEventKind kind, string message, int chunk, int trackedLine)
     {
-        if (kind is StreamingEventKind.Fault or StreamingEventKind.ChunkDownloadedLate or StreamingEventKind.Underrun or StreamingEventKind.Completed or StreamingEventKind.Recovered)
+        if (kind is StreamingEventKind.Fault or StreamingEventKind.ChunkDownloadedLate or StreamingEventKind.Underrun or StreamingEventKind.Completed
+            or StreamingEventKind.Recovered or StreamingEventKind.ProgramStop)
         {
             Message = message;
         }

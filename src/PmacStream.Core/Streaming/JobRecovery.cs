@@ -60,6 +60,13 @@ internal static class JobRecovery
         }
     }
 
+    /// <summary>
+    /// True when the job was at a program stop when the checkpoint was taken and the tracking variable still names
+    /// that block: the controller waits there for the run command, the job is not lost.
+    /// </summary>
+    public static bool StillAtStop(Checkpoint checkpoint, int trackedLine) =>
+        checkpoint.State == SessionState.Stopped && trackedLine == checkpoint.LastExecutedLine;
+
     /// <summary>The refusal of a resume whose job the controller no longer runs (aborted, stopped or reset).</summary>
     public static InvalidOperationException NotRunning(Checkpoint checkpoint, string trackVariable, int trackedLine) =>
         new($"the controller is not running the job (aborted, stopped or reset) at {trackVariable}={trackedLine}: restart from line {Math.Max(trackedLine, checkpoint.LastExecutedLine)} with a preamble");

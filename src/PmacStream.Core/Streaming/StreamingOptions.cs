@@ -60,6 +60,12 @@ public sealed record StreamingOptions
     /// <summary>Single-block mode: each start (<c>&amp;n S</c>) runs one block.</summary>
     public bool SingleBlock { get; init; }
 
+    /// <summary>Optional stop on: the controller stops at <c>M01</c> (the session sets <see cref="OptionalStopVariable"/> to 1 at the start).</summary>
+    public bool OptionalStop { get; init; } = true;
+
+    /// <summary>The optional-stop switch the library's <c>M01</c> routine reads (<c>P502</c>).</summary>
+    public string OptionalStopVariable { get; init; } = Jobs.RunSettings.DefaultOptionalStopVariable;
+
     /// <summary>
     /// Line-probe variable: every non-motion line is sent with a plain <c>P501=n</c> (its position), reset to 0 at the
     /// start. After a download broke off mid-way and the buffer drained, M0 tells the last move the controller got and

@@ -20,7 +20,7 @@ namespace PmacStream.Streaming;
 /// and recovery), <see cref="CompletionDetector"/> (underruns and the end), <see cref="CheckpointWriter"/>,
 /// <see cref="ExecutionPace"/> (rate, lead, ETA) and <see cref="JobLog"/> (events and the status message).
 /// </remarks>
-public sealed class StreamingSession
+public sealed partial class StreamingSession
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<StreamingSession>();
 
@@ -34,6 +34,7 @@ public sealed class StreamingSession
     private readonly ProgramSender _sender;
     private readonly BufferDrain _drain = new();
     private readonly CompletionDetector _completion = new();
+    private readonly ProgramStopWatch _stops = new();
     private readonly CheckpointWriter _checkpoints;
     private readonly ExecutionPace _pace;
     private readonly StartSequence _start;
@@ -43,6 +44,7 @@ public sealed class StreamingSession
     private int _tracked;
     private int _currentChunk = 1;
     private bool _singleBlock;
+    private bool _optionalStop;
     private bool _runSent;
     private long _ticks;
 
@@ -56,6 +58,7 @@ public sealed class StreamingSession
         _strategy = strategy ?? StreamingStrategies.Create(options.Strategy);
         _cs = new CoordinateSystemCommands(options.CoordinateSystem, options.Feed ?? program.Manifest.Feed, program.Manifest.FeedVariable);
         _singleBlock = options.SingleBlock;
+        _optionalStop = options.OptionalStop;
         program.UseLineProbe(options.LineProbeVariable);
         _queries = new ControllerQueries(_channel, _cs, program.Sync);
         _buffer = new RotaryBufferModel(options.BufferWords, options.SafetyWords);
@@ -134,14 +137,20 @@ public sealed class StreamingSession
                 _sender.ChunksDownloaded,
                 _buffer.LinesSent,
                 _completion.Underruns,
-                _log.Message);
+                _log.Message,
+                _state == SessionState.Stopped ? _stops.Stop : null);
         }
     }
 
     /// <summary>The checkpoint now (what a crash-safe resume needs).</summary>
     public Checkpoint Checkpoint => new(_tracked, _currentChunk, _sender.Next, _sender.NextExact, _sender.ChunksDownloaded, _state, _time.GetUtcNow(), _runSent, _start.Loaded || _runSent);
 
+    /// <summary>True while the optional-stop switch is on: the controller stops at <c>M01</c>.</summary>
+    public bool OptionalStop => _optionalStop;
+
     private string RunCommand => _cs.Run(_singleBlock);
+
+    private string OptionalStopCommand => $"{Options.OptionalStopVariable}={(_optionalStop ? 1 : 0)}";
 
     /// <summary>
     /// Sets up and starts: <c>CLOSE</c>, (optionally) define the rotary buffer, reset the tracking variable,
@@ -172,6 +181,8 @@ public sealed class StreamingSession
 
             await _start.EnsureNotRunningAsync(cancellationToken).ConfigureAwait(false);
             await _start.PrepareAsync(cancellationToken).ConfigureAwait(false);
+            await _channel.OnlineAsync(OptionalStopCommand, cancellationToken).ConfigureAwait(false);
+            _stops.Reset(0);
             await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
             _currentChunk = start.Chunk;
             _pace.Restart();
@@ -286,10 +297,14 @@ public sealed class StreamingSession
             _start.Loaded = true;
             var m = await _queries.TrackedLineAsync(cancellationToken).ConfigureAwait(false);
             JobRecovery.EnsureNotBehind(checkpoint, Program.Sync.Variable, m);
-            if (checkpoint.Started && await _queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == false)
+            if (checkpoint.Started && await _queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == false
+                && !JobRecovery.StillAtStop(checkpoint, m))
             {
                 throw JobRecovery.NotRunning(checkpoint, Program.Sync.Variable, m);
             }
+
+            await _channel.OnlineAsync(OptionalStopCommand, cancellationToken).ConfigureAwait(false);
+            _stops.Reset(m);
 
             await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
             _sender.Next = checkpoint.Next;
@@ -333,7 +348,7 @@ public sealed class StreamingSession
     /// </summary>
     public async Task TickAsync(CancellationToken cancellationToken = default)
     {
-        if (_state is not (SessionState.Running or SessionState.Held))
+        if (_state is not (SessionState.Running or SessionState.Held or SessionState.Stopped))
         {
             return;
         }
@@ -347,6 +362,7 @@ public sealed class StreamingSession
         {
             var before = _currentChunk;
             var downloadedBefore = _sender.ChunksDownloaded;
+            var stateBefore = _state;
             var m = await _queries.TrackedLineAsync(cancellationToken).ConfigureAwait(false);
             FollowTrack(m);
 
@@ -362,11 +378,13 @@ public sealed class StreamingSession
             }
             else
             {
+                // Before the strategy and the dry check: a stopped program leaves the buffer unread, not dry.
+                await WatchProgramStopAsync(m, cancellationToken).ConfigureAwait(false);
                 await _strategy.TickAsync(Context, cancellationToken).ConfigureAwait(false);
                 await CheckDryAndDoneAsync(cancellationToken).ConfigureAwait(false);
             }
 
-            SaveCheckpoint(durable: _currentChunk != before || _sender.ChunksDownloaded != downloadedBefore || _state == SessionState.Completed);
+            SaveCheckpoint(durable: _currentChunk != before || _sender.ChunksDownloaded != downloadedBefore || _state != stateBefore);
         }
         catch (Exception e) when (e is PmacLinkException or PmacErrorException)
         {
@@ -394,7 +412,7 @@ public sealed class StreamingSession
     {
         if (_state != SessionState.Faulted)
         {
-            return _state is SessionState.Running or SessionState.Held or SessionState.Completed;
+            return _state is SessionState.Running or SessionState.Held or SessionState.Stopped or SessionState.Completed;
         }
 
         await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
@@ -436,77 +454,6 @@ public sealed class StreamingSession
 
         PublishStatus();
         return true;
-    }
-
-    /// <summary>Feed hold (<c>&amp;n H</c>).</summary>
-    public Task HoldAsync(CancellationToken cancellationToken = default) =>
-        CommandAsync(_cs.Hold, "hold", SessionState.Held, cancellationToken);
-
-    /// <summary>Resume motion after a hold (<c>&amp;n R</c>, or <c>&amp;n S</c> in single-block mode).</summary>
-    public Task ResumeMotionAsync(CancellationToken cancellationToken = default) =>
-        CommandAsync(RunCommand, _singleBlock ? "step" : "resume", SessionState.Running, cancellationToken);
-
-    /// <summary>Run one more block (<c>&amp;n S</c>), the single-block start.</summary>
-    public Task StepAsync(CancellationToken cancellationToken = default) =>
-        CommandAsync(_cs.Step, "step", SessionState.Running, cancellationToken);
-
-    /// <summary>Abort (<c>&amp;n A</c>): motion stops at once; the job stays resumable from the last executed line.</summary>
-    public Task AbortAsync(CancellationToken cancellationToken = default) =>
-        CommandAsync(_cs.Abort, "abort", SessionState.Aborted, cancellationToken);
-
-    /// <summary>Single-block mode on or off: following starts run one block each.</summary>
-    public void SetSingleBlock(bool on)
-    {
-        _singleBlock = on;
-        Raise(StreamingEventKind.Command, on ? "single-block mode on" : "single-block mode off", _currentChunk);
-    }
-
-    /// <summary>
-    /// Live feed change: <c>P500=value</c> in paper mode (feed units), <c>&amp;n %value</c> in override mode (percent).
-    /// Sent between ticks, never into an open buffer.
-    /// </summary>
-    public Task SetFeedAsync(double value, CancellationToken cancellationToken = default)
-    {
-        if (value < 0 || double.IsNaN(value) || double.IsInfinity(value))
-        {
-            throw new ArgumentOutOfRangeException(nameof(value), "feed must be a finite non-negative number");
-        }
-
-        var cmd = _cs.SetFeed(value, out var v);
-        return CommandAsync(cmd, $"feed {v}", null, cancellationToken, () => _pace.Feed = value);
-    }
-
-    private async Task CommandAsync(string command, string what, SessionState? then, CancellationToken cancellationToken, Action? onSent = null)
-    {
-        if (_state is SessionState.Idle or SessionState.Completed)
-        {
-            throw new InvalidOperationException($"cannot {what}: the session is {_state}");
-        }
-
-        await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
-        try
-        {
-            await _channel.OnlineAsync(command, cancellationToken).ConfigureAwait(false);
-            onSent?.Invoke();
-            if (then is { } s && _state is not (SessionState.Faulted or SessionState.Completed))
-            {
-                _state = s;
-            }
-
-            Raise(StreamingEventKind.Command, what, _currentChunk);
-            SaveCheckpoint(durable: then == SessionState.Aborted);
-        }
-        catch (Exception e) when (e is PmacLinkException or PmacErrorException)
-        {
-            Fault(e);
-            throw;
-        }
-        finally
-        {
-            _gate.Release();
-        }
-
-        PublishStatus();
     }
 
     // ---- what strategies use (through StreamingContext) and the start ----
@@ -563,6 +510,40 @@ public sealed class StreamingSession
         _strategy.Reset();
         Note($"buffer drained at line {_tracked}; sending continues at {next}");
         Raise(StreamingEventKind.Recovered, _log.Message, _currentChunk);
+    }
+
+    /// <summary>
+    /// A program stop: the controller stopped the program (its running bit off) while the job runs, the tracking
+    /// variable on the stop block. Asked only when the variable stood still (see <see cref="ProgramStopWatch"/>). Not in
+    /// single-block mode, where every block ends so.
+    /// </summary>
+    private async Task WatchProgramStopAsync(int m, CancellationToken cancellationToken)
+    {
+        if (_singleBlock || _queries.StatusUnknown || !_stops.MustAsk(m, _state == SessionState.Running))
+        {
+            return;
+        }
+
+        if (await _queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) is not { } running)
+        {
+            return;
+        }
+
+        // With paper placement the variable lags a block: the probe names the stop block (the last line calculated).
+        var probe = !running && _stops.Stop is null && Program.ProbesEveryLine
+            ? await _queries.ProbeAsync(Program.LineProbeVariable!, cancellationToken).ConfigureAwait(false)
+            : (long?)null;
+        if (_stops.Observe(running, () => Program.StopAt(m, probe), out var left) is { } stop && _state == SessionState.Running)
+        {
+            _state = SessionState.Stopped;
+            Raise(StreamingEventKind.ProgramStop, stop.ToString(), _currentChunk);
+        }
+        else if (left is not null && _state == SessionState.Stopped)
+        {
+            // Continued at the controller (its panel, another host): the job runs on.
+            _state = SessionState.Running;
+            Raise(StreamingEventKind.Command, $"the controller continued after the {left}", _currentChunk);
+        }
     }
 
     private async Task CheckDryAndDoneAsync(CancellationToken cancellationToken)

@@ -20,6 +20,22 @@ public enum SessionState
 
     /// <summary>Aborted by the operator (<c>A</c>); resumable from the last executed line with a preamble.</summary>
     Aborted,
+
+    /// <summary>
+    /// At a program stop (<c>M00</c>, <c>M01</c> with optional stop on, any code whose routine says <c>STOP</c>): the
+    /// controller stopped the program and waits for the run command (<see cref="StreamingStatus.Stop"/> says where);
+    /// feeding goes on, no underrun is counted.
+    /// </summary>
+    Stopped,
+}
+
+/// <summary>Where the program stopped on the controller.</summary>
+/// <param name="Line">The source line of the stop block (the tracking variable names it).</param>
+/// <param name="Code">The stop code of that block (<c>M00</c>), or null when the block holds none (the program was stopped otherwise).</param>
+public sealed record ProgramStop(int Line, string? Code)
+{
+    /// <summary><c>program stop (M00) at line 12</c>.</summary>
+    public override string ToString() => Code is null ? $"program stop at line {Line}" : $"program stop ({Code}) at line {Line}";
 }
 
 /// <summary>What the HMI and CLI show about a session (the status panel).</summary>
@@ -37,6 +53,7 @@ public enum SessionState
 /// <param name="LinesSent">Program lines sent.</param>
 /// <param name="Underruns">Times the host saw the buffer run dry before the end.</param>
 /// <param name="Message">The last notable event, for a status bar (fault text with what to do).</param>
+/// <param name="Stop">Where the program stopped while <paramref name="State"/> is <see cref="SessionState.Stopped"/>, else null.</param>
 public sealed record StreamingStatus(
     SessionState State,
     int TotalChunks,
@@ -51,7 +68,8 @@ public sealed record StreamingStatus(
     int ChunksDownloaded,
     long LinesSent,
     int Underruns,
-    string Message);
+    string Message,
+    ProgramStop? Stop = null);
 
 /// <summary>Kinds of session events (job log).</summary>
 public enum StreamingEventKind
@@ -82,6 +100,9 @@ public enum StreamingEventKind
 
     /// <summary>Every block executed.</summary>
     Completed,
+
+    /// <summary>The program stopped at a program stop and waits for the run command.</summary>
+    ProgramStop,
 }
 
 /// <summary>One event of a session.</summary>

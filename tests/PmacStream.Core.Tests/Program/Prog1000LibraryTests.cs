@@ -43,7 +43,20 @@ public class Prog1000LibraryTests
             }
 
             var labelLines = Lines(text).Where(l => l.StartsWith('N')).ToList();
-            labelLines.Should().HaveCount(routines.Count(r => r.Converted)).And.OnlyContain(l => l.EndsWith(" RET"));
+            labelLines.Should().HaveCount(routines.Count(r => r.Converted));
+
+            // Each routine ends in RET: on its label's line, or on a line of its own after a one-line IF.
+            var lines = Lines(text).ToList();
+            foreach (var label in labelLines)
+            {
+                var end = lines.IndexOf(label);
+                while (!lines[end].EndsWith("RET", StringComparison.Ordinal))
+                {
+                    end++;
+                    lines[end].Should().NotStartWith("N", $"{name}: the routine of {label} ends in RET before the next label");
+                    lines[end].Should().NotBe("CLOSE");
+                }
+            }
             var withComments = Prog1000Library.Generate(profile);
             Lines(withComments).Should().OnlyContain(l => l.All(c => c < 128), "the file is downloaded to the controller as ASCII");
             foreach (var r in routines.Where(r => !r.Converted))

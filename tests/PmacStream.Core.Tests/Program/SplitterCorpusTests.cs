@@ -32,7 +32,7 @@ public class SplitterCorpusTests(ITestOutputHelper output)
                 foreach (var line in ChunkText.Lines(path))
                 {
                     line.Replace("F(P500)", "").Should().NotContain("(", file).And.NotContain(";").And.NotContain("%").And.NotStartWith("/").And.NotBeEmpty();
-                    line.Should().MatchRegex(@"^(CLOSE|OPEN ROT|[A-Z][-0-9.]+|M[0-9]+==[0-9]+|P[0-9]+=[-0-9.]+|F\(P500\))( ([A-Z][-0-9.]+|M[0-9]+==[0-9]+|F\(P500\)))*$", file);
+                    line.Should().MatchRegex(@"^(CLOSE|OPEN ROT|[A-Z][-0-9.]+|M[0-9]+==[0-9]+|P[0-9]+=[-0-9.]+|F\(P500\))( ([A-Z][-0-9.]+|M[0-9]+==[0-9]+|F\(P500\)|DWELL0))*$", file);
                     if (line.StartsWith("M0==", StringComparison.Ordinal))
                     {
                         var n = int.Parse(line[4..line.IndexOf(' ')], System.Globalization.CultureInfo.InvariantCulture);

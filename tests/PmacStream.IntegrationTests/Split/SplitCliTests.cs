@@ -109,7 +109,7 @@ public sealed class SplitCliTests : IDisposable
         var (code, _, stderr) = Run("split", src, "--out", outDir, "--lines", "100", "--profile", "paper-24g7m");
         code.Should().Be(1, stderr);
         stderr.Should().Contain("late.nc:3002:7").And.Contain("E104").And.Contain("late.nc:3003:14").And.Contain("E118")
-            .And.Contain("2 error(s); not split (--force splits anyway)");
+            .And.Contain("2 error(s) under profile 'paper-24g7m'; not split (--force splits anyway)");
         Directory.GetFileSystemEntries(_folder).Should().Equal(src);
 
         var forced = Run("split", src, "--out", outDir, "--lines", "100", "--force", "--profile", "paper-24g7m");

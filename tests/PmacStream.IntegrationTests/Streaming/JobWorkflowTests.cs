@@ -107,7 +107,7 @@ public sealed class JobWorkflowTests : IDisposable
         code.Should().Be(1, stdout + stderr);
         var lines = stderr.Split('\n').Select(l => l.TrimEnd('\r')).Where(l => l.Length > 0).ToList();
         lines.Take(errors.Count).Should().Equal(errors.Select(d => d.Format(src)), "every error, as FILE:LINE:COL: error CODE: message, in line order");
-        lines.Should().Contain(l => l.Contains($"{errors.Count} error(s); nothing sent", StringComparison.Ordinal));
+        lines.Should().Contain(l => l.Contains($"{errors.Count} error(s) under profile 'fanuc-mill'; nothing sent", StringComparison.Ordinal));
         connections.Should().Be(0, "the check refused before the controller was even opened");
         sim.ExecutedMoves.Should().BeEmpty();
         sim.ExecutedRotaryLines.Should().BeEmpty();
