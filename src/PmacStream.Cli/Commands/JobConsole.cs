@@ -50,9 +50,24 @@ internal static class JobConsole
     /// repeated or reordered); else the count from M0. Ctrl-C stops sending and leaves the job resumable.
     /// <paramref name="countFrom"/> is the first line counted (a start from a line), null for the whole program.
     /// </summary>
-    public static async Task<int> RunAsync(Job job, CliSimulator sim, bool start, int? countFrom, CancellationToken ct, string title = "stream", bool showUnderruns = true)
+    public static async Task<int> RunAsync(Job job, CliSimulator sim, bool start, int? countFrom, CancellationToken ct, string title = "stream", bool showUnderruns = true,
+        bool continueAtStops = true)
     {
         var program = job.Program;
+        job.ContinueAtStops = continueAtStops;
+        job.EventRaised += (_, e) =>
+        {
+            if (e.Kind == StreamingEventKind.ProgramStop)
+            {
+                Console.Out.WriteLine(continueAtStops ? $"{e.Message}; continuing (--stops continue)" : $"{e.Message}: press Enter to continue (Ctrl-C leaves the job resumable)");
+            }
+        };
+
+        if (!continueAtStops)
+        {
+            // Enter continues from a stop; the tick loop gives the run command. A line typed while the job runs is ignored.
+            _ = Task.Run(() => ReadEnters(job), CancellationToken.None);
+        }
 
         // Counted as the moves finish, against the program read lazily: nothing grows with the program.
         var check = job.Controller.IsSimulator && sim.Sim is { } counted
@@ -116,6 +131,21 @@ internal static class JobConsole
 
         Console.WriteLine($"executed {status.ExecutedBlocks} of {program.Manifest.TotalMotionBlocks} blocks, {status.Underruns} underruns (from M0 and PR)");
         return status.ExecutedBlocks == program.Manifest.TotalMotionBlocks || countFrom is not null ? CliGlobals.Ok : CliGlobals.Failed;
+    }
+
+    private static void ReadEnters(Job job)
+    {
+        try
+        {
+            while (Console.In.ReadLine() is not null)
+            {
+                job.ContinueFromStop();
+            }
+        }
+        catch (Exception e) when (e is IOException or ObjectDisposedException)
+        {
+            // Input went away: the job waits at its next stop until Ctrl-C.
+        }
     }
 
     private static string Resumable(Job job) =>

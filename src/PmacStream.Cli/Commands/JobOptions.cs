@@ -44,6 +44,18 @@ internal sealed class JobOptions
         Description = $"Feed override in percent ({FeedOverrides.Minimum}-{FeedOverrides.Maximum}, &1 %), the operator's feed control as on the HMI: the program's feeds stay as programmed (in P500 in paper mode) and run at this share. stream starts with it (default {FeedOverrides.Default}); resume sets it when given.",
     };
 
+    private readonly Option<string?> _stops = new("--stops")
+    {
+        Description = "At a program stop (M00, M01 with optional stop on): wait (print 'program stop (M00) at line N' and wait for Enter; the default on a terminal) or continue (go on by itself: scripted runs, the simulator). Without a terminal a program with stops needs --stops continue.",
+        HelpName = "wait|continue",
+    };
+
+    private readonly Option<string?> _optionalStop = new("--optional-stop")
+    {
+        Description = "Optional stop: on (M01 stops, the default) or off (M01 runs through). Set on the controller (P502), no new split needed.",
+        HelpName = "on|off",
+    };
+
     private readonly Option<double?> _clearance = new("--clearance") { Description = $"Added to the highest Z so far with --safe-z-mode highest (default {D.Clearance})." };
     private readonly Option<string> _simSpeed;
 
@@ -59,7 +71,7 @@ internal sealed class JobOptions
         var options = new List<Option>();
         if (face != JobFace.Demo)
         {
-            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride]);
+            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop]);
         }
 
         if (face == JobFace.Stream)
@@ -90,6 +102,45 @@ internal sealed class JobOptions
         {
             throw new CliException("--feed-override: " + e.Message);
         }
+    }
+
+    /// <summary>Optional stop: <c>--optional-stop on|off</c>, on unless told.</summary>
+    public bool OptionalStop(ParseResult parse) => parse.GetValue(_optionalStop)?.Trim().ToLowerInvariant() switch
+    {
+        null or "on" => true,
+        "off" => false,
+        var other => throw new CliException($"--optional-stop {other}: expected on or off"),
+    };
+
+    /// <summary>
+    /// True when the job goes on by itself at program stops (<c>--stops continue</c>). Without <c>--stops</c> it waits for
+    /// Enter on a terminal; when input is not a terminal, a program that stops (its manifest's stop codes, M01 only
+    /// with optional stop on) is refused here rather than left waiting for an Enter that cannot come.
+    /// </summary>
+    public bool ContinueAtStops(ParseResult parse, Program.ChunkManifest manifest, GCode.MachineProfile profile)
+    {
+        switch (parse.GetValue(_stops)?.Trim().ToLowerInvariant())
+        {
+            case "continue":
+                return true;
+            case "wait":
+                return false;
+            case null:
+                break;
+            case var other:
+                throw new CliException($"--stops {other}: expected wait or continue");
+        }
+
+        var optional = OptionalStop(parse);
+        var stops = (manifest.StopCodes ?? new Dictionary<string, int>())
+            .Where(c => optional || profile.Find(c.Key[0], double.Parse(c.Key.AsSpan(1), CultureInfo.InvariantCulture))?.Stop != GCode.ProgramStopKind.Optional)
+            .ToDictionary(c => c.Key, c => c.Value);
+        if (stops.Count > 0 && Console.IsInputRedirected)
+        {
+            throw new CliException($"the program stops at {ProgramGate.Describe(stops)} and input is not a terminal, so Enter cannot continue it: give --stops continue to go on at each stop by itself (or --stops wait to read Enter from the input)");
+        }
+
+        return false;
     }
 
     /// <summary>The job database named with <c>--job-db</c>, or null for the default.</summary>

@@ -35,6 +35,7 @@ internal static class ResumeCommand
             JobConsole.WarnForced(resumable.Program.Manifest, machine, forced);
             var settings = options.Settings(parse, resumable.Settings); // the job's own settings unless told otherwise
             var program = resumable.Program;
+            var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
             await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), machine, ct).ConfigureAwait(false);
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
@@ -53,7 +54,7 @@ internal static class ResumeCommand
 
                 Console.WriteLine($"restarting at the block of line {proposal.Line} (re-runs the block that was executing from its start)");
                 return Task.FromResult(JobConsole.Confirm(plan, options.Yes(parse)));
-            }, options.FeedOverride(parse), machine, ct, forced).ConfigureAwait(false);
+            }, options.FeedOverride(parse), machine, ct, forced, options.OptionalStop(parse)).ConfigureAwait(false);
             if (result.Job is not { } job)
             {
                 return CliGlobals.UsageOrIo;
@@ -63,7 +64,7 @@ internal static class ResumeCommand
             {
                 if (result.Kind == ResumeKind.Restart)
                 {
-                    return await JobConsole.RunAsync(job, sim, start: true, job.Plan?.Line, ct, "resume").ConfigureAwait(false);
+                    return await JobConsole.RunAsync(job, sim, start: true, job.Plan?.Line, ct, "resume", continueAtStops: continueAtStops).ConfigureAwait(false);
                 }
 
                 if (result.Kind == ResumeKind.Reloaded)
@@ -77,7 +78,7 @@ internal static class ResumeCommand
 
                 Console.WriteLine($"controller still holds the job at line {job.Status.CurrentLine}; continuing at {job.Session.Next}");
                 var countFrom = result.Kind == ResumeKind.Reloaded ? record.FromLine : null;
-                return await JobConsole.RunAsync(job, sim, start: false, countFrom, ct, "resume").ConfigureAwait(false);
+                return await JobConsole.RunAsync(job, sim, start: false, countFrom, ct, "resume", continueAtStops: continueAtStops).ConfigureAwait(false);
             }
         });
         return cmd;

@@ -60,11 +60,14 @@ internal static class StreamCommand
                 }
             }
 
+            var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
             await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
-            await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind) { Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride }, ct)
-                .ConfigureAwait(false);
+            await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind)
+            {
+                Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(parse),
+            }, ct).ConfigureAwait(false);
             Console.WriteLine($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}");
-            return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct).ConfigureAwait(false);
+            return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct, continueAtStops: continueAtStops).ConfigureAwait(false);
         });
         return cmd;
     }

@@ -26,6 +26,37 @@ public class SessionPartsTests
     }
 
     [Fact]
+    public void The_stop_watch_asks_the_running_bit_only_when_the_line_stood_still_or_while_stopped()
+    {
+        var watch = new ProgramStopWatch();
+        watch.Reset(0);
+        watch.MustAsk(12, running: true).Should().BeFalse("the line moved on: the program runs");
+        watch.MustAsk(12, running: true).Should().BeTrue("the line stood still over a tick");
+        watch.MustAsk(12, running: false).Should().BeFalse("held: no stop is looked for");
+
+        watch.Observe(programRunning: true, () => throw new InvalidOperationException("not asked"), out var left).Should().BeNull();
+        left.Should().BeNull();
+        watch.Observe(programRunning: false, () => new ProgramStop(12, "M00"), out _).Should().Be(new ProgramStop(12, "M00"));
+        watch.Stop.Should().Be(new ProgramStop(12, "M00"));
+        watch.MustAsk(12, running: false).Should().BeTrue("while stopped every tick asks");
+        watch.Observe(programRunning: false, () => throw new InvalidOperationException("once per stop"), out _).Should().BeNull();
+        watch.Observe(programRunning: true, () => throw new InvalidOperationException("not asked"), out left).Should().BeNull();
+        left.Should().Be(new ProgramStop(12, "M00"), "the controller continued");
+        watch.Stop.Should().BeNull();
+        new ProgramStop(12, "M00").ToString().Should().Be("program stop (M00) at line 12");
+        new ProgramStop(12, null).ToString().Should().Be("program stop at line 12");
+    }
+
+    [Fact]
+    public void A_job_left_at_a_stop_is_still_there_while_the_variable_names_the_stop_block()
+    {
+        var stopped = Cp(true, true, line: 64) with { State = SessionState.Stopped };
+        JobRecovery.StillAtStop(stopped, 64).Should().BeTrue();
+        JobRecovery.StillAtStop(stopped, 70).Should().BeFalse("the program moved on since");
+        JobRecovery.StillAtStop(Cp(true, true, line: 64), 64).Should().BeFalse("the checkpoint did not know of a stop");
+    }
+
+    [Fact]
     public void A_checkpoint_of_an_unfinished_load_or_a_controller_that_went_back_is_refused()
     {
         FluentActions.Invoking(() => JobRecovery.EnsureLoaded(Cp(false, false))).Should().Throw<InvalidOperationException>();

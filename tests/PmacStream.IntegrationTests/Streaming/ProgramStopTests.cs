@@ -104,6 +104,16 @@ public sealed class ProgramStopTests : IDisposable
     }
 
     [Fact]
+    public async Task With_paper_placement_the_probe_names_the_stop_block_the_lagging_variable_does_not()
+    {
+        using var rig = new SimRig(Program(), 40, new StreamingOptions { BufferWords = 20_000 }, PmacStream.Program.TrackingPlacement.Paper);
+        await rig.Session.StartAsync();
+        (await RunUntilStoppedAsync(rig)).Should().BeTrue();
+        rig.Session.Status.Stop.Should().Be(new ProgramStop(64, "M00"));
+        rig.Session.Status.CurrentLine.Should().BeLessThan(64, "with paper placement M0 names the block before");
+    }
+
+    [Fact]
     public async Task A_stop_the_controller_is_continued_from_elsewhere_is_followed()
     {
         using var rig = new SimRig(Program(), 40, new StreamingOptions { BufferWords = 20_000 });
@@ -116,6 +126,25 @@ public sealed class ProgramStopTests : IDisposable
         await rig.Session.TickAsync();
         rig.Session.State.Should().Be(SessionState.Running);
         rig.Session.Status.Stop.Should().BeNull();
+    }
+
+    [Fact]
+    public async Task A_host_that_left_its_job_at_a_stop_resumes_it_still_stopped_and_exact()
+    {
+        using var rig = new SimRig(Program(), 40, new StreamingOptions { BufferWords = 20_000 });
+        await rig.Session.StartAsync();
+        (await RunUntilStoppedAsync(rig)).Should().BeTrue();
+
+        // The host is gone; a new one takes the record: the controller still waits at the stop, the job is not lost.
+        rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, time: rig.Time);
+        await rig.Session.ResumeAsync(rig.Sink.Record());
+        (await RunUntilStoppedAsync(rig)).Should().BeTrue();
+        rig.Session.Status.Stop.Should().Be(new ProgramStop(64, "M00"));
+        await rig.Session.ResumeMotionAsync();
+        (await RunUntilStoppedAsync(rig)).Should().BeTrue("M01 stops next");
+        await rig.Session.ResumeMotionAsync();
+        (await rig.RunAsync(0.5)).Should().BeTrue(rig.Session.Status.Message);
+        rig.ExecutedLines().Should().Equal(rig.Program.TrackedLines());
     }
 
     private static async Task<bool> RunUntilStoppedAsync(SimRig rig)
