@@ -28,7 +28,8 @@ internal sealed partial class MainForm
         (nameof(lblToolpath), lblToolpath), (nameof(chkSingleBlock), chkSingleBlock), (nameof(btnExecute), btnExecute),
         (nameof(btnHold), btnHold), (nameof(btnResume), btnResume), (nameof(btnAbort), btnAbort),
         (nameof(btnStartFromLine), btnStartFromLine), (nameof(btnResumeInterrupted), btnResumeInterrupted),
-        (nameof(grpStatus), grpStatus), (nameof(lblProgramLines), lblProgramLines),
+        (nameof(grpStatus), grpStatus), (nameof(lblProgramLines), lblProgramLines), (nameof(cboProfile), cboProfile),
+        (nameof(chkOptionalStop), chkOptionalStop), (nameof(lblProgramStop), lblProgramStop),
     ];
 
     /// <summary>What the screen shows now.</summary>

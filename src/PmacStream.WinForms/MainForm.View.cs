@@ -24,6 +24,8 @@ internal sealed partial class MainForm
     public event EventHandler? StartFromLineRequested;
     public event EventHandler? ResumeInterruptedRequested;
     public event EventHandler? SingleBlockChanged;
+    public event EventHandler? OptionalStopChanged;
+    public event EventHandler? ProfileChanged;
     public event EventHandler? FeedOverrideChanged;
 
     private EventHandler? _downloadWindowChanged;
@@ -129,6 +131,72 @@ internal sealed partial class MainForm
     }
 
     public string SelectedStrategy => cboStrategy.SelectedItem as string ?? string.Empty;
+
+    IReadOnlyList<string> IMainView.Profiles
+    {
+        set
+        {
+            _updating = true;
+            try
+            {
+                cboProfile.Items.Clear();
+                foreach (var p in value)
+                {
+                    cboProfile.Items.Add(p);
+                }
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
+
+    public string SelectedProfile
+    {
+        get => cboProfile.SelectedItem as string ?? string.Empty;
+        set
+        {
+            _updating = true;
+            try
+            {
+                cboProfile.SelectedIndex = cboProfile.Items.IndexOf(value);
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
+
+    public bool OptionalStop
+    {
+        get => chkOptionalStop.Checked;
+        set
+        {
+            _updating = true;
+            try
+            {
+                chkOptionalStop.Checked = value;
+            }
+            finally
+            {
+                _updating = false;
+            }
+        }
+    }
+
+    string IMainView.ProgramStopBanner
+    {
+        set
+        {
+            if (lblProgramStop.Text != value)
+            {
+                lblProgramStop.Text = value;
+                lblProgramStop.Visible = value.Length > 0;
+            }
+        }
+    }
 
     IReadOnlyList<string> IMainView.ChunkFiles
     {

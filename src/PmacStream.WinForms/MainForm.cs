@@ -44,6 +44,8 @@ internal sealed partial class MainForm : Form, IMainView
     private readonly NumericUpDown numWindowStart = new() { Minimum = 1, Maximum = 99, Increment = 5 };
     private readonly Label lblWindowDash = new() { Text = "–" };
     private readonly NumericUpDown numWindowEnd = new() { Minimum = 1, Maximum = 100, Increment = 5 };
+    private readonly Label lblProfile = new();
+    private readonly ComboBox cboProfile = new() { DropDownStyle = ComboBoxStyle.DropDownList };
     private readonly Label lblLanguage = new();
     private readonly ComboBox cboLanguage = new() { DropDownStyle = ComboBoxStyle.DropDownList };
 
@@ -71,6 +73,7 @@ internal sealed partial class MainForm : Form, IMainView
 
     private readonly Label lblFeedUnit = new() { Text = "%" };
     private readonly CheckBox chkSingleBlock = new();
+    private readonly CheckBox chkOptionalStop = new() { Checked = true };
 
     private readonly Label lblChunkFiles = new();
     private readonly ListBox listBox1 = new() { IntegralHeight = false };
@@ -79,6 +82,8 @@ internal sealed partial class MainForm : Form, IMainView
     private readonly Label lblProgramLines = new();
     private readonly ListView listBox2 = NewVirtualList();
 
+    // Shown only at a program stop: an operator must see at once that the machine waits for Resume.
+    private readonly Label lblProgramStop = new() { BackColor = Color.Orange, ForeColor = Color.Black, Font = new Font(SystemFonts.DefaultFont, FontStyle.Bold), AutoEllipsis = true, Visible = false };
     private readonly Button btnExecute = new() { Font = new Font(SystemFonts.DefaultFont.FontFamily, 11f, FontStyle.Bold) };
     private readonly Button btnHold = new();
     private readonly Button btnResume = new();
@@ -151,6 +156,8 @@ internal sealed partial class MainForm : Form, IMainView
         Place(numWindowStart, HmiLayout.WindowStartBox, grpProgram);
         Place(lblWindowDash, HmiLayout.WindowDash, grpProgram);
         Place(numWindowEnd, HmiLayout.WindowEndBox, grpProgram);
+        Place(lblProfile, HmiLayout.ProfileLabel, grpProgram);
+        Place(cboProfile, HmiLayout.ProfileCombo, grpProgram);
         Place(lblLanguage, HmiLayout.LanguageLabel, grpProgram);
         Place(cboLanguage, HmiLayout.LanguageCombo, grpProgram);
 
@@ -160,6 +167,7 @@ internal sealed partial class MainForm : Form, IMainView
         Place(numFeed, HmiLayout.FeedBox, grpFeed);
         Place(lblFeedUnit, HmiLayout.FeedUnitLabel, grpFeed);
         Place(chkSingleBlock, HmiLayout.SingleBlockCheck, grpFeed);
+        Place(chkOptionalStop, HmiLayout.OptionalStopCheck, grpFeed);
 
         Place(lblChunkFiles, HmiLayout.ChunkFilesLabel, this);
         Place(listBox1, HmiLayout.ChunkFilesList, this);
@@ -168,6 +176,7 @@ internal sealed partial class MainForm : Form, IMainView
         Place(lblProgramLines, HmiLayout.ProgramLinesLabel, this);
         Place(listBox2, HmiLayout.ProgramLinesList, this);
 
+        Place(lblProgramStop, HmiLayout.ProgramStopBanner, this);
         Place(btnExecute, HmiLayout.ExecuteButton, this);
         Place(btnHold, HmiLayout.HoldButton, this);
         Place(btnResume, HmiLayout.ResumeButton, this);
@@ -199,7 +208,7 @@ internal sealed partial class MainForm : Form, IMainView
         // Growing the window grows the lists and the log, not the buttons; the toolpath pane keeps the size it is drawn at.
         listBox2.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
         lvChunkLines.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left;
-        foreach (Control c in new Control[] { btnExecute, btnHold, btnResume, btnAbort, btnStartFromLine, btnResumeInterrupted, grpStatus, grpFeed })
+        foreach (Control c in new Control[] { lblProgramStop, btnExecute, btnHold, btnResume, btnAbort, btnStartFromLine, btnResumeInterrupted, grpStatus, grpFeed })
         {
             c.Anchor = AnchorStyles.Top | AnchorStyles.Right;
         }
@@ -328,6 +337,20 @@ internal sealed partial class MainForm : Form, IMainView
         btnStartFromLine.Click += (_, _) => StartFromLineRequested?.Invoke(this, EventArgs.Empty);
         btnResumeInterrupted.Click += (_, _) => ResumeInterruptedRequested?.Invoke(this, EventArgs.Empty);
         chkSingleBlock.CheckedChanged += (_, _) => SingleBlockChanged?.Invoke(this, EventArgs.Empty);
+        chkOptionalStop.CheckedChanged += (_, _) =>
+        {
+            if (!_updating)
+            {
+                OptionalStopChanged?.Invoke(this, EventArgs.Empty);
+            }
+        };
+        cboProfile.SelectedIndexChanged += (_, _) =>
+        {
+            if (!_updating)
+            {
+                ProfileChanged?.Invoke(this, EventArgs.Empty);
+            }
+        };
 
         // The slider moves the box as it is dragged; the feed is sent once the operator lets go.
         trkFeed.ValueChanged += (_, _) =>
@@ -466,10 +489,12 @@ internal sealed partial class MainForm : Form, IMainView
         lblStrategy.Text = t[TextId.Strategy];
         lblWindow.Text = t[TextId.WindowControl];
         lblLanguage.Text = t[TextId.Language];
+        lblProfile.Text = t[TextId.Profile];
 
         grpFeed.Text = t[TextId.FeedOverride];
         lblFeed.Text = t[TextId.FeedOverrideHint];
         chkSingleBlock.Text = t[TextId.SingleBlock];
+        chkOptionalStop.Text = t[TextId.OptionalStop];
 
         lblChunkFiles.Text = t[TextId.ChunkFiles];
         lblChunkLines.Text = t[TextId.ChunkLines];

@@ -10,7 +10,8 @@ internal static class CommandRules
     /// <param name="split">The program is split.</param>
     /// <param name="running">A job runs (or is held).</param>
     /// <param name="held">The job is held.</param>
-    public static CommandStates For(bool busy, bool connected, bool open, bool split, bool running, bool held)
+    /// <param name="stopped">The job waits at a program stop (Resume continues it; there is nothing to hold).</param>
+    public static CommandStates For(bool busy, bool connected, bool open, bool split, bool running, bool held, bool stopped = false)
     {
         if (busy)
         {
@@ -26,7 +27,7 @@ internal static class CommandRules
             Check: open && !running,
             Split: open && !running,
             Execute: ready,
-            Hold: running && !held,
+            Hold: running && !held && !stopped,
             Resume: running,
             Abort: running,
             StartFromLine: ready,

@@ -12,8 +12,8 @@ internal sealed class ConnectionPanel(IMainView view, IHmiBackend backend, ILogg
     /// <summary>True while a connection is being made.</summary>
     public bool Connecting { get; private set; }
 
-    /// <summary>Connects with what the panel holds (nothing when already connected).</summary>
-    public async Task ConnectAsync(HmiLanguage language, CancellationToken cancellationToken)
+    /// <summary>Connects with what the panel holds (nothing when already connected); the simulator gets <paramref name="profile"/>'s library.</summary>
+    public async Task ConnectAsync(GCode.MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken)
     {
         if (Link is not null)
         {
@@ -25,7 +25,7 @@ internal sealed class ConnectionPanel(IMainView view, IHmiBackend backend, ILogg
         view.ConnectionState = HmiText.Get(TextId.StateConnecting, language);
         try
         {
-            Link = await backend.ConnectAsync(settings, cancellationToken).ConfigureAwait(true);
+            Link = await backend.ConnectAsync(settings, profile, cancellationToken).ConfigureAwait(true);
             log.Information("Connected to {Device:l}", Link.Description);
         }
         finally

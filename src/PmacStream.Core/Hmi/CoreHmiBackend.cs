@@ -8,14 +8,13 @@ namespace PmacStream.Hmi;
 /// <summary>
 /// The real <see cref="IHmiBackend"/>: an adapter over the <see cref="JobService"/> the command line calls too, so a
 /// job started here runs with the same gate, split, buffer, window and preamble as <c>pmacstream stream</c>, is
-/// recorded in the same job store and can be resumed by <c>pmacstream resume</c> (and the other way round).
+/// recorded in the same job store and can be resumed by <c>pmacstream resume</c> (and the other way round). The
+/// machine profile comes with each call: the operator chooses it on the screen.
 /// </summary>
-public sealed class CoreHmiBackend(JobService service, MachineProfile? profile = null) : IHmiBackend
+public sealed class CoreHmiBackend(JobService service) : IHmiBackend
 {
     /// <summary>Diagnostics listed at most (the counts stay exact; a screen of 10,000 rows is already plenty).</summary>
     public const int MaxListedDiagnostics = 10_000;
-
-    private readonly MachineProfile _profile = profile ?? MachineProfile.Default;
 
     /// <summary>The service every call goes to.</summary>
     public JobService Service { get; } = service;
@@ -24,37 +23,47 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
     public IReadOnlyList<string> Strategies => JobService.Strategies;
 
     /// <inheritdoc />
-    public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default) =>
-        Service.ConnectAsync(settings.ToSpec(), _profile, cancellationToken);
+    public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
+        Service.ConnectAsync(settings.ToSpec(), profile, cancellationToken);
 
     /// <inheritdoc />
-    public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default) =>
+    public async Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(controller);
+        if (controller.IsSimulator)
+        {
+            await ControllerLibrary.DownloadTolerantAsync(controller.Connection, ControllerLibrary.Lines(profile), cancellationToken).ConfigureAwait(false);
+        }
+    }
+
+    /// <inheritdoc />
+    public Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default) =>
         Task.Run(() =>
         {
             // For this check only: the diagnostic culture follows the async flow, and this task is the check's own.
             DiagnosticText.Culture = HmiText.Culture(language);
-            var c = Service.Check(path, _profile, MaxListedDiagnostics, cancellationToken);
+            var c = Service.Check(path, profile, MaxListedDiagnostics, cancellationToken);
             return new HmiCheckResult(c.Diagnostics, c.Blocks, c.Errors, c.Warnings);
         }, cancellationToken);
 
     /// <inheritdoc />
-    public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default)
+    public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {
-        var prepared = await Service.PrepareAsync(new PrepareRequest(sourcePath, settings) { Profile = _profile, MaxListedErrors = MaxListedDiagnostics }, null, cancellationToken)
+        var prepared = await Service.PrepareAsync(new PrepareRequest(sourcePath, settings) { Profile = profile, MaxListedErrors = MaxListedDiagnostics }, null, cancellationToken)
             .ConfigureAwait(false);
         return new HmiSplitResult(prepared.Program.Manifest, prepared.Program.Folder);
     }
 
     /// <inheritdoc />
-    public async Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) =>
-        (await Task.Run(() => Service.PlanStart(Program(program), line, settings, _profile, cancellationToken), cancellationToken).ConfigureAwait(false)).GCode;
+    public async Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
+        (await Task.Run(() => Service.PlanStart(Program(program), line, settings, profile, cancellationToken), cancellationToken).ConfigureAwait(false)).GCode;
 
     /// <inheritdoc />
     public async Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         var program = Program(request.Program);
         var plan = request.FromLine is { } from
-            ? await Task.Run(() => Service.PlanStart(program, from, request.Settings, _profile, cancellationToken), cancellationToken).ConfigureAwait(false)
+            ? await Task.Run(() => Service.PlanStart(program, from, request.Settings, request.Profile, cancellationToken), cancellationToken).ConfigureAwait(false)
             : null;
         var job = await Service.CreateJobAsync(controller, new JobRequest(program, Strategy(request.Strategy))
         {
@@ -62,7 +71,8 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
             Plan = plan,
             SingleBlock = request.SingleBlock,
             FeedOverride = request.FeedOverride,
-            Profile = _profile,
+            Profile = request.Profile,
+            OptionalStop = request.OptionalStop,
         }, cancellationToken).ConfigureAwait(false);
         return await StartedAsync(job, cancellationToken).ConfigureAwait(false);
     }
@@ -76,11 +86,14 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
 
     /// <inheritdoc />
     /// <remarks>The operator confirmed the restart preamble before (the presenter shows it), so a restart goes ahead.</remarks>
-    public async Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default)
+    public async Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
+        CancellationToken cancellationToken = default)
     {
+        ArgumentNullException.ThrowIfNull(profile);
         var resumable = job.Record as ResumableJob ?? throw new ArgumentException("not a job recorded in the job store", nameof(job));
-        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, _ => Task.FromResult(true), feedOverride, _profile, cancellationToken)
-            .ConfigureAwait(false);
+        var ran = JobService.ProfileOf(resumable.Record, profile.Source); // the job's own profile, or a clear refusal
+        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, _ => Task.FromResult(true), feedOverride, ran, cancellationToken,
+            optionalStop: optionalStop).ConfigureAwait(false);
         var resumed = result.Job!;
         return result.Kind == ResumeKind.Restart
             ? await StartedAsync(resumed, cancellationToken).ConfigureAwait(false)
@@ -88,7 +101,7 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
     }
 
     /// <inheritdoc />
-    public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath, _profile);
+    public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile) => new GCodeToolpathSource(sourcePath, profile);
 
     private static ChunkedProgram Program(HmiSplitResult split) => ChunkedProgram.FromManifest(split.Manifest, split.Directory);
 
@@ -123,10 +136,11 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
                     SessionState.Completed => HmiJobState.Completed,
                     SessionState.Aborted => HmiJobState.Aborted,
                     SessionState.Faulted => HmiJobState.Failed,
+                    SessionState.Stopped => HmiJobState.Stopped,
                     _ => HmiJobState.Idle,
                 };
                 return new HmiJobStatus(state, s.CurrentChunk, s.CurrentLine, s.Percent, s.Feed, job.ProgrammedFeed, s.Elapsed, s.Eta,
-                    string.IsNullOrEmpty(s.Message) ? null : s.Message);
+                    string.IsNullOrEmpty(s.Message) ? null : s.Message, s.Stop, job.Session.OptionalStop);
             }
         }
 
@@ -139,6 +153,8 @@ public sealed class CoreHmiBackend(JobService service, MachineProfile? profile =
         public Task AbortAsync(CancellationToken cancellationToken = default) => job.AbortAsync(cancellationToken);
 
         public Task SetFeedOverrideAsync(double percent, CancellationToken cancellationToken = default) => job.SetFeedOverrideAsync(percent, cancellationToken);
+
+        public Task SetOptionalStopAsync(bool on, CancellationToken cancellationToken = default) => job.SetOptionalStopAsync(on, cancellationToken);
 
         public Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default)
         {

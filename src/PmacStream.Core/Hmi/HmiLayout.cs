@@ -11,8 +11,8 @@ public readonly record struct LayoutBox(int X, int Y, int Width, int Height);
 /// The screen's geometry: the WinForms form places its controls here, and its UI test clicks at these places, so
 /// the two cannot drift apart. Settings across the top (connection; program, strategy and download window; feed
 /// override), the chunk files (ListBox1) and their lines and the program lines (ListBox2) in the middle, commands
-/// and status on the right, diagnostics, the log and the toolpath pane at the bottom. Places are kept free for the
-/// machine profile selector and the program-stop indication (<see cref="ProfileCombo"/>, <see cref="ProgramStopBanner"/>).
+/// and status on the right, diagnostics, the log and the toolpath pane at the bottom; the machine profile selector in the
+/// program group (<see cref="ProfileCombo"/>) and the program-stop banner above Execute (<see cref="ProgramStopBanner"/>).
 /// </summary>
 public static class HmiLayout
 {
@@ -82,9 +82,9 @@ public static class HmiLayout
     public static readonly LayoutBox WindowDash = new(354, 92, 10, 20);
     /// <summary>Download window end box (percent).</summary>
     public static readonly LayoutBox WindowEndBox = new(364, 88, 44, 23);
-    /// <summary>Kept free: the machine profile label (profile selection comes with named profiles).</summary>
+    /// <summary>Machine profile label.</summary>
     public static readonly LayoutBox ProfileLabel = new(12, 128, 90, 20);
-    /// <summary>Kept free: the machine profile combo box.</summary>
+    /// <summary>Machine profile combo box (the built-in profiles).</summary>
     public static readonly LayoutBox ProfileCombo = new(108, 124, 110, 23);
     /// <summary>Language label.</summary>
     public static readonly LayoutBox LanguageLabel = new(226, 128, 80, 20);
@@ -102,7 +102,9 @@ public static class HmiLayout
     /// <summary>Feed override unit label (%).</summary>
     public static readonly LayoutBox FeedUnitLabel = new(300, 86, 84, 20);
     /// <summary>Single-block check box.</summary>
-    public static readonly LayoutBox SingleBlockCheck = new(12, 126, 200, 24);
+    public static readonly LayoutBox SingleBlockCheck = new(12, 126, 150, 24);
+    /// <summary>Optional-stop check box (M01 stops while ticked).</summary>
+    public static readonly LayoutBox OptionalStopCheck = new(170, 126, 216, 24);
 
     // ---- middle: ListBox1 (chunk files and their lines), ListBox2 (program lines), commands and status
 
@@ -119,7 +121,7 @@ public static class HmiLayout
     /// <summary>ListBox2: program lines (virtual).</summary>
     public static readonly LayoutBox ProgramLinesList = new(376, 196, 420, 420);
 
-    /// <summary>Kept free: the program-stop indication (M00/M01: stopped at line n, Resume continues).</summary>
+    /// <summary>The program-stop banner (M00/M01: stopped at line n, Resume continues); empty while the job runs.</summary>
     public static readonly LayoutBox ProgramStopBanner = new(804, 176, 468, 18);
     /// <summary>Execute button.</summary>
     public static readonly LayoutBox ExecuteButton = new(804, 196, 114, 44);

@@ -60,6 +60,17 @@ public sealed class HmiLogSink : ILogEventSink
         return lines;
     }
 
+    /// <summary>Moves the waiting lines to the view's log pane (nothing is set when none waits).</summary>
+    public void DrainTo(IMainView view)
+    {
+        ArgumentNullException.ThrowIfNull(view);
+        var lines = Drain();
+        if (lines.Count > 0)
+        {
+            view.AppendLog(lines);
+        }
+    }
+
     /// <summary>One pane line: time, level, source class and the rendered message (and the exception's message).</summary>
     internal static string Format(LogEvent e)
     {

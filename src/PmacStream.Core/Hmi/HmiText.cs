@@ -81,6 +81,16 @@ public enum TextId
     ResumeInterrupted,
     /// <summary>Single block check box.</summary>
     SingleBlock,
+    /// <summary>Optional stop check box (M01 stops).</summary>
+    OptionalStop,
+    /// <summary>Machine profile selector label.</summary>
+    Profile,
+    /// <summary>State at a program stop: {0} code, {1} line.</summary>
+    StateStopped,
+    /// <summary>The program-stop banner: {0} code, {1} line.</summary>
+    ProgramStopBanner,
+    /// <summary>The gate refused codes the controller cannot run yet: {0} codes and lines, {1} profile.</summary>
+    ProgramNotRunnable,
     /// <summary>Status: feed (programmed x override = resulting).</summary>
     Feed,
     /// <summary>Feed override group and status row.</summary>
@@ -207,6 +217,12 @@ public static class HmiText
         [TextId.StartFromLine] = ("Start from selected line", "从所选行开始"),
         [TextId.ResumeInterrupted] = ("Resume after interruption", "断点续加工"),
         [TextId.SingleBlock] = ("Single block", "单段"),
+        [TextId.OptionalStop] = ("Optional stop (M01)", "选择停 (M01)"),
+        [TextId.Profile] = ("Profile", "机床配置"),
+        [TextId.StateStopped] = ("Program stop ({0}) at line {1}", "程序停止 ({0})，第 {1} 行"),
+        [TextId.ProgramStopBanner] = ("Program stop ({0}) at line {1}: Resume continues", "程序停止 ({0})，第 {1} 行：按“继续”继续执行"),
+        [TextId.ProgramNotRunnable] = ("The controller cannot run {0} yet under profile {1}: the PMAC would skip each code and run the rest of its block",
+            "在机床配置 {1} 下控制器尚不能执行 {0}：PMAC 会跳过这些代码而执行程序段的其余部分"),
         [TextId.Feed] = ("Feed", "进给速度"),
         [TextId.FeedOverride] = ("Feed override", "进给倍率"),
         [TextId.FeedOverrideHint] = ("% of the programmed feed (&1 %); the program's F values stay as written",

@@ -96,6 +96,9 @@ public enum HmiJobState
 
     /// <summary>Stopped by an error; resumable from its checkpoint.</summary>
     Failed,
+
+    /// <summary>At a program stop (M00, M01 with optional stop on): the controller waits; Resume continues.</summary>
+    Stopped,
 }
 
 /// <summary>A job's status as the status bar shows it.</summary>
@@ -108,6 +111,8 @@ public enum HmiJobState
 /// <param name="Elapsed">Time since start.</param>
 /// <param name="Eta">Estimated time to the end, when known.</param>
 /// <param name="Message">Why it stopped, for Failed (and Aborted) jobs.</param>
+/// <param name="Stop">Where the program stands stopped while <paramref name="State"/> is <see cref="HmiJobState.Stopped"/>, else null.</param>
+/// <param name="OptionalStop">True while the controller stops at M01 (the optional-stop switch).</param>
 public sealed record HmiJobStatus(
     HmiJobState State,
     int CurrentChunk,
@@ -117,7 +122,9 @@ public sealed record HmiJobStatus(
     double? ProgrammedFeed,
     TimeSpan Elapsed,
     TimeSpan? Eta,
-    string? Message = null)
+    string? Message = null,
+    Streaming.ProgramStop? Stop = null,
+    bool OptionalStop = true)
 {
     /// <summary>True once the job will not move again.</summary>
     public bool IsFinished => State is HmiJobState.Completed or HmiJobState.Aborted or HmiJobState.Failed;
@@ -130,7 +137,14 @@ public sealed record HmiJobStatus(
 /// <param name="SingleBlock">One block per start.</param>
 /// <param name="FeedOverride">The feed override (percent) set before the start.</param>
 /// <param name="Settings">Buffer words, download window, tick period and safe Z of the job.</param>
-public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int? FromLine, bool SingleBlock, double FeedOverride, RunSettings Settings);
+public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int? FromLine, bool SingleBlock, double FeedOverride, RunSettings Settings)
+{
+    /// <summary>The machine profile the program was checked and split under (start plans and move times use it; the job record keeps it).</summary>
+    public MachineProfile Profile { get; init; } = MachineProfile.Default;
+
+    /// <summary>Optional stop on: the controller stops at M01.</summary>
+    public bool OptionalStop { get; init; } = true;
+}
 
 /// <summary>A job that stopped before its end, as the job store recorded it.</summary>
 /// <param name="JobId">Job record id.</param>
@@ -168,32 +182,40 @@ public interface IHmiJob : IAsyncDisposable
 
     /// <summary>Single-block mode on or off.</summary>
     Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default);
+
+    /// <summary>The optional-stop switch on or off: the next M01 stops or not.</summary>
+    Task SetOptionalStopAsync(bool on, CancellationToken cancellationToken = default);
 }
 
 /// <summary>
 /// What the presenter needs from the rest of PmacStream: the seam between the screen and the job service. The real
 /// one (<see cref="CoreHmiBackend"/>) maps each call onto <see cref="JobService"/>, the service the command line
-/// calls too; tests of the presenter's own logic use a fake.
+/// calls too; tests of the presenter's own logic use a fake. The machine profile the operator chose is given with
+/// every call that reads a program or prepares the controller.
 /// </summary>
 public interface IHmiBackend
 {
     /// <summary>Strategy names for the selector, the default first.</summary>
     IReadOnlyList<string> Strategies { get; }
 
-    /// <summary>Opens a controller link (the library is downloaded to the built-in simulator).</summary>
-    Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default);
+    /// <summary>Opens a controller link (the profile's library is downloaded to the built-in simulator).</summary>
+    Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
 
-    /// <summary>Checks a program (every diagnostic, in the language asked).</summary>
-    Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default);
+    /// <summary>Downloads the profile's PROG 1000/1001 library again to the built-in simulator (another profile was chosen); other controllers keep theirs.</summary>
+    Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default);
+
+    /// <summary>Checks a program under a profile (every diagnostic, in the language asked).</summary>
+    Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default);
 
     /// <summary>
-    /// Checks and splits a program with the job's settings (reusing a matching earlier split); a program with errors is
-    /// refused with <see cref="ProgramRefusedException"/> listing them, whether or not a check ran first.
+    /// Checks and splits a program under a profile with the job's settings (reusing a matching earlier split): the job
+    /// gate. A program with errors, or with codes the controller cannot run yet, is refused with
+    /// <see cref="ProgramRefusedException"/> listing them, whether or not a check ran first.
     /// </summary>
-    Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default);
+    Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
 
     /// <summary>The G-code preamble that restores the machine state before starting at a source line (what is shown and sent).</summary>
-    Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default);
+    Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
 
     /// <summary>Prepares the controller, downloads the first chunk and starts execution (<c>&amp;1R</c>).</summary>
     Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default);
@@ -203,10 +225,12 @@ public interface IHmiBackend
 
     /// <summary>
     /// Continues an interrupted job from its checkpoint, without losing or repeating a block, with the operator's feed
-    /// override (percent) in force.
+    /// override (percent) and optional stop in force, under the profile it ran under (another <paramref name="profile"/>
+    /// is refused with a <see cref="JobException"/>).
     /// </summary>
-    Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default);
+    Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
+        CancellationToken cancellationToken = default);
 
-    /// <summary>The program's moves as the job's machine profile interprets them, for the toolpath pane (read anew on each pass).</summary>
-    IToolpathSource OpenToolpath(string sourcePath);
+    /// <summary>The program's moves as a machine profile interprets them, for the toolpath pane (read anew on each pass).</summary>
+    IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile);
 }

@@ -131,6 +131,15 @@ public interface IMainView
     /// <summary>The selected strategy.</summary>
     string SelectedStrategy { get; }
 
+    /// <summary>Machine profile selector items (the built-in profiles' names).</summary>
+    IReadOnlyList<string> Profiles { set; }
+
+    /// <summary>The selected machine profile's name (setting it raises no <see cref="ProfileChanged"/>).</summary>
+    string SelectedProfile { get; set; }
+
+    /// <summary>The operator chose another machine profile: the check and the split are dropped, the toolpath drawn anew.</summary>
+    event EventHandler? ProfileChanged;
+
     // ---- ListBox1: chunk files and their lines
 
     /// <summary>Chunk file rows (file name and source line range).</summary>
@@ -196,6 +205,18 @@ public interface IMainView
 
     /// <summary>Single-block check box changed.</summary>
     event EventHandler? SingleBlockChanged;
+
+    /// <summary>Optional-stop check box: M01 stops while it is ticked (setting it raises no <see cref="OptionalStopChanged"/>).</summary>
+    bool OptionalStop { get; set; }
+
+    /// <summary>Optional-stop check box changed (applies at once to a running job).</summary>
+    event EventHandler? OptionalStopChanged;
+
+    /// <summary>
+    /// The program-stop banner above Execute (<see cref="HmiLayout.ProgramStopBanner"/>): "Program stop (M00) at line n:
+    /// Resume continues" while the job waits at a stop, empty (hidden) otherwise.
+    /// </summary>
+    string ProgramStopBanner { set; }
 
     // ---- feed override
 

@@ -30,7 +30,7 @@ public sealed class MainPresenter : IAsyncDisposable
     private int _shownLineCount;
     private readonly ChunkLinesPane _chunkLines;
     private readonly ToolpathPane _toolpath;
-    private HmiCheckResult? _check;
+    private readonly ProgramGatePanel _gate;
     private HmiSplitResult? _split;
     private IHmiJob? _job;
     private HmiJobStatus? _lastStatus;
@@ -39,14 +39,17 @@ public sealed class MainPresenter : IAsyncDisposable
     private RunSettings _settings;
     private RunSettings _jobSettings;
     private string _jobStrategy = string.Empty;
+    private bool _optionalStop = true;
+    private string _banner = string.Empty;
 
     /// <summary>
     /// Wires the presenter to a view and the core. <paramref name="logSink"/> feeds the log pane (the application
     /// adds it to the global Serilog logger); <paramref name="logger"/> replaces the global logger for job events;
     /// <paramref name="settings"/> are the run settings the controls start from (the command line's, from the same
-    /// settings file; default <see cref="RunSettings.Default"/>).
+    /// settings file; default <see cref="RunSettings.Default"/>); <paramref name="profile"/> the machine profile the
+    /// selector starts at (default <see cref="MachineProfile.Default"/>).
     /// </summary>
-    public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null, ILogger? logger = null, RunSettings? settings = null)
+    public MainPresenter(IMainView view, IHmiBackend backend, HmiLogSink? logSink = null, ILogger? logger = null, RunSettings? settings = null, MachineProfile? profile = null)
     {
         _settings = settings ?? RunSettings.Default;
         _jobSettings = _settings;
@@ -59,13 +62,16 @@ public sealed class MainPresenter : IAsyncDisposable
         _connection = new ConnectionPanel(view, backend, _log);
         _chunkLines = new ChunkLinesPane(view);
         _toolpath = new ToolpathPane(view, backend, _log) { Language = _language };
+        _gate = new ProgramGatePanel(view, backend, _log);
 
         view.LanguageChanged += (_, _) => Run(ChangeLanguageAsync);
-        view.ConnectRequested += (_, _) => Run(() => _connection.ConnectAsync(_language, _life.Token));
+        view.ConnectRequested += (_, _) => Run(() => _connection.ConnectAsync(_gate.Profile, _language, _life.Token));
         view.DisconnectRequested += (_, _) => Run(() => _connection.DisconnectAsync(_job is not null, _language));
         view.OpenRequested += (_, path) => Run(() => OpenAsync(path));
-        view.CheckRequested += (_, _) => Run(CheckAsync);
-        view.DiagnosticActivated += (_, index) => JumpToDiagnostic(index);
+        view.CheckRequested += (_, _) => Run(() => _gate.CheckAsync(_program?.Path ?? throw new InvalidOperationException("Open a program first."), _language, _life.Token));
+        view.DiagnosticActivated += (_, index) => _view.FocusedLine = _gate.LineOf(index) ?? 0;
+        view.ProfileChanged += (_, _) => Run(ProfileChangedAsync);
+        view.OptionalStopChanged += (_, _) => Run(OptionalStopChangedAsync);
         view.SplitRequested += (_, _) => Run(SplitAsync);
         view.ChunkSelected += (_, index) => SelectChunk(index);
         view.ChunkLineNeeded += (_, e) => e.Text = _chunkLines.Line(e.Line);
@@ -82,6 +88,9 @@ public sealed class MainPresenter : IAsyncDisposable
 
         view.Texts = HmiText.All(_language);
         view.Strategies = backend.Strategies;
+        _gate.ShowProfiles(profile ?? MachineProfile.Default);
+        view.OptionalStop = _optionalStop;
+        view.ProgramStopBanner = string.Empty;
         view.ConnectionState = T(TextId.StateDisconnected);
         view.FeedOverride = _feedOverride;
         view.LinesPerChunk = _settings.LinesPerChunk;
@@ -192,7 +201,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var source = ProgramLineSource.Open(path);
         _program = source;
         _view.ProgramPath = path;
-        _toolpath.Open(path);
+        _toolpath.Open(path, _gate.Profile);
         await source.WaitForLinesAsync(FirstScreenLines, _life.Token).ConfigureAwait(true);
         if (source.Completion.IsFaulted)
         {
@@ -272,50 +281,47 @@ public sealed class MainPresenter : IAsyncDisposable
         return Task.CompletedTask;
     }
 
-    private async Task CheckAsync()
-    {
-        var program = _program ?? throw new InvalidOperationException("Open a program first.");
-        var result = await _backend.CheckAsync(program.Path, _language, _life.Token).ConfigureAwait(true);
-        ShowDiagnostics(result);
-        _log.Information("Checked {Path:l}: " + HmiText.Get(TextId.CheckSummary, HmiLanguage.English), program.Path, result.Errors, result.Warnings, result.Blocks);
-    }
-
-    private void ShowDiagnostics(HmiCheckResult result)
-    {
-        _check = result;
-        _view.Diagnostics = result.Diagnostics
-            .Select(d => string.Create(CultureInfo.InvariantCulture, $"{d.Line}:{d.Column}  {(d.Severity == Severity.Error ? "E" : "W")}  {d.Code}  {d.Message}"))
-            .ToList();
-    }
-
-    private void JumpToDiagnostic(int index)
-    {
-        if (_check is { } c && index >= 0 && index < c.Diagnostics.Count)
-        {
-            _view.FocusedLine = c.Diagnostics[index].Line;
-        }
-    }
-
     private async Task SplitAsync()
     {
         var program = _program ?? throw new InvalidOperationException("Open a program first.");
         _settings = _settings with { LinesPerChunk = Math.Max(1, _view.LinesPerChunk) };
-        HmiSplitResult split;
-        try
-        {
-            // The job service's gate: the program is checked under the machine profile whether or not Check ran.
-            split = await _backend.PrepareAsync(program.Path, _settings, _life.Token).ConfigureAwait(true);
-        }
-        catch (ProgramRefusedException e)
-        {
-            ShowDiagnostics(HmiCheckResult.FromList(e.Diagnostics, 0));
-            var first = e.Diagnostics.FirstOrDefault(d => d.Severity == Severity.Error);
-            throw new InvalidOperationException(first is null ? e.Message : F(TextId.ProgramHasErrors, first.Format(Path.GetFileName(program.Path))), e);
-        }
 
+        // The job service's gate: the program is checked under the machine profile whether or not Check ran.
+        var split = await _gate.SplitAsync(program.Path, _settings, _language, _life.Token).ConfigureAwait(true);
         SetSplit(split);
         _log.Information("Split {Path:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
             program.Path, split.Manifest.Chunks.Count, split.Manifest.TotalBlocks, split.Directory);
+    }
+
+    /// <summary>Another machine profile: the check and the split were the old one's; the toolpath is drawn under the new one, the simulator gets its library.</summary>
+    private async Task ProfileChangedAsync()
+    {
+        if (!_gate.ChooseProfile(_job is not null))
+        {
+            return;
+        }
+
+        DropSplit();
+        if (_program is { } p)
+        {
+            _toolpath.Open(p.Path, _gate.Profile);
+        }
+
+        if (_connection.Link is { } link)
+        {
+            await _backend.LoadLibraryAsync(link, _gate.Profile, _life.Token).ConfigureAwait(true);
+        }
+    }
+
+    private async Task OptionalStopChangedAsync()
+    {
+        _optionalStop = _view.OptionalStop;
+        if (_job is { } job)
+        {
+            await job.SetOptionalStopAsync(_optionalStop, _life.Token).ConfigureAwait(true);
+        }
+
+        _log.Information("Optional stop {State:l}", _optionalStop ? "on (M01 stops)" : "off (M01 runs through)");
     }
 
     private Task DownloadWindowChangedAsync()
@@ -341,6 +347,13 @@ public sealed class MainPresenter : IAsyncDisposable
     {
         _split = split;
         _chunkLines.SetProgram(split);
+        ShowChunkFiles();
+    }
+
+    private void DropSplit()
+    {
+        _split = null;
+        _chunkLines.SetProgram(null);
         ShowChunkFiles();
     }
 
@@ -375,7 +388,7 @@ public sealed class MainPresenter : IAsyncDisposable
             throw new InvalidOperationException(T(TextId.SelectLineFirst));
         }
 
-        var preamble = await _backend.BuildPreambleAsync(split, line, _settings, _life.Token).ConfigureAwait(true);
+        var preamble = await _backend.BuildPreambleAsync(split, line, _settings, _gate.Profile, _life.Token).ConfigureAwait(true);
         var ok = await _view.ConfirmAsync(T(TextId.ConfirmStartTitle), F(TextId.ConfirmStartText, line, string.Join(Environment.NewLine, preamble))).ConfigureAwait(true);
         if (!ok)
         {
@@ -389,7 +402,7 @@ public sealed class MainPresenter : IAsyncDisposable
     private async Task StartAsync(int? fromLine)
     {
         var split = RequireReady();
-        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings);
+        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings) { Profile = _gate.Profile, OptionalStop = _optionalStop };
         var job = await _backend.StartAsync(_connection.Link!, request, _life.Token).ConfigureAwait(true);
         BeginJob(job, request.Strategy, fromLine ?? 1);
         _log.Information("Job started{From:l} with strategy {Strategy:l}, feed override {Override} %",
@@ -407,7 +420,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var connection = _connection.Link ?? throw new InvalidOperationException("Connect to a controller first.");
         var interrupted = await _backend.FindInterruptedAsync(program.Path, _life.Token).ConfigureAwait(true)
             ?? throw new InvalidOperationException(T(TextId.NoInterruptedJob));
-        var preamble = await _backend.BuildPreambleAsync(interrupted.Program, interrupted.ResumeLine, _settings, _life.Token).ConfigureAwait(true);
+        var preamble = await _backend.BuildPreambleAsync(interrupted.Program, interrupted.ResumeLine, _settings, _gate.Profile, _life.Token).ConfigureAwait(true);
         var text = F(TextId.ConfirmResumeText, interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk, string.Join(Environment.NewLine, preamble));
         if (!await _view.ConfirmAsync(T(TextId.ConfirmResumeTitle), text).ConfigureAwait(true))
         {
@@ -420,7 +433,7 @@ public sealed class MainPresenter : IAsyncDisposable
             SetSplit(interrupted.Program);
         }
 
-        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feedOverride, _settings, _life.Token).ConfigureAwait(true);
+        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feedOverride, _settings, _gate.Profile, _optionalStop, _life.Token).ConfigureAwait(true);
         BeginJob(job, interrupted.Strategy, interrupted.ResumeLine);
         _log.Information("Job {Job} resumed at line {Line} (chunk {Chunk})", interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk);
     }
@@ -532,22 +545,18 @@ public sealed class MainPresenter : IAsyncDisposable
             _chunkLines.Follow(s.CurrentChunk, s.CurrentLine);
         }
 
+        var banner = StatusStrip.Banner(_job is null ? null : _lastStatus, _language);
+        if (banner.Length > 0 && banner != _banner)
+        {
+            _log.Information("{Stop:l}", StatusStrip.Banner(_lastStatus, HmiLanguage.English));
+        }
+
+        _view.ProgramStopBanner = _banner = banner;
+        RefreshCommands();
         RefreshStatus();
     }
 
-    private void DrainLog()
-    {
-        if (_logSink is null)
-        {
-            return;
-        }
-
-        var lines = _logSink.Drain();
-        if (lines.Count > 0)
-        {
-            _view.AppendLog(lines);
-        }
-    }
+    private void DrainLog() => _logSink?.DrainTo(_view);
 
     private void RefreshProgramLineCount()
     {
@@ -561,7 +570,7 @@ public sealed class MainPresenter : IAsyncDisposable
 
     private void RefreshCommands() =>
         _view.Commands = CommandRules.For(_ops.Busy > 0 || _connection.Connecting, _connection.Link is not null, _program is not null, _split is not null, _job is not null,
-            _lastStatus?.State == HmiJobState.Held);
+            _lastStatus?.State == HmiJobState.Held, _job is not null && _lastStatus?.State == HmiJobState.Stopped);
 
     private void RefreshStatus()
     {
@@ -576,12 +585,9 @@ public sealed class MainPresenter : IAsyncDisposable
         _program?.Dispose();
         _program = null;
         _shownLineCount = 0;
-        _check = null;
-        _split = null;
-        _chunkLines.SetProgram(null);
+        DropSplit();
         _toolpath.Close();
         _view.ProgramLineCount = 0;
-        _view.Diagnostics = [];
-        ShowChunkFiles();
+        _gate.Clear();
     }
 }

@@ -46,7 +46,7 @@ internal static class StatusStrip
             currentFile = $"{s.CurrentChunk}/{manifest.Chunks.Count}  {manifest.Chunks[s.CurrentChunk - 1].FileName}";
         }
 
-        var state = HmiText.Get(s?.State switch
+        var state = s is { State: HmiJobState.Stopped, Stop: { } stop } ? StopText(TextId.StateStopped, stop, language) : HmiText.Get(s?.State switch
         {
             HmiJobState.Running => TextId.StateRunning,
             HmiJobState.Held => TextId.StateHeld,
@@ -75,6 +75,17 @@ internal static class StatusStrip
             DownloadWindow: Window(f, language),
             Elapsed: s is null ? "-" : Clock(s.Elapsed),
             Eta: s?.Eta is { } eta ? Clock(eta) : "-");
+    }
+
+    /// <summary>The program-stop banner of a job waiting at a stop ("Program stop (M00) at line n: Resume continues"), else empty.</summary>
+    public static string Banner(HmiJobStatus? job, HmiLanguage language) =>
+        job is { State: HmiJobState.Stopped, Stop: { } stop } ? StopText(TextId.ProgramStopBanner, stop, language) : string.Empty;
+
+    /// <summary>"Program stop (M00) at line n" (<paramref name="id"/>: the state, or the banner), the code left out when the stop names none.</summary>
+    public static string StopText(TextId id, Streaming.ProgramStop stop, HmiLanguage language)
+    {
+        var text = HmiText.Format(id, language, stop.Code ?? string.Empty, stop.Line.ToString("N0", CultureInfo.InvariantCulture));
+        return stop.Code is null ? text.Replace(" ()", string.Empty, StringComparison.Ordinal) : text;
     }
 
     /// <summary>The download window, and the lines of the executing chunk it spans while the chunk strategy runs.</summary>

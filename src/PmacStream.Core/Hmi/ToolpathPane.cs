@@ -30,6 +30,7 @@ internal sealed class ToolpathPane : IDisposable
     private readonly SKCanvas _frameCanvas;
     private CancellationTokenSource? _work;
     private string? _path;
+    private GCode.MachineProfile? _profile;
     private Task<PreviewPicture>? _rendering;
     private double _renderFraction;
     private PreviewPicture? _planned;
@@ -65,16 +66,17 @@ internal sealed class ToolpathPane : IDisposable
     /// <summary>Executed moves drawn for the current job.</summary>
     public long ExecutedMoves => _tracer?.Drawn ?? 0;
 
-    /// <summary>Draws the planned toolpath of a newly opened program, in the background.</summary>
-    public void Open(string path)
+    /// <summary>Draws the planned toolpath of a newly opened program (or of the same under another profile), in the background.</summary>
+    public void Open(string path, GCode.MachineProfile profile)
     {
         Forget();
         _frame.Bitmap.Erase(_palette.Background);
         _view.Toolpath = _frame;
         _path = path;
+        _profile = profile;
         _work = new CancellationTokenSource();
         var token = _work.Token;
-        var source = _backend.OpenToolpath(path);
+        var source = _backend.OpenToolpath(path, profile);
         var options = new PreviewOptions
         {
             Width = _frame.Width,
@@ -200,7 +202,7 @@ internal sealed class ToolpathPane : IDisposable
 
         _traceWork = CancellationTokenSource.CreateLinkedTokenSource(_work!.Token);
         var token = _traceWork.Token;
-        var tracer = new ExecutedPathTracer(_backend.OpenToolpath(_path!), _planned.Projection, _executedCanvas, _palette.Executed, ExecutedWidth, token);
+        var tracer = new ExecutedPathTracer(_backend.OpenToolpath(_path!, _profile!), _planned.Projection, _executedCanvas, _palette.Executed, ExecutedWidth, token);
         _tracer = tracer;
         var first = _pendingFirstLine;
         _skipping = first > 1 ? Task.Run(() => tracer.SkipBefore(first), token) : null;

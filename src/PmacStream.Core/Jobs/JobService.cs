@@ -248,7 +248,7 @@ public sealed class JobService
 
         if (record.ProfileIdentity is { } ran && !string.Equals(ran, profile.Identity, StringComparison.Ordinal))
         {
-            var now = requested is null ? $"{source} now reads as {profile.Identity}" : $"--profile {requested} is {profile.Identity}";
+            var now = requested is null ? $"{source} now reads as {profile.Identity}" : $"the profile asked for, {requested}, is {profile.Identity}";
             throw new JobException(
                 $"job {record.Id} ran under machine profile {record.Profile} ({ran}); {now}: the profile changed since the job started, so the program's check, split and start plans would not be the job's. Resume with the profile the job ran under, or start the program again from a line",
                 JobErrorKind.BadRequest);

@@ -5,6 +5,7 @@ using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Preview;
 using PmacStream.Program;
+using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Hmi;
 
@@ -21,6 +22,11 @@ internal sealed class FakeView : IMainView
     public (double Start, double End) DownloadWindow { get; set; }
     public IReadOnlyList<string> Strategies { get; set; } = [];
     public string SelectedStrategy { get; set; } = "chunk";
+    public IReadOnlyList<string> Profiles { get; set; } = [];
+    public string SelectedProfile { get; set; } = string.Empty;
+    public bool OptionalStop { get; set; }
+    public List<string> Banners { get; } = [];
+    public string ProgramStopBanner { get => Banners.Count == 0 ? string.Empty : Banners[^1]; set => Banners.Add(value); }
     public IReadOnlyList<string> ChunkFiles { get; set; } = [];
     public List<int> SelectedChunks { get; } = [];
     public int SelectedChunk { get => SelectedChunks.Count == 0 ? -1 : SelectedChunks[^1]; set => SelectedChunks.Add(value); }
@@ -62,6 +68,8 @@ internal sealed class FakeView : IMainView
     public event EventHandler? StartFromLineRequested;
     public event EventHandler? ResumeInterruptedRequested;
     public event EventHandler? SingleBlockChanged;
+    public event EventHandler? OptionalStopChanged;
+    public event EventHandler? ProfileChanged;
     public event EventHandler? FeedOverrideChanged;
     public event EventHandler? DownloadWindowChanged;
 
@@ -91,6 +99,8 @@ internal sealed class FakeView : IMainView
     public void ClickStartFromLine() => StartFromLineRequested?.Invoke(this, EventArgs.Empty);
     public void ClickResumeInterrupted() => ResumeInterruptedRequested?.Invoke(this, EventArgs.Empty);
     public void ToggleSingleBlock(bool on) { SingleBlock = on; SingleBlockChanged?.Invoke(this, EventArgs.Empty); }
+    public void ToggleOptionalStop(bool on) { OptionalStop = on; OptionalStopChanged?.Invoke(this, EventArgs.Empty); }
+    public void ChooseProfile(string name) { SelectedProfile = name; ProfileChanged?.Invoke(this, EventArgs.Empty); }
     public void MoveFeedOverride(double v) { FeedOverride = v; FeedOverrideChanged?.Invoke(this, EventArgs.Empty); }
     public void SetWindow(double start, double end) { DownloadWindow = (start, end); DownloadWindowChanged?.Invoke(this, EventArgs.Empty); }
 
@@ -131,12 +141,21 @@ internal sealed class FakeBackend : IHmiBackend
     public List<HmiJobRequest> Started { get; } = [];
     public List<RunSettings> Prepared { get; } = [];
     public List<RunSettings> Resumed { get; } = [];
+    public List<string> ProfilesUsed { get; } = [];
+    public List<string> LibrariesLoaded { get; } = [];
     public List<FakeJob> Jobs { get; } = [];
     public HmiInterruptedJob? Interrupted { get; set; }
     public FakeConnection? Connection { get; private set; }
 
-    public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default)
+    public Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default)
     {
+        LibrariesLoaded.Add(profile.Name);
+        return Task.CompletedTask;
+    }
+
+    public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
+    {
+        LibrariesLoaded.Add(profile.Name);
         if (settings.Device == DeviceKind.Ethernet && settings.EthernetAddress == "unreachable")
         {
             throw new PmacLinkException("ethernet unreachable:1025: connection refused");
@@ -146,8 +165,9 @@ internal sealed class FakeBackend : IHmiBackend
         return Task.FromResult(new ControllerLink(ConnectionSpec.Simulator, Connection));
     }
 
-    public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default)
+    public Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default)
     {
+        ProfilesUsed.Add("check " + profile.Name);
         var diags = new List<Diagnostic>();
         var blocks = 0;
         var n = 0;
@@ -170,10 +190,11 @@ internal sealed class FakeBackend : IHmiBackend
     }
 
     /// <summary>Refuses a program with a "BAD" line (the service's gate), else writes chunk files of <see cref="RunSettings.LinesPerChunk"/> lines.</summary>
-    public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default)
+    public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {
         Prepared.Add(settings);
-        var check = await CheckAsync(sourcePath, HmiLanguage.English, cancellationToken);
+        ProfilesUsed.Add("prepare " + profile.Name);
+        var check = await CheckAsync(sourcePath, profile, HmiLanguage.English, cancellationToken);
         if (check.Errors > 0)
         {
             throw new ProgramRefusedException(sourcePath, check.Diagnostics, check.Errors, $"{check.Errors} error(s)");
@@ -207,13 +228,17 @@ internal sealed class FakeBackend : IHmiBackend
         return new HmiSplitResult(manifest, dir);
     }
 
-    public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) =>
-        Task.FromResult<IReadOnlyList<string>>(["G21 G17 G90 G54", $"RAPID Z50 (to line {line})"]);
+    public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
+    {
+        ProfilesUsed.Add("preamble " + profile.Name);
+        return Task.FromResult<IReadOnlyList<string>>(["G21 G17 G90 G54", $"RAPID Z50 (to line {line})"]);
+    }
 
     public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         Started.Add(request);
-        var job = new FakeJob(request.Program.Manifest, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.FeedOverride);
+        ProfilesUsed.Add("start " + request.Profile.Name);
+        var job = new FakeJob(request.Program.Manifest, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.FeedOverride) { OptionalStop = request.OptionalStop, StopAt = StopAt };
         Jobs.Add(job);
         return Task.FromResult<IHmiJob>(job);
     }
@@ -221,15 +246,24 @@ internal sealed class FakeBackend : IHmiBackend
     public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
         Task.FromResult(Interrupted is { } j && j.Program.Manifest.SourcePath == sourcePath ? j : null);
 
-    public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default)
+    /// <summary>Where the next job started stops (a program stop at that line), null for none.</summary>
+    public ProgramStop? StopAt { get; set; }
+
+    public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
+        CancellationToken cancellationToken = default)
     {
+        ProfilesUsed.Add("resume " + profile.Name);
         Resumed.Add(settings);
         var j = new FakeJob(job.Program.Manifest, job.ResumeLine, LinesPerTick, false, feedOverride);
         Jobs.Add(j);
         return Task.FromResult<IHmiJob>(j);
     }
 
-    public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath);
+    public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile)
+    {
+        ProfilesUsed.Add("toolpath " + profile.Name);
+        return new GCodeToolpathSource(sourcePath, profile);
+    }
 }
 
 internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPerTick, bool singleBlock, double feedOverride) : IHmiJob
@@ -250,8 +284,14 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
     /// <summary>The program's feed at the executing block (what P500 carries).</summary>
     public double? ProgrammedFeed { get; set; }
 
+    public bool OptionalStop { get; set; } = true;
+
+    /// <summary>A program stop the job reaches (it stops there once), null for none.</summary>
+    public ProgramStop? StopAt { get; set; }
+
     public HmiJobStatus Status => new(_state, manifest.ChunkOfLine(Math.Max(1, _line))?.Index ?? 0, _line,
-        100.0 * _line / manifest.TotalBlocks, ControllerOverride ?? _override, ProgrammedFeed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line));
+        100.0 * _line / manifest.TotalBlocks, ControllerOverride ?? _override, ProgrammedFeed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line),
+        Stop: _state == HmiJobState.Stopped ? StopAt : null, OptionalStop: OptionalStop);
 
     public TaskCompletionSource? TickGate { get; set; }
     public int TickCalls { get; private set; }
@@ -278,6 +318,13 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
 
     private void Advance(int n)
     {
+        if (StopAt is { } stop && _line < stop.Line && _line + n >= stop.Line)
+        {
+            _line = stop.Line;
+            _state = HmiJobState.Stopped;
+            return;
+        }
+
         _line = Math.Min(manifest.TotalBlocks, _line + n);
         if (_line == manifest.TotalBlocks)
         {
@@ -290,6 +337,11 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
     public Task ResumeAsync(CancellationToken cancellationToken = default)
     {
         Commands.Add("R");
+        if (_state == HmiJobState.Stopped)
+        {
+            StopAt = null; // left: the next ticks move on
+        }
+
         _state = HmiJobState.Running;
         if (SingleBlock)
         {
@@ -302,5 +354,6 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
     public Task AbortAsync(CancellationToken cancellationToken = default) { Commands.Add("A"); _state = HmiJobState.Aborted; return Task.CompletedTask; }
     public Task SetFeedOverrideAsync(double percent, CancellationToken cancellationToken = default) { Commands.Add($"%{percent}"); _override = percent; return Task.CompletedTask; }
     public Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default) { Commands.Add($"single={on}"); SingleBlock = on; return Task.CompletedTask; }
+    public Task SetOptionalStopAsync(bool on, CancellationToken cancellationToken = default) { Commands.Add($"optional-stop={on}"); OptionalStop = on; return Task.CompletedTask; }
     public ValueTask DisposeAsync() { Disposed = true; return ValueTask.CompletedTask; }
 }

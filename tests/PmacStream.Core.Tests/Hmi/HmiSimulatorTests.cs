@@ -148,6 +148,80 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task Split_refuses_codes_the_controller_cannot_run_yet_listing_each()
+    {
+        var toolChange = Path.Combine(_dir, "tc.nc");
+        File.WriteAllText(toolChange, "G21 G90\nT2 M06\nG00 X0 Y0\nG01 X10 F500\nG28 X0 Y0\nM30\n");
+        var (p, v) = NewHmi();
+        await Do(p, () => v.ChooseFile(toolChange));
+        await Do(p, v.ClickSplit);
+
+        v.Errors.Should().ContainSingle().Which.Should().Be(
+            "The controller cannot run M06 (line 2), G28 (line 5) yet under profile fanuc-mill: the PMAC would skip each code and run the rest of its block");
+        v.Diagnostics.Should().HaveCount(2).And.OnlyContain(d => d.Contains("  E  E127  "));
+        v.Diagnostics[0].Should().StartWith("2:4  E  E127  M06 (tool change) cannot run on the controller yet");
+        v.Commands.Execute.Should().BeFalse("nothing to run");
+    }
+
+    [Fact]
+    public async Task A_program_stop_is_shown_waits_without_underruns_and_resume_continues_on_the_simulator()
+    {
+        var stops = Path.Combine(_dir, "stops.nc");
+        var lines = new List<string> { "G21 G90 G17", "G00 X0 Y0", "G01 F300" }; // 0.2 s and more a move: a 1 s tick keeps the buffer fed
+        for (var i = 1; i <= 120; i++)
+        {
+            lines.Add($"G01 X{i % 12} Y{i / 12}");
+            if (i == 50)
+            {
+                lines.Add("M00"); // line 54
+            }
+            else if (i == 90)
+            {
+                lines.Add("M01"); // line 95
+            }
+        }
+
+        File.WriteAllLines(stops, [.. lines, "M30"]);
+        _source = stops;
+        var (p, v) = NewHmi();
+        await Do(p, () => v.ChooseFile(stops));
+        await Do(p, v.ClickConnect);
+        v.LinesPerChunk = 40;
+        await Do(p, v.ClickSplit);
+        await Do(p, v.ClickExecute);
+        v.Errors.Should().BeEmpty();
+
+        foreach (var (line, code) in new[] { (54, "M00"), (95, "M01") })
+        {
+            for (var i = 0; i < 2000 && p.JobStatus?.State != HmiJobState.Stopped; i++)
+            {
+                await Tick(p);
+            }
+
+            v.ProgramStopBanner.Should().Be($"Program stop ({code}) at line {line}: Resume continues");
+            v.Status.State.Should().Be($"Program stop ({code}) at line {line}");
+            v.ExecutingLine.Should().Be(line, "the stop block is highlighted");
+            v.Commands.Resume.Should().BeTrue();
+            v.Commands.Hold.Should().BeFalse();
+            var moves = _sim.ExecutedMoves.Count;
+            await Tick(p, 50);
+            _sim.ExecutedMoves.Count.Should().Be(moves, "the machine waits at the stop");
+            p.JobStatus!.State.Should().Be(HmiJobState.Stopped);
+            _sim.Counters.Underruns.Should().Be(0);
+
+            await Do(p, v.ClickResume);
+            v.Errors.Should().BeEmpty();
+            await Tick(p, 2);
+            v.ProgramStopBanner.Should().BeEmpty();
+        }
+
+        await RunToEnd(p);
+        v.Status.State.Should().Be("Completed");
+        ExecutedLines().Should().Equal(TrackedLines(), "every block once, in order, the stops among them");
+        v.Log.Should().Contain(l => l.Contains("Program stop (M00) at line 54: Resume continues"));
+    }
+
+    [Fact]
     public async Task Execute_runs_every_block_once_with_the_highlight_following_m0()
     {
         var (p, v) = await ReadyAsync();

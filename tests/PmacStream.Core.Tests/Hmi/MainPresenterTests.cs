@@ -79,6 +79,68 @@ public sealed class MainPresenterTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task The_profile_is_chosen_on_screen_used_by_every_call_and_a_change_drops_the_check_and_split()
+    {
+        _view.Profiles.Should().Equal(PmacStream.GCode.MachineProfile.BuiltInNames);
+        _view.SelectedProfile.Should().Be("fanuc-mill");
+        await ReadyToRun();
+        await Do(_view.ClickCheck);
+        _view.Diagnostics.Should().BeEmpty();
+        _backend.ProfilesUsed.Should().Contain(["toolpath fanuc-mill", "prepare fanuc-mill", "check fanuc-mill"]);
+        _backend.LibrariesLoaded.Should().Equal("fanuc-mill");
+        _view.ChunkFiles.Should().NotBeEmpty();
+
+        _backend.ProfilesUsed.Clear();
+        await Do(() => _view.ChooseProfile("grbl"));
+        _view.Errors.Should().BeEmpty();
+        _view.ChunkFiles.Should().BeEmpty("the split was made under the other profile");
+        _view.Commands.Execute.Should().BeFalse("split again first");
+        _backend.ProfilesUsed.Should().Equal("toolpath grbl");
+        _backend.LibrariesLoaded.Should().Equal("fanuc-mill", "grbl");
+
+        await Do(_view.ClickSplit);
+        await Do(_view.ClickExecute);
+        _backend.ProfilesUsed.Should().Contain(["prepare grbl", "start grbl"]);
+
+        // A job runs under one profile: the selector goes back.
+        await Do(() => _view.ChooseProfile("linuxcnc-mill"));
+        _view.Errors.Should().ContainSingle().Which.Should().Contain("the machine profile can change between jobs");
+        _view.SelectedProfile.Should().Be("grbl");
+    }
+
+    [Fact]
+    public async Task A_program_stop_shows_the_banner_and_state_resume_continues_and_optional_stop_follows_the_box()
+    {
+        await ReadyToRun(100, 30);
+        _backend.StopAt = new PmacStream.Streaming.ProgramStop(40, "M00");
+        _view.OptionalStop.Should().BeTrue("M01 stops unless the operator says otherwise");
+        await Do(() => _view.ToggleOptionalStop(false));
+        await Do(_view.ClickExecute);
+        _backend.Started.Single().OptionalStop.Should().BeFalse();
+
+        for (var i = 0; i < 100 && _p.JobStatus?.State != HmiJobState.Stopped; i++)
+        {
+            await _p.TickAsync();
+        }
+
+        _view.ProgramStopBanner.Should().Be("Program stop (M00) at line 40: Resume continues");
+        _view.Status.State.Should().Be("Program stop (M00) at line 40");
+        _view.Commands.Resume.Should().BeTrue();
+        _view.Commands.Hold.Should().BeFalse("nothing moves to hold");
+        _view.Commands.Abort.Should().BeTrue();
+        await _p.TickAsync();
+        _p.JobStatus!.CurrentLine.Should().Be(40, "it waits there");
+
+        await Do(() => _view.ToggleOptionalStop(true));
+        _backend.Jobs.Single().Commands.Should().Contain("optional-stop=True", "the switch changes live");
+        await Do(_view.ClickResume);
+        _backend.Jobs.Single().Commands.Should().EndWith("R");
+        _view.ProgramStopBanner.Should().BeEmpty("the banner goes when the job runs on");
+        await TickUntilFinished();
+        _view.ProgramStopBanner.Should().BeEmpty();
+    }
+
+    [Fact]
     public async Task Open_shows_the_lines_on_demand_and_the_count()
     {
         await Do(() => _view.ChooseFile(Program(500)));

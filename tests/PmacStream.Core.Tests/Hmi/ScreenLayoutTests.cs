@@ -31,11 +31,11 @@ public sealed class ScreenLayoutTests
             placed.Add(new Placed($"status value {row}", HmiLayout.StatusValue(row), "grpStatus"));
         }
 
-        // The places kept free for the profile selector and the program-stop indication: nothing may take them.
-        placed.Add(new Placed("reserved ProfileLabel", HmiLayout.ProfileLabel, "grpProgram"));
-        placed.Add(new Placed("reserved ProfileCombo", HmiLayout.ProfileCombo, "grpProgram"));
-        placed.Add(new Placed("reserved ProgramStopBanner", HmiLayout.ProgramStopBanner, "this"));
-        source.Should().NotContain("HmiLayout.ProfileCombo").And.NotContain("HmiLayout.ProgramStopBanner", "the places are kept free until their controls come");
+        // The profile selector, the optional-stop box and the program-stop banner are on the form, where they were kept free.
+        placed.Should().Contain(c => c.Name == "cboProfile" && c.Box == HmiLayout.ProfileCombo && c.Parent == "grpProgram");
+        placed.Should().Contain(c => c.Name == "lblProfile" && c.Box == HmiLayout.ProfileLabel && c.Parent == "grpProgram");
+        placed.Should().Contain(c => c.Name == "chkOptionalStop" && c.Box == HmiLayout.OptionalStopCheck && c.Parent == "grpFeed");
+        placed.Should().Contain(c => c.Name == "lblProgramStop" && c.Box == HmiLayout.ProgramStopBanner && c.Parent == "this");
         placed.Should().Contain(c => c.Box == HmiLayout.ToolpathPane, "the toolpath pane is on the form");
 
         foreach (var group in placed.GroupBy(c => c.Parent))

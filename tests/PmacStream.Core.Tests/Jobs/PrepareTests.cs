@@ -144,7 +144,7 @@ public sealed class PrepareTests : IDisposable
 
         JobService.ProfileOf(record).Identity.Should().Be(mine.Identity, "the record names the file");
         var other = () => JobService.ProfileOf(record, "grbl");
-        other.Should().Throw<JobException>().WithMessage("job 7 ran under machine profile *mine.json (mine@*); --profile grbl is grbl@*: the profile changed since the job started*");
+        other.Should().Throw<JobException>().WithMessage("job 7 ran under machine profile *mine.json (mine@*); the profile asked for, grbl, is grbl@*: the profile changed since the job started*");
 
         File.WriteAllText(file, File.ReadAllText(file).Replace("\"toolCount\": 9999", "\"toolCount\": 12", StringComparison.Ordinal));
         var changed = () => JobService.ProfileOf(record);

@@ -106,7 +106,7 @@ public sealed class GateCliTests : IDisposable
 
         var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes", "--profile", "grbl");
         code.Should().Be(2, stdout + stderr);
-        stderr.Should().Contain("ran under machine profile").And.Contain("mill.json (shop-mill@").And.Contain("--profile grbl is grbl@").And.Contain("the profile changed since the job started");
+        stderr.Should().Contain("ran under machine profile").And.Contain("mill.json (shop-mill@").And.Contain("the profile asked for, grbl, is grbl@").And.Contain("the profile changed since the job started");
 
         File.WriteAllText(profileFile, File.ReadAllText(profileFile).Replace("\"toolCount\": 9999", "\"toolCount\": 40", StringComparison.Ordinal));
         (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes");
