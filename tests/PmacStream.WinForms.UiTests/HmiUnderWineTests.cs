@@ -281,6 +281,43 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s.Errors.Should().BeEmpty();
         screen.Screenshot("16-completed");
 
+        Step("another profile (real click on the profile selector, Down, Return): the split is dropped, the toolpath drawn anew");
+        var stops = Path.Combine(work, "stops.nc");
+        File.WriteAllLines(stops, StopsProgram());
+        screen.Script($"open {WineHmi.WindowsPath(stops)}");
+        s = screen.WaitFor("stops.nc open", v => v.Controls["lblPath"].Text == "stops.nc" && v.Controls["lblToolpath"].Text.Contains("stops.nc", StringComparison.Ordinal));
+        s.Controls["cboProfile"].Text.Should().Be("fanuc-mill", "the default profile");
+        screen.Script("click btnSplit");
+        screen.WaitFor("stops.nc split", v => v.ChunkFiles.Count == 1);
+        screen.Click(HmiLayout.ProfileCombo, HmiLayout.ProgramGroup);
+        screen.Key("Down");
+        screen.Key("Return");
+        s = screen.WaitFor("linuxcnc-mill chosen, the split dropped", v => v.Controls["cboProfile"].Text == "linuxcnc-mill" && v.ChunkFiles.Count == 0 && !v.Controls["btnExecute"].Enabled);
+        s.LogTail.Should().Contain(l => l.Contains("Machine profile fanuc-mill -> linuxcnc-mill", StringComparison.Ordinal));
+        screen.WaitFor("the toolpath drawn under it", v => v.Controls["lblToolpath"].Text.Contains("stops.nc", StringComparison.Ordinal) && v.Controls["lblToolpath"].Text.Contains("12", StringComparison.Ordinal));
+        screen.Screenshot("17-profile-changed");
+
+        Step("a program stop: split under the new profile, execute; at M0 the banner shows and Resume (real click) continues");
+        s.Controls["chkOptionalStop"].Text.Should().Be("checked", "M01 stops unless the operator says otherwise");
+        screen.Script("click btnSplit");
+        screen.WaitFor("split again", v => v.ChunkFiles.Count == 1 && v.Controls["btnExecute"].Enabled);
+        screen.Click(HmiLayout.ExecuteButton);
+        s = screen.WaitFor("stopped at line 9", v => v.Controls["lblProgramStop"].Text.Length > 0, TimeSpan.FromSeconds(60));
+        var banner = StopText(Zh[TextId.ProgramStopBanner], "M0", 9);
+        (s.Controls["lblProgramStop"].Text, s.Status[StateRow]).Should().Be((banner, StopText(Zh[TextId.StateStopped], "M0", 9)));
+        s.ExecutingLine.Should().Be(9, "the stop block is the executing line");
+        (s.Controls["btnResume"].Enabled, s.Controls["btnHold"].Enabled).Should().Be((true, false), "Resume continues; nothing moves to hold");
+        screen.WaitTicks(20).ExecutingLine.Should().Be(9, "the machine waits at the stop (20 more ticks)");
+        shot = screen.Screenshot("18-program-stop");
+        HmiScreen.CountColour(shot, HmiLayout.ProgramStopBanner, "#FFA500").Should().BeGreaterThan(500, "the banner is on the screen, in orange");
+        screen.Click(HmiLayout.ResumeButton);
+        s = screen.WaitFor("stopped at the M1 on line 15", v => v.Controls["lblProgramStop"].Text == StopText(Zh[TextId.ProgramStopBanner], "M1", 15), TimeSpan.FromSeconds(60));
+        screen.Click(HmiLayout.ResumeButton);
+        s = screen.WaitFor("completed after the stops", v => v.Status[StateRow] == Zh[TextId.StateCompleted] && v.Controls["lblProgramStop"].Text.Length == 0, TimeSpan.FromSeconds(60));
+        s.LogTail.Should().Contain(l => l.Contains("Program stop (M0) at line 9", StringComparison.Ordinal));
+        s.Errors.Should().BeEmpty();
+        screen.Screenshot("19-stops-completed");
+
         Step("close");
         screen.Send("close");
         hmi.WaitForExit(TimeSpan.FromSeconds(30)).Should().BeTrue("the form closes when no job runs");
@@ -292,6 +329,15 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
             File.Copy(Path.Combine(shots, "hmi-screen-zh.png"), Path.Combine(RepoRoot.Path, "docs", "hmi-screen-zh.png"), overwrite: true);
         }
     }
+
+    /// <summary>Twelve moves with an M00 at line 9 and an M01 at line 15.</summary>
+    private static string[] StopsProgram() =>
+    [
+        "G21 G90 G17", "G00 X0 Y0", "G01 F600", "G01 X5", "G01 Y5", "G01 X0", "G01 Y0", "G01 X5 Y5", "M00",
+        "G01 X10", "G01 Y10", "G01 X5", "G01 Y5", "G01 X0 Y0", "M01", "G01 X3", "G01 Y3", "M30",
+    ];
+
+    private static string StopText(string format, string code, int line) => string.Format(System.Globalization.CultureInfo.InvariantCulture, format, code, line);
 
     /// <summary>Answers Yes to the open message box with a real key press (Y), the pointer over the box so it has the keyboard.</summary>
     private static void Confirm(HmiScreen screen, string title)
