@@ -118,6 +118,10 @@ internal static class PreviewCommand
 
         Console.Out.WriteLine($"wrote {output} ({width}x{height}, view {parse.GetValue(view)}): {x.Moves.ToString(ci)} moves ({x.Lines.ToString(ci)} linear, {x.Arcs.ToString(ci)} arc, {x.Rapids.ToString(ci)} rapid)");
         Console.Out.WriteLine(string.Create(ci, $"extents (mm): X {x.Min.X:0.###} .. {x.Max.X:0.###}, Y {x.Min.Y:0.###} .. {x.Max.Y:0.###}, Z {x.Min.Z:0.###} .. {x.Max.Z:0.###}; program units {(picture.Units == LengthUnits.Inches ? "inch" : "mm")}"));
+        if (source.RotaryAxes.Length > 0)
+        {
+            Console.Out.WriteLine($"rotary axes {string.Join(' ', source.RotaryAxes.ToCharArray())}: not drawn (the picture shows X, Y and Z; the legend says so)");
+        }
 
         if (source.IssueCount > 0)
         {

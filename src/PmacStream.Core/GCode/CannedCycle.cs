@@ -21,6 +21,9 @@ internal sealed class CannedCycle
     /// <summary>The Z the tool had when the cycle began (machine coordinates).</summary>
     public double InitialZ { get; private set; }
 
+    /// <summary>The holes of the last <see cref="Run"/>: how many, and the R level and bottom they used (machine Z).</summary>
+    public CycleHoles LastHoles { get; private set; }
+
     /// <summary>Whether a bottom Z is known (from this block or an earlier one of the cycle).</summary>
     public bool HasBottom => _bottom.HasValue;
 
@@ -60,6 +63,7 @@ internal sealed class CannedCycle
         }
 
         var bottom = _bottom ?? start.Z;
+        LastHoles = new CycleHoles(Math.Max(0, repeats), rLevel, bottom);
         if (repeats <= 0)
         {
             return (start, 0, 0, 0);

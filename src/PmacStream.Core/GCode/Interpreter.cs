@@ -200,6 +200,7 @@ public sealed partial class Interpreter
         Center = _last.Center,
         Length = _last.Length,
         DurationSeconds = _last.DurationSeconds,
+        Holes = _last.Motion == MotionKind.Cycle ? _cycle.LastHoles : null,
     };
 
     /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>

@@ -58,6 +58,8 @@ public sealed class GCodeToolpathSource : IToolpathSource
         var interpreter = new Interpreter(_profile);
         var adapter = new DecodedBlockAdapter();
         var diags = new List<Diagnostic>(4);
+        var segments = new List<PathSegment>(4);
+        var rotary = new bool[3];
         var lines = 0L;
         while (reader.Read())
         {
@@ -75,6 +77,7 @@ public sealed class GCodeToolpathSource : IToolpathSource
             }
 
             var block = reader.Current;
+            NoteRotaryWords(block, rotary);
             foreach (var d in block.LexicalDiagnostics)
             {
                 AddIssue(d);
@@ -87,16 +90,37 @@ public sealed class GCodeToolpathSource : IToolpathSource
                 AddIssue(d);
             }
 
-            if (decoded is not null && adapter.TryConvert(decoded, out var segment))
+            if (decoded is not null && adapter.Convert(decoded, segments) > 0)
             {
-                yield return segment;
+                foreach (var segment in segments)
+                {
+                    yield return segment;
+                }
+
+                segments.Clear();
             }
         }
 
         _position = _length;
         LineCount = lines;
+        RotaryAxes = string.Concat("ABC".Where((_, i) => rotary[i]));
         Units = adapter.Units;
         MixedUnits = adapter.MixedUnits;
+    }
+
+    /// <inheritdoc />
+    public string RotaryAxes { get; private set; } = string.Empty;
+
+    /// <summary>Marks the rotary axes (A, B, C) a line's words name: the picture draws X, Y and Z only, and the legend says so.</summary>
+    private static void NoteRotaryWords(GBlock block, bool[] rotary)
+    {
+        foreach (var w in block.Words)
+        {
+            if (w.Letter is 'A' or 'B' or 'C')
+            {
+                rotary[w.Letter - 'A'] = true;
+            }
+        }
     }
 
     private void AddIssue(Diagnostic d)
@@ -116,7 +140,9 @@ public sealed class GCodeToolpathSource : IToolpathSource
 
 /// <summary>
 /// Turns interpreter records into drawable segments: converts to mm, and withholds moves along an axis whose
-/// position has not been set yet.
+/// position has not been set yet. Only motion sets a position: a data block (G10, G52, G92) carries axis words that
+/// are offsets, not a place the tool goes to. The interpreter's positions are machine coordinates (the work offset,
+/// G52 and G92 applied), so a program run under G55 is drawn where G55 puts it. A cycle block is drawn hole by hole.
 /// </summary>
 public sealed class DecodedBlockAdapter
 {
@@ -132,10 +158,14 @@ public sealed class DecodedBlockAdapter
     /// <summary>True when later blocks used other units than the first.</summary>
     public bool MixedUnits { get; private set; }
 
-    /// <summary>A segment for a move whose moving axes start from known positions; false for non-moves and first positionings.</summary>
-    public bool TryConvert(DecodedBlock block, out PathSegment segment)
+    /// <summary>
+    /// Adds the segments of a move whose moving axes start from known positions to <paramref name="into"/> (one, or
+    /// four per hole of a cycle); returns how many. None for non-moves, data blocks and first positionings.
+    /// </summary>
+    public int Convert(DecodedBlock block, List<PathSegment> into)
     {
-        segment = default;
+        ArgumentNullException.ThrowIfNull(block);
+        ArgumentNullException.ThrowIfNull(into);
         var units = block.Modal.Units;
         if (!_unitsSeen)
         {
@@ -145,6 +175,11 @@ public sealed class DecodedBlockAdapter
         else if (units != Units)
         {
             MixedUnits = true;
+        }
+
+        if (block.Motion is MotionKind.None or MotionKind.Dwell)
+        {
+            return 0;
         }
 
         // A move is drawn when every axis it moves started from a known position. An axis the program never sets
@@ -157,9 +192,9 @@ public sealed class DecodedBlockAdapter
             _z |= block.Z.HasValue;
         }
 
-        if (!known || block.Motion is MotionKind.None or MotionKind.Dwell)
+        if (!known)
         {
-            return false;
+            return 0;
         }
 
         var f = units == LengthUnits.Inches ? InchToMm : 1.0;
@@ -169,17 +204,38 @@ public sealed class DecodedBlockAdapter
         {
             case MotionKind.Rapid:
             case MotionKind.Linear:
-                segment = PathSegment.Line(start, end, block.Motion == MotionKind.Rapid, block.Line);
-                return true;
+                into.Add(PathSegment.Line(start, end, block.Motion == MotionKind.Rapid, block.Line));
+                return 1;
+            case MotionKind.Cycle:
+                return block.Holes is { Count: > 0 } holes ? AddHoles(block, holes, f, into) : 0;
             default:
                 if (block.Center is not { } c)
                 {
-                    return false; // the interpreter could not place the centre; the error is reported
+                    return 0; // the interpreter could not place the centre; the error is reported
                 }
 
-                segment = PathSegment.Arc(start, end, Mm(c, f), (ArcPlane)block.Modal.Plane, block.Motion == MotionKind.ArcCw, block.Line);
-                return true;
+                into.Add(PathSegment.Arc(start, end, Mm(c, f), (ArcPlane)block.Modal.Plane, block.Motion == MotionKind.ArcCw, block.Line));
+                return 1;
         }
+    }
+
+    /// <summary>Each hole: rapid over it at the height the tool has, rapid down to R, feed to the bottom, rapid up to the retract level.</summary>
+    private static int AddHoles(DecodedBlock block, CycleHoles holes, double f, List<PathSegment> into)
+    {
+        var at = block.Start;
+        var retract = block.End.Z;
+        for (var n = 1; n <= holes.Count; n++)
+        {
+            var t = block.Modal.Absolute ? 1.0 : (double)n / holes.Count;
+            var hole = new Point3(block.Start.X + ((block.End.X - block.Start.X) * t), block.Start.Y + ((block.End.Y - block.Start.Y) * t), at.Z);
+            into.Add(PathSegment.Line(Mm(at, f), Mm(hole, f), rapid: true, block.Line));
+            into.Add(PathSegment.Line(Mm(hole, f), Mm(hole with { Z = holes.RLevel }, f), rapid: true, block.Line));
+            into.Add(PathSegment.Line(Mm(hole with { Z = holes.RLevel }, f), Mm(hole with { Z = holes.Bottom }, f), rapid: false, block.Line));
+            into.Add(PathSegment.Line(Mm(hole with { Z = holes.Bottom }, f), Mm(hole with { Z = retract }, f), rapid: true, block.Line));
+            at = hole with { Z = retract };
+        }
+
+        return 4 * holes.Count;
     }
 
     private static Point3D Mm(Point3 p, double f) => new(p.X * f, p.Y * f, p.Z * f);

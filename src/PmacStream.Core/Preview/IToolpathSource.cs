@@ -22,6 +22,12 @@ public interface IToolpathSource
 
     /// <summary>A short name for the legend (file name).</summary>
     string Name { get; }
+
+    /// <summary>
+    /// The rotary axes (<c>A</c>, <c>B</c>, <c>C</c>) the program moves, known after a full pass: the picture draws
+    /// X, Y and Z only, and the legend says which rotary axes it leaves out. Empty when none (the default).
+    /// </summary>
+    string RotaryAxes => string.Empty;
 }
 
 /// <summary>A toolpath given as a list (tests, the HMI's small jobs).</summary>

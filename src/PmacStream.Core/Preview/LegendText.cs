@@ -18,6 +18,7 @@ internal enum LegendTextId
     KeyExecuted,
     KeyRepeated,
     KeyMissing,
+    Rotary,
 }
 
 /// <summary>The legend's texts in English and Simplified Chinese (format strings with invariant numbers).</summary>
@@ -40,6 +41,7 @@ internal static class LegendText
         [LegendTextId.KeyExecuted] = ("executed", "已执行"),
         [LegendTextId.KeyRepeated] = ("executed twice+", "重复执行"),
         [LegendTextId.KeyMissing] = ("never executed", "未执行"),
+        [LegendTextId.Rotary] = ("{0}: rotary, not drawn (X Y Z shown)", "{0}：旋转轴，未绘制（仅显示 X Y Z）"),
     };
 
     /// <summary>The text of <paramref name="id"/>, in Chinese when <paramref name="chinese"/>.</summary>

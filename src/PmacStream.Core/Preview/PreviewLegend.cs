@@ -71,7 +71,9 @@ internal static class PreviewLegend
             _ => LegendTextId.ViewIso,
         });
         var unitsText = T(inch ? LegendTextId.UnitsInch : LegendTextId.UnitsMm) + (source.MixedUnits ? T(LegendTextId.UnitsMixed) : string.Empty);
-        font.Draw(canvas, $"{source.Name}   {viewText}   {unitsText}", x, y, text);
+        // Rotary axes are left out of the picture: the legend says which, so a 4-axis part is not read as 3-axis.
+        var rotary = source.RotaryAxes.Length > 0 ? "   " + string.Format(ci, T(LegendTextId.Rotary), string.Join(' ', source.RotaryAxes.ToCharArray())) : string.Empty;
+        font.Draw(canvas, $"{source.Name}   {viewText}   {unitsText}{rotary}", x, y, text);
         y += lh;
         font.Draw(canvas, extents.IsEmpty ? T(LegendTextId.NoMoves) : $"X {R(extents.Min.X)} .. {R(extents.Max.X)}   Y {R(extents.Min.Y)} .. {R(extents.Max.Y)}   Z {R(extents.Min.Z)} .. {R(extents.Max.Z)} {unit}", x, y, text);
 
