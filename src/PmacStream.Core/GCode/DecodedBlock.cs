@@ -2,7 +2,11 @@ using System.Text;
 
 namespace PmacStream.GCode;
 
-/// <summary>The holes one cycle block drills.</summary>
+/// <summary>
+/// The holes one cycle block (<see cref="MotionKind.Cycle"/>) drills: each one a rapid to its X/Y, a rapid down to the R
+/// level, a feed to the bottom, back up to the block's end Z; with G91 the holes step evenly from the block's start to
+/// its end, with G90 they are all at the end's X/Y.
+/// </summary>
 /// <param name="Count">Holes (the repeat count; 0 stores the cycle's data without drilling).</param>
 /// <param name="RLevel">The R level (machine Z, program units) each hole starts its feed from.</param>
 /// <param name="Bottom">The hole bottom (machine Z, program units).</param>
@@ -80,13 +84,6 @@ public sealed record DecodedBlock
 
     /// <summary>Arc centre (absolute; the plane's third axis at the start value) for arcs, else null.</summary>
     public Point3? Center { get; init; }
-
-    /// <summary>
-    /// The holes of a cycle block (<see cref="MotionKind.Cycle"/>), else null: each one a rapid to its X/Y, a rapid down to
-    /// the R level, a feed to the bottom, back up to <see cref="End"/>'s Z; with G91 the holes step evenly from
-    /// <see cref="Start"/> to <see cref="End"/>, with G90 they are all at <see cref="End"/>'s X/Y.
-    /// </summary>
-    public CycleHoles? Holes { get; init; }
 
     /// <summary>Path length in program units (arc length, with the helical part, for arcs).</summary>
     public double Length { get; init; }

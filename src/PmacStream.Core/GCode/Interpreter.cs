@@ -200,8 +200,10 @@ public sealed partial class Interpreter
         Center = _last.Center,
         Length = _last.Length,
         DurationSeconds = _last.DurationSeconds,
-        Holes = _last.Motion == MotionKind.Cycle ? _cycle.LastHoles : null,
     };
+
+    /// <summary>The holes of the last block when it was a cycle block (<see cref="MotionKind.Cycle"/>), else null (the preview draws them).</summary>
+    internal CycleHoles? LastCycleHoles => _last.Motion == MotionKind.Cycle ? _cycle.LastHoles : null;
 
     /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
     // Hot loop of a million-line program: compile optimized at once instead of spending the first

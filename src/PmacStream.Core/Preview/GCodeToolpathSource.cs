@@ -90,7 +90,7 @@ public sealed class GCodeToolpathSource : IToolpathSource
                 AddIssue(d);
             }
 
-            if (decoded is not null && adapter.Convert(decoded, segments) > 0)
+            if (decoded is not null && adapter.Convert(decoded, segments, interpreter.LastCycleHoles) > 0)
             {
                 foreach (var segment in segments)
                 {
@@ -160,9 +160,10 @@ public sealed class DecodedBlockAdapter
 
     /// <summary>
     /// Adds the segments of a move whose moving axes start from known positions to <paramref name="into"/> (one, or
-    /// four per hole of a cycle); returns how many. None for non-moves, data blocks and first positionings.
+    /// four per hole of a cycle block, whose <paramref name="holes"/> the interpreter gives); returns how many. None for
+    /// non-moves, data blocks and first positionings.
     /// </summary>
-    public int Convert(DecodedBlock block, List<PathSegment> into)
+    public int Convert(DecodedBlock block, List<PathSegment> into, CycleHoles? holes = null)
     {
         ArgumentNullException.ThrowIfNull(block);
         ArgumentNullException.ThrowIfNull(into);
@@ -207,7 +208,7 @@ public sealed class DecodedBlockAdapter
                 into.Add(PathSegment.Line(start, end, block.Motion == MotionKind.Rapid, block.Line));
                 return 1;
             case MotionKind.Cycle:
-                return block.Holes is { Count: > 0 } holes ? AddHoles(block, holes, f, into) : 0;
+                return holes is { Count: > 0 } h ? AddHoles(block, h, f, into) : 0;
             default:
                 if (block.Center is not { } c)
                 {
