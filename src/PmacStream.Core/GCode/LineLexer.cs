@@ -149,7 +149,19 @@ internal static class LineLexer
                         run++;
                     }
 
-                    Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, run - i > 1 ? System.Text.Encoding.ASCII.GetString(line[i..run]) : ((char)c).ToString());
+                    var text = run - i > 1 ? System.Text.Encoding.ASCII.GetString(line[i..run]) : ((char)c).ToString();
+                    if (IsOWordConstruct(b, text))
+                    {
+                        // "O100 sub", "O100 call": a subroutine or flow construct of LinuxCNC, not a number gone wrong.
+                        var o = b.WordList[^1];
+                        b.DiagnosticList.Add(new Diagnostic(Severity.Error, DiagnosticCodes.MalformedNumber, b.LineNumber, column,
+                            DiagnosticText.Format(DiagnosticText.OWordKey, $"O{o.Value.ToString(CultureInfo.InvariantCulture)} {text.ToLowerInvariant()}")));
+                    }
+                    else
+                    {
+                        Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, text);
+                    }
+
                     i = Math.Max(Math.Max(j, run), i + 1);
                     continue;
                 }
@@ -268,6 +280,16 @@ internal static class LineLexer
 
         return i;
     }
+
+    /// <summary>LinuxCNC's o-word keywords: subroutines, loops and conditions written as <c>O&lt;n&gt; keyword</c>.</summary>
+    private static readonly HashSet<string> OWordKeywords = new(StringComparer.OrdinalIgnoreCase)
+    {
+        "sub", "endsub", "call", "return", "if", "elseif", "else", "endif", "do", "while", "endwhile", "repeat", "endrepeat", "break", "continue",
+    };
+
+    /// <summary>Whether a run of letters is an o-word keyword right after the block's O word.</summary>
+    private static bool IsOWordConstruct(GBlock b, string text) =>
+        b.WordList.Count > 0 && b.WordList[^1].Letter == 'O' && OWordKeywords.Contains(text);
 
     private static void Add(GBlock b, Severity severity, string code, int column, params object[] args) =>
         b.DiagnosticList.Add(new Diagnostic(severity, code, b.LineNumber, column, DiagnosticText.Format(code, args)));

@@ -38,7 +38,7 @@ public class CorpusUnderDefaultProfileTests(ITestOutputHelper output)
     {
         ["pete-restall__Cluck2Sesame-Prototype__Enclosure.nc"] = ("E102x8",
             "LinuxCNC o-word subroutines: 'O100 sub', 'O100 endsub', 'O100 call' (lines 816-829, 1020, 1022). A FANUC control reads " +
-            "O100 as a program number and 'sub' as three addresses without values; no profile here reads o-words."),
+            "O100 as a program number and 'sub' as three addresses without values; no profile here reads o-words (the message says so)."),
         ["danheeks__voxelcut__gr105.tap"] = ("E101x4, E104x4, E115x98, E116x3, E124x7",
             "an older ISO dialect, not FANUC: 'T1//15.98' tool-table lines (E101), G71 for millimetres (E104: FANUC milling has " +
             "G21), and G74 meaning single-quadrant arcs whose I/J are unsigned, so FANUC's incremental signed centres miss the end " +
@@ -61,6 +61,11 @@ public class CorpusUnderDefaultProfileTests(ITestOutputHelper output)
             if (Remaining.TryGetValue(name, out var expected))
             {
                 errors.Should().Be(expected.Errors, $"{name}: {expected.Why}");
+                if (name.Contains("Enclosure", StringComparison.Ordinal))
+                {
+                    diags.Where(d => d.Severity == Severity.Error).Should().OnlyContain(d => d.Message.Contains("is a LinuxCNC o-word (subroutine or flow control)"),
+                        "each error names the o-word construct, not a malformed number");
+                }
             }
             else
             {

@@ -88,6 +88,24 @@ public class GCodeReaderTests
         GCodeReader.LexLine("G1 X-").LexicalDiagnostics.Should().ContainSingle(d => d.Code == DiagnosticCodes.MalformedNumber);
     }
 
+    [Theory]
+    [InlineData("O100 sub", "O100 sub", 6)]
+    [InlineData("o100 CALL [1.5]", "O100 call", 6)]
+    [InlineData("O101 endsub", "O101 endsub", 6)]
+    [InlineData("O7 endwhile", "O7 endwhile", 4)]
+    public void A_LinuxCNC_o_word_construct_is_named_as_one_not_as_a_malformed_number(string line, string construct, int column)
+    {
+        var d = GCodeReader.LexLine(line).LexicalDiagnostics.Should().ContainSingle(d => d.Code == DiagnosticCodes.MalformedNumber).Subject;
+        d.Column.Should().Be(column);
+        d.Message.Should().StartWith($"'{construct}' is a LinuxCNC o-word (subroutine or flow control)")
+            .And.Contain("does not run").And.NotContain("expected digits");
+    }
+
+    [Fact]
+    public void A_letter_run_that_is_no_o_word_keyword_stays_a_malformed_number() =>
+        GCodeReader.LexLine("G1 Xabc").LexicalDiagnostics.Should().ContainSingle(d => d.Code == DiagnosticCodes.MalformedNumber)
+            .Which.Message.Should().Contain("expected digits").And.NotContain("o-word");
+
     [Fact]
     public void Tape_marks_block_delete_program_numbers()
     {
