@@ -1,5 +1,6 @@
 using BenchmarkDotNet.Attributes;
 using PmacStream.Benchmarks.Generators;
+using PmacStream.GCode;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Preview;
@@ -77,13 +78,14 @@ public class OpenLargeProgramBenchmark
     private sealed class NoBackend : IHmiBackend
     {
         public IReadOnlyList<string> Strategies { get; } = ["chunk"];
-        public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath);
+        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile) => new GCodeToolpathSource(sourcePath, profile);
     }
 }

@@ -36,6 +36,10 @@ internal sealed class QuietView : IMainView
     public ToolpathFrame Toolpath { set => Frames++; }
     public string ToolpathCaption { set => Caption = value; }
     public StatusDisplay Status { set { } }
+    public IReadOnlyList<string> Profiles { set { } }
+    public string SelectedProfile { get; set; } = string.Empty;
+    public bool OptionalStop { get; set; } = true;
+    public string ProgramStopBanner { set { } }
 #pragma warning disable CS0067 // events the benchmark never raises
     public event EventHandler? LanguageChanged;
     public event EventHandler? DisconnectRequested;
@@ -53,6 +57,8 @@ internal sealed class QuietView : IMainView
     public event EventHandler? SingleBlockChanged;
     public event EventHandler? FeedOverrideChanged;
     public event EventHandler? DownloadWindowChanged;
+    public event EventHandler? ProfileChanged;
+    public event EventHandler? OptionalStopChanged;
 #pragma warning restore CS0067
     public event EventHandler? ConnectRequested;
     public event EventHandler? SplitRequested;

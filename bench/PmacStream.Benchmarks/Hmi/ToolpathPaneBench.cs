@@ -1,6 +1,7 @@
 using System.Diagnostics;
 using System.Globalization;
 using PmacStream.Benchmarks.Generators;
+using PmacStream.GCode;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
@@ -123,6 +124,8 @@ public static class ToolpathPaneBench
 
         public Task SetSingleBlockAsync(bool on, CancellationToken cancellationToken = default) => Task.CompletedTask;
 
+        public Task SetOptionalStopAsync(bool on, CancellationToken cancellationToken = default) => Task.CompletedTask;
+
         public ValueTask DisposeAsync() => ValueTask.CompletedTask;
     }
 
@@ -131,12 +134,14 @@ public static class ToolpathPaneBench
     {
         public IReadOnlyList<string> Strategies { get; } = ["chunk"];
 
-        public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, CancellationToken cancellationToken = default) =>
+        public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
             Task.FromResult(new ControllerLink(ConnectionSpec.Simulator, new NullConnection()));
 
-        public Task<HmiCheckResult> CheckAsync(string path, HmiLanguage language, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default) => Task.CompletedTask;
 
-        public Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, CancellationToken cancellationToken = default)
+        public Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+
+        public Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
         {
             File.WriteAllText(Path.Combine(dir, "big_0001.pmc"), "CLOSE\nOPEN ROT\nM0==8 N8 X1 F(P500)\nCLOSE\n");
             // One chunk spanning the program for the status; its file (and block count) that of an ordinary chunk.
@@ -145,16 +150,16 @@ public static class ToolpathPaneBench
             return Task.FromResult(new HmiSplitResult(manifest, dir));
         }
 
-        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
 
         public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default) =>
             Task.FromResult<IHmiJob>(new BenchJob(lines, perTick));
 
         public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => Task.FromResult<HmiInterruptedJob?>(null);
 
-        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop, CancellationToken cancellationToken = default) => throw new NotSupportedException();
 
-        public IToolpathSource OpenToolpath(string sourcePath) => new GCodeToolpathSource(sourcePath);
+        public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile) => new GCodeToolpathSource(sourcePath, profile);
     }
 
     private sealed class NullConnection : IPmacConnection

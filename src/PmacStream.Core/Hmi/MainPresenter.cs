@@ -1,4 +1,3 @@
-using System.Globalization;
 using PmacStream.GCode;
 using PmacStream.Jobs;
 using Serilog;
