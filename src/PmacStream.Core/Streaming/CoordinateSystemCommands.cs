@@ -33,9 +33,6 @@ internal sealed class CoordinateSystemCommands
     /// <summary>Feed hold (<c>&amp;n H</c>).</summary>
     public string Hold => $"{Prefix} H";
 
-    /// <summary>Quit (<c>&amp;n Q</c>): the program ends once the moves it calculated have run (a rotary program would wait for lines).</summary>
-    public string Quit => $"{Prefix} Q";
-
     /// <summary>Abort (<c>&amp;n A</c>).</summary>
     public string Abort => $"{Prefix} A";
 

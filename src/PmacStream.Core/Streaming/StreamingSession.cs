@@ -282,16 +282,6 @@ public sealed partial class StreamingSession
         }
 
         JobRecovery.EnsureLoaded(checkpoint);
-        if (checkpoint.State == SessionState.Completed)
-        {
-            // Nothing is left to send, and the controller ended the program: nothing to ask it either.
-            _tracked = checkpoint.LastExecutedLine;
-            _currentChunk = checkpoint.CurrentChunk;
-            _state = SessionState.Completed;
-            PublishStatus();
-            return;
-        }
-
         await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
         try
         {
@@ -576,26 +566,7 @@ public sealed partial class StreamingSession
                 _state = SessionState.Completed;
                 Note($"completed: {Program.BlocksThrough(_tracked)} of {Program.Manifest.TotalMotionBlocks} blocks reached");
                 Raise(StreamingEventKind.Completed, _log.Message, _currentChunk);
-                SaveCheckpoint(durable: true); // before the quit: a host lost during it resumes a completed job, not a lost one
-                await EndRotaryProgramAsync(cancellationToken).ConfigureAwait(false);
                 break;
-        }
-    }
-
-    /// <summary>
-    /// A rotary program has no end of its own: it waits for more lines, and the coordinate system counts as running, so
-    /// the next job's start would be refused. Quit ends it once the moves it calculated (the last one runs still) have run.
-    /// </summary>
-    private async Task EndRotaryProgramAsync(CancellationToken cancellationToken)
-    {
-        try
-        {
-            await _channel.OnlineAsync(_cs.Quit, cancellationToken).ConfigureAwait(false);
-        }
-        catch (Exception e) when (e is PmacLinkException or PmacErrorException)
-        {
-            // The job is complete either way; the next start asks whether the coordinate system still runs.
-            Log.Warning("Job complete, but the rotary program could not be ended ({Message}); it waits for lines until stopped", e.Message);
         }
     }
 

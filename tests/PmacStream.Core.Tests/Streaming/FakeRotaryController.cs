@@ -45,7 +45,6 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
     public bool InMove => _moveLeft > 0;
     public int LinesAhead => _buffer.Count;
     private bool _dry;
-    private bool _quitting;
 
     public static int WordsOf(string line) => Math.Max(1, Regex.Matches(line, @"[A-Z]+\s*(?:==|=)?\s*[-+]?[\d.(]", RegexOptions.IgnoreCase).Count);
 
@@ -110,7 +109,6 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
                 Running = true;
                 Held = false;
                 _stepping = false;
-                _quitting = false;
                 return Ok();
             case "&1S":
                 if (!Pointed)
@@ -128,10 +126,6 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
             case "&1A":
                 Running = false;
                 _moveLeft = 0;
-                return Ok();
-            case "&1Q":
-                // Quit: the program ends once what it calculated has run (nothing is lost).
-                _quitting = true;
                 return Ok();
             case "M0":
                 return Ok(M0.ToString(CultureInfo.InvariantCulture));
@@ -222,15 +216,6 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
 
             if (_buffer.Count == 0)
             {
-                if (_quitting)
-                {
-                    // Quit: what was calculated has run, the program ends (a rotary program would wait).
-                    Running = false;
-                    _quitting = false;
-                    Now = end;
-                    return;
-                }
-
                 if (!_dry)
                 {
                     _dry = true;
