@@ -43,11 +43,15 @@ public static class DiagnosticText
         [DiagnosticCodes.NotRunnableInJob] = ("{0} ({1}) cannot run on the controller yet under profile '{2}': the PMAC would skip the code and run the rest of the block", "{0}（{1}）在机床配置 '{2}' 下尚不能在控制器上执行：PMAC 会跳过该代码而执行本段其余部分"),
         [DiagnosticCodes.TextAfterTapeEnd] = ("text after the closing '%' is ignored: the program ends at this line", "结束符 '%' 之后的内容被忽略：程序在此行结束"),
         [OWordKey] = ("'{0}' is a LinuxCNC o-word (subroutine or flow control): this profile does not run o-word subroutines, loops or conditions; expand them in the CAM output (or post for FANUC)", "'{0}' 是 LinuxCNC 的 o-word（子程序或流程控制）：此机床配置不执行 o-word 子程序、循环或条件；请在 CAM 输出中展开（或按 FANUC 后处理）"),
+        [DoubleSlashKey] = ("illegal characters '//': a tool-table entry of an older ISO dialect (T1//15.98: tool 1, diameter 15.98), not FANUC syntax; the rest of the line is ignored", "非法字符 '//'：旧式 ISO 方言的刀具表条目（T1//15.98：1 号刀，直径 15.98），不是 FANUC 语法；本行其余部分被忽略"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };
 
     /// <summary>The key of E102's text for a LinuxCNC o-word construct (<c>O100 sub</c>), which no profile runs.</summary>
     internal const string OWordKey = "oword";
+
+    /// <summary>The key of E101's argument for <c>//</c> after a word (an older dialect's tool-table line).</summary>
+    internal const string DoubleSlashKey = "doubleslash";
 
     /// <summary>The key of the check's summary line (<c>N errors, M warnings, B blocks</c>) in the table.</summary>
     internal const string SummaryKey = "summary";

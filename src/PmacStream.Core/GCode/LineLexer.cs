@@ -192,6 +192,13 @@ internal static class LineLexer
                 continue;
             }
 
+            if (c == (byte)'/' && i + 1 < line.Length && line[i + 1] == (byte)'/' && b.WordList.Count > 0)
+            {
+                // "T1//15.98": a tool-table entry of an older ISO dialect (tool, then its diameter), not block skip.
+                b.DiagnosticList.Add(new Diagnostic(Severity.Error, DiagnosticCodes.IllegalCharacter, b.LineNumber, i + 1, DiagnosticText.Format(DiagnosticText.DoubleSlashKey)));
+                break;
+            }
+
             if (c == (byte)'/' && b.WordList.Count > 0)
             {
                 // FANUC's optional block skip inside a block: the rest of the block is skipped when block delete is

@@ -102,6 +102,16 @@ public class GCodeReaderTests
     }
 
     [Fact]
+    public void A_double_slash_after_a_word_is_named_as_an_older_dialects_tool_table_entry_once()
+    {
+        var block = GCodeReader.LexLine("T1//15.98");
+        block.LexicalDiagnostics.Should().ContainSingle().Which.Should().Match<Diagnostic>(d =>
+            d.Code == DiagnosticCodes.IllegalCharacter && d.Column == 3 && d.Message.Contains("tool-table entry of an older ISO dialect"));
+        block.Words.Select(w => w.Letter).Should().Equal('T');
+        GCodeReader.LexLine("G1 X1 /2 Y2").LexicalDiagnostics.Should().BeEmpty("a single slash with a level is block skip");
+    }
+
+    [Fact]
     public void A_letter_run_that_is_no_o_word_keyword_stays_a_malformed_number() =>
         GCodeReader.LexLine("G1 Xabc").LexicalDiagnostics.Should().ContainSingle(d => d.Code == DiagnosticCodes.MalformedNumber)
             .Which.Message.Should().Contain("expected digits").And.NotContain("o-word");
