@@ -117,6 +117,29 @@ public sealed class EthernetTransportTests : IAsyncLifetime
         await act.Should().ThrowAsync<PmacLinkException>();
     }
 
+    /// <summary>
+    /// A request given up on is reset, never closed gracefully: after a close the kernel would go on retransmitting what
+    /// it still held once a lost link came back, and the controller would store program lines after a resume had sent
+    /// them again (issue 20: link-fault runs saw the old connection's requests arrive after the new one's).
+    /// </summary>
+    [Fact]
+    public async Task A_request_whose_reply_timed_out_is_reset_so_the_controller_cannot_get_it_later()
+    {
+        using var mute = new Socket(SocketType.Stream, ProtocolType.Tcp);
+        mute.Bind(new IPEndPoint(IPAddress.Loopback, 0));
+        mute.Listen(1);
+        await using var c = new EthernetConnection(new EthernetOptions { Port = ((IPEndPoint)mute.LocalEndPoint!).Port, Timeout = TimeSpan.FromMilliseconds(200) });
+        var act = () => c.DownloadAsync(["X1", "X2"]);
+        await act.Should().ThrowAsync<PmacLinkException>();
+
+        using var server = await mute.AcceptAsync();
+        var buffer = new byte[4096];
+        var got = await server.ReceiveAsync(buffer, SocketFlags.None);
+        got.Should().Be(VrPmac.HeaderSize + 6, "the WRITEBUFFER packet with its two lines");
+        var next = () => server.ReceiveAsync(buffer.AsMemory(), SocketFlags.None).AsTask();
+        (await next.Should().ThrowAsync<SocketException>()).Which.SocketErrorCode.Should().Be(SocketError.ConnectionReset, "a reset, not a graceful end (0 bytes)");
+    }
+
     [Fact]
     public async Task No_server_is_a_link_error_not_a_socket_exception()
     {
