@@ -41,11 +41,16 @@ public static class DiagnosticText
         [DiagnosticCodes.NoMotionMode] = ("axis words but no motion mode in force: expected G00, G01, G02 or G03 first", "有坐标字但没有有效的运动方式：应先指定 G00、G01、G02 或 G03"),
         [DiagnosticCodes.NotYetOnController] = ("{0} ({1}) is accepted by profile '{2}' but the controller cannot run it yet: a job using it is refused", "机床配置 '{2}' 接受 {0}，但控制器尚不能执行它：使用它的作业将被拒绝"),
         [DiagnosticCodes.TextAfterTapeEnd] = ("text after the closing '%' is ignored: the program ends at this line", "结束符 '%' 之后的内容被忽略：程序在此行结束"),
+        [DiagnosticCodes.TooManyWords] = ("more than {0} words on one line: the rest of the line is not read", "一行中超过 {0} 个字：该行其余部分不再读取"),
+        [UnlistedKey] = ("{0} more not listed (at most {1} a line)", "另有 {0} 条未列出（每行最多 {1} 条）"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };
 
     /// <summary>The key of the check's summary line (<c>N errors, M warnings, B blocks</c>) in the table.</summary>
     internal const string SummaryKey = "summary";
+
+    /// <summary>The key of the summary's note on findings counted but not listed (past <see cref="FindingLimits.PerLine"/> on a line).</summary>
+    internal const string UnlistedKey = "summary-unlisted";
 
     private static readonly CultureInfo DefaultCulture = CultureInfo.CurrentUICulture;
     private static readonly AsyncLocal<CultureInfo?> FlowCulture = new();

@@ -200,7 +200,7 @@ public sealed class GCodeReader : IDisposable
         {
             _rawInChunk = false;
             b.Length = 0;
-            b.DiagnosticList.Clear();
+            b.ClearFindings();
             var truncated = false;
             Append(b, _chunk.AsSpan(_rawStart, _rawLength), ref truncated);
             b.ByteOffset = _rawOffset;
@@ -349,7 +349,7 @@ public sealed class GCodeReader : IDisposable
     {
         var b = _block;
         b.Length = 0;
-        b.DiagnosticList.Clear();
+        b.ClearFindings();
         var truncated = false;
         var started = false;
 

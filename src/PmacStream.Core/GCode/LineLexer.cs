@@ -149,7 +149,15 @@ internal static class LineLexer
                         run++;
                     }
 
-                    Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, run - i > 1 ? System.Text.Encoding.ASCII.GetString(line[i..run]) : ((char)c).ToString());
+                    if (b.ListsFindings)
+                    {
+                        Add(b, Severity.Error, DiagnosticCodes.MalformedNumber, column, run - i > 1 ? System.Text.Encoding.ASCII.GetString(line[i..run]) : ((char)c).ToString());
+                    }
+                    else
+                    {
+                        b.CountUnlisted(Severity.Error);
+                    }
+
                     i = Math.Max(Math.Max(j, run), i + 1);
                     continue;
                 }
@@ -173,6 +181,13 @@ internal static class LineLexer
                         i = j;
                         continue;
                     }
+                }
+
+                if (b.WordList.Count == FindingLimits.WordsPerLine)
+                {
+                    // No block has this many words: read no further, so a line of junk costs no more than a block.
+                    Add(b, Severity.Error, DiagnosticCodes.TooManyWords, column, FindingLimits.WordsPerLine);
+                    break;
                 }
 
                 b.WordList.Add(new GWord(letter, value, column, numStart, j - numStart, isLower));
@@ -206,7 +221,14 @@ internal static class LineLexer
             }
             else
             {
-                Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
+                if (b.ListsFindings)
+                {
+                    Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
+                }
+                else
+                {
+                    b.CountUnlisted(Severity.Error);
+                }
             }
 
             i++;
@@ -270,5 +292,5 @@ internal static class LineLexer
     }
 
     private static void Add(GBlock b, Severity severity, string code, int column, params object[] args) =>
-        b.DiagnosticList.Add(new Diagnostic(severity, code, b.LineNumber, column, DiagnosticText.Format(code, args)));
+        b.AddFinding(severity, code, column, args);
 }

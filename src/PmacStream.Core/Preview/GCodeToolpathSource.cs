@@ -75,6 +75,7 @@ public sealed class GCodeToolpathSource : IToolpathSource
             }
 
             var block = reader.Current;
+            IssueCount += block.UnlistedErrors;
             foreach (var d in block.LexicalDiagnostics)
             {
                 AddIssue(d);
