@@ -240,11 +240,10 @@ internal sealed class CheckRun
 
         var interp = _interp;
         var isBlock = interp.StepCore(block, diags);
-        _unlistedErrors += block.UnlistedErrors;
-        _unlistedWarnings += block.UnlistedWarnings;
-        if (diags.Count > FindingLimits.PerLine)
+        if (diags.Count > FindingLimits.PerLine || lexical.Count == FindingLimits.PerLine)
         {
-            CountUnlisted(diags);
+            // Only a line with that many findings can have more that are counted, not listed.
+            CountUnlisted(diags, block);
         }
 
         if (isBlock)
@@ -372,9 +371,14 @@ internal sealed class CheckRun
 
     private static int Clamp(long count) => (int)Math.Min(int.MaxValue, count);
 
-    /// <summary>Keeps the first <see cref="FindingLimits.PerLine"/> findings of a line and counts the rest.</summary>
-    private void CountUnlisted(List<Diagnostic> diags)
+    /// <summary>
+    /// Keeps the first <see cref="FindingLimits.PerLine"/> findings of a line and counts the rest, with the lexer's
+    /// findings of <paramref name="block"/> that it counted and did not list.
+    /// </summary>
+    private void CountUnlisted(List<Diagnostic> diags, GBlock block)
     {
+        _unlistedErrors += block.UnlistedErrors;
+        _unlistedWarnings += block.UnlistedWarnings;
         for (var i = FindingLimits.PerLine; i < diags.Count; i++)
         {
             if (diags[i].Severity == Severity.Error)
@@ -387,7 +391,10 @@ internal sealed class CheckRun
             }
         }
 
-        diags.RemoveRange(FindingLimits.PerLine, diags.Count - FindingLimits.PerLine);
+        if (diags.Count > FindingLimits.PerLine)
+        {
+            diags.RemoveRange(FindingLimits.PerLine, diags.Count - FindingLimits.PerLine);
+        }
     }
 
     private void ReleaseWithoutW002()

@@ -23,6 +23,7 @@ public sealed class GBlock
     public int Length { get; internal set; }
 
     /// <summary>Forgets the findings of the line before (a new line is read into this instance).</summary>
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
     internal void ClearFindings()
     {
         DiagnosticList.Clear();

@@ -10,10 +10,26 @@ namespace PmacStream.GCode;
 /// </summary>
 internal static class LineLexer
 {
+    /// <summary>Lexes <paramref name="b"/>'s line into its words, comments and findings.</summary>
+    public static void Lex(GBlock b)
+    {
+        // A word takes two bytes at least: only a longer line can hold more words than are read. The two
+        // instantiations are compiled apart, so a line of a program pays nothing for the word limit.
+        if (b.Length > 2 * FindingLimits.WordsPerLine)
+        {
+            Lex<WordLimit>(b);
+        }
+        else
+        {
+            Lex<NoWordLimit>(b);
+        }
+    }
+
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    public static void Lex(GBlock b)
+    private static void Lex<TLimit>(GBlock b)
+        where TLimit : struct, IWordLimit
     {
         b.WordList.Clear();
         b.CommentList.Clear();
@@ -183,7 +199,7 @@ internal static class LineLexer
                     }
                 }
 
-                if (b.WordList.Count == FindingLimits.WordsPerLine)
+                if (TLimit.Applies && b.WordList.Count == FindingLimits.WordsPerLine)
                 {
                     // No block has this many words: read no further, so a line of junk costs no more than a block.
                     Add(b, Severity.Error, DiagnosticCodes.TooManyWords, column, FindingLimits.WordsPerLine);
@@ -293,4 +309,20 @@ internal static class LineLexer
 
     private static void Add(GBlock b, Severity severity, string code, int column, params object[] args) =>
         b.AddFinding(severity, code, column, args);
+
+    /// <summary>Whether a line is long enough for <see cref="FindingLimits.WordsPerLine"/> to matter (a constant of each instantiation).</summary>
+    private interface IWordLimit
+    {
+        static abstract bool Applies { get; }
+    }
+
+    private readonly struct WordLimit : IWordLimit
+    {
+        public static bool Applies => true;
+    }
+
+    private readonly struct NoWordLimit : IWordLimit
+    {
+        public static bool Applies => false;
+    }
 }
