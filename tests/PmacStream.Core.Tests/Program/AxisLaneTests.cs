@@ -188,6 +188,32 @@ public class AxisLaneTests
         }
     }
 
+    /// <summary>
+    /// Found by the fuzz target: a junk line that starts with a letter ("ray", no word in it) made the raw reader
+    /// take it as the first block, so the next % ended its tape while Read (check) read on. Lexed lines are judged
+    /// by their words on both paths.
+    /// </summary>
+    [Theory]
+    [InlineData("1\n%\nray\n%\nG01 X1 F100\nM30\n")]
+    [InlineData("ray Progr0am)\n%\nG00 X1\n%\nG00 X2\n")]
+    public void A_junk_line_that_starts_with_a_letter_ends_the_tape_on_neither_path(string program)
+    {
+        var text = Encoding.ASCII.GetBytes(program);
+        using var read = new GCodeReader(new MemoryStream(text));
+        using var raw = new GCodeReader(new MemoryStream(text));
+        var lines = 0;
+        while (read.Read())
+        {
+            raw.ReadRaw(out _, out _, out _).Should().BeTrue($"line {read.Current.LineNumber} is read by Read too");
+            raw.LexRaw().Words.Should().Equal(read.Current.Words);
+            lines++;
+        }
+
+        raw.ReadRaw(out _, out _, out _).Should().BeFalse();
+        (raw.TapeEndLine, raw.LineNumber).Should().Be((read.TapeEndLine, read.LineNumber));
+        lines.Should().BeGreaterThanOrEqualTo(4);
+    }
+
     // ---- the checker ----
 
     [Theory]
