@@ -1,6 +1,5 @@
 using System.Globalization;
 using System.Text;
-using PmacStream.Pmac;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 
