@@ -106,12 +106,19 @@ public sealed class EthernetTransportTests : IAsyncLifetime
         (await act.Should().ThrowAsync<PmacLinkException>()).WithMessage("*no reply*200 ms*");
     }
 
+    /// <summary>A loopback listener that accepts connections (the kernel does) and never answers.</summary>
+    private static Socket MuteServer()
+    {
+        var mute = new Socket(SocketType.Stream, ProtocolType.Tcp);
+        mute.Bind(new IPEndPoint(IPAddress.Loopback, 0));
+        mute.Listen(1);
+        return mute;
+    }
+
     [Fact]
     public async Task A_server_that_accepts_but_never_answers_is_a_dead_link()
     {
-        using var mute = new Socket(SocketType.Stream, ProtocolType.Tcp);
-        mute.Bind(new IPEndPoint(IPAddress.Loopback, 0));
-        mute.Listen(1);
+        using var mute = MuteServer();
         await using var c = new EthernetConnection(new EthernetOptions { Port = ((IPEndPoint)mute.LocalEndPoint!).Port, Timeout = TimeSpan.FromMilliseconds(200) });
         var act = () => c.DownloadAsync(["X1", "X2"]);
         await act.Should().ThrowAsync<PmacLinkException>();
@@ -125,9 +132,7 @@ public sealed class EthernetTransportTests : IAsyncLifetime
     [Fact]
     public async Task A_request_whose_reply_timed_out_is_reset_so_the_controller_cannot_get_it_later()
     {
-        using var mute = new Socket(SocketType.Stream, ProtocolType.Tcp);
-        mute.Bind(new IPEndPoint(IPAddress.Loopback, 0));
-        mute.Listen(1);
+        using var mute = MuteServer();
         await using var c = new EthernetConnection(new EthernetOptions { Port = ((IPEndPoint)mute.LocalEndPoint!).Port, Timeout = TimeSpan.FromMilliseconds(200) });
         var act = () => c.DownloadAsync(["X1", "X2"]);
         await act.Should().ThrowAsync<PmacLinkException>();
