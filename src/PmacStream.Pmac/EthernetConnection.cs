@@ -31,8 +31,9 @@ public sealed record EthernetOptions
 /// <summary>
 /// A Turbo PMAC over Ethernet (TCP 1025, VR_PMAC packets). Commands go through GETRESPONSE and continue with
 /// READREADY/GETBUFFER past 1400 bytes; downloads go through WRITEBUFFER batches. Any timeout, I/O failure or
-/// cancellation in the middle of an exchange closes the socket (its state is unknown) and throws; the next request
-/// reconnects when <see cref="EthernetOptions.AutoReconnect"/> is set.
+/// cancellation in the middle of an exchange resets the connection (its state is unknown, and nothing it still holds
+/// to send may reach the controller later) and throws; the next request reconnects when
+/// <see cref="EthernetOptions.AutoReconnect"/> is set.
 /// </summary>
 public sealed class EthernetConnection : IPmacConnection
 {
@@ -241,7 +242,10 @@ public sealed class EthernetConnection : IPmacConnection
         }
     }
 
-    /// <summary>Runs one exchange under the reply timeout; any failure closes the socket.</summary>
+    /// <summary>
+    /// Runs one exchange under the reply timeout; any failure aborts the socket (a reset, see <see cref="AbortSocket"/>),
+    /// so a request whose reply was not seen is never delivered later.
+    /// </summary>
     private async Task<T> RunGuardedAsync<T>(Func<CancellationToken, Task<T>> body, string what, CancellationToken cancellationToken)
     {
         using var timeout = CancellationTokenSource.CreateLinkedTokenSource(cancellationToken);
@@ -252,18 +256,18 @@ public sealed class EthernetConnection : IPmacConnection
         }
         catch (OperationCanceledException) when (!cancellationToken.IsCancellationRequested)
         {
-            CloseSocket();
+            AbortSocket();
             Log.Debug("{Device} {What}: no reply within {Timeout}", Description, what, _options.Timeout);
             throw new PmacLinkException($"{Description}: no reply to '{what}' within {_options.Timeout.TotalMilliseconds:0} ms");
         }
         catch (OperationCanceledException)
         {
-            CloseSocket();
+            AbortSocket();
             throw;
         }
         catch (Exception e) when (e is SocketException or IOException or ObjectDisposedException)
         {
-            CloseSocket();
+            AbortSocket();
             Log.Debug("{Device} {What}: link failed: {Error}", Description, what, e.Message);
             throw new PmacLinkException($"{Description}: link failed during '{what}': {e.Message}", e);
         }
@@ -416,6 +420,30 @@ public sealed class EthernetConnection : IPmacConnection
         _everConnected = true;
         Log.Debug("{Device} connected ({Ms:0.000} ms)", Description, sw.Elapsed.TotalMilliseconds);
         return socket;
+    }
+
+    /// <summary>
+    /// Drops the connection with a reset instead of a close: the kernel discards what it still holds to send. After a
+    /// timeout in a link outage that is the request the host gave up on (a WRITEBUFFER of program lines, a command);
+    /// closed gracefully, the kernel would go on retransmitting it once the link is back, and the controller would
+    /// store it after a resume had already sent those lines again on a new connection.
+    /// </summary>
+    private void AbortSocket()
+    {
+        if (_socket is { } s)
+        {
+            _socket = null;
+            try
+            {
+                s.LingerState = new LingerOption(true, 0);
+            }
+            catch (SocketException)
+            {
+                // Already gone.
+            }
+
+            s.Dispose();
+        }
     }
 
     private void CloseSocket()

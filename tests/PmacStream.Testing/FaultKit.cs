@@ -13,7 +13,8 @@ public sealed class HostKilledException : Exception
 
 /// <summary>
 /// An in-process connection that injects seeded faults: link resets before a command, replies lost after it ran,
-/// ERR replies, slow replies (the virtual clock runs on while waiting) and host kills; downloads break off part-way.
+/// ERR replies, slow replies (the virtual clock runs on while waiting) and host kills; downloads break off part-way,
+/// or (on demand) are stored whole and their reply lost.
 /// </summary>
 public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Action<double> slow) : IPmacConnection
 {
@@ -24,6 +25,15 @@ public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Acti
     public double KillRate { get; set; }
 
     public bool Down { get; set; }
+
+    /// <summary>
+    /// Set: the next download is stored whole by the controller, then its reply is lost (the link goes down) or, with
+    /// <see cref="KillWithLostReply"/>, the host dies before the reply arrives. Cleared once it happened.
+    /// </summary>
+    public bool LoseNextDownloadReply { get; set; }
+
+    /// <summary>With <see cref="LoseNextDownloadReply"/>: the host dies instead of seeing the link fail.</summary>
+    public bool KillWithLostReply { get; set; }
 
     public int Injected { get; private set; }
 
@@ -67,6 +77,21 @@ public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Acti
         if (Down)
         {
             throw new PmacLinkException("link down");
+        }
+
+        if (LoseNextDownloadReply)
+        {
+            // The controller stored every line; the reply that says so never reaches the host.
+            LoseNextDownloadReply = false;
+            await _inner.DownloadAsync(lines, cancellationToken).ConfigureAwait(false);
+            Injected++;
+            if (KillWithLostReply)
+            {
+                throw new HostKilledException();
+            }
+
+            Down = true;
+            throw new PmacLinkException("reply lost after the controller stored the lines");
         }
 
         var fault = Pick();

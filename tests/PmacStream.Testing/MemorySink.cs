@@ -13,6 +13,11 @@ public sealed class MemorySink : ICheckpointSink
 
     public JobStart? Start { get; private set; }
 
+    /// <summary>
+    /// A power loss at the host: only checkpoints written durably (synchronous commit) survive, the others are lost.
+    /// </summary>
+    public bool DurableOnly { get; init; }
+
     public void RecordStart(JobStart start) => Start = start;
 
     /// <summary>The job record a host would read back after dying (what the job store keeps).</summary>
@@ -21,7 +26,11 @@ public sealed class MemorySink : ICheckpointSink
 
     public void Save(Checkpoint checkpoint, bool durable)
     {
-        Last = checkpoint;
+        if (durable || !DurableOnly)
+        {
+            Last = checkpoint;
+        }
+
         Writes++;
         if (durable)
         {

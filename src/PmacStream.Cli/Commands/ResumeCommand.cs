@@ -1,5 +1,6 @@
 using System.CommandLine;
 using PmacStream.Jobs;
+using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;
 
@@ -40,21 +41,18 @@ internal static class ResumeCommand
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 
-            var result = await service.ResumeAsync(controller, resumable, settings, proposal =>
+            ResumeResult result;
+            try
             {
-                if (proposal.Reason is { } reason)
-                {
-                    Console.WriteLine(reason);
-                }
+                result = await ResumeOrRestartAsync(service, controller, resumable, settings, options, parse, machine, forced, ct).ConfigureAwait(false);
+            }
+            catch (JobException e) when (e.InnerException is ResumeRefusedException refused)
+            {
+                // Both positions and the choices are in the message; name the command that starts again from a line.
+                var line = refused.RestartLine is { } l ? l.ToString(System.Globalization.CultureInfo.InvariantCulture) : "LINE";
+                throw new CliException($"{e.Message}{Environment.NewLine}to start again from a line: pmacstream stream {record.ProgramPath} --from-line {line}", CliGlobals.Failed);
+            }
 
-                if (proposal.Plan is not { } plan)
-                {
-                    return Task.FromResult(true);
-                }
-
-                Console.WriteLine($"restarting at the block of line {proposal.Line} (re-runs the block that was executing from its start)");
-                return Task.FromResult(JobConsole.Confirm(plan, options.Yes(parse)));
-            }, options.FeedOverride(parse), machine, ct, forced, options.OptionalStop(parse)).ConfigureAwait(false);
             if (result.Job is not { } job)
             {
                 return CliGlobals.UsageOrIo;
@@ -83,4 +81,23 @@ internal static class ResumeCommand
         });
         return cmd;
     }
+
+    /// <summary>The service's resume; a restart is shown with its preamble and asked for (<c>--yes</c> answers).</summary>
+    private static Task<ResumeResult> ResumeOrRestartAsync(JobService service, ControllerLink controller, ResumableJob resumable, RunSettings settings, JobOptions options,
+        ParseResult parse, GCode.MachineProfile machine, bool forced, CancellationToken ct) =>
+        service.ResumeAsync(controller, resumable, settings, proposal =>
+            {
+                if (proposal.Reason is { } reason)
+                {
+                    Console.WriteLine(reason);
+                }
+
+                if (proposal.Plan is not { } plan)
+                {
+                    return Task.FromResult(true);
+                }
+
+                Console.WriteLine($"restarting at the block of line {proposal.Line} (re-runs the block that was executing from its start)");
+                return Task.FromResult(JobConsole.Confirm(plan, options.Yes(parse)));
+            }, options.FeedOverride(parse), machine, ct, forced, options.OptionalStop(parse));
 }

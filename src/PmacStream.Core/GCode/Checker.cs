@@ -16,17 +16,33 @@ public sealed record CheckSummary(string File, int Lines, long Blocks, int Error
     /// <summary>The "exit" level: the program must not run when true.</summary>
     public bool HasErrors => Errors > 0;
 
+    /// <summary>Errors counted in <see cref="Errors"/> but not listed: past <see cref="FindingLimits.PerLine"/> on their line.</summary>
+    public int UnlistedErrors { get; init; }
+
+    /// <summary>Warnings counted in <see cref="Warnings"/> but not listed.</summary>
+    public int UnlistedWarnings { get; init; }
+
     /// <summary>
     /// The codes the program uses that the controller cannot run yet (<see cref="ControllerSupport.NotYet"/>), with
     /// the line of their first use: a job gate refuses such a program.
     /// </summary>
     public IReadOnlyDictionary<string, int> NotYetCodes { get; init; } = new Dictionary<string, int>();
 
-    /// <summary>The summary in English, as logs and the program store keep it: <c>N errors, M warnings, B blocks</c>.</summary>
-    public override string ToString() => DiagnosticText.Format(System.Globalization.CultureInfo.InvariantCulture, DiagnosticText.SummaryKey, Errors, Warnings, Blocks);
+    /// <summary>
+    /// The summary in English, as logs and the program store keep it: <c>N errors, M warnings, B blocks</c>, and how
+    /// many of them are not listed when a line had more than <see cref="FindingLimits.PerLine"/>.
+    /// </summary>
+    public override string ToString() => Format(System.Globalization.CultureInfo.InvariantCulture);
 
     /// <summary>The summary line in <see cref="DiagnosticText.Culture"/> (what <c>pmacstream check --lang</c> prints).</summary>
-    public string ToLocalizedString() => DiagnosticText.Format(DiagnosticText.SummaryKey, Errors, Warnings, Blocks);
+    public string ToLocalizedString() => Format(DiagnosticText.Culture);
+
+    private string Format(System.Globalization.CultureInfo culture)
+    {
+        var line = DiagnosticText.Format(culture, DiagnosticText.SummaryKey, Errors, Warnings, Blocks);
+        var unlisted = (long)UnlistedErrors + UnlistedWarnings;
+        return unlisted == 0 ? line : $"{line}; {DiagnosticText.Format(culture, DiagnosticText.UnlistedKey, unlisted, FindingLimits.PerLine)}";
+    }
 }
 
 /// <summary>
@@ -38,6 +54,9 @@ public sealed class Checker
 {
     /// <summary>How many lines are held while waiting to see whether the program numbers any (W002).</summary>
     internal const int PendingSequenceLimit = 10000;
+
+    // Findings are listed at most FindingLimits.PerLine a line and held at most FindingLimits.Held at a time, so a line
+    // of junk, or a file of them, costs the same small memory as a clean program; the summary counts the rest.
 
     private readonly MachineProfile _profile;
 
@@ -122,6 +141,8 @@ internal sealed class CheckRun
     private readonly List<Diagnostic> _diags = new(8);
     private int _errors;
     private int _warnings;
+    private long _unlistedErrors;
+    private long _unlistedWarnings;
     private long _blocks;
     private double _seconds;
     private int _lines;
@@ -225,6 +246,12 @@ internal sealed class CheckRun
 
         var interp = _interp;
         var isBlock = interp.StepCore(block, diags);
+        if (diags.Count > FindingLimits.PerLine || lexical.Count == FindingLimits.PerLine)
+        {
+            // Only a line with that many findings can have more that are counted, not listed.
+            CountUnlisted(diags, block);
+        }
+
         if (isBlock)
         {
             ref readonly var decoded = ref interp.Last;
@@ -267,9 +294,10 @@ internal sealed class CheckRun
         if (!_sawSequence && !_undecidedOverflow)
         {
             _held.AddRange(diags);
-            if (++_heldLines > Checker.PendingSequenceLimit)
+            if (++_heldLines > Checker.PendingSequenceLimit || _held.Count > FindingLimits.Held)
             {
-                // A long un-numbered start: treat the program as un-numbered rather than hold unbounded memory.
+                // A long un-numbered start, or one full of findings: take the program as un-numbered rather than hold
+                // unbounded memory.
                 _undecidedOverflow = true;
                 ReleaseWithoutW002();
             }
@@ -325,9 +353,11 @@ internal sealed class CheckRun
             Make(DiagnosticCodes.NoProgramNumber, _firstBlockLine, 1);
         }
 
-        return new CheckSummary(fileName, _lines, _blocks, _errors, _warnings, bytes, _seconds, elapsed)
+        return new CheckSummary(fileName, _lines, _blocks, Clamp(_errors + _unlistedErrors), Clamp(_warnings + _unlistedWarnings), bytes, _seconds, elapsed)
         {
             NotYetCodes = new Dictionary<string, int>(_interp.NotYetCodes),
+            UnlistedErrors = Clamp(_unlistedErrors),
+            UnlistedWarnings = Clamp(_unlistedWarnings),
         };
     }
 
@@ -343,6 +373,34 @@ internal sealed class CheckRun
         }
 
         _onDiagnostic(d);
+    }
+
+    private static int Clamp(long count) => (int)Math.Min(int.MaxValue, count);
+
+    /// <summary>
+    /// Keeps the first <see cref="FindingLimits.PerLine"/> findings of a line and counts the rest, with the lexer's
+    /// findings of <paramref name="block"/> that it counted and did not list.
+    /// </summary>
+    private void CountUnlisted(List<Diagnostic> diags, GBlock block)
+    {
+        _unlistedErrors += block.UnlistedErrors;
+        _unlistedWarnings += block.UnlistedWarnings;
+        for (var i = FindingLimits.PerLine; i < diags.Count; i++)
+        {
+            if (diags[i].Severity == Severity.Error)
+            {
+                _unlistedErrors++;
+            }
+            else
+            {
+                _unlistedWarnings++;
+            }
+        }
+
+        if (diags.Count > FindingLimits.PerLine)
+        {
+            diags.RemoveRange(FindingLimits.PerLine, diags.Count - FindingLimits.PerLine);
+        }
     }
 
     private void ReleaseWithoutW002()

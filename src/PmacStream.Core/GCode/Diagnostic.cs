@@ -104,6 +104,9 @@ public static class DiagnosticCodes
     /// <summary>Axis words while no motion mode is in force (after G80 where G80 ends the motion mode).</summary>
     public const string NoMotionMode = "E126";
 
+    /// <summary>More than <see cref="FindingLimits.WordsPerLine"/> words on one line: the rest of the line is not read.</summary>
+    public const string TooManyWords = "E128";
+
     /// <summary>A code the profile knows but the controller cannot run yet (reported at its first use).</summary>
     public const string NotYetOnController = "W006";
 
@@ -136,7 +139,7 @@ public static class DiagnosticCodes
         ArcRadiusMismatch, FeedMoveWithoutFeed, UnsupportedLetter, EmptyProgram, NulByte, Utf16File,
         NoProgramNumber, NoSequenceNumber, UnusedWord, LowercaseLetter, MissingWord,
         NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
-        NotRunnableInJob,
+        NotRunnableInJob, TooManyWords,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

@@ -22,6 +22,44 @@ public sealed class GBlock
     /// <summary>Length of the line in bytes, without its line end.</summary>
     public int Length { get; internal set; }
 
+    /// <summary>Forgets the findings of the line before (a new line is read into this instance).</summary>
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
+    internal void ClearFindings()
+    {
+        DiagnosticList.Clear();
+        UnlistedErrors = 0;
+        UnlistedWarnings = 0;
+    }
+
+    /// <summary>True while the line has fewer than <see cref="FindingLimits.PerLine"/> findings listed (a caller can skip building a message the line will not list).</summary>
+    internal bool ListsFindings => DiagnosticList.Count < FindingLimits.PerLine;
+
+    /// <summary>Lists a finding, or counts it once the line has <see cref="FindingLimits.PerLine"/> listed.</summary>
+    internal void AddFinding(Severity severity, string code, int column, params object[] args)
+    {
+        if (ListsFindings)
+        {
+            DiagnosticList.Add(new Diagnostic(severity, code, LineNumber, column, DiagnosticText.Format(code, args)));
+        }
+        else
+        {
+            CountUnlisted(severity);
+        }
+    }
+
+    /// <summary>Counts a finding that is not listed.</summary>
+    internal void CountUnlisted(Severity severity)
+    {
+        if (severity == Severity.Error)
+        {
+            UnlistedErrors++;
+        }
+        else
+        {
+            UnlistedWarnings++;
+        }
+    }
+
     /// <summary>The raw bytes of the line (no line end).</summary>
     public ReadOnlySpan<byte> Line => Buffer.AsSpan(0, Length);
 
@@ -30,6 +68,12 @@ public sealed class GBlock
 
     /// <summary>Findings of the lexer for this line (illegal characters, malformed numbers, unclosed comments).</summary>
     public IReadOnlyList<Diagnostic> LexicalDiagnostics => DiagnosticList;
+
+    /// <summary>Lexical errors of this line past <see cref="FindingLimits.PerLine"/>: counted, not listed.</summary>
+    public int UnlistedErrors { get; private set; }
+
+    /// <summary>Lexical warnings of this line past <see cref="FindingLimits.PerLine"/>: counted, not listed.</summary>
+    public int UnlistedWarnings { get; private set; }
 
     /// <summary>Comment spans (<c>( ... )</c> and <c>; ...</c>), as offsets into <see cref="Line"/>, delimiters included.</summary>
     public IReadOnlyList<(int Start, int Length)> Comments => CommentList;

@@ -32,6 +32,7 @@ public sealed class GCodeReader : IDisposable
     private int _rawStart;
     private int _rawLength;
     private bool _sawBlock;     // a line with words came before: a '%' line now ends the tape
+    private bool _sawBlockBeforeRaw; // _sawBlock before NoteRaw guessed from the raw line: LexRaw judges by the words
     private bool _ended;        // the closing '%' was read: nothing after it is program text
 
     /// <summary>Reads from a stream (which the reader disposes unless <paramref name="leaveOpen"/>).</summary>
@@ -200,13 +201,16 @@ public sealed class GCodeReader : IDisposable
         {
             _rawInChunk = false;
             b.Length = 0;
-            b.DiagnosticList.Clear();
+            b.ClearFindings();
             var truncated = false;
             Append(b, _chunk.AsSpan(_rawStart, _rawLength), ref truncated);
             b.ByteOffset = _rawOffset;
             b.LineNumber = _lineNumber;
         }
 
+        // A lexed line is a block by its words, as Read judges it, not by the letter NoteRaw saw at its start (a junk
+        // line such as "ray" would otherwise let the next '%' end the tape here and not in Read).
+        _sawBlock = _sawBlockBeforeRaw;
         LineLexer.Lex(b);
         Note(b);
         return b;
@@ -214,10 +218,12 @@ public sealed class GCodeReader : IDisposable
 
     /// <summary>
     /// A raw line that a caller may take without lexing: until the first block, one that starts with a letter is
-    /// taken as a block, so that a later <c>%</c> ends the tape (lines that are lexed are judged by their words).
+    /// taken as a block, so that a later <c>%</c> ends the tape (a line that is then lexed, <see cref="LexRaw"/>, is
+    /// judged by its words instead).
     /// </summary>
     private void NoteRaw(ReadOnlySpan<byte> line)
     {
+        _sawBlockBeforeRaw = _sawBlock;
         if (_sawBlock)
         {
             return;
@@ -349,7 +355,7 @@ public sealed class GCodeReader : IDisposable
     {
         var b = _block;
         b.Length = 0;
-        b.DiagnosticList.Clear();
+        b.ClearFindings();
         var truncated = false;
         var started = false;
 

@@ -10,10 +10,26 @@ namespace PmacStream.GCode;
 /// </summary>
 internal static class LineLexer
 {
+    /// <summary>Lexes <paramref name="b"/>'s line into its words, comments and findings.</summary>
+    public static void Lex(GBlock b)
+    {
+        // A word takes two bytes at least: only a longer line can hold more words than are read. The two
+        // instantiations are compiled apart, so a line of a program pays nothing for the word limit.
+        if (b.Length > 2 * FindingLimits.WordsPerLine)
+        {
+            Lex<WordLimit>(b);
+        }
+        else
+        {
+            Lex<NoWordLimit>(b);
+        }
+    }
+
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveOptimization)]
-    public static void Lex(GBlock b)
+    private static void Lex<TLimit>(GBlock b)
+        where TLimit : struct, IWordLimit
     {
         b.WordList.Clear();
         b.CommentList.Clear();
@@ -150,7 +166,11 @@ internal static class LineLexer
                     }
 
                     var text = run - i > 1 ? System.Text.Encoding.ASCII.GetString(line[i..run]) : ((char)c).ToString();
-                    if (IsOWordConstruct(b, text))
+                    if (!b.ListsFindings)
+                    {
+                        b.CountUnlisted(Severity.Error);
+                    }
+                    else if (IsOWordConstruct(b, text))
                     {
                         // "O100 sub", "O100 call": a subroutine or flow construct of LinuxCNC, not a number gone wrong.
                         var o = b.WordList[^1];
@@ -187,6 +207,13 @@ internal static class LineLexer
                     }
                 }
 
+                if (TLimit.Applies && b.WordList.Count == FindingLimits.WordsPerLine)
+                {
+                    // No block has this many words: read no further, so a line of junk costs no more than a block.
+                    Add(b, Severity.Error, DiagnosticCodes.TooManyWords, column, FindingLimits.WordsPerLine);
+                    break;
+                }
+
                 b.WordList.Add(new GWord(letter, value, column, numStart, j - numStart, isLower));
                 i = j;
                 continue;
@@ -195,7 +222,15 @@ internal static class LineLexer
             if (c == (byte)'/' && i + 1 < line.Length && line[i + 1] == (byte)'/' && b.WordList.Count > 0)
             {
                 // "T1//15.98": a tool-table entry of an older ISO dialect (tool, then its diameter), not block skip.
-                b.DiagnosticList.Add(new Diagnostic(Severity.Error, DiagnosticCodes.IllegalCharacter, b.LineNumber, i + 1, DiagnosticText.Format(DiagnosticText.DoubleSlashKey)));
+                if (b.ListsFindings)
+                {
+                    b.DiagnosticList.Add(new Diagnostic(Severity.Error, DiagnosticCodes.IllegalCharacter, b.LineNumber, i + 1, DiagnosticText.Format(DiagnosticText.DoubleSlashKey)));
+                }
+                else
+                {
+                    b.CountUnlisted(Severity.Error);
+                }
+
                 break;
             }
 
@@ -225,7 +260,14 @@ internal static class LineLexer
             }
             else
             {
-                Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
+                if (b.ListsFindings)
+                {
+                    Add(b, Severity.Error, DiagnosticCodes.IllegalCharacter, i + 1, Printable(line, i));
+                }
+                else
+                {
+                    b.CountUnlisted(Severity.Error);
+                }
             }
 
             i++;
@@ -299,5 +341,21 @@ internal static class LineLexer
         b.WordList.Count > 0 && b.WordList[^1].Letter == 'O' && OWordKeywords.Contains(text);
 
     private static void Add(GBlock b, Severity severity, string code, int column, params object[] args) =>
-        b.DiagnosticList.Add(new Diagnostic(severity, code, b.LineNumber, column, DiagnosticText.Format(code, args)));
+        b.AddFinding(severity, code, column, args);
+
+    /// <summary>Whether a line is long enough for <see cref="FindingLimits.WordsPerLine"/> to matter (a constant of each instantiation).</summary>
+    private interface IWordLimit
+    {
+        static abstract bool Applies { get; }
+    }
+
+    private readonly struct WordLimit : IWordLimit
+    {
+        public static bool Applies => true;
+    }
+
+    private readonly struct NoWordLimit : IWordLimit
+    {
+        public static bool Applies => false;
+    }
 }

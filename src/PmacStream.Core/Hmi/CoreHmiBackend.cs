@@ -85,16 +85,26 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
             : null, cancellationToken);
 
     /// <inheritdoc />
-    /// <remarks>The operator confirmed the restart preamble before (the presenter shows it), so a restart goes ahead.</remarks>
+    /// <remarks>
+    /// The operator confirmed the restart preamble of the record's line before (the presenter shows it), so a restart
+    /// there goes ahead; a restart at another line (the controller stopped elsewhere) is refused with what to do, since
+    /// its preamble was not shown.
+    /// </remarks>
     public async Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
         CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(profile);
         var resumable = job.Record as ResumableJob ?? throw new ArgumentException("not a job recorded in the job store", nameof(job));
         var ran = JobService.ProfileOf(resumable.Record, profile.Source); // the job's own profile, or a clear refusal
-        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, _ => Task.FromResult(true), feedOverride, ran, cancellationToken,
-            optionalStop: optionalStop).ConfigureAwait(false);
-        var resumed = result.Job!;
+        int? proposed = null;
+        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, p =>
+            {
+                proposed = p.Line;
+                return Task.FromResult(p.Line == resumable.RestartLine);
+            }, feedOverride, ran, cancellationToken, optionalStop: optionalStop)
+            .ConfigureAwait(false);
+        var resumed = result.Job ?? throw new InvalidOperationException(
+            $"the controller stopped the job at line {proposed}, not at line {job.ResumeLine} of the job record: nothing was sent. Select line {proposed} and start from it to see its preamble first.");
         return result.Kind == ResumeKind.Restart
             ? await StartedAsync(resumed, cancellationToken).ConfigureAwait(false)
             : new SessionJob(resumed);

@@ -180,8 +180,10 @@ public sealed class JobService
         var store = request.Record ? JobStore.Open(JobDatabase) : null;
         try
         {
+            // The previous job here completed: its rotary program may still wait for lines (the start ends it).
+            var completed = store?.Latest(controller.Spec.ToString())?.Checkpoint is { State: SessionState.Completed } done ? done.LastExecutedLine : (int?)null;
             var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
-                with { OptionalStop = request.OptionalStop };
+                with { OptionalStop = request.OptionalStop, CompletedJobLine = completed };
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings),
                 (request.Profile.Source, request.Profile.Identity));
@@ -302,15 +304,19 @@ public sealed class JobService
     }
 
     /// <summary>
-    /// Resumes a job. When the controller may still hold it (a checkpoint, not aborted, and not a simulator made
-    /// for this link), sending continues exactly where it stopped (or a start that broke off while loading is loaded
-    /// again) and the job runs. Otherwise it restarts at <see cref="ResumableJob.RestartLine"/> behind a preamble,
-    /// once <paramref name="confirmRestart"/> agrees: the job is returned ready for <see cref="Job.StartAsync"/>.
-    /// A <paramref name="feedOverride"/> (percent) is set on the continued job at once, or before the restart; null
-    /// leaves the controller's. The job gate runs first (<see cref="ProgramGate"/>): a program with codes the controller
-    /// cannot run yet, or a split forced past errors, is resumed only with <paramref name="force"/>.
+    /// Resumes a job, with the controller as the truth. When the controller may still hold it (a checkpoint, not
+    /// aborted, and not a simulator made for this link), the session reconciles the record with what the controller
+    /// reports: sending continues where the controller's lines end (or a start that broke off while loading is loaded
+    /// again) and the job runs. When the controller stopped the job it restarts at the controller's line (else at
+    /// <see cref="ResumableJob.RestartLine"/>) behind a preamble, once <paramref name="confirmRestart"/> agrees: the
+    /// job is returned ready for <see cref="Job.StartAsync"/>. A <paramref name="feedOverride"/> (percent) is set on
+    /// the continued job at once, or before the restart; null leaves the controller's. The job gate runs first
+    /// (<see cref="ProgramGate"/>): a program with codes the controller cannot run yet, or a split forced past errors,
+    /// is resumed only with <paramref name="force"/>.
     /// </summary>
-    /// <exception cref="JobException">The controller could not be asked (link or ERR).</exception>
+    /// <exception cref="JobException">The controller could not be asked (link or ERR), or it and the job record
+    /// disagree in a way that could repeat or skip a block (<see cref="ResumeRefusedException"/> inside: both positions
+    /// and the operator's choices; nothing was sent).</exception>
     /// <exception cref="ProgramRefusedException">The gate refused it; nothing was sent.</exception>
     public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumableJob job, RunSettings settings, Func<RestartProposal, Task<bool>> confirmRestart,
         double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default, bool force = false, bool optionalStop = true)
@@ -330,6 +336,7 @@ public sealed class JobService
                 with { OptionalStop = optionalStop };
             StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
             string? reason = null;
+            var restartLine = job.RestartLine;
             if (record.Checkpoint is { State: not SessionState.Aborted } cp && controller.Simulator?.Fresh != true)
             {
                 var session = NewSession();
@@ -347,10 +354,18 @@ public sealed class JobService
 
                     return new ResumeResult(reloaded ? ResumeKind.Reloaded : ResumeKind.Continued, continued);
                 }
+                catch (ResumeRefusedException e)
+                {
+                    // The record and the controller disagree: neither position is safe, so no restart is proposed.
+                    Log.Error("Job {Job}: resume refused: {Message:l}", record.Id, e.Message);
+                    throw new JobException($"cannot resume job {record.Id}: {e.Message}", JobErrorKind.Failed, e);
+                }
                 catch (InvalidOperationException e)
                 {
+                    // The controller stopped the job: restart where it stopped (its M0), not where the record says.
                     reason = e.Message;
-                    Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.Id, e.Message, job.RestartLine);
+                    restartLine = (e as ControllerLostJobException)?.RestartLine ?? restartLine;
+                    Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.Id, e.Message, restartLine);
                 }
                 catch (Exception e) when (e is PmacLinkException or PmacErrorException)
                 {
@@ -358,8 +373,8 @@ public sealed class JobService
                 }
             }
 
-            var plan = job.RestartLine is { } line ? PlanStart(job.Program, line, settings, profile, cancellationToken) : null;
-            if (!await confirmRestart(new RestartProposal(job.RestartLine, plan, reason)).ConfigureAwait(false))
+            var plan = restartLine is { } line ? PlanStart(job.Program, line, settings, profile, cancellationToken) : null;
+            if (!await confirmRestart(new RestartProposal(restartLine, plan, reason)).ConfigureAwait(false))
             {
                 Log.Information("Restart of job {Job} declined", record.Id);
                 store.Dispose();

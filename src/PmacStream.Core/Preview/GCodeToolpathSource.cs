@@ -78,6 +78,7 @@ public sealed class GCodeToolpathSource : IToolpathSource
 
             var block = reader.Current;
             NoteRotaryWords(block, rotary);
+            IssueCount += block.UnlistedErrors;
             foreach (var d in block.LexicalDiagnostics)
             {
                 AddIssue(d);

@@ -441,7 +441,11 @@ public static class Splitter
                         check.TextAfterTapeEnd(reader.TapeEndLine);
                     }
 
-                    check?.Finish(_source, reader.Position, TimeSpan.Zero, reader.LineNumber);
+                    if (check?.Finish(_source, reader.Position, TimeSpan.Zero, reader.LineNumber) is { UnlistedErrors: > 0 } checkedAll)
+                    {
+                        // Errors past the per-line listing limit were counted, not listed: the refusal counts them all.
+                        _checkErrorCount += Math.Min(int.MaxValue - _checkErrorCount, checkedAll.UnlistedErrors);
+                    }
                     size = reader.Position;
                 }
 
@@ -614,6 +618,8 @@ public static class Splitter
 
         private void Collect(GBlock b)
         {
+            _errorCount += b.UnlistedErrors;
+            _warnings += b.UnlistedWarnings;
             foreach (var d in b.DiagnosticList)
             {
                 if (d.Severity == Severity.Error)

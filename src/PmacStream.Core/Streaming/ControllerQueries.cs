@@ -93,6 +93,19 @@ internal sealed class ControllerQueries
     public async ValueTask<bool?> ProgramRunningAsync(CancellationToken cancellationToken) =>
         ProgramRunning(await StatusAsync(cancellationToken).ConfigureAwait(false));
 
+    /// <summary>
+    /// Where the controller is with a job: <c>PR</c> first, then M0, the status and the line probe (null: none). Lines
+    /// only leave the buffer meanwhile, so <c>PR</c> read first never counts fewer lines than M0 read after it leaves.
+    /// </summary>
+    public async ValueTask<ControllerReading> ReadAsync(string? probe, CancellationToken cancellationToken)
+    {
+        var linesAhead = await LinesAheadAsync(cancellationToken).ConfigureAwait(false);
+        var tracked = await TrackedLineAsync(cancellationToken).ConfigureAwait(false);
+        var running = await ProgramRunningAsync(cancellationToken).ConfigureAwait(false);
+        long? value = probe is null ? null : await ProbeAsync(probe, cancellationToken).ConfigureAwait(false);
+        return new ControllerReading(tracked, running, linesAhead, value);
+    }
+
     /// <summary>The motion-stopped bits of a status reply (blanks removed); null when it is not two hex words.</summary>
     internal static bool? MotionStopped(string status) =>
         status.Length >= 12 && int.TryParse(status.AsSpan(6, 6), NumberStyles.HexNumber, CultureInfo.InvariantCulture, out var w2)

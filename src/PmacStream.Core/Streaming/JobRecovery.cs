@@ -50,15 +50,13 @@ internal static class JobRecovery
         }
     }
 
-    /// <summary>Throws when the tracking variable went back behind the checkpoint: the controller lost the job (reset or abort).</summary>
-    public static void EnsureNotBehind(Checkpoint checkpoint, string trackVariable, int trackedLine)
+    /// <summary>What a resume tells the operator: where the controller is and where sending goes on.</summary>
+    public static string ResumedMessage(int trackedLine, bool draining, string? controllerAhead, StreamPosition next) => (draining, controllerAhead) switch
     {
-        if (trackedLine < checkpoint.LastExecutedLine)
-        {
-            throw new InvalidOperationException(
-                $"the controller reports {trackVariable}={trackedLine} but the job had reached line {checkpoint.LastExecutedLine}: it lost the job (reset or abort); restart from line {checkpoint.LastExecutedLine} with a preamble");
-        }
-    }
+        (true, { } why) => $"resumed at line {trackedLine}; the controller is ahead of the job record ({why}): waiting for the buffer to drain, then sending goes on after the last line it holds",
+        (true, null) => $"resumed at line {trackedLine}; waiting for the buffer to drain to find where sending broke off",
+        _ => $"resumed at line {trackedLine}; sending continues at {next}",
+    };
 
     /// <summary>
     /// True when the job was at a program stop when the checkpoint was taken and the tracking variable still names
@@ -66,10 +64,6 @@ internal static class JobRecovery
     /// </summary>
     public static bool StillAtStop(Checkpoint checkpoint, int trackedLine) =>
         checkpoint.State == SessionState.Stopped && trackedLine == checkpoint.LastExecutedLine;
-
-    /// <summary>The refusal of a resume whose job the controller no longer runs (aborted, stopped or reset).</summary>
-    public static InvalidOperationException NotRunning(Checkpoint checkpoint, string trackVariable, int trackedLine) =>
-        new($"the controller is not running the job (aborted, stopped or reset) at {trackVariable}={trackedLine}: restart from line {Math.Max(trackedLine, checkpoint.LastExecutedLine)} with a preamble");
 
     /// <summary>What a fault means for the job and what the operator does next: nothing is lost or repeated on resume.</summary>
     public static string FaultMessage(Exception e, int trackedLine, StreamPosition next)

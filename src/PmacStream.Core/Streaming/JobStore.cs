@@ -387,6 +387,10 @@ public sealed class JobStore : IDisposable
     public JobRecord? LatestUnfinished() =>
         Query("WHERE cp_state IS NULL OR cp_state <> 'Completed' ORDER BY id DESC LIMIT 1").FirstOrDefault();
 
+    /// <summary>The newest job recorded for a connection (as <see cref="CreateJob"/> took it), whatever its state; null when none.</summary>
+    public JobRecord? Latest(string connection) =>
+        Query("WHERE connection=$conn ORDER BY id DESC LIMIT 1", ("$conn", connection)).FirstOrDefault();
+
     /// <summary>All jobs, newest first.</summary>
     public IReadOnlyList<JobRecord> List() => Query("ORDER BY id DESC");
 

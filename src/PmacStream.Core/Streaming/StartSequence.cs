@@ -1,3 +1,5 @@
+using Serilog;
+
 namespace PmacStream.Streaming;
 
 /// <summary>
@@ -32,12 +34,35 @@ internal sealed class StartSequence(ChunkedProgram program, StreamingOptions opt
     public async Task EnsureNotRunningAsync(CancellationToken cancellationToken)
     {
         await channel.OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
-        if (await queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == true)
+        if (await queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == true
+            && !await EndedCompletedJobAsync(cancellationToken).ConfigureAwait(false))
         {
             // Redefining the rotary buffer or sending B0 under a running program would break it off (a real PMAC
             // answers ERR001). Refuse before anything reaches a buffer.
             throw new InvalidOperationException($"{cs.Prefix} is running a program: stop it or let it finish, then start again");
         }
+    }
+
+    /// <summary>
+    /// Ends the rotary program of the previous job on this controller when it only waits for lines after its end
+    /// (<see cref="StreamingOptions.CompletedJobLine"/>): nothing ahead, no move, the tracking variable at that job's last
+    /// line. True when it was ended; false (nothing sent) for any other running program.
+    /// </summary>
+    private async Task<bool> EndedCompletedJobAsync(CancellationToken cancellationToken)
+    {
+        if (options.CompletedJobLine is not { } line
+            || await queries.LinesAheadAsync(cancellationToken).ConfigureAwait(false) != 0
+            || !await queries.MotionStoppedAsync(cancellationToken).ConfigureAwait(false)
+            || queries.StatusUnknown
+            || await queries.TrackedLineAsync(cancellationToken).ConfigureAwait(false) != line)
+        {
+            return false;
+        }
+
+        Log.Information("{Cs}: the previous job's rotary program waits for lines after its last line {Line}, with nothing ahead and no move: ended ({Abort})",
+            cs.Prefix, line, cs.Abort);
+        await channel.OnlineAsync(cs.Abort, cancellationToken).ConfigureAwait(false);
+        return await queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) != true;
     }
 
     /// <summary>Prepares the coordinate system: defines the rotary buffer (when asked), resets M0 and the line probe, points it at the rotary buffer.</summary>

@@ -76,4 +76,13 @@ public sealed record StreamingOptions
 
     /// <summary>Set the tracking variable to 0 before starting, so a stale value from an earlier job is not read as progress.</summary>
     public bool ResetTrackVariable { get; init; } = true;
+
+    /// <summary>
+    /// The line at which the previous job on this controller completed (its job record's), or null. A rotary program
+    /// has no end of its own: once its last line has run it waits for more, and the coordinate system still counts as
+    /// running. A start that finds it running with nothing ahead (<c>PR</c> 0), no move executing or queued and the
+    /// tracking variable still at this line takes it for that finished job and ends it (<c>&amp;n A</c>, nothing left
+    /// to stop) instead of refusing. Null: any running program refuses the start.
+    /// </summary>
+    public int? CompletedJobLine { get; init; }
 }

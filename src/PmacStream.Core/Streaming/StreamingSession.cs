@@ -269,10 +269,13 @@ public sealed partial class StreamingSession
     }
 
     /// <summary>
-    /// Continues a job after a host crash from its last checkpoint: closes any buffer left open on this port, reads M0,
-    /// and continues sending at the checkpoint's position (or, when a download had broken off, once the buffer has
-    /// drained, after the block M0 reports). Throws <see cref="InvalidOperationException"/> when the controller lost
-    /// the job (M0 went back): restart from the line with a preamble instead.
+    /// Continues a job after a host crash from its last checkpoint, with the controller as the truth: closes any buffer
+    /// left open on this port, reads where the controller is (<c>PR</c>, M0, running, the line probe) and reconciles it
+    /// with the checkpoint (<see cref="ResumeReconciliation"/>). Sending continues at the checkpoint's position when they
+    /// agree; when a send was under way or the controller holds more than the checkpoint says was sent, once the buffer
+    /// has drained, after the last line the controller got. Throws <see cref="ControllerLostJobException"/> when the
+    /// controller stopped the job (restart from its line with a preamble) and <see cref="ResumeRefusedException"/> when
+    /// the two disagree in a way that could repeat or skip a block; nothing but <c>CLOSE</c> and queries is sent then.
     /// </summary>
     public async Task ResumeAsync(Checkpoint checkpoint, CancellationToken cancellationToken = default)
     {
@@ -287,6 +290,8 @@ public sealed partial class StreamingSession
         {
             _channel.BufferOpen = true; // unknown: the crashed host may have left it open
             await _channel.OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
+            var seen = await _queries.ReadAsync(Program.LineProbeVariable, cancellationToken).ConfigureAwait(false);
+            var decision = ResumeReconciliation.Decide(Program, checkpoint, seen, _buffer.BufferWords);
             if (!checkpoint.Started)
             {
                 // The crashed host had begun sending but never gave the run command.
@@ -295,32 +300,21 @@ public sealed partial class StreamingSession
 
             _runSent = true;
             _start.Loaded = true;
-            var m = await _queries.TrackedLineAsync(cancellationToken).ConfigureAwait(false);
-            JobRecovery.EnsureNotBehind(checkpoint, Program.Sync.Variable, m);
-            if (checkpoint.Started && await _queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) == false
-                && !JobRecovery.StillAtStop(checkpoint, m))
-            {
-                throw JobRecovery.NotRunning(checkpoint, Program.Sync.Variable, m);
-            }
-
+            var m = seen.TrackedLine;
             await _channel.OnlineAsync(OptionalStopCommand, cancellationToken).ConfigureAwait(false);
             _stops.Reset(m);
-
             await ReadFeedAsync(cancellationToken).ConfigureAwait(false);
             _sender.Next = checkpoint.Next;
-            _sender.NextExact = checkpoint.NextExact;
+            _sender.NextExact = decision.Action == ResumeAction.Continue;
             _sender.ChunksDownloaded = checkpoint.ChunksDownloaded;
             _currentChunk = Program.ChunkOfTracked(m);
             _tracked = m;
             var lastSent = Math.Max(m, Program.LastTrackedBefore(_sender.Next));
             _pace.Restart();
-            var pr = await _queries.LinesAheadAsync(cancellationToken).ConfigureAwait(false);
-            _buffer.Resumed(pr, Program.Chunk(_currentChunk), m, lastSent);
+            _buffer.Resumed(seen.LinesAhead, Program.Chunk(_currentChunk), m, lastSent);
             _drain.Begin(_sender.NextExact);
             _state = SessionState.Running;
-            Raise(StreamingEventKind.Recovered, _drain.Draining
-                ? $"resumed at line {m}; waiting for the buffer to drain to find where sending broke off"
-                : $"resumed at line {m}; sending continues at {_sender.Next}", _currentChunk);
+            Raise(StreamingEventKind.Recovered, JobRecovery.ResumedMessage(m, _drain.Draining, decision.ControllerAhead, _sender.Next), _currentChunk);
             SaveCheckpoint(durable: true);
         }
         catch (Exception e) when (e is PmacLinkException or PmacErrorException)

@@ -78,6 +78,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.NotYetOnController, "O1\nG00 G28 G91 Z0", 2, 5 },
         { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\n%\nG00 X2\n", 4, 1 },
         { DiagnosticCodes.IllegalCharacter, "G0 X1 /Y2", 1, 7, "linuxcnc-mill" },
+        { DiagnosticCodes.TooManyWords, "O1\nG01 F100 " + string.Join(" ", Enumerable.Repeat("X1", 255)), 2, 10 + (3 * 254) },
     };
 
     public static TheoryData<string, string> Good => new()
@@ -111,6 +112,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.NoMotionMode, "G21\nG0 X1 Y1\nG81 X1 Y1 Z-1 R1 F10\nG80\nG1 X2 F100" },
         { DiagnosticCodes.NotYetOnController, "O1\nG00 G17 G21 G90 G54 X1\nG01 X2 F100\nM03 S1000\nM08\nM30" },
         { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\nM30\n%\n\n  \n" },
+        { DiagnosticCodes.TooManyWords, "O1\nG01 F100 " + string.Join(" ", Enumerable.Repeat("X1", 254)) },
     };
 
     [Theory]

@@ -162,6 +162,8 @@ public class PropertyAndFuzzTests
         diags.Where(d => d.Line < 1 || d.Line > lines || d.Column < 1 || d.Message.Length == 0).Should().BeEmpty();
         blocks.Where(b => b.Line < 1 || b.Line > lines || !double.IsFinite(b.DurationSeconds) || !double.IsFinite(b.End.X)).Should().BeEmpty();
         summary.Blocks.Should().Be(blocks.Count);
-        summary.Errors.Should().Be(diags.Count(d => d.Severity == Severity.Error));
+        summary.Errors.Should().Be(diags.Count(d => d.Severity == Severity.Error) + summary.UnlistedErrors, "every error is counted, listed or not");
+        summary.Warnings.Should().Be(diags.Count(d => d.Severity == Severity.Warning) + summary.UnlistedWarnings);
+        diags.GroupBy(d => d.Line).Should().NotContain(g => g.Count() > FindingLimits.PerLine + 3, "at most 64 a line are listed (with a W002 and the whole-program W001/E120, W007)");
     }
 }

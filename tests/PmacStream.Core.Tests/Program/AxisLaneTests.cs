@@ -188,6 +188,32 @@ public class AxisLaneTests
         }
     }
 
+    /// <summary>
+    /// Found by the fuzz target: a junk line that starts with a letter ("ray", no word in it) made the raw reader
+    /// take it as the first block, so the next % ended its tape while Read (check) read on. Lexed lines are judged
+    /// by their words on both paths.
+    /// </summary>
+    [Theory]
+    [InlineData("1\n%\nray\n%\nG01 X1 F100\nM30\n")]
+    [InlineData("ray Progr0am)\n%\nG00 X1\n%\nG00 X2\n")]
+    public void A_junk_line_that_starts_with_a_letter_ends_the_tape_on_neither_path(string program)
+    {
+        var text = Encoding.ASCII.GetBytes(program);
+        using var read = new GCodeReader(new MemoryStream(text));
+        using var raw = new GCodeReader(new MemoryStream(text));
+        var lines = 0;
+        while (read.Read())
+        {
+            raw.ReadRaw(out _, out _, out _).Should().BeTrue($"line {read.Current.LineNumber} is read by Read too");
+            raw.LexRaw().Words.Should().Equal(read.Current.Words);
+            lines++;
+        }
+
+        raw.ReadRaw(out _, out _, out _).Should().BeFalse();
+        (raw.TapeEndLine, raw.LineNumber).Should().Be((read.TapeEndLine, read.LineNumber));
+        lines.Should().BeGreaterThanOrEqualTo(4);
+    }
+
     // ---- the checker ----
 
     [Theory]
@@ -203,43 +229,7 @@ public class AxisLaneTests
         for (var round = 0; round < 20; round++)
         {
             var text = RandomProgram(rng, rng.Next(50, 400), clean);
-            var profile = round % 2 == 0 ? MachineProfile.Default : OffsetProfile;
-            var expected = new List<Diagnostic>();
-            var reference = new CheckRun(profile, measureMoves: false, expected.Add, null, null);
-            var got = new List<Diagnostic>();
-            var laned = new CheckRun(profile, measureMoves: false, got.Add, null, null);
-            using (var a = new GCodeReader(new MemoryStream(text), bufferSize: 256))
-            using (var b = new GCodeReader(new MemoryStream(text), bufferSize: 256))
-            {
-                var textRoom = new byte[1 << 20];
-                while (a.Read())
-                {
-                    b.ReadRaw(out var data, out var start, out var length).Should().BeTrue();
-                    reference.Line(a.Current);
-                    if (AxisLine.TryParse(data, start, length, textRoom, 0, out var line) && laned.TryAxisLine(b.LineNumber, line, textRoom, 0))
-                    {
-                        taken++;
-                    }
-                    else
-                    {
-                        laned.Line(b.LexRaw());
-                    }
-
-                    laned.Interpreter.Position.Should().Be(reference.Interpreter.Position, $"after line {a.Current.LineNumber}");
-                }
-
-                b.ReadRaw(out _, out _, out _).Should().BeFalse();
-                var s1 = reference.Finish("p", a.Position, TimeSpan.Zero);
-                var s2 = laned.Finish("p", b.Position, TimeSpan.Zero);
-                s2.ToString().Should().Be(s1.ToString());
-                s2.Lines.Should().Be(s1.Lines);
-                s2.Blocks.Should().Be(s1.Blocks);
-                s2.Bytes.Should().Be(s1.Bytes);
-                s2.EstimatedSeconds.Should().Be(s1.EstimatedSeconds);
-            }
-
-            got.Should().Equal(expected);
-            laned.Interpreter.State.Should().Be(reference.Interpreter.State);
+            taken += CheckSameThroughTheLane(text, round % 2 == 0 ? MachineProfile.Default : OffsetProfile, $"seed {seed} round {round}");
         }
 
         taken.Should().BeGreaterThan(300, "both paths are exercised: the lane for hundreds of lines, between mode changes that close it");
@@ -344,7 +334,54 @@ public class AxisLaneTests
         taken.Should().Be(4995, "every N X Y Z line in G01 with a feed, and N4's G00 Z5.0 (G00 is the power-on mode)");
     }
 
-    private static void SameSplit(byte[] text, SplitOptions options, string because, bool mustSplit = false)
+    /// <summary>
+    /// Checks <paramref name="text"/> through the full path and through the lane, as the splitter reads it: the same
+    /// findings, totals, position after every line and modal state. Returns how many lines the lane took.
+    /// </summary>
+    internal static int CheckSameThroughTheLane(byte[] text, MachineProfile profile, string because)
+    {
+        var taken = 0;
+        var expected = new List<Diagnostic>();
+        var reference = new CheckRun(profile, measureMoves: false, expected.Add, null, null);
+        var got = new List<Diagnostic>();
+        var laned = new CheckRun(profile, measureMoves: false, got.Add, null, null);
+        using (var a = new GCodeReader(new MemoryStream(text), bufferSize: 256))
+        using (var b = new GCodeReader(new MemoryStream(text), bufferSize: 256))
+        {
+            var textRoom = new byte[1 << 20];
+            while (a.Read())
+            {
+                b.ReadRaw(out var data, out var start, out var length).Should().BeTrue(because);
+                reference.Line(a.Current);
+                if (AxisLine.TryParse(data, start, length, textRoom, 0, out var line) && laned.TryAxisLine(b.LineNumber, line, textRoom, 0))
+                {
+                    taken++;
+                }
+                else
+                {
+                    laned.Line(b.LexRaw());
+                }
+
+                laned.Interpreter.Position.Should().Be(reference.Interpreter.Position, $"after line {a.Current.LineNumber} ({because})");
+            }
+
+            b.ReadRaw(out _, out _, out _).Should().BeFalse(because);
+            var s1 = reference.Finish("p", a.Position, TimeSpan.Zero);
+            var s2 = laned.Finish("p", b.Position, TimeSpan.Zero);
+            s2.ToString().Should().Be(s1.ToString(), because);
+            s2.Lines.Should().Be(s1.Lines, because);
+            s2.Blocks.Should().Be(s1.Blocks, because);
+            s2.Bytes.Should().Be(s1.Bytes, because);
+            s2.EstimatedSeconds.Should().Be(s1.EstimatedSeconds, because);
+        }
+
+        got.Should().Equal(expected, because);
+        laned.Interpreter.State.Should().Be(reference.Interpreter.State, because);
+        return taken;
+    }
+
+    /// <summary>Splits <paramref name="text"/> through the lane and without it: the same refusal, or the same chunks byte for byte.</summary>
+    internal static void SameSplit(byte[] text, SplitOptions options, string because, bool mustSplit = false)
     {
         using var lane = new TempProgram(text);
         using var full = new TempProgram(text);

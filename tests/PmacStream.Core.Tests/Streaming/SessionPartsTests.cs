@@ -57,15 +57,10 @@ public class SessionPartsTests
     }
 
     [Fact]
-    public void A_checkpoint_of_an_unfinished_load_or_a_controller_that_went_back_is_refused()
+    public void A_checkpoint_of_an_unfinished_load_is_refused()
     {
         FluentActions.Invoking(() => JobRecovery.EnsureLoaded(Cp(false, false))).Should().Throw<InvalidOperationException>();
         JobRecovery.EnsureLoaded(Cp(false, true));
-
-        JobRecovery.EnsureNotBehind(Cp(true, true, line: 120), "M0", 120);
-        FluentActions.Invoking(() => JobRecovery.EnsureNotBehind(Cp(true, true, line: 120), "M0", 119)).Should().Throw<InvalidOperationException>()
-            .WithMessage("the controller reports M0=119 but the job had reached line 120*restart from line 120*");
-        JobRecovery.NotRunning(Cp(true, true, line: 120), "M0", 130).Message.Should().Contain("restart from line 130");
     }
 
     [Fact]

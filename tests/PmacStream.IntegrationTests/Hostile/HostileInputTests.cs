@@ -29,7 +29,15 @@ public sealed class HostileInputTests
         ["program-empty"] = d => Write(d, "empty.nc", []),
         ["program-utf16"] = d => Write(d, "utf16.nc", Encoding.Unicode.GetPreamble().Concat(Encoding.Unicode.GetBytes("G21 G90\nG00 X0 Y0\nG01 X10 F100\nM30\n")).ToArray()),
         ["program-rejected-words"] = d => Write(d, "rejected.nc", Encoding.ASCII.GetBytes("G21 G90\nG00 X0 Y0\nG999999999999999 X1\nG01 X10 Q7 F100\nU9 X3\nM30\n")),
+        ["program-one-line-1mb"] = d => Write(d, "line1mb.nc", Repeat("X ", 1 << 19, "\n")),
+        ["program-one-line-9mb"] = d => Write(d, "line9mb.nc", Repeat("X ", 9 << 19, "\n")),
+        ["program-all-errors"] = d => Write(d, "allerrors.nc", Repeat(new StringBuilder().Insert(0, "X ", 125).Append('\n').ToString(), 2000, string.Empty)),
+        ["program-words-repeated"] = d => Write(d, "words.nc", Repeat("X1", 100_000, "\n")),
     };
+
+    /// <summary><paramref name="text"/> <paramref name="times"/> times, then <paramref name="end"/>, as ASCII.</summary>
+    private static byte[] Repeat(string text, int times, string end) =>
+        Encoding.ASCII.GetBytes(new StringBuilder(text.Length * times + end.Length).Insert(0, text, times).Append(end).ToString());
 
     public static IEnumerable<object[]> Rows()
     {

@@ -147,6 +147,34 @@ public sealed class ProgramStopTests : IDisposable
         rig.ExecutedLines().Should().Equal(rig.Program.TrackedLines());
     }
 
+    [Fact]
+    public async Task A_stop_the_program_reached_after_the_host_died_is_resumed_as_a_stop_not_as_a_lost_job()
+    {
+        using var rig = new SimRig(Program(), 40, new StreamingOptions { BufferWords = 20_000 });
+        await rig.Session.StartAsync();
+        for (var i = 0; i < 5000 && rig.Session.Status.CurrentLine < 48; i++)
+        {
+            await rig.Session.TickAsync();
+            rig.Sim.Advance(TimeSpan.FromSeconds(0.05));
+        }
+
+        rig.Session.Status.CurrentLine.Should().BeInRange(48, 63, "the host dies while the program runs before its M00");
+
+        // The host is gone; the controller runs on through the lines it holds and stops at the M00 of line 64. The
+        // record says running at an earlier line, the controller is not running: a stop block, not a lost job.
+        rig.Sim.Advance(TimeSpan.FromSeconds(60));
+        rig.Sim.IsRunning().Should().BeFalse();
+        rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, time: rig.Time);
+        await rig.Session.ResumeAsync(rig.Sink.Record());
+        (await RunUntilStoppedAsync(rig)).Should().BeTrue(rig.Session.Status.Message);
+        rig.Session.Status.Stop.Should().Be(new ProgramStop(64, "M00"));
+        await rig.Session.ResumeMotionAsync();
+        (await RunUntilStoppedAsync(rig)).Should().BeTrue("M01 stops next");
+        await rig.Session.ResumeMotionAsync();
+        (await rig.RunAsync(0.5)).Should().BeTrue(rig.Session.Status.Message);
+        rig.ExecutedLines().Should().Equal(rig.Program.TrackedLines());
+    }
+
     private static async Task<bool> RunUntilStoppedAsync(SimRig rig)
     {
         for (var i = 0; i < 5000; i++)

@@ -106,15 +106,43 @@ public sealed class EthernetTransportTests : IAsyncLifetime
         (await act.Should().ThrowAsync<PmacLinkException>()).WithMessage("*no reply*200 ms*");
     }
 
+    /// <summary>A loopback listener that accepts connections (the kernel does) and never answers.</summary>
+    private static Socket MuteServer()
+    {
+        var mute = new Socket(SocketType.Stream, ProtocolType.Tcp);
+        mute.Bind(new IPEndPoint(IPAddress.Loopback, 0));
+        mute.Listen(1);
+        return mute;
+    }
+
     [Fact]
     public async Task A_server_that_accepts_but_never_answers_is_a_dead_link()
     {
-        using var mute = new Socket(SocketType.Stream, ProtocolType.Tcp);
-        mute.Bind(new IPEndPoint(IPAddress.Loopback, 0));
-        mute.Listen(1);
+        using var mute = MuteServer();
         await using var c = new EthernetConnection(new EthernetOptions { Port = ((IPEndPoint)mute.LocalEndPoint!).Port, Timeout = TimeSpan.FromMilliseconds(200) });
         var act = () => c.DownloadAsync(["X1", "X2"]);
         await act.Should().ThrowAsync<PmacLinkException>();
+    }
+
+    /// <summary>
+    /// A request given up on is reset, never closed gracefully: after a close the kernel would go on retransmitting what
+    /// it still held once a lost link came back, and the controller would store program lines after a resume had sent
+    /// them again (issue 20: link-fault runs saw the old connection's requests arrive after the new one's).
+    /// </summary>
+    [Fact]
+    public async Task A_request_whose_reply_timed_out_is_reset_so_the_controller_cannot_get_it_later()
+    {
+        using var mute = MuteServer();
+        await using var c = new EthernetConnection(new EthernetOptions { Port = ((IPEndPoint)mute.LocalEndPoint!).Port, Timeout = TimeSpan.FromMilliseconds(200) });
+        var act = () => c.DownloadAsync(["X1", "X2"]);
+        await act.Should().ThrowAsync<PmacLinkException>();
+
+        using var server = await mute.AcceptAsync();
+        var buffer = new byte[4096];
+        var got = await server.ReceiveAsync(buffer, SocketFlags.None);
+        got.Should().Be(VrPmac.HeaderSize + 6, "the WRITEBUFFER packet with its two lines");
+        var next = () => server.ReceiveAsync(buffer.AsMemory(), SocketFlags.None).AsTask();
+        (await next.Should().ThrowAsync<SocketException>()).Which.SocketErrorCode.Should().Be(SocketError.ConnectionReset, "a reset, not a graceful end (0 bytes)");
     }
 
     [Fact]

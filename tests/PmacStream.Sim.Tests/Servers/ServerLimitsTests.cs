@@ -93,16 +93,18 @@ public sealed class ServerLimitsTests
     [Fact]
     public async Task An_idle_connection_is_closed_after_the_idle_timeout()
     {
-        await using var server = Start(new ScriptedController(), new PmacTcpServerOptions { IdleTimeout = TimeSpan.FromSeconds(1) });
+        // A timeout well above the busy client's 100 ms pace, so a loaded machine's stalls do not make it look idle.
+        await using var server = Start(new ScriptedController(), new PmacTcpServerOptions { IdleTimeout = TimeSpan.FromSeconds(3) });
         using var idle = new TcpWire(server.Port);
         using var busy = new TcpWire(server.Port);
         var sw = Stopwatch.StartNew();
-        while (sw.ElapsedMilliseconds < 2500)
+        while (server.IdleClosed == 0 && sw.Elapsed < TimeSpan.FromSeconds(20))
         {
             busy.GetResponse("VER").Should().Equal(A("1.947\r\x06"));
             await Task.Delay(100);
         }
 
+        sw.Elapsed.Should().BeGreaterThan(TimeSpan.FromSeconds(2.9), "not before the idle timeout");
         idle.IsClosedByServer().Should().BeTrue();
         busy.GetResponse("VER").Should().Equal(A("1.947\r\x06"), "a client that talks is never idle");
         server.IdleClosed.Should().Be(1);

@@ -1,14 +1,14 @@
 using System.Diagnostics;
 using System.Globalization;
 
-namespace PmacStream.Sim.Tests.Fuzz;
+namespace PmacStream.Testing;
 
 /// <summary>
 /// How long a fuzz target runs and from which seed: <c>PMACSTREAM_FUZZ_SECONDS</c> (default 4: CI runs each target
 /// for seconds) and <c>PMACSTREAM_FUZZ_SEED</c> (default fixed, so a CI failure repeats; <c>bench/scripts/fuzz.sh</c>
 /// runs longer with fresh seeds). A failure names the seed and the input.
 /// </summary>
-internal sealed class FuzzBudget
+public sealed class FuzzBudget
 {
     private readonly Stopwatch _clock = Stopwatch.StartNew();
 

@@ -1,0 +1,131 @@
+using System.Diagnostics;
+using System.Globalization;
+using System.Net;
+using System.Text;
+using PmacStream.Program;
+using PmacStream.Sim;
+using PmacStream.Sim.Servers;
+using PmacStream.Streaming;
+
+namespace PmacStream.IntegrationTests.Streaming;
+
+/// <summary>
+/// Issue 20 item 1 as the operator met it: `stream --tcp` killed mid-job, its job record rewound (or advanced) while
+/// the controller runs on, then `resume --yes`. Before, the rewound record was re-sent from chunk 2 (blocks run twice,
+/// out of order) and resume exited 0; now the controller's word decides.
+/// </summary>
+[Collection("stream-cli")]
+public sealed class ResumeCliTests : IDisposable
+{
+    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-resumecli-" + Guid.NewGuid().ToString("N"));
+
+    public ResumeCliTests() => Directory.CreateDirectory(_folder);
+
+    private string Db => Path.Combine(_folder, "jobs.db");
+
+    public void Dispose()
+    {
+        try
+        {
+            Directory.Delete(_folder, true);
+        }
+        catch (IOException)
+        {
+        }
+    }
+
+    /// <summary>1500 moves of 2 mm at F3000 (40 ms each: 3 s at the simulator's 20x), 250 lines a chunk.</summary>
+    private string Program()
+    {
+        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nG01 F3000\n");
+        for (var i = 1; i <= 1500; i++)
+        {
+            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 50 * 2}.0 Y{i / 50}.0\n");
+        }
+
+        var src = Path.Combine(_folder, "part.nc");
+        File.WriteAllText(src, sb.Append("M30\n").ToString());
+        return src;
+    }
+
+    /// <summary>Streams to the simulator over TCP and kills the host (SIGKILL: no last checkpoint) once M0 reaches <paramref name="line"/>.</summary>
+    private static async Task KillStreamAtAsync(PmacSimulator sim, int port, string src, string db, int line)
+    {
+        using var p = Process.Start(CliProcess.Info("stream", src, "--tcp", $"127.0.0.1:{port}", "--lines", "250", "--job-db", db))!;
+        p.StandardInput.Close();
+        var sw = Stopwatch.StartNew();
+        while (sim.ReadVariable('M', 0) < line && sw.Elapsed < TimeSpan.FromSeconds(60) && !p.HasExited)
+        {
+            await Task.Delay(10);
+        }
+
+        p.HasExited.Should().BeFalse("the job was still streaming");
+        p.Kill();
+        await p.WaitForExitAsync();
+    }
+
+    /// <summary>Rewrites job 1's checkpoint as a damaged or restored job store would hold it.</summary>
+    private void EditCheckpoint(Func<Checkpoint, Checkpoint> edit)
+    {
+        using var store = JobStore.Open(Db);
+        var cp = store.Get(1)!.Checkpoint!;
+        store.SaveCheckpoint(1, edit(cp), durable: true);
+    }
+
+    private static async Task<(PmacSimulator Sim, PmacTcpServer Server)> ControllerAsync()
+    {
+        var sim = new PmacSimulator(new SimOptions { Speed = SimSpeed.Factor(20) });
+        await new PmacStream.Pmac.InProcessConnection(sim.OpenPort("setup")).DownloadAsync(SimRig.Library);
+        var ethernet = sim.OpenPort("ethernet");
+        var server = new PmacTcpServer(() => ethernet, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
+        server.Start();
+        sim.StartClock();
+        return (sim, server);
+    }
+
+    [Fact]
+    public async Task Resume_yes_of_a_checkpoint_rewound_to_chunk_1_runs_every_block_once_in_order()
+    {
+        var src = Program();
+        var (sim, server) = await ControllerAsync();
+        using var disposeSim = sim;
+        await using var disposeServer = server;
+        using var stopClock = new StopClockOnDispose(sim);
+
+        await KillStreamAtAsync(sim, server.Port, src, Db, line: 800);
+        EditCheckpoint(cp => cp with { LastExecutedLine = 0, CurrentChunk = 1, Next = new StreamPosition(2, 0), NextExact = true, ChunksDownloaded = 1 });
+
+        var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", Db, "--yes");
+
+        code.Should().Be(0, stderr + stdout);
+        stdout.Should().Contain("executed 1501 of 1501 blocks");
+        sim.StopClock();
+        sim.RunUntilIdle(TimeSpan.FromMinutes(10));
+        var expected = ChunkedProgram.Open(Path.Combine(Splitter.DefaultOutDir(src), ChunkManifest.FileName)).TrackedLines().ToList();
+        MoveLines.Fold(sim.ExecutedMoves.Select(m => m.SourceLine)).Should().Equal(expected, "every block once, in order, whatever the record said");
+    }
+
+    [Fact]
+    public async Task Resume_yes_of_a_checkpoint_advanced_past_the_controller_exits_1_with_both_positions_and_sends_nothing()
+    {
+        var src = Program();
+        var (sim, server) = await ControllerAsync();
+        using var disposeSim = sim;
+        await using var disposeServer = server;
+        using var stopClock = new StopClockOnDispose(sim);
+
+        await KillStreamAtAsync(sim, server.Port, src, Db, line: 500);
+        EditCheckpoint(cp => cp with { LastExecutedLine = 1400, CurrentChunk = 6, Next = new StreamPosition(7, 0), NextExact = true });
+        var received = sim.Counters.LinesReceived;
+
+        var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", Db, "--yes");
+
+        code.Should().Be(1, stdout);
+        stderr.Should().MatchRegex(@"pmacstream resume: cannot resume job 1: the controller (executes|stopped at) line \d+, before line 1400 that the record says had already executed\. The controller: M0=\d+")
+            .And.Contain("The job record: line 1400 executed, sending had reached chunk 7 line 0.")
+            .And.Contain("so nothing was sent")
+            .And.Contain($"to start again from a line: pmacstream stream {src} --from-line");
+        stdout.Should().NotContain("restarting at the block of line", "no restart is proposed on a record the controller contradicts");
+        sim.Counters.LinesReceived.Should().Be(received, "nothing reached a buffer");
+    }
+}
