@@ -115,12 +115,11 @@ public sealed class GCodeToolpathSource : IToolpathSource
 }
 
 /// <summary>
-/// Turns interpreter records into drawable segments: converts to mm, and withholds moves along an axis whose
+/// Turns interpreter records (millimetres) into drawable segments, and withholds moves along an axis whose
 /// position has not been set yet.
 /// </summary>
 public sealed class DecodedBlockAdapter
 {
-    private const double InchToMm = 25.4;
     private bool _x;
     private bool _y;
     private bool _z;
@@ -162,7 +161,8 @@ public sealed class DecodedBlockAdapter
             return false;
         }
 
-        var f = units == LengthUnits.Inches ? InchToMm : 1.0;
+        // The interpreter's positions are millimetres already, whatever the program's units.
+        const double f = 1.0;
         var start = Mm(block.Start, f);
         var end = Mm(block.End, f);
         switch (block.Motion)

@@ -157,6 +157,8 @@ internal sealed class HostConversion
                 case >= 730 and <= 890 when CodeIsCycle(key):
                     break;
                 default:
+                    // Codes that take the block's axis words as data (scaling, rotation, macro calls...) never move.
+                    axisData |= CodeRoles.OfG(key) == GRole.AxisData;
                     modes.Add("G" + Code(value));
                     break;
             }

@@ -230,7 +230,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         await Do(p, v.ClickStartFromLine);
         v.Confirmations.Should().ContainSingle();
         var text = v.Confirmations[0].Text;
-        text.Should().Contain($"line {from}").And.Contain("G21 G17 G54").And.Contain("G90 G00 Z10").And.Contain("M03");
+        text.Should().Contain($"line {from}").And.Contain("G17 G54").And.Contain("G90 G00 Z10").And.Contain("M03");
 
         // The unified preamble: exactly what the CLI's planner gives for this line (modal state, retract to the safe
         // Z, rapid in XY, feed down, then distance mode, motion mode and feed), in work coordinates.
@@ -241,7 +241,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         var retract = g.FindIndex(l => l.StartsWith("G90 G00 Z", StringComparison.Ordinal));
         g[retract + 1].Should().StartWith("G00 X", "rapid in XY after the retract");
         g[retract + 2].Should().StartWith("G01 Z", "then feed down to the block's start");
-        g.Take(retract).Should().Contain(l => l.Contains("M03", StringComparison.Ordinal)).And.Contain("M08").And.Contain("T1");
+        g.Take(retract).Should().Contain(l => l.Contains("M03", StringComparison.Ordinal)).And.Contain("M08").And.NotContain("T1");
         p.JobActive.Should().BeFalse();
         _sim.Counters.LinesReceived.Should().Be(received, "a declined start sends nothing");
 
