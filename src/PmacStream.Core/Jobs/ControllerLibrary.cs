@@ -17,6 +17,43 @@ public static class ControllerLibrary
             .Where(l => l[0] != ';')
             .ToList();
 
+    /// <summary>The library for a profile with other options (outputs, program stops, variable map), one line per entry.</summary>
+    public static IReadOnlyList<string> Lines(MachineProfile profile, Prog1000Options options) =>
+        Prog1000Library.Generate(profile, options with { Comments = false })
+            .Split(["\r\n", "\n"], StringSplitOptions.RemoveEmptyEntries | StringSplitOptions.TrimEntries)
+            .Where(l => l[0] != ';')
+            .ToList();
+
+    /// <summary>
+    /// The machine's tables as the library keeps them, as online assignments the host downloads: work offsets G54-G59
+    /// (and G59.1-G59.3), tool lengths and the tool change position of the profile (millimetres, machine coordinates).
+    /// </summary>
+    public static IReadOnlyList<string> TableLines(MachineProfile profile, LibraryMap? map = null)
+    {
+        map ??= new LibraryMap();
+        var lines = new List<string>();
+        string Num(double v) => HostConversion.Num(v);
+        for (var index = 1; index <= 9; index++)
+        {
+            var code = index <= 6 ? 53 + index : 0;
+            var o = code > 0 ? profile.WorkOffset(code) : default;
+            var at = map.WorkOffsets + (3 * index);
+            lines.Add($"P{at}={Num(o.X)} P{at + 1}={Num(o.Y)} P{at + 2}={Num(o.Z)}");
+        }
+
+        foreach (var (h, length) in profile.ToolLengths)
+        {
+            lines.Add($"P{map.ToolLengths + int.Parse(h, System.Globalization.CultureInfo.InvariantCulture)}={Num(length)}");
+        }
+
+        if (profile.ToolChangePosition is { } tc)
+        {
+            lines.Add($"P{map.ToolChangePosition}={Num(tc[0])} P{map.ToolChangePosition + 1}={Num(tc[1])} P{map.ToolChangePosition + 2}={Num(tc[2])}");
+        }
+
+        return lines;
+    }
+
     /// <summary>
     /// Downloads program lines one by one and goes on past a line the controller refuses (logged as a warning with
     /// its ERR number), so one routine a controller does not support (the simulator has no cutter compensation) does

@@ -20,6 +20,12 @@ internal sealed class HostConversion
     /// <summary>The library's code that ends a G53 block: back to the work coordinates (PROG 1000 N53900).</summary>
     public const string BackFromMachineCoordinates = "G53.9";
 
+    /// <summary>
+    /// The library's code that puts the controller in the profile's power-on state (G54, no shifts, G49, G90: PROG
+    /// 1000 N99900), sent before the program's first block so the controller starts where the interpreter does.
+    /// </summary>
+    public const string PowerOnState = "G99.9";
+
     private readonly Interpreter _interp;
     private readonly MachineProfile _profile;
     private readonly List<HostMove> _moves = [];
@@ -174,7 +180,11 @@ internal sealed class HostConversion
             before.Insert(0, "S" + Num(sv));
         }
 
-        Add(modes);
+        if (modes.Count > 0)
+        {
+            _lines.Add(string.Join(' ', modes));
+        }
+
         Add(before);
         Add(data);
         var feed = FeedPerMinute(f);

@@ -208,6 +208,7 @@ public static class Splitter
         private CheckRun? _check;
         private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
         private HostConversion? _host;
+        private bool _started;              // the power-on call went before the first block
         private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
         private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
         private int _laneLines;        // lines the AxisLine lane took ...
@@ -536,18 +537,26 @@ public static class Splitter
                 return;
             }
 
+            var first = false;
+            if (_host != null && !_started)
+            {
+                // The library's state starts as the interpreter's does (power-on codes), whatever the last job left.
+                _started = first = true;
+                _batch!.Add(GCodeReader.LexLine(HostConversion.PowerOnState, b.LineNumber));
+            }
+
             if (converted != null)
             {
                 // One source block, several controller blocks: all carry its line, and they stay in one chunk.
                 for (var i = 0; i < converted.Count; i++)
                 {
-                    _batch!.Add(GCodeReader.LexLine(converted[i], b.LineNumber), continues: i > 0);
+                    _batch!.Add(GCodeReader.LexLine(converted[i], b.LineNumber), continues: first || i > 0);
                 }
             }
             else
             {
                 // With block delete on, the part of a block after a '/' inside it is skipped (FANUC's optional block skip).
-                _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue);
+                _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue, continues: first);
             }
 
             if (_batch!.IsFull)
