@@ -217,6 +217,12 @@ public static class Prog1000Library
 
         var body = def.Routine ?? (letter == 'G' ? LibraryRoutines.G(key, profile, o) ?? GBody(key, profile) : LibraryRoutines.M(key, profile, o) ?? MBody(key, o))
             ?? throw new InvalidDataException($"profile '{profile.Name}': {text} is marked \"controller\": \"library\" but the library has no routine for it: give it a \"routine\" or mark it \"not-yet\"");
+        if (body.Length == 0 && def.Words.Length > 0)
+        {
+            // The code's words follow it on the line: read them, or the controller would run them as statements.
+            body = $"READ({string.Join(',', def.Words.ToCharArray())})";
+        }
+
         return new Prog1000Routine(text, program, label, body, true, def.Description) { Controller = def.Controller, Note = def.Note };
     }
 
