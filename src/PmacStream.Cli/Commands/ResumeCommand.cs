@@ -11,6 +11,10 @@ internal static class ResumeCommand
         var jobOption = new Option<long?>("--job") { Description = "Job to resume (default: the latest unfinished one)." };
         var cmd = new Command("resume", "Continue an interrupted job from its checkpoint without losing or repeating a block.");
         cmd.Options.Add(jobOption);
+        var loadLibrary = new Option<bool>("--load-library") { Description = "Download the PROG 1000/1001 library and the machine's tables before resuming." };
+        var force = new Option<bool>("--force") { Description = "Resume even if the controller runs no library or another one than the program was checked against." };
+        cmd.Options.Add(loadLibrary);
+        cmd.Options.Add(force);
         var options = JobOptions.AddTo(cmd, JobFace.Resume);
         cmd.SetAction(async (parse, ct) =>
         {
@@ -26,7 +30,8 @@ internal static class ResumeCommand
             var resumable = service.OpenResumable(record, ct);
             var settings = options.Settings(parse, resumable.Settings); // the job's own settings unless told otherwise
             var program = resumable.Program;
-            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), null, ct).ConfigureAwait(false);
+            var libraryPolicy = parse.GetValue(loadLibrary) ? LibraryPolicy.Load : parse.GetValue(force) ? LibraryPolicy.Force : LibraryPolicy.Verify;
+            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), null, libraryPolicy, ct).ConfigureAwait(false);
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 

@@ -5,6 +5,19 @@ using Serilog;
 
 namespace PmacStream.Jobs;
 
+/// <summary>What a job does about the controller's library before the first chunk.</summary>
+public enum LibraryPolicy
+{
+    /// <summary>Read the library's identity (P7000, P7001) and refuse a controller with none or another one.</summary>
+    Verify,
+
+    /// <summary>Download the library and the machine's tables first, then verify (<c>--load-library</c>).</summary>
+    Load,
+
+    /// <summary>Read and log the identity, never refuse (<c>--force</c>).</summary>
+    Force,
+}
+
 /// <summary>The PROG 1000/1001 G and M code library a controller needs before a job (the built-in simulator starts empty).</summary>
 public static class ControllerLibrary
 {
@@ -52,6 +65,60 @@ public static class ControllerLibrary
         }
 
         return lines;
+    }
+
+    /// <summary>The identity (profile id, hash) of the library <see cref="Lines(MachineProfile?)"/> writes for a profile.</summary>
+    public static (int ProfileId, int Hash) ExpectedIdentity(MachineProfile? profile = null) =>
+        Prog1000Library.IdentityOf(profile ?? MachineProfile.Default, new Prog1000Options { Comments = false });
+
+    /// <summary>Reads the identity the controller's library recorded (0, 0 when it has none).</summary>
+    public static async Task<(int ProfileId, int Hash)> ReadIdentityAsync(IPmacConnection connection, LibraryMap? map = null, CancellationToken cancellationToken = default)
+    {
+        map ??= new LibraryMap();
+        var reply = await connection.GetResponseAsync($"P{map.Identity} P{map.Identity + 1}", cancellationToken).ConfigureAwait(false);
+        var values = reply.Split(['\r', '\n', ' '], StringSplitOptions.RemoveEmptyEntries)
+            .Select(v => double.TryParse(v, System.Globalization.NumberStyles.Float, System.Globalization.CultureInfo.InvariantCulture, out var d) ? (int)Math.Round(d) : 0)
+            .ToList();
+        return values.Count >= 2 ? (values[0], values[1]) : (0, 0);
+    }
+
+    /// <summary>
+    /// Before a job's first chunk: makes sure the controller runs the library the program was checked against
+    /// (<paramref name="profile"/>). <see cref="LibraryPolicy.Load"/> downloads it and the machine's tables first;
+    /// <see cref="LibraryPolicy.Verify"/> refuses a controller with no library or another one; <see cref="LibraryPolicy.Force"/>
+    /// only warns.
+    /// </summary>
+    /// <exception cref="JobException">The controller has no library or another one (Verify, Load).</exception>
+    public static async Task EnsureAsync(IPmacConnection connection, MachineProfile? profile, LibraryPolicy policy, CancellationToken cancellationToken = default)
+    {
+        profile ??= MachineProfile.Default;
+        if (policy == LibraryPolicy.Load)
+        {
+            await DownloadTolerantAsync(connection, Lines(profile), cancellationToken).ConfigureAwait(false);
+            await DownloadTolerantAsync(connection, TableLines(profile), cancellationToken).ConfigureAwait(false);
+        }
+
+        var expected = ExpectedIdentity(profile);
+        var found = await ReadIdentityAsync(connection, null, cancellationToken).ConfigureAwait(false);
+        if (found == expected)
+        {
+            Log.Information("{Device:l} runs the library of profile '{Profile:l}' (P7000={Id}, P7001={Hash})", connection.Description, profile.Name, found.ProfileId, found.Hash);
+            return;
+        }
+
+        var map = new LibraryMap();
+        var what = found == (0, 0)
+            ? $"the controller has no PmacStream library (P{map.Identity}=0)"
+            : $"the controller's library is another one (P{map.Identity}={found.ProfileId}, P{map.Identity + 1}={found.Hash}; profile '{profile.Name}' gives {expected.ProfileId}, {expected.Hash})";
+        var message = $"{what}: the program was checked against '{profile.Name}', and on this controller its G and M codes would not do what they say. " +
+                      "Load the library with --load-library (or 'pmacstream prog1000' and the controller's own download), or --force to run anyway";
+        if (policy == LibraryPolicy.Force)
+        {
+            Log.Warning("{Message:l} (forced)", what);
+            return;
+        }
+
+        throw new JobException(message, JobErrorKind.Failed);
     }
 
     /// <summary>

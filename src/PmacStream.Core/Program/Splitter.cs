@@ -538,7 +538,7 @@ public static class Splitter
             }
 
             var first = false;
-            if (_host != null && !_started)
+            if (_host != null && !_started && converted is not { Count: 0 } && !OnlyNumbers(b))
             {
                 // The library's state starts as the interpreter's does (power-on codes), whatever the last job left.
                 _started = first = true;
@@ -563,6 +563,20 @@ public static class Splitter
             {
                 Hand(b.ByteOffset + b.Length);
             }
+        }
+
+        /// <summary>A line of only O and N words (a program number, a label): nothing for the controller.</summary>
+        private static bool OnlyNumbers(GBlock b)
+        {
+            foreach (var w in b.WordList)
+            {
+                if (w.Letter is not ('O' or 'N'))
+                {
+                    return false;
+                }
+            }
+
+            return true;
         }
 
         /// <summary>Records the codes of a line that the controller cannot run yet (the manifest lists them for the job gate).</summary>
