@@ -402,11 +402,13 @@ public sealed partial class Interpreter
             }
         }
 
+        var toolChange = false;
         for (var mi = 0; anyM && mi < _mCount; mi++)
         {
             if (mCol[mi] != 0)
             {
                 var key = MachineProfile.Key(mIn[mi]);
+                toolChange |= key == 60;
                 var info = _mInfo[key];
                 SetM(mi, mIn[mi]);
                 codes.Read |= info.WordMask;
@@ -561,6 +563,18 @@ public sealed partial class Interpreter
         {
             Add(diags, DiagnosticCodes.MotionWithoutAxes, line, codes.MotionColumn, codes.MotionInBlock == 2 ? "02" : "03");
             usedArcWords = true;
+        }
+
+        if (toolChange && _profile.ToolChangePosition is { } tc)
+        {
+            // M06's default hook, after the block's own move: to the tool change position in machine coordinates, Z
+            // first, then X and Y.
+            var from = end;
+            end = new Point3(tc[0], tc[1], tc[2]);
+            kind = kind == MotionKind.None ? MotionKind.Rapid : kind;
+            var hook = MeasureMoves ? Math.Abs(end.Z - from.Z) + Math.Sqrt(((end.X - from.X) * (end.X - from.X)) + ((end.Y - from.Y) * (end.Y - from.Y))) : 0;
+            length += hook;
+            seconds += RapidTime(hook);
         }
 
         // Most blocks carry no parameter word: eight loads instead of the report's loop.

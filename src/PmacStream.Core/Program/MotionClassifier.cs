@@ -51,6 +51,9 @@ internal struct MotionScan
     /// <summary>The block carries M02 or M30.</summary>
     public bool EndsProgram { get; private set; }
 
+    /// <summary>The block carries M06 (whose hook moves to the tool change position on a machine that has one).</summary>
+    public bool ToolChange { get; private set; }
+
     /// <summary>What the words seen so far make of the block.</summary>
     public readonly BlockMotion Result => _dwell ? BlockMotion.Dwell : _axis && !_dataOnly ? BlockMotion.Move : BlockMotion.None;
 
@@ -82,6 +85,8 @@ internal struct MotionScan
                 {
                     EndsProgram = true;
                 }
+
+                ToolChange |= w.CodeTimesTen == 60;
 
                 break;
             case 'X':

@@ -193,6 +193,7 @@ public static class Splitter
         private readonly int _limitReserve;   // tail and footer bytes every chunk keeps room for
         private readonly bool _exactTracking;
         private readonly bool _paperFeed;
+        private readonly bool _toolChangeMoves; // M06's hook moves to the profile's tool change position
         private long _position;
         private ChunkFileWriter? _writer;
 
@@ -262,6 +263,7 @@ public static class Splitter
             _limitReserve = _tail.Length + FooterBytes.Length;
             _exactTracking = sync.Placement == TrackingPlacement.Exact;
             _paperFeed = options.Feed == FeedMode.Paper;
+            _toolChangeMoves = options.CheckProfile?.ToolChangePosition != null;
             _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
             _chunk.Append(HeaderBytes);
             _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null;
@@ -763,6 +765,12 @@ public static class Splitter
             }
 
             motion = scan.Result;
+            if (motion == BlockMotion.None && scan.ToolChange && _toolChangeMoves)
+            {
+                // The tool change hook moves the machine: tracked like a dwell (its marker, no feed suffix).
+                motion = BlockMotion.Dwell;
+            }
+
             endsProgram = scan.EndsProgram && motion == BlockMotion.None;
             values = 0;
             if (!any && feedIndex < 0)

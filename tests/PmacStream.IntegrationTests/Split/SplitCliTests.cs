@@ -145,7 +145,8 @@ public sealed class SplitCliTests : IDisposable
         code.Should().Be(0, stderr);
         stdout.Should().Contain("routines");
         var text = File.ReadAllText(target);
-        text.Should().Contain("OPEN PROG 1000 CLEAR\r\n").And.Contain("OPEN PROG 1001 CLEAR\r\n").And.Contain("N1000 LINEAR RET\r\n");
+        text.Should().Contain("OPEN PROG 1000 CLEAR\r\n").And.Contain("OPEN PROG 1001 CLEAR\r\n").And.Contain("N1000 LINEAR Q31=1 RET\r\n").And.Contain("N54000 Q20=1 GOSUB99100 RET\r\n");
+        text.TrimEnd().Split("\r\n")[^1].Should().MatchRegex(@"^P7000=1 P7001=\d+$", "the library ends by recording which it is");
         Run("prog1000", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
     }
 }

@@ -42,6 +42,7 @@ public class PositionProofTests(ITestOutputHelper output)
         }
 
         json["toolLengths"] = tools;
+        json["toolChangePosition"] = new JsonArray(-150, -80, 0);
         return MachineProfile.Parse(json.ToJsonString(), name + "+machine");
     }
 
