@@ -1,7 +1,6 @@
 using System.Drawing.Imaging;
 using System.Globalization;
 using PmacStream.Hmi;
-using PmacStream.Jobs;
 
 namespace PmacStream.WinForms;
 

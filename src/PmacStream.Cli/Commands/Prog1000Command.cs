@@ -1,6 +1,5 @@
 using System.CommandLine;
 using System.Text;
-using PmacStream.GCode;
 using PmacStream.Program;
 
 namespace PmacStream.Cli.Commands;

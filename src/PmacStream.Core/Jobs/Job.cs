@@ -1,6 +1,5 @@
 using System.Globalization;
 using PmacStream.Pmac;
-using PmacStream.Program;
 using PmacStream.Streaming;
 using Serilog;
 

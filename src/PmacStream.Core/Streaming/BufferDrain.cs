@@ -1,4 +1,3 @@
-using PmacStream.Program;
 using Serilog;
 
 namespace PmacStream.Streaming;

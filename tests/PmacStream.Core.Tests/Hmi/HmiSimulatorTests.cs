@@ -1,4 +1,3 @@
-using PmacStream.GCode;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;

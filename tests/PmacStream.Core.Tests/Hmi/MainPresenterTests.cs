@@ -2,7 +2,6 @@ using System.Text;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
-using PmacStream.Program;
 
 namespace PmacStream.Core.Tests.Hmi;
 

@@ -181,7 +181,7 @@ public class SplitterTests
     {
         var src = string.Concat(Enumerable.Range(1, 50).Select(i => $"G01 X{i}\n"));
         using var tp = new TempProgram(src);
-        var act = () => tp.Split(new SplitOptions { LinesPerChunk = 5, AfterChunkWritten = i => { if (i == 3) throw new IOException("disk full (injected)"); } });
+        var act = () => tp.Split(new SplitOptions { LinesPerChunk = 5, AfterChunkWritten = i => { if (i == 3) { throw new IOException("disk full (injected)"); } } });
         act.Should().Throw<IOException>().WithMessage("*injected*");
         Directory.GetFileSystemEntries(tp.Folder).Should().Equal(tp.SourcePath);
     }
@@ -192,7 +192,7 @@ public class SplitterTests
         var src = string.Concat(Enumerable.Range(1, 50).Select(i => $"G01 X{i}\n"));
         using var tp = new TempProgram(src);
         using var cts = new CancellationTokenSource();
-        var act = () => Splitter.Split(tp.SourcePath, new SplitOptions { OutDir = tp.OutDir, LinesPerChunk = 5, AfterChunkWritten = i => { if (i == 2) cts.Cancel(); } },
+        var act = () => Splitter.Split(tp.SourcePath, new SplitOptions { OutDir = tp.OutDir, LinesPerChunk = 5, AfterChunkWritten = i => { if (i == 2) { cts.Cancel(); } } },
             null, cts.Token);
         act.Should().Throw<OperationCanceledException>();
         Directory.GetFileSystemEntries(tp.Folder).Should().Equal(tp.SourcePath);

@@ -1,4 +1,3 @@
-using PmacStream.Core.Tests.GCode;
 using PmacStream.GCode;
 using PmacStream.Program.Store;
 

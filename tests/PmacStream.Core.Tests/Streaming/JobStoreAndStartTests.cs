@@ -1,6 +1,5 @@
 using Microsoft.Data.Sqlite;
 using PmacStream.GCode;
-using PmacStream.Program;
 using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Streaming;

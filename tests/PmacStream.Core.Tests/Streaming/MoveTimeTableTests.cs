@@ -1,6 +1,4 @@
-using FluentAssertions;
 using PmacStream.Streaming;
-using Xunit;
 
 namespace PmacStream.Core.Tests.Streaming;
 

@@ -1,4 +1,3 @@
-using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Streaming;
 

@@ -1,7 +1,5 @@
 using System.Text.RegularExpressions;
 using PmacStream.Pmac;
-using PmacStream.Program;
-using PmacStream.Sim;
 using PmacStream.Streaming;
 
 namespace PmacStream.IntegrationTests.Streaming;

@@ -1,5 +1,3 @@
-using PmacStream.Sim;
-
 namespace PmacStream.Sim.Tests.Engine;
 
 /// <summary>A simulator with one port; Send returns the reply with control bytes spelled out.</summary>
