@@ -1,3 +1,5 @@
+using System.Globalization;
+using System.Text;
 using PmacStream.GCode;
 using PmacStream.Pmac;
 using PmacStream.Program;
@@ -65,6 +67,42 @@ public static class ControllerLibrary
         }
 
         return lines;
+    }
+
+    /// <summary>The machine's tables as a reader sees them (<c>pmacstream machine</c>), each value with the P-variable the library reads it from.</summary>
+    public static string DescribeTables(MachineProfile machine, LibraryMap? map = null)
+    {
+        map ??= new LibraryMap();
+        static string N(double v) => HostConversion.Num(v);
+        var s = new StringBuilder();
+        s.Append(CultureInfo.InvariantCulture, $"Machine tables of profile '{machine.Name}' (millimetres, machine coordinates).\n");
+        s.Append("Set them in the profile file (workOffsets, toolLengths, referencePositions, toolChangePosition); `machine --lines` writes them for download, `stream --load-library` downloads them; a program's G10 changes them on the controller.\n");
+        s.Append("work offsets:\n");
+        for (var index = 1; index <= 6; index++)
+        {
+            var o = machine.WorkOffset(53 + index);
+            var at = map.WorkOffsets + (3 * index);
+            s.Append(CultureInfo.InvariantCulture, $"  G{53 + index}  X{N(o.X)} Y{N(o.Y)} Z{N(o.Z)}  (P{at}-P{at + 2})\n");
+        }
+
+        s.Append("tool lengths:");
+        s.Append(machine.ToolLengths.Count == 0 ? " none (every H is 0)\n" : "\n");
+        foreach (var (h, length) in machine.ToolLengths.OrderBy(t => int.Parse(t.Key, CultureInfo.InvariantCulture)))
+        {
+            s.Append(CultureInfo.InvariantCulture, $"  H{h}  {N(length)}  (P{map.ToolLengths + int.Parse(h, CultureInfo.InvariantCulture)})\n");
+        }
+
+        s.Append("reference positions (host side: G28/G30 are sent as G53 moves):\n");
+        foreach (var code in new[] { 28, 30 })
+        {
+            var r = machine.ReferencePosition(code);
+            s.Append(CultureInfo.InvariantCulture, $"  G{code}  X{N(r.X)} Y{N(r.Y)} Z{N(r.Z)}\n");
+        }
+
+        s.Append(machine.ToolChangePosition is { } tc
+            ? string.Create(CultureInfo.InvariantCulture, $"tool change position: X{N(tc[0])} Y{N(tc[1])} Z{N(tc[2])}  (P{map.ToolChangePosition}-P{map.ToolChangePosition + 2})\n")
+            : "tool change position: none (M06 stops the program where it is)\n");
+        return s.ToString();
     }
 
     /// <summary>The identity (profile id, hash) of the library <see cref="Lines(MachineProfile?)"/> writes for a profile.</summary>

@@ -149,4 +149,23 @@ public sealed class SplitCliTests : IDisposable
         text.TrimEnd().Split("\r\n")[^1].Should().MatchRegex(@"^P7000=1 P7001=\d+$", "the library ends by recording which it is");
         Run("prog1000", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
     }
+
+    [Fact]
+    public void Machine_shows_the_tables_with_their_variables_and_writes_the_lines_that_download_them()
+    {
+        var profile = Path.Combine(_folder, "machine.json");
+        File.WriteAllText(profile, Streaming.PositionProofTests.Machine().ToJson());
+        var (code, stdout, stderr) = Run("machine", "--profile", profile);
+        code.Should().Be(0, stderr);
+        stdout.Should().Contain("  G55  X100 Y50 Z-10  (P7106-P7108)\n").And.Contain("  H3  47.5  (P7303)\n")
+            .And.Contain("  G30  X-100 Y-50 Z-20\n").And.Contain("tool change position: X-150 Y-80 Z0  (P7010-P7012)\n");
+        Run("machine").Out.Should().Contain("tool lengths: none", "the built-in profile has no tool table");
+
+        var target = Path.Combine(_folder, "tables.pmc");
+        Run("machine", "--profile", profile, "--lines", "--out", target).Code.Should().Be(0);
+        var lines = File.ReadAllLines(target);
+        lines.Should().Contain("P7106=100 P7107=50 P7108=-10").And.Contain("P7303=47.5").And.Contain("P7010=-150 P7011=-80 P7012=0");
+        File.Exists(target + ".tmp").Should().BeFalse();
+        Run("machine", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
+    }
 }
