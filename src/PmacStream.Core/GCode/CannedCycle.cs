@@ -123,6 +123,18 @@ internal sealed class CannedCycle
         void Feed(Point3 p) => _steps.Add(new HostMove(HostMoveKind.Feed, p));
         void Do(HostMoveKind kind, double seconds = 0) => _steps.Add(new HostMove(kind, At(0), seconds));
 
+        // G76/G87 at the bottom: the spindle stops oriented, the tool leaves the hole shifted off the wall by Q and
+        // comes back over its centre at the retract level, turning again.
+        Point3 LeaveShifted(Point3 shift)
+        {
+            Do(HostMoveKind.SpindleOrient);
+            Rapid(At(bottom) + shift);
+            Rapid(At(retract) + shift);
+            Rapid(At(retract));
+            Do(HostMoveKind.SpindleForward);
+            return At(retract);
+        }
+
         Rapid(above);
         if (Code == 870)
         {
@@ -134,12 +146,7 @@ internal sealed class CannedCycle
             Rapid(At(rLevel));
             Do(HostMoveKind.SpindleForward);
             Feed(At(bottom));
-            Do(HostMoveKind.SpindleOrient);
-            Rapid(At(bottom) + shift);
-            Rapid(At(retract) + shift);
-            Rapid(At(retract));
-            Do(HostMoveKind.SpindleForward);
-            return At(retract);
+            return LeaveShifted(shift);
         }
 
         Rapid(At(rLevel));
@@ -197,13 +204,7 @@ internal sealed class CannedCycle
                 return At(retract);
             case 760:
                 // Fine boring: the spindle stops oriented and the tool shifts off the wall by Q before it comes out.
-                var shift = new Point3(_q, 0, 0);
-                Do(HostMoveKind.SpindleOrient);
-                Rapid(At(bottom) + shift);
-                Rapid(At(retract) + shift);
-                Rapid(At(retract));
-                Do(HostMoveKind.SpindleForward);
-                return At(retract);
+                return LeaveShifted(new Point3(_q, 0, 0));
         }
 
         if (Math.Abs(LastZ() - retract) > 1e-12)
