@@ -13,6 +13,7 @@ root.Subcommands.Add(StreamCommand.Create());
 root.Subcommands.Add(ResumeCommand.Create());
 root.Subcommands.Add(SimCommand.Create());
 root.Subcommands.Add(Prog1000Command.Create());
+root.Subcommands.Add(MachineCommand.Create());
 root.Subcommands.Add(PlcCommand.Create());
 root.Subcommands.Add(PreviewCommand.Create());
 BuildInfo.Apply(root);

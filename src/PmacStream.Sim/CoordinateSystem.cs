@@ -31,7 +31,7 @@ internal sealed class CoordinateSystem : IVariableAccess
     {
         _sim = sim;
         Number = number;
-        _moves = new MoveCalculator(sim.Options);
+        _moves = new MoveCalculator(sim.Options, sim.Matrices);
         _motion = new MotionQueue(sim.Options);
         ResetModal();
     }
@@ -335,7 +335,7 @@ internal sealed class CoordinateSystem : IVariableAccess
                     }
                     else
                     {
-                        Set(a.Kind, a.Index, value);
+                        Set(a.Kind, a.IndexOf(this), value);
                     }
 
                     break;

@@ -9,8 +9,11 @@ namespace PmacStream.Sim;
 /// their arc geometry) and dwells, from the calculated position (where the last calculated move ends).
 /// </summary>
 /// <param name="options">Rapid and default feeds, the feed time unit.</param>
-internal sealed class MoveCalculator(SimOptions options)
+/// <param name="matrices">The axis transformation matrices <c>TSEL</c> chooses from.</param>
+internal sealed class MoveCalculator(SimOptions options, AxisMatrices matrices)
 {
+    private static readonly double[] NoDisplacement = new double[3];
+
     private const string Axes = "XYZABCUVW";
     private const double Epsilon = 1e-9;
 
@@ -45,6 +48,12 @@ internal sealed class MoveCalculator(SimOptions options)
 
     private bool IncrementalRadius { get; set; }
 
+    /// <summary>The selected transformation matrix's displacement (zero when none is selected): programmed X, Y, Z plus this are machine positions.</summary>
+    private double[] Displacement { get; set; } = NoDisplacement;
+
+    /// <summary>The matrix <c>TSEL</c> selected, 0 for none.</summary>
+    public int SelectedMatrix { get; private set; }
+
     private (double I, double J, double K) Normal { get; set; }
 
     /// <summary>The power-on modes: LINEAR, ABS, INC arc centres, no feed, TA 10, NORMAL K-1.</summary>
@@ -59,6 +68,8 @@ internal sealed class MoveCalculator(SimOptions options)
         Tm = 0;
         TimeMode = false;
         Normal = (0, 0, -1);
+        SelectedMatrix = 0;
+        Displacement = NoDisplacement;
     }
 
     /// <summary>Applies a modal statement (mode, ABS/INC, F/TA/TS/TM/CC/CCR, NORMAL); false for any other statement.</summary>
@@ -124,11 +135,43 @@ internal sealed class MoveCalculator(SimOptions options)
             case NormalStmt n:
                 Normal = (n.I, n.J, n.K);
                 break;
+            case MatrixStmt t:
+                ApplyMatrix(t, variables);
+                break;
             default:
                 return false;
         }
 
         return true;
+    }
+
+    /// <summary><c>TSEL</c>, <c>TINIT</c>, <c>ADIS</c>, <c>IDIS</c>: they change which positions later moves reach, and move nothing.</summary>
+    private void ApplyMatrix(MatrixStmt t, IVariableAccess variables)
+    {
+        switch (t.Op)
+        {
+            case MatrixOp.Select:
+                SelectedMatrix = t.Argument;
+                Displacement = t.Argument == 0 ? NoDisplacement : matrices.Displacement(t.Argument);
+                break;
+            case MatrixOp.Init when SelectedMatrix > 0:
+                Array.Clear(Displacement);
+                break;
+            case MatrixOp.AbsoluteDisplacement or MatrixOp.IncrementalDisplacement when SelectedMatrix > 0:
+                for (var i = 0; i < 3; i++)
+                {
+                    var q = variables.Get('Q', t.Argument + i);
+                    Displacement[i] = t.Op == MatrixOp.AbsoluteDisplacement ? q : Displacement[i] + q;
+                }
+
+                break;
+            case MatrixOp.Init or MatrixOp.AbsoluteDisplacement or MatrixOp.IncrementalDisplacement:
+                // No matrix selected: nothing to load (assumed; the manual names the selected matrix only).
+                break;
+            default:
+                // AROT/IROT: rotation and scaling are not simulated.
+                throw new SimRuntimeException(3);
+        }
     }
 
     /// <summary>A dwell (<c>DWELL</c>: calculation waits until it has executed) or a delay (<c>DELAY</c>: it does not) at the calculated position.</summary>
@@ -186,7 +229,7 @@ internal sealed class MoveCalculator(SimOptions options)
         for (var i = 0; i < CoordinateSystem.AxisCount; i++)
         {
             var v = _wordValues[i];
-            seg.End[i] = double.IsNaN(v) ? _calcPos[i] : _incremental[i] ? _calcPos[i] + v : v;
+            seg.End[i] = double.IsNaN(v) ? _calcPos[i] : _incremental[i] ? _calcPos[i] + v : i < 3 ? v + Displacement[i] : v;
         }
 
         seg.Kind = Mode switch
@@ -275,8 +318,8 @@ internal sealed class MoveCalculator(SimOptions options)
         {
             var vec1 = VectorComponent(a1);
             var vec2 = VectorComponent(a2);
-            c1 = IncrementalRadius ? s1 + vec1 : vec1;
-            c2 = IncrementalRadius ? s2 + vec2 : vec2;
+            c1 = IncrementalRadius ? s1 + vec1 : vec1 + Displacement[a1];
+            c2 = IncrementalRadius ? s2 + vec2 : vec2 + Displacement[a2];
         }
 
         var radius = Math.Sqrt(Sq(s1 - c1) + Sq(s2 - c2));

@@ -41,7 +41,7 @@ internal sealed class PlcProgram(ProgramBuffer buffer)
 
                 if (_pc.Current is AssignStmt a)
                 {
-                    v.Set(a.Kind, a.Index, a.Value.Eval(v));
+                    v.Set(a.Kind, a.IndexOf(v), a.Value.Eval(v));
                 }
 
                 // Motion statements have no meaning in a PLC; the generator never writes them.

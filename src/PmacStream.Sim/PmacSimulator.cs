@@ -48,12 +48,15 @@ public sealed class PmacSimulator : IDisposable
         }
 
         _motors = new MotorMap(_cs);
-        _buffers = new ProgramBuffers(_cs, _plcs, Options);
+        _buffers = new ProgramBuffers(_cs, _plcs, Options, Matrices);
         _commands = new OnlineCommands(this, _cs, _buffers, _plcs, _motors);
         _time = new VirtualClock(_cs, _plcs, _log, Memory, Options, () => MoveExecuted is not null, PlcError);
         _clock = new SimClock(_sync, _time.Step, RaiseEvents, _ => InternalFaults++);
         PowerOn(factory: true);
     }
+
+    /// <summary>The axis transformation matrices (<c>DEFINE TBUF</c>) the coordinate systems select with <c>TSEL</c>.</summary>
+    internal AxisMatrices Matrices { get; } = new();
 
     /// <summary>The options this simulator was created with.</summary>
     public SimOptions Options { get; }
@@ -206,7 +209,7 @@ public sealed class PmacSimulator : IDisposable
     public void StopClock() => _clock.Stop();
 
     /// <summary>
-    /// Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,kind</c> (the moves kept in memory;
+    /// Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind</c> (the moves kept in memory;
     /// a host that does not keep them streams the log with <see cref="ExecutedLogWriter.Attach"/>).
     /// </summary>
     public void WriteExecutedLog(string path) => ExecutedLogWriter.WriteAll(path, ExecutedMoves);

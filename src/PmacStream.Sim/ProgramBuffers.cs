@@ -8,7 +8,7 @@ namespace PmacStream.Sim;
 /// (another port's <c>OPEN</c> is ERR007). <c>OPEN ROT</c> opens the rotary buffers of every coordinate system; a
 /// line stored then goes to the one its port addresses. Guarded by the simulator's lock.
 /// </summary>
-internal sealed class ProgramBuffers(CoordinateSystem[] coordinateSystems, PlcTable plcs, SimOptions options)
+internal sealed class ProgramBuffers(CoordinateSystem[] coordinateSystems, PlcTable plcs, SimOptions options, AxisMatrices matrices)
 {
     private readonly Dictionary<int, ProgramBuffer> _programs = [];
     private SimPort? _owner;
@@ -191,6 +191,10 @@ internal sealed class ProgramBuffers(CoordinateSystem[] coordinateSystems, PlcTa
                     p.Pos++;
                 }
 
+                return;
+            case "TBUF":
+                // Axis transformation matrices for TSEL (global on a Turbo PMAC).
+                matrices.Define(p.IntArgument(1, 8191));
                 return;
             default:
                 throw new SimSyntaxException(3);

@@ -16,6 +16,15 @@ public static class Requires
         return socat!;
     }
 
+    /// <summary>LinuxCNC's stand-alone interpreter <c>rs274</c> (Debian package linuxcnc-uspace); returns its full path.</summary>
+    public static string Rs274()
+    {
+        NotWindows("LinuxCNC's rs274");
+        var rs274 = Tools.Find("rs274") ?? (File.Exists("/usr/bin/rs274") ? "/usr/bin/rs274" : null);
+        Skip.If(rs274 is null, "rs274 is not on PATH: no independent interpreter to compare with (apt-get install linuxcnc-uspace; .ci/run installs it)");
+        return rs274!;
+    }
+
     /// <summary>
     /// The PComm32 stand-in library that the build makes with gcc. Skipped when gcc is not on PATH; when gcc is
     /// there and the library is not, the build broke and the test fails.

@@ -86,6 +86,27 @@ internal sealed class HmiScreen(string channelDirectory, string display, string 
         Xdotool("mousemove", x.ToString(CultureInfo.InvariantCulture), y.ToString(CultureInfo.InvariantCulture), "click", "1");
     }
 
+    /// <summary>
+    /// Real input: clicks a button and waits for what the click does; a click the busy form did not take (seen under
+    /// heavy load: the pointer event arrives while Wine is still painting) is repeated, up to three clicks in all. Only
+    /// for buttons the click disables or replaces (Hold, Abort), so a late first click cannot act twice.
+    /// </summary>
+    public UiSnapshot ClickUntil(string what, LayoutBox box, Func<UiSnapshot, bool> condition, LayoutBox? group = null)
+    {
+        for (var attempt = 1; ; attempt++)
+        {
+            Click(box, group);
+            try
+            {
+                return WaitFor(what, condition, attempt < 3 ? TimeSpan.FromSeconds(10) : StepTimeout);
+            }
+            catch (TimeoutException) when (attempt < 3)
+            {
+                output.WriteLine($"  {what}: not after click {attempt} (10 s), clicking again");
+            }
+        }
+    }
+
     /// <summary>Real input: moves the pointer to a point (the keyboard goes to the window under it: no window manager).</summary>
     public void PointAt(int x, int y) =>
         Xdotool("mousemove", x.ToString(CultureInfo.InvariantCulture), y.ToString(CultureInfo.InvariantCulture));

@@ -174,11 +174,10 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         HmiScreen.CountColour(shot, HmiLayout.ChunkLinesList, ExecutingColour).Should().BeGreaterThan(200, "so is the executing row of the chunk's lines");
 
         Step("hold (real click): the line stops");
-        screen.Click(HmiLayout.HoldButton);
         var executedPixels = HmiScreen.CountColour(shot, HmiLayout.ToolpathPane, ExecutedColour);
         executedPixels.Should().BeGreaterThan(300, "the executed part is drawn over the planned toolpath");
         File.Copy(shot, Path.Combine(shots, "hmi-screen.png"), overwrite: true);
-        s = screen.WaitFor("held", v => v.Status[StateRow] == En[TextId.StateHeld] && v.Controls["btnResume"].Enabled);
+        s = screen.ClickUntil("held", HmiLayout.HoldButton, v => v.Status[StateRow] == En[TextId.StateHeld] && v.Controls["btnResume"].Enabled);
         var held = screen.WaitTicks(10).ExecutingLine;
         screen.WaitTicks(20).ExecutingLine.Should().Be(held, "nothing moves while held (20 more ticks of timer1)");
         screen.Screenshot("07-held");
@@ -223,8 +222,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.WaitFor("following again", v => v.SelectedChunk >= executing && v.ChunkExecutingLine > 0);
 
         Step("abort (real click)");
-        screen.Click(HmiLayout.AbortButton);
-        s = screen.WaitFor("aborted", v => v.Status[StateRow] == En[TextId.StateAborted] && v.Controls["btnExecute"].Enabled);
+        s = screen.ClickUntil("aborted", HmiLayout.AbortButton, v => v.Status[StateRow] == En[TextId.StateAborted] && v.Controls["btnExecute"].Enabled);
         output.WriteLine($"  aborted at line {s.ExecutingLine}");
         screen.Screenshot("10-aborted");
 

@@ -4,7 +4,7 @@ using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream resume [--job ID] [--job-db PATH] [--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]] [--profile NAME|FILE] [--force] [--yes]`.</summary>
+/// <summary>`pmacstream resume [--job ID] [--job-db PATH] [--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]] [--profile NAME|FILE] [--load-library] [--force] [--yes]`.</summary>
 internal static class ResumeCommand
 {
     public static Command Create()
@@ -12,10 +12,12 @@ internal static class ResumeCommand
         var jobOption = new Option<long?>("--job") { Description = "Job to resume (default: the latest unfinished one)." };
         var profileOption = CliProfiles.Option();
         profileOption.Description = "Machine profile: the job's own by default (the job record keeps it); a profile other than the one the job ran under is refused.";
-        var force = new Option<bool>("--force") { Description = "Resume a job whose program uses codes the controller cannot run yet, or whose split was forced past the check's errors (as stream --force started it)." };
+        var force = new Option<bool>("--force") { Description = "Resume a job whose program uses codes the controller cannot run yet, or whose split was forced past the check's errors (as stream --force started it), or on a controller that runs no library or another one than the program was checked against." };
         var cmd = new Command("resume", "Continue an interrupted job from its checkpoint without losing or repeating a block.");
         cmd.Options.Add(jobOption);
         cmd.Options.Add(profileOption);
+        var loadLibrary = new Option<bool>("--load-library") { Description = "Download the PROG 1000/1001 library and the machine's tables before resuming." };
+        cmd.Options.Add(loadLibrary);
         cmd.Options.Add(force);
         var options = JobOptions.AddTo(cmd, JobFace.Resume);
         cmd.SetAction(async (parse, ct) =>
@@ -37,7 +39,8 @@ internal static class ResumeCommand
             var settings = options.Settings(parse, resumable.Settings); // the job's own settings unless told otherwise
             var program = resumable.Program;
             var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
-            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), machine, ct).ConfigureAwait(false);
+            var libraryPolicy = parse.GetValue(loadLibrary) ? LibraryPolicy.Load : forced ? LibraryPolicy.Force : LibraryPolicy.Verify;
+            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), machine, libraryPolicy, ct).ConfigureAwait(false);
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 

@@ -2,6 +2,8 @@ using System.CommandLine;
 using System.Globalization;
 using System.Net;
 using System.Runtime.InteropServices;
+using PmacStream.GCode;
+using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
@@ -22,8 +24,14 @@ internal static class SimCommand
         var idleTimeout = new Option<double>("--idle-timeout") { Description = "Close an Ethernet connection after this many seconds without a packet (0 = never).", DefaultValueFactory = _ => 300 };
         var maxClients = new Option<int>("--max-clients") { Description = "Ethernet connections served at once; when all are taken, the one idle longest (2 s or more) makes room for a new client.", DefaultValueFactory = _ => 32 };
 
+        var library = new Option<string>("--library")
+        {
+            Description = "The PROG 1000/1001 library loaded at start, as on a configured controller: a profile (built-in name or JSON file) whose library and tables are loaded, a PMAC library file (e.g. from 'pmacstream prog1000'), or 'none' (a bare controller).",
+            HelpName = "NAME|FILE|none",
+            DefaultValueFactory = _ => MachineProfile.DefaultName,
+        };
         var cmd = new Command("sim", "Run the simulated Turbo PMAC as a server until Ctrl-C or SIGTERM.");
-        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients })
+        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients, library })
         {
             cmd.Options.Add(o);
         }
@@ -74,6 +82,12 @@ internal static class SimCommand
                     MaxClients = slots,
                 },
             });
+            var libraryLines = LibraryLines(parse.GetValue(library)!);
+            if (libraryLines.Count > 0)
+            {
+                await new InProcessConnection(host.Simulator.OpenPort("library"), "library").DownloadAsync(libraryLines, ct).ConfigureAwait(false);
+            }
+
             if (endPoint is not null && SimHost.IsExposed(endPoint))
             {
                 Console.Error.WriteLine($"pmacstream sim: warning: {endPoint} is reachable from other machines and a PMAC port has no authentication: anyone who can connect can run motion programs. Serve 127.0.0.1 unless the network is isolated.");
@@ -181,4 +195,21 @@ internal static class SimCommand
         int.TryParse(text, NumberStyles.None, CultureInfo.InvariantCulture, out var port) && port <= 65535
             ? port
             : throw new CliException($"--tcp '{spec}': the port must be 0..65535");
+
+    /// <summary>What <c>--library</c> loads: a profile's library and tables, a library file's statements, or nothing.</summary>
+    private static IReadOnlyList<string> LibraryLines(string choice)
+    {
+        if (string.Equals(choice, "none", StringComparison.OrdinalIgnoreCase))
+        {
+            return [];
+        }
+
+        if (MachineProfile.Named(choice) is null && File.Exists(choice) && !choice.EndsWith(".json", StringComparison.OrdinalIgnoreCase))
+        {
+            return File.ReadAllLines(choice).Select(l => l.Trim()).Where(l => l.Length > 0 && l[0] != ';').ToList();
+        }
+
+        var profile = CliProfiles.Load(choice);
+        return [.. ControllerLibrary.Lines(profile), .. ControllerLibrary.TableLines(profile)];
+    }
 }

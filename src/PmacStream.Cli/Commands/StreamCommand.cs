@@ -4,7 +4,7 @@ using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;
 
-/// <summary>`pmacstream stream FILE (--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]) [--profile NAME|FILE] [--strategy ...] [--from-line N] [--feed-override PCT] [--force] [--yes] [--job-db PATH]`.</summary>
+/// <summary>`pmacstream stream FILE (--sim | --tcp HOST[:PORT] | --serial DEV[,BAUD]) [--profile NAME|FILE] [--strategy ...] [--from-line N] [--feed-override PCT] [--load-library] [--force] [--yes] [--job-db PATH]`.</summary>
 internal static class StreamCommand
 {
     public static Command Create()
@@ -12,7 +12,7 @@ internal static class StreamCommand
         var file = new Argument<string>("file") { Description = "G-code program to run." };
         var strategy = new Option<string>("--strategy") { Description = "chunk (the chunk method: the next chunk once, in the download window), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "chunk" };
         var fromLine = new Option<int?>("--from-line") { Description = "Start at the block of this source line, with a preamble restoring modal state and a safe approach." };
-        var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped, as split --force does) or uses codes the controller cannot run yet (the PMAC skips such a code and runs the rest of its block)." };
+        var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped, as split --force does) or uses codes the controller cannot run yet (the PMAC skips such a code and runs the rest of its block), or on a controller that runs no library or another one than the program was checked against." };
         var profile = CliProfiles.Option();
         var cmd = new Command("stream", "Check, split and stream a program to a controller or the simulator.");
         cmd.Arguments.Add(file);
@@ -20,6 +20,8 @@ internal static class StreamCommand
         cmd.Options.Add(fromLine);
         cmd.Options.Add(force);
         cmd.Options.Add(profile);
+        var loadLibrary = new Option<bool>("--load-library") { Description = "Download the PROG 1000/1001 library of the profile and the machine's tables before the job (otherwise the controller must already run it: P7000/P7001 are checked; --force runs anyway)." };
+        cmd.Options.Add(loadLibrary);
         var options = JobOptions.AddTo(cmd, JobFace.Stream);
         cmd.SetAction(async (parse, ct) =>
         {
@@ -61,7 +63,8 @@ internal static class StreamCommand
             }
 
             var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
-            await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
+            var libraryPolicy = parse.GetValue(loadLibrary) ? LibraryPolicy.Load : parse.GetValue(force) ? LibraryPolicy.Force : LibraryPolicy.Verify;
+            await using var controller = await service.ConnectAsync(target, prepared.Profile, libraryPolicy, ct).ConfigureAwait(false);
             await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind)
             {
                 Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(parse),

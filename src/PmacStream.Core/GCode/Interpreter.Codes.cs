@@ -95,8 +95,10 @@ public sealed partial class Interpreter
         switch (key)
         {
             case 170 or 180 or 190: _plane = key / 10; break;
-            case 200: _units = LengthUnits.Inches; break;
-            case 210: _units = LengthUnits.Millimetres; break;
+            case 200: (_units, _scale) = (LengthUnits.Inches, 25.4); break;
+            case 210: (_units, _scale) = (LengthUnits.Millimetres, 1.0); break;
+            case 430 or 440: _lengthMode = key / 10; break;
+            case 490: _lengthMode = 0; break;
             case 900: _absolute = true; break;
             case 910: _absolute = false; break;
             case 901: _arcAbsolute = true; break;
@@ -109,6 +111,29 @@ public sealed partial class Interpreter
         }
 
         _dirty = true;
+    }
+
+    /// <summary>The tool length the length code in force applies on Z (G43 +, G44 -, of tool H's length), into the work coordinates.</summary>
+    private void UpdateToolLength() =>
+        _coords.ToolLength = _lengthMode switch
+        {
+            43 => _coords.LengthOf(_h),
+            44 => -_coords.LengthOf(_h),
+            _ => 0,
+        };
+
+    /// <summary>Whether an M code of the block is one the host rewrites (M06 carries the tool to its routine) or converts.</summary>
+    private bool MHost(Span<double> mIn, Span<int> mCol)
+    {
+        for (var mi = 0; mi < _mCount; mi++)
+        {
+            if (mCol[mi] != 0 && _mInfo[MachineProfile.Key(mIn[mi])].HostRewrites)
+            {
+                return true;
+            }
+        }
+
+        return false;
     }
 
     /// <summary>Required words (E124), allowed values (E125) and "not yet on the controller" (W006) of one code of the block.</summary>
@@ -181,6 +206,13 @@ public sealed partial class Interpreter
 
         public int RequiresMask { get; } = Mask(def.Requires);
 
+        /// <summary>
+        /// The host converts the code, or rewrites its block so that the library routine's READ finds its words right
+        /// after the code (dwell, data settings, tool length, machine coordinates, cycles, reference returns, tool change).
+        /// </summary>
+        public bool HostRewrites { get; } = def.Controller == ControllerSupport.Host ||
+            (def.Code.StartsWith('M') ? def.Key == 60 : role is not (GRole.Mode or GRole.Motion) || def.Key is 430 or 440);
+
         public bool Reads(char letter) => (WordMask & (1 << (letter - 'A'))) != 0;
 
         private static int Mask(string letters)
@@ -210,6 +242,7 @@ public sealed partial class Interpreter
         public bool MachineCoordinates;
         public int Data;            // the first axis-data code's key (G10, G52, G92 ...), 0 when none
         public int Read;            // parameter letters the block's codes read
+        public bool Host;           // a code the host converts or rewrites (see CodeInfo.HostRewrites)
 
         public BlockCodes()
         {
@@ -219,6 +252,7 @@ public sealed partial class Interpreter
         public void Add(in CodeInfo info, int key, int column)
         {
             Read |= info.WordMask;
+            Host |= info.HostRewrites;
             switch (info.Role)
             {
                 case GRole.Dwell:

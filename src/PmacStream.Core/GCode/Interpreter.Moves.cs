@@ -20,13 +20,22 @@ public sealed partial class Interpreter
 
         // A repeat count: FANUC writes K, RS274/NGC L; 0 keeps the data without drilling.
         var repeats = info.Reads('K') && col['K' - 'A'] != 0 ? val['K' - 'A'] : info.Reads('L') && col['L' - 'A'] != 0 ? val['L' - 'A'] : 1;
-        var (end, rapid, feed, holes) = _cycle.Run(start, x, y, z, r, (int)Math.Max(0, repeats), _absolute, _returnToR, _coords.Active);
+        double? q = col['Q' - 'A'] != 0 ? val['Q' - 'A'] * _scale : null;
+        var dwell = col['P' - 'A'] != 0 ? (_profile.DwellPInMilliseconds ? val['P' - 'A'] / 1000.0 : val['P' - 'A']) : 0;
+        var (end, rapid, feed, holes) = _cycle.Run(start, x, y, z, r, q, dwell, (int)Math.Max(0, repeats), _absolute, _returnToR, _coords.Active);
+        HostMoves?.AddRange(_cycle.Steps);
         if (holes == 0)
         {
             return (start, MotionKind.None, 0, 0);
         }
 
-        var seconds = RapidTime(rapid) + FeedTime(feed, col['F' - 'A'] != 0, diags, line, column == 0 ? 1 : column, key / 10);
+        var dwellSeconds = 0.0;
+        foreach (var step in _cycle.Steps)
+        {
+            dwellSeconds += step.Seconds;
+        }
+
+        var seconds = dwellSeconds + RapidTime(rapid) + FeedTime(feed, col['F' - 'A'] != 0, diags, line, column == 0 ? 1 : column, key / 10);
         return (end, MotionKind.Cycle, rapid + feed, seconds);
     }
 
@@ -48,7 +57,7 @@ public sealed partial class Interpreter
     }
 
     /// <summary>The offsets a data code sets from its words.</summary>
-    private void SetData(int key, double? x, double? y, double? z, double? l, double? p)
+    private void SetData(int key, double? x, double? y, double? z, double? l, double? p, double? r)
     {
         switch (key)
         {
@@ -67,6 +76,17 @@ public sealed partial class Interpreter
                 var extended = l == 20 && _profile.ExtendedWorkOffsets;
                 _coords.SetOffset((int)n, extended, fromPosition: l == 20 && !extended, x, y, z, _pos);
                 break;
+            case 100 when l is 10 or 11 && _profile.ExtendedWorkOffsets && p is { } h && r is { } length:
+                // FANUC: L10 tool length geometry of offset P, L11 its wear, the value in R.
+                _coords.SetToolLength((int)h, length, wear: l == 11);
+                UpdateToolLength();
+                break;
+            case 100 when l is 1 or 10 && !_profile.ExtendedWorkOffsets && p is { } t && z is { } zl:
+                // RS274/NGC: L1 sets tool P's length to Z; L10 so that the current position reads as Z with it applied.
+                var c = _coords;
+                _coords.SetToolLength((int)t, l == 1 ? zl : _pos.Z - zl - (c.OffsetOf(c.Selected) + c.Local + c.Shift).Z, wear: false);
+                UpdateToolLength();
+                break;
             default:
                 return;
         }
@@ -75,11 +95,11 @@ public sealed partial class Interpreter
     }
 
     [MethodImpl(MethodImplOptions.AggressiveInlining)]
-    private double RapidTime(double length) => length / (_units == LengthUnits.Inches ? _profile.RapidRate / 25.4 : _profile.RapidRate) * 60.0;
+    private double RapidTime(double length) => length / _profile.RapidRate * 60.0;
 
     [MethodImpl(MethodImplOptions.AggressiveInlining)]
     private double FeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode) =>
-        _feedMode == 94 && _feed is { } feed && feed > 0 ? length / feed * 60.0 : OtherFeedTime(length, fInBlock, diags, line, column, mode);
+        _feedMode == 94 && _feed is { } feed && feed > 0 ? length / (feed * _scale) * 60.0 : OtherFeedTime(length, fInBlock, diags, line, column, mode);
 
     /// <summary><see cref="FeedTime"/> without a feed, or in inverse time or per revolution.</summary>
     private double OtherFeedTime(double length, bool fInBlock, List<Diagnostic>? diags, int line, int column, int mode)
@@ -94,8 +114,8 @@ public sealed partial class Interpreter
         return _feedMode switch
         {
             93 => 60.0 / feed,                                   // F is moves per minute
-            95 => _speed > 0 ? length / (feed * _speed) * 60.0 : 0, // F per spindle revolution
-            _ => length / feed * 60.0,
+            95 => _speed > 0 ? length / (feed * _scale * _speed) * 60.0 : 0, // F per spindle revolution
+            _ => length / (feed * _scale) * 60.0,
         };
     }
 

@@ -10,8 +10,10 @@ namespace PmacStream.GCode;
 /// arc start (absolute after G90.1), a negative R means more than 180 degrees, an arc with I/J/K and no axis words
 /// is a full circle, <c>G04 P</c> is in milliseconds or seconds as the profile says and <c>G04 X</c> in seconds,
 /// drilling cycles run hole by hole (<see cref="CannedCycle"/>), G28/G30 pass their point to the reference position,
-/// G53 moves in machine coordinates, G10/G52/G92 set offsets (<see cref="WorkCoordinates"/>). Cutter radius and tool
-/// length compensation are recorded, not applied to the path; rotary axes (A/B/C) are accepted and not tracked.
+/// G53 moves in machine coordinates, G10/G52/G92 set offsets (<see cref="WorkCoordinates"/>), G43/G44 H apply the tool
+/// length on Z. Positions are machine coordinates in millimetres whatever the program's units (G20 values are scaled
+/// by 25.4), so they are what the controller's axes reach. Cutter radius compensation is recorded, not applied to
+/// the path; rotary axes (A/B/C) are accepted and not tracked.
 /// </summary>
 public sealed partial class Interpreter
 {
@@ -30,6 +32,8 @@ public sealed partial class Interpreter
     private readonly CannedCycle _cycle = new();
     private readonly Dictionary<string, int> _notYet = new(StringComparer.Ordinal);
     private LengthUnits _units = LengthUnits.Millimetres;
+    private double _scale = 1.0;   // program length units to millimetres (25.4 in G20): positions are always millimetres
+    private int _lengthMode;       // 43 or 44 while a tool length offset is in force, 0 for G49
     private int _plane = 17;
     private bool _absolute = true;
     private bool _arcAbsolute;
@@ -135,6 +139,52 @@ public sealed partial class Interpreter
 
     /// <summary>When true, blocks starting with <c>/</c> are skipped (the operator's block-delete switch), and with it the part of a block after a <c>/</c> inside it where the profile allows that.</summary>
     public bool BlockDeleteEnabled { get; set; }
+
+    /// <summary>
+    /// When set, canned cycle holes and reference returns append their steps here (machine coordinates), for the
+    /// host to send them as plain moves.
+    /// </summary>
+    internal List<HostMove>? HostMoves { get; set; }
+
+    /// <summary>
+    /// The last block is one the host rewrites before the controller sees it: program units other than millimetres,
+    /// a code the host converts or whose words a library routine reads (G04, G10, G43/G44, G52, G92, G53, M06), a
+    /// cycle or reference return, T/H/D words, or an arc with absolute centres.
+    /// </summary>
+    internal bool HostBlock { get; private set; }
+
+    /// <summary>The offset from program to machine coordinates in force (work offset, G52, G92, tool length).</summary>
+    internal Point3 ActiveOffset => _coords.Active;
+
+    /// <summary>The work coordinates (offsets, shifts, tool table) as the program left them.</summary>
+    internal WorkCoordinates Coordinates => _coords;
+
+    /// <summary>Program length units to millimetres: 25.4 in G20, else 1.</summary>
+    internal double UnitScale => _scale;
+
+    /// <summary>Whether I/J/K are absolute (G90.1).</summary>
+    internal bool ArcCentresAbsolute => _arcAbsolute;
+
+    /// <summary>Whether G90 is in force.</summary>
+    internal bool AbsoluteMode => _absolute;
+
+    /// <summary>The motion code in force (0..3 for G00..G03, 4 other moves, -1 none).</summary>
+    internal int MotionCode => MotionMode();
+
+    /// <summary>The tool length code in force: 43, 44 or 0.</summary>
+    internal int LengthMode => _lengthMode;
+
+    /// <summary>The feed in force in program units (per minute, per revolution or inverse time as the feed mode says).</summary>
+    internal double? FeedValue => _feed;
+
+    /// <summary>The feed mode code in force (93, 94, 95).</summary>
+    internal int FeedMode => _feedMode;
+
+    /// <summary>The tool T selected last.</summary>
+    internal int Tool => _tool;
+
+    /// <summary>The tool length offset number H in force.</summary>
+    internal int LengthOffsetNumber => _h;
 
     /// <summary>The codes used so far that the controller cannot run yet (<see cref="ControllerSupport.NotYet"/>), with the line of their first use.</summary>
     public IReadOnlyDictionary<string, int> NotYetCodes => _notYet;
@@ -355,11 +405,13 @@ public sealed partial class Interpreter
             }
         }
 
+        var toolChange = false;
         for (var mi = 0; anyM && mi < _mCount; mi++)
         {
             if (mCol[mi] != 0)
             {
                 var key = MachineProfile.Key(mIn[mi]);
+                toolChange |= key == 60;
                 var info = _mInfo[key];
                 SetM(mi, mIn[mi]);
                 codes.Read |= info.WordMask;
@@ -378,16 +430,27 @@ public sealed partial class Interpreter
             TakeValues(col, val, diags, line);
         }
 
+        if (anyG || col['H' - 'A'] != 0)
+        {
+            UpdateToolLength();
+        }
+
         var hasF = col['F' - 'A'] != 0;
         var p = Word('P', col, val);
 
-        var x = Word('X', col, val);
-        var y = Word('Y', col, val);
-        var z = Word('Z', col, val);
-        var i0 = Word('I', col, val);
-        var j0 = Word('J', col, val);
-        var k0 = Word('K', col, val);
-        var r = Word('R', col, val);
+        var xw = Word('X', col, val);
+        var yw = Word('Y', col, val);
+        var zw = Word('Z', col, val);
+        var iw = Word('I', col, val);
+        var jw = Word('J', col, val);
+        var kw = Word('K', col, val);
+        var rw = Word('R', col, val);
+        var (x, y, z, i0, j0, k0, r) = (xw, yw, zw, iw, jw, kw, rw);
+        if (_scale != 1.0)
+        {
+            // Inch program: every length becomes millimetres here, so positions, offsets and times are millimetres.
+            (x, y, z, i0, j0, k0, r) = (xw * _scale, yw * _scale, zw * _scale, iw * _scale, jw * _scale, kw * _scale, rw * _scale);
+        }
         var hasAxes = x.HasValue || y.HasValue || z.HasValue || col['A' - 'A'] != 0 || col['B' - 'A'] != 0 || col['C' - 'A'] != 0;
 
         if (!effective)
@@ -440,7 +503,7 @@ public sealed partial class Interpreter
         else if (codes.Data != 0)
         {
             // The axis words are data: offsets change, nothing moves.
-            SetData(codes.Data, x, y, z, Word('L', col, val), p);
+            SetData(codes.Data, x, y, z, Word('L', col, val), p, r);
         }
         else if (codes.Reference != 0)
         {
@@ -449,6 +512,18 @@ public sealed partial class Interpreter
             var home = codes.Reference is 280 or 300 ? _profile.ReferencePosition(codes.Reference / 10) : via;
             end = new Point3(x.HasValue ? home.X : start.X, y.HasValue ? home.Y : start.Y, z.HasValue ? home.Z : start.Z);
             kind = hasAxes ? MotionKind.Rapid : MotionKind.None;
+            if (HostMoves != null && hasAxes)
+            {
+                // Only the axes the block names move, to the intermediate point too: the others stay wherever the
+                // machine is (at a program's first G28 the host does not know where that is).
+                var named = (x.HasValue ? 1 : 0) | (y.HasValue ? 2 : 0) | (z.HasValue ? 4 : 0);
+                HostMoves.Add(new HostMove(HostMoveKind.Rapid, via, 0, named));
+                if (codes.Reference is 280 or 300)
+                {
+                    HostMoves.Add(new HostMove(HostMoveKind.MachineRapid, end, 0, named));
+                }
+            }
+
             length = MeasureMoves ? start.DistanceTo(via) + via.DistanceTo(end) : 0;
             seconds = RapidTime(length);
         }
@@ -496,12 +571,26 @@ public sealed partial class Interpreter
             usedArcWords = true;
         }
 
+        if (toolChange && _profile.ToolChangePosition is { } tc)
+        {
+            // M06's default hook, after the block's own move: to the tool change position in machine coordinates, Z
+            // first, then X and Y.
+            var from = end;
+            end = new Point3(tc[0], tc[1], tc[2]);
+            kind = kind == MotionKind.None ? MotionKind.Rapid : kind;
+            var hook = MeasureMoves ? Math.Abs(end.Z - from.Z) + Math.Sqrt(((end.X - from.X) * (end.X - from.X)) + ((end.Y - from.Y) * (end.Y - from.Y))) : 0;
+            length += hook;
+            seconds += RapidTime(hook);
+        }
+
         // Most blocks carry no parameter word: eight loads instead of the report's loop.
         if (diags != null && (col['I' - 'A'] | col['J' - 'A'] | col['K' - 'A'] | col['R' - 'A'] | col['P' - 'A'] | col['Q' - 'A'] | col['L' - 'A'] | col['E' - 'A']) != 0)
         {
             ReportUnusedWords(col, codes.Read, usedArcWords, usedP || (codes.Read & (1 << ('P' - 'A'))) != 0, effective, diags, line);
         }
 
+        HostBlock = _scale != 1.0 || codes.Host || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
+            kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol));
         _pos = end;
         UpdateLane();
         // Filled in place: the record is large and this runs once per block.
@@ -519,13 +608,13 @@ public sealed partial class Interpreter
         last.ByteOffset = block.ByteOffset;
         last.N = Word('N', col, val);
         last.BlockDelete = block.BlockDelete;
-        last.X = x;
-        last.Y = y;
-        last.Z = z;
-        last.I = i0;
-        last.J = j0;
-        last.K = k0;
-        last.R = r;
+        last.X = xw;
+        last.Y = yw;
+        last.Z = zw;
+        last.I = iw;
+        last.J = jw;
+        last.K = kw;
+        last.R = rw;
         last.F = Word('F', col, val);
         last.S = Word('S', col, val);
         last.T = Word('T', col, val);

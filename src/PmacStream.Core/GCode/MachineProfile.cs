@@ -35,6 +35,7 @@ public sealed class MachineProfile
     private readonly Dictionary<int, Point3> _offsets = new();
     private readonly Dictionary<int, Point3> _references = new();
     private string? _identity;
+    private readonly Dictionary<int, double> _toolLengths = new();
 
     internal MachineProfile(ProfileJson.Dto dto, string source)
     {
@@ -52,6 +53,22 @@ public sealed class MachineProfile
         Letters = (dto.Letters ?? "NOGMXYZIJKRFSTHDP").ToUpperInvariant();
         WorkOffsets = dto.WorkOffsets ?? new Dictionary<string, double[]>();
         ReferencePositions = dto.ReferencePositions ?? new Dictionary<string, double[]>();
+        ToolLengths = dto.ToolLengths ?? new Dictionary<string, double>();
+        ToolChangePosition = dto.ToolChangePosition;
+        if (ToolChangePosition is { Length: not 3 })
+        {
+            throw Bad(source, "toolChangePosition: expected [x, y, z]");
+        }
+
+        foreach (var (key, value) in ToolLengths)
+        {
+            if (!int.TryParse(key, NumberStyles.None, CultureInfo.InvariantCulture, out var h))
+            {
+                throw Bad(source, $"toolLengths.{key}: expected a tool length offset number (H)");
+            }
+
+            _toolLengths[h] = value;
+        }
 
         if (ToolCount < 0)
         {
@@ -87,6 +104,12 @@ public sealed class MachineProfile
         AddCodes(GCodes, 'G', GGroups, _g, source);
         AddCodes(MCodes, 'M', MGroups, _m, source);
     }
+
+    /// <summary>Tool length offsets by H number, in millimetres (the machine's tool table; G43 H applies them).</summary>
+    public IReadOnlyDictionary<string, double> ToolLengths { get; }
+
+    /// <summary>Where M06's default hook moves the tool to (machine coordinates), null when the machine has none.</summary>
+    public double[]? ToolChangePosition { get; }
 
     /// <summary>The default profile: <c>fanuc-mill</c>, what FANUC/Haas-style milling posts write.</summary>
     public static MachineProfile Default => BuiltIns[DefaultName].Value;
@@ -255,6 +278,9 @@ public sealed class MachineProfile
 
     /// <summary>Where G28 (<paramref name="code"/> 28) or G30 (30) sends the axes, in machine coordinates (zero when not set).</summary>
     public Point3 ReferencePosition(int code) => _references.TryGetValue(code, out var v) ? v : default;
+
+    /// <summary>Tool length offset <paramref name="h"/> from the profile's tool table (0 when not listed).</summary>
+    public double ToolLength(int h) => _toolLengths.TryGetValue(h, out var v) ? v : 0;
 
     internal static int Key(double number) => (int)Math.Round(number * 10.0);
 

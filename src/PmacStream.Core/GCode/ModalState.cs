@@ -171,14 +171,21 @@ public sealed record ModalState
     /// X Y and then Z, then the distance mode, motion mode and feed. The caller is responsible for a safe Z before
     /// running it; non-modal codes (G04, G09, M00, M30) are never repeated.
     /// </summary>
-    public IReadOnlyList<string> ToPreamble(Point3? programPosition = null)
+    public IReadOnlyList<string> ToPreamble(Point3? programPosition = null) => ToPreamble(programPosition, forController: false);
+
+    /// <summary>
+    /// The preamble; <paramref name="forController"/>: as the host sends it to a controller running the generated
+    /// library, in millimetres (no units code: the host converts inch programs, and positions are millimetres), feeds
+    /// per minute in millimetres, no T word (the host hands the tool to M06).
+    /// </summary>
+    public IReadOnlyList<string> ToPreamble(Point3? programPosition, bool forController)
     {
         var lines = new List<string>(8)
         {
-            $"G{(Units == LengthUnits.Inches ? 20 : 21)} G{Plane} G{WorkOffset}",
+            forController ? $"G{Plane} G{WorkOffset}" : $"G{(Units == LengthUnits.Inches ? 20 : 21)} G{Plane} G{WorkOffset}",
         };
 
-        if (Tool > 0)
+        if (Tool > 0 && !forController)
         {
             lines.Add($"T{Tool}");
         }
@@ -202,7 +209,8 @@ public sealed record ModalState
         }
 
         var motion = Motion is { } ga ? $"G{(ga < 10 ? "0" : string.Empty)}{Num(ga)}" : "G00";
-        lines.Add($"G{(Absolute ? 90 : 91)} {motion}" + (Feed is { } f ? $" F{Num(f)}" : string.Empty));
+        var scale = forController && Units == LengthUnits.Inches ? 25.4 : 1.0;
+        lines.Add($"G{(Absolute ? 90 : 91)} {motion}" + (Feed is { } f ? $" F{Num(f * scale)}" : string.Empty));
         return lines;
     }
 

@@ -47,6 +47,27 @@ internal static class ProfileJson
             w.WriteString("letters", p.Letters);
             WritePoints(w, "workOffsets", p.WorkOffsets);
             WritePoints(w, "referencePositions", p.ReferencePositions);
+            if (p.ToolLengths.Count > 0)
+            {
+                w.WriteStartObject("toolLengths");
+                foreach (var (key, v) in p.ToolLengths)
+                {
+                    w.WriteNumber(key, v);
+                }
+
+                w.WriteEndObject();
+            }
+
+            if (p.ToolChangePosition is { } tc)
+            {
+                w.WriteStartArray("toolChangePosition");
+                foreach (var x in tc)
+                {
+                    w.WriteNumberValue(x);
+                }
+
+                w.WriteEndArray();
+            }
             foreach (var (name, groups) in new[] { ("gGroups", p.GGroups), ("mGroups", p.MGroups) })
             {
                 w.WriteStartArray(name);
@@ -173,6 +194,8 @@ internal static class ProfileJson
                     case "letters": dto.Letters = v.GetString(); break;
                     case "workoffsets": dto.WorkOffsets = ReadPoints(v); break;
                     case "referencepositions": dto.ReferencePositions = ReadPoints(v); break;
+                    case "toollengths": dto.ToolLengths = v.EnumerateObject().ToDictionary(o => o.Name, o => o.Value.GetDouble()); break;
+                    case "toolchangeposition": dto.ToolChangePosition = v.EnumerateArray().Select(x => x.GetDouble()).ToArray(); break;
                     case "ggroups": dto.GGroups = ReadGroups(v); break;
                     case "mgroups": dto.MGroups = ReadGroups(v); break;
                     case "gcodes": dto.GCodes = ReadCodes(v, source); break;
@@ -287,6 +310,10 @@ internal static class ProfileJson
         public Dictionary<string, double[]>? WorkOffsets { get; set; }
 
         public Dictionary<string, double[]>? ReferencePositions { get; set; }
+
+        public Dictionary<string, double>? ToolLengths { get; set; }
+
+        public double[]? ToolChangePosition { get; set; }
 
         public List<ModalGroup>? GGroups { get; set; }
 

@@ -11,6 +11,9 @@ internal sealed class WorkCoordinates
     private Dictionary<int, Point3>? _set; // offsets G10 changed, by key (540 for G54, 5410+P for G54.1 Pn)
     private Point3 _local;
     private Point3 _shift;
+    private double _toolLength;
+    private Dictionary<int, double>? _tools; // tool lengths G10 changed, by H number
+    private Dictionary<int, double>? _wear;  // FANUC G10 L11 wear, added to the length
     private Point3 _active;   // valid while _known: a Nullable<Point3> read stalled on store forwarding in the hot path
     private bool _known;
 
@@ -32,7 +35,7 @@ internal sealed class WorkCoordinates
 
     private Point3 Compute()
     {
-        _active = Offset(Selected) + _local + _shift;
+        _active = Offset(Selected) + _local + _shift + new Point3(0, 0, _toolLength);
         _known = true;
         return _active;
     }
@@ -57,7 +60,7 @@ internal sealed class WorkCoordinates
     {
         var key = extended ? 5410 + p : p == 0 ? Selected : p <= 6 ? 530 + (p * 10) : 590 + (p - 6);
         var old = Offset(key);
-        var shift = _local + _shift;
+        var shift = _local + _shift + new Point3(0, 0, _toolLength);
         var value = fromPosition
             ? new Point3(x is { } ax ? position.X - ax - shift.X : old.X, y is { } ay ? position.Y - ay - shift.Y : old.Y, z is { } az ? position.Z - az - shift.Z : old.Z)
             : new Point3(x ?? old.X, y ?? old.Y, z ?? old.Z);
@@ -75,7 +78,7 @@ internal sealed class WorkCoordinates
     /// <summary>G92: shifts coordinates so that <paramref name="position"/> reads as the given values.</summary>
     public void SetShift(double? x, double? y, double? z, Point3 position)
     {
-        var o = Offset(Selected) + _local;
+        var o = Offset(Selected) + _local + new Point3(0, 0, _toolLength);
         _shift = new Point3(x is { } ax ? position.X - ax - o.X : _shift.X, y is { } ay ? position.Y - ay - o.Y : _shift.Y, z is { } az ? position.Z - az - o.Z : _shift.Z);
         _known = false;
     }
@@ -85,6 +88,46 @@ internal sealed class WorkCoordinates
     {
         _shift = default;
         _known = false;
+    }
+
+    /// <summary>The work offset <paramref name="key"/> stands for now (540 for G54, 5410 + P for the extended ones).</summary>
+    public Point3 OffsetOf(int key) => Offset(key);
+
+    /// <summary>The G52 local shift.</summary>
+    public Point3 Local => _local;
+
+    /// <summary>The G92 shift.</summary>
+    public Point3 Shift => _shift;
+
+    /// <summary>The tool length applied on Z now (+ for G43, - for G44, 0 for G49).</summary>
+    public double ToolLength
+    {
+        get => _toolLength;
+        set
+        {
+            if (value != _toolLength)
+            {
+                _toolLength = value;
+                _known = false;
+            }
+        }
+    }
+
+    /// <summary>The length of tool <paramref name="h"/> (geometry plus wear): G10's values, else the profile's tool table.</summary>
+    public double LengthOf(int h) =>
+        (_tools != null && _tools.TryGetValue(h, out var v) ? v : _profile.ToolLength(h)) + (_wear != null && _wear.TryGetValue(h, out var w) ? w : 0);
+
+    /// <summary>G10 L1 / L10 (FANUC geometry): tool <paramref name="h"/>'s length; L11 (FANUC wear) with <paramref name="wear"/>.</summary>
+    public void SetToolLength(int h, double length, bool wear)
+    {
+        if (wear)
+        {
+            (_wear ??= new())[h] = length;
+        }
+        else
+        {
+            (_tools ??= new())[h] = length;
+        }
     }
 
     private Point3 Offset(int key) =>

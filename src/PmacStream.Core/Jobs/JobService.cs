@@ -87,7 +87,16 @@ public sealed class JobService
     /// proves the link (<c>VERSION</c>) and downloads the PROG 1000/1001 library to the simulator (which starts empty).
     /// </summary>
     /// <exception cref="JobException">No simulator in this host, or the controller cannot be reached.</exception>
-    public async Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile = null, CancellationToken cancellationToken = default)
+    public Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile = null, CancellationToken cancellationToken = default) =>
+        ConnectAsync(spec, profile, LibraryPolicy.Verify, cancellationToken);
+
+    /// <summary>
+    /// <see cref="ConnectAsync(ConnectionSpec, MachineProfile?, CancellationToken)"/>, then the library check of
+    /// <paramref name="library"/> before any chunk is sent: the controller must run the library of the profile the
+    /// program was checked against (the built-in simulator gets it downloaded).
+    /// </summary>
+    /// <exception cref="JobException">The controller has no library or another one (<see cref="LibraryPolicy.Verify"/>).</exception>
+    public async Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile, LibraryPolicy library, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(spec);
         SimulatorLink? sim = null;
@@ -120,7 +129,10 @@ public sealed class JobService
             if (sim is not null)
             {
                 await ControllerLibrary.DownloadTolerantAsync(connection, ControllerLibrary.Lines(profile), cancellationToken).ConfigureAwait(false);
+                await ControllerLibrary.DownloadTolerantAsync(connection, ControllerLibrary.TableLines(profile ?? MachineProfile.Default), cancellationToken).ConfigureAwait(false);
             }
+
+            await ControllerLibrary.EnsureAsync(connection, profile, library, cancellationToken).ConfigureAwait(false);
 
             Log.Information("Connected to {Device:l} ({Spec:l}), firmware {Version:l}", connection.Description, spec.ToString(), version);
             return new ControllerLink(spec, connection, sim);

@@ -2,14 +2,18 @@ using System.Globalization;
 
 namespace PmacStream.Preview;
 
-/// <summary>One row of the simulator's executed-move log (<c>sequence,line,start_s,end_s,x,y,z,kind</c>).</summary>
+/// <summary>One row of the simulator's executed-move log (<c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind</c>).</summary>
 /// <param name="Sequence">Running number of the executed move.</param>
 /// <param name="Line">Source line the controller was tracking for the move.</param>
 /// <param name="StartSeconds">Virtual time the move started.</param>
 /// <param name="EndSeconds">Virtual time the move ended.</param>
-/// <param name="End">Where the move ended (mm).</param>
+/// <param name="End">Where the move ended (mm, machine coordinates).</param>
 /// <param name="Kind">Move kind as the simulator names it (rapid, linear, circle, dwell ...).</param>
-public readonly record struct ExecutedLogRow(long Sequence, long Line, double StartSeconds, double EndSeconds, Point3D End, string Kind);
+public readonly record struct ExecutedLogRow(long Sequence, long Line, double StartSeconds, double EndSeconds, Point3D End, string Kind)
+{
+    /// <summary>A, B, C at the end (degrees; 0 in a log written before the rotary columns).</summary>
+    public (double A, double B, double C) Rotary { get; init; }
+}
 
 /// <summary>
 /// Streams an executed-move log CSV row by row (a log as long as the program never sits in memory). Bad input is
@@ -18,9 +22,13 @@ public readonly record struct ExecutedLogRow(long Sequence, long Line, double St
 public static class ExecutedLogReader
 {
     /// <summary>The header the simulator writes.</summary>
-    public const string Header = "sequence,line,start_s,end_s,x,y,z,kind";
+    public const string Header = "sequence,line,start_s,end_s,x,y,z,a,b,c,kind";
+
+    /// <summary>The header of logs written before the rotary columns (still read).</summary>
+    public const string LinearHeader = "sequence,line,start_s,end_s,x,y,z,kind";
 
     private static readonly string[] Columns = Header.Split(',');
+    private static readonly string[] LinearColumns = LinearHeader.Split(',');
 
     /// <summary>Reads every row of the log at <paramref name="path"/>.</summary>
     public static IEnumerable<ExecutedLogRow> Read(string path, CancellationToken cancellationToken = default)
@@ -28,7 +36,9 @@ public static class ExecutedLogReader
         using var reader = new StreamReader(path, System.Text.Encoding.UTF8, true, 1 << 16);
         var name = Path.GetFileName(path);
         var header = reader.ReadLine();
-        if (header is null || !string.Equals(header.Trim().TrimStart('\uFEFF'), Header, StringComparison.OrdinalIgnoreCase))
+        var trimmed = header?.Trim().TrimStart('\uFEFF');
+        var rotary = string.Equals(trimmed, Header, StringComparison.OrdinalIgnoreCase);
+        if (!rotary && !string.Equals(trimmed, LinearHeader, StringComparison.OrdinalIgnoreCase))
         {
             throw new InvalidDataException($"{name}:1:1: expected the header '{Header}', found '{header ?? "<empty file>"}'");
         }
@@ -48,25 +58,27 @@ public static class ExecutedLogReader
                 continue;
             }
 
-            yield return ParseRow(text, name, lineNo);
+            yield return ParseRow(text, name, lineNo, rotary);
         }
     }
 
-    /// <summary>Parses one data row (exposed for tests).</summary>
-    internal static ExecutedLogRow ParseRow(string text, string name, long lineNo)
+    /// <summary>Parses one data row (exposed for tests); <paramref name="rotary"/>: the row has the a, b, c columns.</summary>
+    internal static ExecutedLogRow ParseRow(string text, string name, long lineNo, bool rotary = true)
     {
-        Span<Range> parts = stackalloc Range[9];
+        var columns = rotary ? Columns : LinearColumns;
+        Span<Range> parts = stackalloc Range[12];
         var span = text.AsSpan();
         var n = span.Split(parts, ',');
-        if (n != 8)
+        if (n != columns.Length)
         {
-            throw new InvalidDataException($"{name}:{lineNo}:1: expected 8 comma-separated fields ({Header}), found {Math.Min(n, 9)}{(n > 8 ? " or more" : string.Empty)}");
+            throw new InvalidDataException($"{name}:{lineNo}:1: expected {columns.Length} comma-separated fields ({string.Join(',', columns)}), found {Math.Min(n, columns.Length + 1)}{(n > columns.Length ? " or more" : string.Empty)}");
         }
 
-        return new ExecutedLogRow(
+        var row = new ExecutedLogRow(
             Int(text, parts, 0, name, lineNo, 0), Int(text, parts, 1, name, lineNo, long.MinValue), Num(text, parts, 2, name, lineNo), Num(text, parts, 3, name, lineNo),
             new Point3D(Num(text, parts, 4, name, lineNo), Num(text, parts, 5, name, lineNo), Num(text, parts, 6, name, lineNo)),
-            span[parts[7]].Trim().ToString());
+            span[parts[columns.Length - 1]].Trim().ToString());
+        return rotary ? row with { Rotary = (Num(text, parts, 7, name, lineNo), Num(text, parts, 8, name, lineNo), Num(text, parts, 9, name, lineNo)) } : row;
     }
 
     private static double Num(string text, ReadOnlySpan<Range> parts, int i, string name, long lineNo)

@@ -140,14 +140,14 @@ public sealed class GCodeToolpathSource : IToolpathSource
 }
 
 /// <summary>
-/// Turns interpreter records into drawable segments: converts to mm, and withholds moves along an axis whose
+/// Turns interpreter records (millimetres) into drawable segments, and withholds moves along an axis whose
 /// position has not been set yet. Only motion sets a position: a data block (G10, G52, G92) carries axis words that
 /// are offsets, not a place the tool goes to. The interpreter's positions are machine coordinates (the work offset,
-/// G52 and G92 applied), so a program run under G55 is drawn where G55 puts it. A cycle block is drawn hole by hole.
+/// G52, G92 and the tool length applied), so a program run under G55 is drawn where G55 puts it. A cycle block is
+/// drawn hole by hole.
 /// </summary>
 public sealed class DecodedBlockAdapter
 {
-    private const double InchToMm = 25.4;
     private bool _x;
     private bool _y;
     private bool _z;
@@ -199,7 +199,8 @@ public sealed class DecodedBlockAdapter
             return 0;
         }
 
-        var f = units == LengthUnits.Inches ? InchToMm : 1.0;
+        // The interpreter's positions are millimetres already, whatever the program's units.
+        const double f = 1.0;
         var start = Mm(block.Start, f);
         var end = Mm(block.End, f);
         switch (block.Motion)

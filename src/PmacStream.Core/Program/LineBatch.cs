@@ -18,7 +18,7 @@ internal sealed class LineBatch
 
     private byte[] _text = new byte[TextBudget + 1024];
     private GWord[] _words = new GWord[MaxLines * 4];
-    private readonly LineRecord[] _lines = new LineRecord[MaxLines];
+    private LineRecord[] _lines = new LineRecord[MaxLines];
 
     /// <summary>Lines in the batch.</summary>
     public int Count { get; private set; }
@@ -26,7 +26,7 @@ internal sealed class LineBatch
     /// <summary>Source bytes consumed up to the end of the batch's last line (for progress).</summary>
     public long EndPosition { get; set; }
 
-    public bool IsFull => Count == MaxLines || TextLength >= TextBudget;
+    public bool IsFull => Count >= MaxLines || TextLength >= TextBudget;
 
     /// <summary>Text bytes used: where the next line's text goes.</summary>
     public int TextLength { get; private set; }
@@ -65,8 +65,18 @@ internal sealed class LineBatch
     /// <summary>Takes the <see cref="AxisLine"/> text just written into <see cref="AxisTextRoom"/>: a line of <paramref name="words"/> words, N dropped.</summary>
     public void AddAxisLine(int lineNumber, int textLength, int words)
     {
+        Room();
         _lines[Count++] = new LineRecord(lineNumber, TextLength, textLength, -1, words);
         TextLength += textLength;
+    }
+
+    /// <summary>A host block's lines stay in one batch, so a batch may grow past <see cref="MaxLines"/> while one is added.</summary>
+    private void Room()
+    {
+        if (Count == _lines.Length)
+        {
+            Array.Resize(ref _lines, _lines.Length * 2);
+        }
     }
 
     /// <summary>
@@ -74,7 +84,7 @@ internal sealed class LineBatch
     /// words (all by default: fewer when block delete skips the part of the block after a <c>/</c> inside it), less the
     /// words at <paramref name="dropColumns"/> (words the check found unused: the controller must not get them).
     /// </summary>
-    public void Add(GBlock block, int wordCount = int.MaxValue, IReadOnlyList<int>? dropColumns = null)
+    public void Add(GBlock block, int wordCount = int.MaxValue, IReadOnlyList<int>? dropColumns = null, bool continues = false)
     {
         var words = CollectionsMarshal.AsSpan(block.WordList);
         words = words[..Math.Min(wordCount, words.Length)];
@@ -104,9 +114,10 @@ internal sealed class LineBatch
             Array.Resize(ref _words, Math.Max(WordCount + words.Length, _words.Length * 2));
         }
 
+        Room();
         block.Buffer.AsSpan(0, length).CopyTo(_text.AsSpan(TextLength));
         words.CopyTo(_words.AsSpan(WordCount));
-        _lines[Count++] = new LineRecord(block.LineNumber, TextLength, length, WordCount, words.Length);
+        _lines[Count++] = new LineRecord(block.LineNumber, TextLength, length, WordCount, words.Length) { Continues = continues };
         TextLength += length;
         WordCount += words.Length;
     }
@@ -132,4 +143,7 @@ internal sealed class LineBatch
 internal readonly record struct LineRecord(int LineNumber, int TextStart, int TextLength, int WordStart, int WordCount)
 {
     public bool IsAxisLine => WordStart < 0;
+
+    /// <summary>One more line of the same source block (the host's conversion made several): it stays in its first line's chunk.</summary>
+    public bool Continues { get; init; }
 }

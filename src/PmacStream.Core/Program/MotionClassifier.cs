@@ -60,6 +60,9 @@ internal struct MotionScan
     /// <summary>The first stop code of the block (<see cref="ProgramStopCodes"/>), or null.</summary>
     public string? StopCode { get; private set; }
 
+    /// <summary>The block carries M06 (whose hook moves to the tool change position on a machine that has one).</summary>
+    public bool ToolChange { get; private set; }
+
     /// <summary>What the words seen so far make of the block.</summary>
     public readonly BlockMotion Result => _dwell ? BlockMotion.Dwell : _axis && !_dataOnly ? BlockMotion.Move : StopCode is not null ? BlockMotion.Stop : BlockMotion.None;
 
@@ -103,6 +106,8 @@ internal struct MotionScan
                 {
                     EndsProgram = true;
                 }
+
+                ToolChange |= w.CodeTimesTen == 60;
 
                 break;
             case 'X':

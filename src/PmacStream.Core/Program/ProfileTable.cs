@@ -74,7 +74,8 @@ public static class ProfileTable
 
     private static string RunsIt(Prog1000Routine r) => r.Controller switch
     {
-        ControllerSupport.Library when r.Body.Length > 0 => $"PROG {r.Program} N{r.Label}: {r.Body.Replace("\n", " / ", StringComparison.Ordinal)}{(r.Note.Length > 0 ? $" ({r.Note})" : "")}",
+        // A routine of several lines is shown on one, its lines separated by " / ".
+        ControllerSupport.Library when r.Body.Length > 0 => $"PROG {r.Program} N{r.Label}: {r.Body.Replace("\r\n", " / ", StringComparison.Ordinal)}{(r.Note.Length > 0 ? $" ({r.Note})" : "")}",
         ControllerSupport.Library => $"PROG {r.Program} N{r.Label}, empty: {r.Note}",
         ControllerSupport.Host => $"host: {r.Note}",
         _ => $"not yet: {r.Note}",

@@ -22,8 +22,30 @@ public sealed record Prog1000Options
     /// </summary>
     public string OptionalStop { get; init; } = Jobs.RunSettings.DefaultOptionalStopVariable;
 
+    /// <summary>M-variable of the mist coolant output (M07).</summary>
+    public string MistCoolant { get; init; } = "M905";
+
+    /// <summary>M-variable of the spindle orientation output (M19).</summary>
+    public string SpindleOrient { get; init; } = "M906";
+
     /// <summary>Write <c>;</c> comment lines (PComm's download strips them; turn off for a raw terminal).</summary>
     public bool Comments { get; init; } = true;
+
+    /// <summary>
+    /// M00, M01 and the default M06 hook end in <c>STOP</c> (a program stop the operator continues). Off: they only
+    /// wait for the moves ahead (for a run with nobody at the machine, such as the position proof).
+    /// </summary>
+    public bool ProgramStops { get; init; } = true;
+
+    /// <summary>
+    /// PMAC statements M06 runs (the tool it changes to is in Q120, from <c>READ(T)</c>); null: the default hook,
+    /// spindle off, a machine-coordinate move to the tool change position (Z first) when the profile has one, and a
+    /// program stop.
+    /// </summary>
+    public string? ToolChangeHook { get; init; }
+
+    /// <summary>Where the library keeps its tables and modal state.</summary>
+    public LibraryMap Map { get; init; } = new();
 }
 
 /// <summary>One subroutine of the library: a label in PROG 10n0 (G) or 10n1 (M) and its PMAC statements.</summary>
@@ -85,16 +107,44 @@ public static class Prog1000Library
             Line($"; Outputs: spindle on {options.SpindleOn}, spindle reverse {options.SpindleReverse}, coolant {options.Coolant}.");
         }
 
-        var notYet = routines.Where(r => !r.Converted).Select(r => r.Code).ToList();
+        if (options.Comments)
+        {
+            var m = options.Map;
+            Line($"; Work offsets: P{m.WorkOffsets + 3}.. (X Y Z of index 1 = G54 .. 6 = G59, 7-9 G59.1-G59.3, 10.. G54.1 P1..); tool lengths P{m.ToolLengths}+H;");
+            Line($"; modal state Q{m.State}..Q{m.State + 19}; identity P{m.Identity} (profile id), P{m.Identity + 1} (hash). See docs/pmac-library.md.");
+        }
+
+        var notYet = routines.Where(r => r.Controller == ControllerSupport.NotYet).Select(r => r.Code).ToList();
+        var host = routines.Where(r => r.Controller == ControllerSupport.Host).Select(r => r.Code).ToList();
+        if (options.Comments && host.Count > 0)
+        {
+            Line($"; Converted by the host before sending (no routine): {string.Join(' ', host)}");
+        }
+
         if (options.Comments && notYet.Count > 0)
         {
             Line($"; Not run on this controller yet (no routine; a job using them is refused): {string.Join(' ', notYet)}");
         }
 
         Line("CLOSE");
+        // The axis transformation matrices the library's displacement lives in (an online command, before the programs).
+        Line($"DEFINE TBUF {options.Map.Matrix}");
         foreach (var program in new[] { 1000, 1001 }.Concat(routines.Where(r => r.Converted).Select(r => r.Program)).Distinct().OrderBy(p => p))
         {
             Line($"OPEN PROG {program} CLEAR");
+            if (program == 1000)
+            {
+                foreach (var (label, body, what) in LibraryRoutines.Private(profile, options))
+                {
+                    if (options.Comments)
+                    {
+                        Line("; " + what);
+                    }
+
+                    Line(LabelLine(label, body));
+                }
+            }
+
             foreach (var r in routines.Where(r => r.Program == program && r.Converted))
             {
                 if (options.Comments)
@@ -102,28 +152,54 @@ public static class Prog1000Library
                     Line($"; {r.Code} {r.Description}{(r.Body.Length == 0 && r.Note.Length > 0 ? $" ({r.Note})" : "")}");
                 }
 
-                var body = r.Body.Split('\n', StringSplitOptions.TrimEntries | StringSplitOptions.RemoveEmptyEntries);
-                if (body.Length <= 1)
-                {
-                    Line(body.Length == 0 ? $"N{r.Label} RET" : $"N{r.Label} {body[0]} RET");
-                    continue;
-                }
-
-                // A one-line IF takes everything after it on its line as its action: RET stands on a line of its own.
-                Line($"N{r.Label} {body[0]}");
-                foreach (var statement in body.Skip(1))
-                {
-                    Line(statement);
-                }
-
-                Line("RET");
+                Line(r.Body.Length == 0 ? $"N{r.Label} RET" : LabelLine(r.Label, r.Body));
             }
 
             Line("CLOSE");
         }
 
+        // Last: which library this is, for the host to read before a job (P-variables, so any port can read them).
+        var text = sb.ToString();
+        var (id, hash) = Identity(profile, text);
+        if (options.Comments)
+        {
+            Line($"; Library identity: P{options.Map.Identity}=profile id, P{options.Map.Identity + 1}=24-bit hash of the text above");
+        }
+
+        Line($"P{options.Map.Identity}={id} P{options.Map.Identity + 1}={hash}");
         return sb.ToString();
     }
+
+    /// <summary>
+    /// The identity the generated library records: a profile id (1-4 for the built-in profiles in their order, 9 for
+    /// any other) and a 24-bit hash of the library's text (exactly representable in a PMAC variable).
+    /// </summary>
+    public static (int ProfileId, int Hash) Identity(MachineProfile profile, string libraryText)
+    {
+        var index = MachineProfile.BuiltInNames.ToList().IndexOf(profile.Name);
+        // Comments do not count: the library downloaded without them is the same library.
+        var statements = string.Join('\n', libraryText.Split('\n').Select(l => l.TrimEnd('\r')).Where(l => l.Length > 0 && l[0] != ';'));
+        var digest = System.Security.Cryptography.SHA256.HashData(Encoding.UTF8.GetBytes(statements));
+        return (index >= 0 ? index + 1 : 9, (digest[0] << 16) | (digest[1] << 8) | digest[2]);
+    }
+
+    /// <summary>The identity written at the end of <see cref="Generate"/>'s text for these options.</summary>
+    public static (int ProfileId, int Hash) IdentityOf(MachineProfile profile, Prog1000Options? options = null)
+    {
+        var text = Generate(profile, options);
+        var cut = text.LastIndexOf("P" + (options ?? new Prog1000Options()).Map.Identity.ToString(CultureInfo.InvariantCulture) + "=", StringComparison.Ordinal);
+        var body = text[..cut];
+        if ((options ?? new Prog1000Options()).Comments)
+        {
+            body = body[..body.LastIndexOf(';')];
+        }
+
+        return Identity(profile, body);
+    }
+
+    /// <summary>A routine's line(s): <c>RET</c> on a line of its own after a multi-line body, whose last line may be a one-line IF.</summary>
+    private static string LabelLine(int label, string body) =>
+        body.Contains('\n') ? $"N{label} {body}\r\nRET" : $"N{label} {body} RET";
 
     private static Prog1000Routine Make(CodeDefinition def, char letter, MachineProfile profile, Prog1000Options o)
     {
@@ -145,8 +221,14 @@ public static class Prog1000Library
             return new Prog1000Routine(text, program, label, string.Empty, false, def.Description) { Controller = def.Controller, Note = def.Note };
         }
 
-        var body = def.Routine ?? (letter == 'G' ? GBody(key, profile) : MBody(key, o))
+        var body = def.Routine ?? (letter == 'G' ? LibraryRoutines.G(key, profile, o) ?? GBody(key, profile) : LibraryRoutines.M(key, profile, o) ?? MBody(key, o))
             ?? throw new InvalidDataException($"profile '{profile.Name}': {text} is marked \"controller\": \"library\" but the library has no routine for it: give it a \"routine\" or mark it \"not-yet\"");
+        if (body.Length == 0 && def.Words.Length > 0)
+        {
+            // The code's words follow it on the line: read them, or the controller would run them as statements.
+            body = $"READ({string.Join(',', def.Words.ToCharArray())})";
+        }
+
         return new Prog1000Routine(text, program, label, body, true, def.Description) { Controller = def.Controller, Note = def.Note };
     }
 
@@ -176,10 +258,7 @@ public static class Prog1000Library
 
     private static string? MBody(int codeTimesTen, Prog1000Options o) => codeTimesTen switch
     {
-        // Stops wait for the moves ahead (DWELL0 ends lookahead), so the spindle is not stopped early. STOP leaves the
-        // program where it is: the run command continues after it. M01 asks the optional-stop switch (a one-line IF).
-        0 => "DWELL0 STOP",
-        10 => $"DWELL0\nIF ({o.OptionalStop}=1) STOP",
+        // Stops wait for the moves ahead (DWELL0 ends lookahead), so the spindle is not stopped early (M00/M01: LibraryRoutines).
         20 or 300 => $"DWELL0 {o.SpindleOn}=0 {o.Coolant}=0",
         30 => $"DWELL0 {o.SpindleReverse}=0 {o.SpindleOn}=1",
         40 => $"DWELL0 {o.SpindleReverse}=1 {o.SpindleOn}=1",

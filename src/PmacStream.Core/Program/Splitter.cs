@@ -194,6 +194,7 @@ public static class Splitter
         private readonly int _limitReserve;   // tail and footer bytes every chunk keeps room for
         private readonly bool _exactTracking;
         private readonly bool _paperFeed;
+        private readonly bool _toolChangeMoves; // M06's hook moves to the profile's tool change position
         private long _position;
         private ChunkFileWriter? _writer;
 
@@ -210,6 +211,9 @@ public static class Splitter
         private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
         private readonly ProgramStopCodes _stops;
         private readonly Dictionary<string, int> _stopCodes = new(StringComparer.Ordinal); // stop codes used, first line
+        private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
+        private HostConversion? _host;
+        private bool _started;              // the power-on call went before the first block
         private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
         private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
         private int _laneLines;        // lines the AxisLine lane took ...
@@ -263,6 +267,7 @@ public static class Splitter
             _limitReserve = _tail.Length + FooterBytes.Length;
             _exactTracking = sync.Placement == TrackingPlacement.Exact;
             _paperFeed = options.Feed == FeedMode.Paper;
+            _toolChangeMoves = options.CheckProfile?.ToolChangePosition != null;
             _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
             _chunk.Append(HeaderBytes);
             _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null;
@@ -370,6 +375,10 @@ public static class Splitter
                 using (var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16))
                 {
                     var check = _check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
+                    // The host's conversions (units, cycles, data blocks...) need the interpreter's state: the checker's, or
+                    // without a check (--force) one of their own. Without a profile the program goes as it is written.
+                    var own = _own = check == null && _o.CheckProfile != null ? new Interpreter(_o.CheckProfile) { MeasureMoves = false, RecordBlocks = false } : null;
+                    var host = _host = check != null ? new HostConversion(check.Interpreter) : own != null ? new HostConversion(own) : null;
                     // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
                     // The lane takes G0/G1 lines without looking them up: only when the profile runs both on the controller.
                     var lane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile);
@@ -377,7 +386,7 @@ public static class Splitter
                     {
                         // The lane first, straight on the read buffer: it finds the line's end itself.
                         // In a mode the checker's lane does not take (G91, arcs, no feed yet), no line is scanned for it.
-                        var laneNow = lane && (check == null || check.AxisLaneOpen);
+                        var laneNow = lane && (check?.AxisLaneOpen ?? own?.AxisLaneOpen ?? true);
                         var peeked = false;
                         if (laneNow && reader.PeekBuffer(out var buffer, out var position, out var end))
                         {
@@ -414,6 +423,7 @@ public static class Splitter
                         }
 
                         var block = reader.LexRaw();
+                        host?.Before();
                         if (check != null)
                         {
                             if (number == 1 && reader.StartsWithUtf16Bom)
@@ -432,8 +442,12 @@ public static class Splitter
                                 }
                             }
                         }
+                        else
+                        {
+                            own?.StepCore(block, null);
+                        }
 
-                        Take(block);
+                        Take(block, host?.Convert(block));
                     }
 
                     if (check != null && reader.TextAfterTapeEnd)
@@ -467,7 +481,8 @@ public static class Splitter
         private bool TakeAxisLine(int number, in AxisLine axes, long position)
         {
             var batch = _batch!;
-            if (_check != null && !_check.TryAxisLine(number, axes, batch.Text, batch.TextLength))
+            if (_check != null ? !_check.TryAxisLine(number, axes, batch.Text, batch.TextLength) :
+                _own != null && !_own.TryStepAxisLine(axes, batch.Text, batch.TextLength))
             {
                 return false;
             }
@@ -482,6 +497,7 @@ public static class Splitter
             {
                 // The line is not kept, so its text is overwritten next: read the values it left there now.
                 _check?.ReleaseText(batch.Text);
+                _own?.ReleaseText(batch.Text);
                 return true;
             }
 
@@ -500,6 +516,7 @@ public static class Splitter
             // The splitting thread reuses the batch's text once done with it: axis values still left there are read now.
             var batch = _batch!;
             _check?.ReleaseText(batch.Text);
+            _own?.ReleaseText(batch.Text);
             batch.EndPosition = endPosition;
             _full!.Add(batch);
             _batch = TakeFree();
@@ -524,8 +541,8 @@ public static class Splitter
         private static bool LaneCodesRun(MachineProfile? profile) =>
             profile == null || (profile.Find('G', 0)?.Controller != ControllerSupport.NotYet && profile.Find('G', 1)?.Controller != ControllerSupport.NotYet);
 
-        /// <summary>One lexed line on the reading thread.</summary>
-        private void Take(GBlock b)
+        /// <summary>One lexed line on the reading thread; <paramref name="converted"/>: the blocks the host sends instead (null: the line as it is).</summary>
+        private void Take(GBlock b, IReadOnlyList<string>? converted)
         {
             if (b.DiagnosticList.Count > 0)
             {
@@ -543,12 +560,46 @@ public static class Splitter
                 return;
             }
 
-            // With block delete on, the part of a block after a '/' inside it is skipped (FANUC's optional block skip).
-            _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue, _unused);
-            if (_batch.IsFull)
+            var first = false;
+            if (_host != null && !_started && converted is not { Count: 0 } && !OnlyNumbers(b))
+            {
+                // The library's state starts as the interpreter's does (power-on codes), whatever the last job left.
+                _started = first = true;
+                _batch!.Add(GCodeReader.LexLine(HostConversion.PowerOnState, b.LineNumber));
+            }
+
+            if (converted != null)
+            {
+                // One source block, several controller blocks: all carry its line, and they stay in one chunk.
+                for (var i = 0; i < converted.Count; i++)
+                {
+                    _batch!.Add(GCodeReader.LexLine(converted[i], b.LineNumber), continues: first || i > 0);
+                }
+            }
+            else
+            {
+                // With block delete on, the part of a block after a '/' inside it is skipped (FANUC's optional block skip).
+                _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue, _unused, continues: first);
+            }
+
+            if (_batch!.IsFull)
             {
                 Hand(b.ByteOffset + b.Length);
             }
+        }
+
+        /// <summary>A line of only O and N words (a program number, a label): nothing for the controller.</summary>
+        private static bool OnlyNumbers(GBlock b)
+        {
+            foreach (var w in b.WordList)
+            {
+                if (w.Letter is not ('O' or 'N'))
+                {
+                    return false;
+                }
+            }
+
+            return true;
         }
 
         /// <summary>Records the codes of a line that the controller cannot run yet (the manifest lists them for the job gate).</summary>
@@ -568,10 +619,12 @@ public static class Splitter
         private void Consume(LineBatch batch)
         {
             var text = batch.Text;
+            var lines = batch.Lines;
             var n = 0;
-            foreach (ref readonly var line in batch.Lines)
+            while (n < lines.Length)
             {
-                if ((++n & 0x3FF) == 0)
+                ref readonly var line = ref lines[n];
+                if ((n & 0x3FF) == 0x3FF)
                 {
                     _ct.ThrowIfCancellationRequested();
                 }
@@ -579,10 +632,17 @@ public static class Splitter
                 if (line.IsAxisLine)
                 {
                     EmitAxisLine(text.AsSpan(line.TextStart, line.TextLength), line.WordCount, line.LineNumber);
+                    n++;
+                }
+                else if (n + 1 < lines.Length && lines[n + 1].Continues)
+                {
+                    // A host block of several lines: emitted together (they stay in one chunk).
+                    n = EmitGroup(batch, n);
                 }
                 else
                 {
                     Emit(text.AsSpan(line.TextStart, line.TextLength), batch.WordsOf(line), line.LineNumber);
+                    n++;
                 }
             }
 
@@ -638,7 +698,62 @@ public static class Splitter
             }
         }
 
+        /// <summary>The lines of one host block from <paramref name="first"/> on, as one block of the chunk; returns the index after them.</summary>
+        private int EmitGroup(LineBatch batch, int first)
+        {
+            var lines = batch.Lines;
+            var end = first + 1;
+            var room = 0;
+            while (end < lines.Length && lines[end].Continues)
+            {
+                end++;
+            }
+
+            for (var i = first; i < end; i++)
+            {
+                room += (2 * lines[i].TextLength) + (2 * lines[i].WordCount) + 64 + (2 * (_trackPrefix.Length + _feedSuffix.Length));
+            }
+
+            var space = _chunk.Reserve(room);
+            var o = space;
+            var moves = 0;
+            var endsProgram = false;
+            var words = 0;
+            for (var i = first; i < end; i++)
+            {
+                var written = Write(o, batch.Text.AsSpan(lines[i].TextStart, lines[i].TextLength), batch.WordsOf(lines[i]), lines[i].LineNumber,
+                    out var motion, out var ends, out var values);
+                if (written == 0)
+                {
+                    continue;
+                }
+
+                o = o[written..];
+                moves |= motion != BlockMotion.None ? 1 : 0; // one source block, however many moves the host made of it
+                endsProgram |= ends;
+                words += Math.Max(_o.WordsPerBlock, values);
+            }
+
+            if (space.Length != o.Length)
+            {
+                Add(space.Length - o.Length, lines[first].LineNumber, moves, endsProgram, words);
+            }
+
+            return end;
+        }
+
         private void Emit(ReadOnlySpan<byte> src, ReadOnlySpan<GWord> words, int lineNumber)
+        {
+            var space = _chunk.Reserve((2 * src.Length) + (2 * words.Length) + 64 + (2 * (_trackPrefix.Length + _feedSuffix.Length)));
+            var written = Write(space, src, words, lineNumber, out var motion, out var endsProgram, out var values);
+            if (written > 0)
+            {
+                Add(written, lineNumber, motion != BlockMotion.None ? 1 : 0, endsProgram, Math.Max(_o.WordsPerBlock, values));
+            }
+        }
+
+        /// <summary>Writes one block's chunk text at <paramref name="space"/>; returns its length (0: nothing for the controller).</summary>
+        private int Write(Span<byte> space, ReadOnlySpan<byte> src, ReadOnlySpan<GWord> words, int lineNumber, out BlockMotion motion, out bool endsProgram, out int values)
         {
             // Hot path: spans over the batch's word list and line bytes, written straight into the chunk being
             // built; no allocation and no intermediate copy per block.
@@ -672,17 +787,23 @@ public static class Splitter
                 feedIndex = -1;
             }
 
-            if (!any && feedIndex < 0)
+            motion = scan.Result;
+            if (motion == BlockMotion.None && scan.ToolChange && _toolChangeMoves)
             {
-                return; // empty, comment-only, N-only, O-only or an unchanged F: nothing for the controller
+                // The tool change hook moves the machine: tracked like a dwell (its marker, no feed suffix).
+                motion = BlockMotion.Dwell;
             }
 
-            var motion = scan.Result;
-            var endsProgram = scan.EndsProgram && motion == BlockMotion.None;
-            // Upper bound: every word's text plus a separator, the source line once more (for P500=F), markers.
-            var space = _chunk.Reserve((2 * src.Length) + (2 * words.Length) + 64 + (2 * (_trackPrefix.Length + _feedSuffix.Length)));
+            endsProgram = scan.EndsProgram && motion == BlockMotion.None;
+            values = 0;
+            if (!any && feedIndex < 0)
+            {
+                return 0; // empty, comment-only, N-only, O-only or an unchanged F: nothing for the controller
+            }
+
+            // The room (reserved by the caller) is an upper bound: every word's text plus a separator, the source line
+            // once more (for P500=F), markers.
             var o = space;
-            var values = 0;
             if (feedIndex >= 0)
             {
                 // Where the program changes F, the value goes into the feed variable so F(P500) keeps it.
@@ -774,7 +895,7 @@ public static class Splitter
                 o = o[2..];
             }
 
-            Add(space.Length - o.Length, lineNumber, motion != BlockMotion.None, endsProgram, Math.Max(_o.WordsPerBlock, values));
+            return space.Length - o.Length;
         }
 
         /// <summary>
@@ -810,7 +931,7 @@ public static class Splitter
             }
 
             Unsafe.WriteUnaligned(ref Unsafe.Add(ref o, at), (ushort)('\r' | ('\n' << 8)));
-            Add(at + 2, lineNumber, motion: true, endsProgram: false, Math.Max(_wordsPerBlock, values));
+            Add(at + 2, lineNumber, motions: 1, endsProgram: false, Math.Max(_wordsPerBlock, values));
         }
 
         /// <summary>Writes a fixed marker at <paramref name="o"/> (one 8-byte store when it fits in 8); returns its length.</summary>
@@ -906,7 +1027,7 @@ public static class Splitter
         /// Takes the block just written after the chunk's content (<paramref name="bytes"/> long), starting a new
         /// chunk first when it would break a limit.
         /// </summary>
-        private void Add(int bytes, int sourceLine, bool motion, bool endsProgram, int words)
+        private void Add(int bytes, int sourceLine, int motions, bool endsProgram, int words)
         {
             var reserve = _limitReserve;
             if (_chunkBlocks > 0 &&
@@ -945,11 +1066,8 @@ public static class Splitter
             _chunkWords += words;
             _chunkLast = sourceLine;
             _totalBlocks++;
-            if (motion)
-            {
-                _chunkMotion++;
-                _totalMotion++;
-            }
+            _chunkMotion += motions;
+            _totalMotion += motions;
         }
 
         private void Flush(bool last)

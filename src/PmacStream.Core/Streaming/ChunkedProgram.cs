@@ -315,12 +315,16 @@ public sealed class ChunkedProgram
     /// <summary>The tracked source lines of the whole program in order (reads every chunk once; for checks).</summary>
     public IEnumerable<int> TrackedLines()
     {
+        var last = 0;
         for (var c = 1; c <= TotalChunks; c++)
         {
             foreach (var l in Body(c))
             {
-                if (l.TrackedLine > 0)
+                // A block the host expands (a canned cycle, a reference return) is several controller lines that all
+                // carry its line: one block.
+                if (l.TrackedLine > 0 && l.TrackedLine != last)
                 {
+                    last = l.TrackedLine;
                     yield return l.TrackedLine;
                 }
             }
@@ -469,10 +473,13 @@ public sealed class ChunkedProgram
             n += Chunk(i).MotionBlockCount;
         }
 
+        var last = 0;
         foreach (var l in Body(c))
         {
-            if (l.TrackedLine > 0 && l.TrackedLine <= trackedLine)
+            // The lines of a block the host expanded carry one line: one block.
+            if (l.TrackedLine > 0 && l.TrackedLine <= trackedLine && l.TrackedLine != last)
             {
+                last = l.TrackedLine;
                 n++;
             }
         }

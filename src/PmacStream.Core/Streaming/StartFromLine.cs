@@ -106,12 +106,14 @@ public static class StartFromLine
             var block = reader.Current;
             var before = interp.State;
             var start = interp.Position;
+            var activeOffset = interp.ActiveOffset;
             var decoded = interp.Step(block);
             var moved = decoded is not null && decoded.Motion != MotionKind.None;
             if (block.LineNumber >= line && moved)
             {
-                // Work coordinates of the offset in force: the preamble's G90 moves run under that offset.
-                var offset = profile.WorkOffset(before.WorkOffset);
+                // Work coordinates of the offset in force (work offset, shifts, tool length: what the controller's
+                // displacement holds): the preamble's G90 moves run under it. Millimetres, as positions are.
+                var offset = activeOffset;
                 var startWork = start - offset;
                 var safeZ = options.SafeZMode == SafeZMode.HighestSoFar && double.IsFinite(highest)
                     ? highest - offset.Z + options.Clearance
@@ -144,10 +146,11 @@ public static class StartFromLine
 
     private static StartPlan BuildCore(int line, ModalState state, ModalState preambleState, Point3 start, double safeZ, FeedMode feedMode, string feedVariable)
     {
-        var modal = preambleState.ToPreamble().ToList();
+        var modal = preambleState.ToPreamble(null, forController: true).ToList();
         var last = modal[^1];
         modal.RemoveAt(modal.Count - 1);
-        var approachFeed = preambleState.Feed is > 0 ? Math.Min(preambleState.Feed.Value, 500) : 300;
+        var unit = preambleState.Units == LengthUnits.Inches ? 25.4 : 1.0;
+        var approachFeed = preambleState.Feed is > 0 ? Math.Min(preambleState.Feed.Value * unit, 500) : 300;
         var z = Math.Max(safeZ, start.Z);
         var gcode = new List<string>(modal)
         {

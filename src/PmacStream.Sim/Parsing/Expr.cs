@@ -33,6 +33,23 @@ internal sealed class VarExpr(char kind, int index) : Expr
     public override double Eval(IVariableAccess v) => v.Get(Kind, Index);
 }
 
+/// <summary><c>P(expression)</c>, <c>Q(...)</c>, <c>M(...)</c>, <c>I(...)</c>: the variable the expression's value numbers (tables indexed from a program).</summary>
+internal sealed class IndirectVarExpr(char kind, Expr index) : Expr
+{
+    public char Kind { get; } = kind;
+
+    public override int Words => 1 + index.Words;
+
+    public override double Eval(IVariableAccess v) => v.Get(Kind, Number(index.Eval(v)));
+
+    /// <summary>The variable number an index expression gives: rounded, 0-8191, else a run-time error.</summary>
+    public static int Number(double value)
+    {
+        var n = Math.Round(value);
+        return n is >= 0 and <= 8191 ? (int)n : throw new SimRuntimeException(3);
+    }
+}
+
 internal sealed class UnaryExpr(char op, Expr operand) : Expr
 {
     public override double Eval(IVariableAccess v) => op == '-' ? -operand.Eval(v) : operand.Eval(v);
@@ -335,6 +352,14 @@ internal sealed class ExprParser(List<Token> tokens)
         {
             Pos += 2;
             return new VarExpr(t.Text[0], VariableIndex(PeekAt(-1)));
+        }
+
+        if (t.Kind == TokenKind.Word && t.Text is "I" or "P" or "Q" or "M" && PeekAt(1).Is("("))
+        {
+            Pos += 2;
+            var index = ParseAdditive(false);
+            Expect(")");
+            return new IndirectVarExpr(t.Text[0], index);
         }
 
         throw new SimSyntaxException(3);

@@ -25,12 +25,15 @@ internal sealed class CodeCallStmt(char letter, Expr code) : Stmt
     public Expr Code { get; } = code;
 }
 
-/// <summary><c>P1=expr</c>, <c>M0==expr</c> (synchronous: written at the start of the next move).</summary>
-internal sealed class AssignStmt(char kind, int index, Expr value, bool synchronous) : Stmt
+/// <summary><c>P1=expr</c>, <c>M0==expr</c> (synchronous: written at the start of the next move), <c>P(expr)=expr</c>.</summary>
+internal sealed class AssignStmt(char kind, int index, Expr value, bool synchronous, Expr? indexExpression = null) : Stmt
 {
     public char Kind { get; } = kind;
 
     public int Index { get; } = index;
+
+    /// <summary>The variable this assignment writes now: its number, or the value of its index expression.</summary>
+    public int IndexOf(IVariableAccess variables) => indexExpression is null ? Index : IndirectVarExpr.Number(indexExpression.Eval(variables));
 
     public Expr Value { get; } = value;
 
@@ -78,6 +81,25 @@ internal sealed class ParamStmt(ParamKind kind, Expr value) : Stmt
     public Expr Value { get; } = value;
 
     public override int Words => 1 + Value.Words;
+}
+
+/// <summary>The axis transformation matrix statements (<c>TSEL</c>, <c>TINIT</c>, <c>ADIS</c>, <c>IDIS</c>, <c>AROT</c>, <c>IROT</c>).</summary>
+internal enum MatrixOp
+{
+    Select,
+    Init,
+    AbsoluteDisplacement,
+    IncrementalDisplacement,
+    AbsoluteRotation,
+    IncrementalRotation,
+}
+
+/// <summary>A matrix statement and its constant: the matrix number (TSEL) or the first Q-variable (ADIS ...).</summary>
+internal sealed class MatrixStmt(MatrixOp op, int argument) : Stmt
+{
+    public MatrixOp Op { get; } = op;
+
+    public int Argument { get; } = argument;
 }
 
 /// <summary><c>NORMAL K-1</c>: the arc plane is perpendicular to the vector.</summary>
@@ -176,6 +198,20 @@ internal static class ProgramParser
         {
             var letter = t.Text[0];
             var next = p.PeekAt(1);
+            if (letter is 'I' or 'P' or 'Q' or 'M' && next.Is("("))
+            {
+                // P(expression)=value: the variable an expression numbers.
+                p.Pos++;
+                var index = p.ParseValue();
+                if (p.Peek.Is("="))
+                {
+                    p.Pos++;
+                    return new AssignStmt(letter, -1, p.ParseExpression(), false, index);
+                }
+
+                p.Pos = save;
+            }
+
             if (letter is 'I' or 'P' or 'Q' or 'M' && next.Kind == TokenKind.Number)
             {
                 var after = p.PeekAt(2);
@@ -276,6 +312,18 @@ internal static class ProgramParser
                 return new ReturnStmt();
             case "STOP":
                 return new StopStmt();
+            case "TSEL" or "TSELECT":
+                return new MatrixStmt(MatrixOp.Select, p.IntArgument(0, 8191));
+            case "TINIT":
+                return new MatrixStmt(MatrixOp.Init, 0);
+            case "ADIS":
+                return new MatrixStmt(MatrixOp.AbsoluteDisplacement, p.IntArgument(0, 8189));
+            case "IDIS":
+                return new MatrixStmt(MatrixOp.IncrementalDisplacement, p.IntArgument(0, 8189));
+            case "AROT":
+                return new MatrixStmt(MatrixOp.AbsoluteRotation, p.IntArgument(0, 8183));
+            case "IROT":
+                return new MatrixStmt(MatrixOp.IncrementalRotation, p.IntArgument(0, 8183));
             case "READ":
                 {
                     var list = AxisList(p);

@@ -168,6 +168,8 @@ public class InterpreterTests
         var fresh = Run(string.Join('\n', program));
         var s = fresh[^1].Modal;
         s.Should().Be(target);
-        fresh.Single(x => x.Motion == MotionKind.Rapid && x.Z.HasValue).End.Should().Be(new Point3(1, 2, 3));
+        // Positions are millimetres: the preamble's X1 Y2 Z3 are inches (G20 is restored first).
+        var end = fresh.Single(x => x.Motion == MotionKind.Rapid && x.Z.HasValue).End;
+        (end.X, end.Y, end.Z).Should().Be((25.4, 50.8, 3 * 25.4));
     }
 }

@@ -151,15 +151,15 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     public async Task Split_refuses_codes_the_controller_cannot_run_yet_listing_each()
     {
         var toolChange = Path.Combine(_dir, "tc.nc");
-        File.WriteAllText(toolChange, "G21 G90\nT2 M06\nG00 X0 Y0\nG01 X10 F500\nG28 X0 Y0\nM30\n");
+        File.WriteAllText(toolChange, "G21 G90\nG61\nG00 X0 Y0\nG01 X10 F500\nG63\nM30\n");
         var (p, v) = NewHmi();
         await Do(p, () => v.ChooseFile(toolChange));
         await Do(p, v.ClickSplit);
 
         v.Errors.Should().ContainSingle().Which.Should().Be(
-            "The controller cannot run M06 (line 2), G28 (line 5) yet under profile fanuc-mill: the PMAC would skip each code and run the rest of its block");
+            "The controller cannot run G61 (line 2), G63 (line 5) yet under profile fanuc-mill: the PMAC would skip each code and run the rest of its block");
         v.Diagnostics.Should().HaveCount(2).And.OnlyContain(d => d.Contains("  E  E127  "));
-        v.Diagnostics[0].Should().StartWith("2:4  E  E127  M06 (tool change) cannot run on the controller yet");
+        v.Diagnostics[0].Should().StartWith("2:1  E  E127  G61 (exact stop mode) cannot run on the controller yet");
         v.Commands.Execute.Should().BeFalse("nothing to run");
     }
 
@@ -303,7 +303,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         await Do(p, v.ClickStartFromLine);
         v.Confirmations.Should().ContainSingle();
         var text = v.Confirmations[0].Text;
-        text.Should().Contain($"line {from}").And.Contain("G21 G17 G54").And.Contain("G90 G00 Z10").And.Contain("M03");
+        text.Should().Contain($"line {from}").And.Contain("G17 G54").And.Contain("G90 G00 Z10").And.Contain("M03");
 
         // The unified preamble: exactly what the CLI's planner gives for this line (modal state, retract to the safe
         // Z, rapid in XY, feed down, then distance mode, motion mode and feed), in work coordinates.
@@ -314,7 +314,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         var retract = g.FindIndex(l => l.StartsWith("G90 G00 Z", StringComparison.Ordinal));
         g[retract + 1].Should().StartWith("G00 X", "rapid in XY after the retract");
         g[retract + 2].Should().StartWith("G01 Z", "then feed down to the block's start");
-        g.Take(retract).Should().Contain(l => l.Contains("M03", StringComparison.Ordinal)).And.Contain("M08").And.Contain("T1");
+        g.Take(retract).Should().Contain(l => l.Contains("M03", StringComparison.Ordinal)).And.Contain("M08").And.NotContain("T1");
         p.JobActive.Should().BeFalse();
         _sim.Counters.LinesReceived.Should().Be(received, "a declined start sends nothing");
 

@@ -17,7 +17,7 @@ public class ExecutedOverlayTests
         var seq = 0;
         foreach (var (line, x, y) in rows)
         {
-            lines.Add(string.Create(CultureInfo.InvariantCulture, $"{++seq},{line},{seq * 0.5},{(seq + 1) * 0.5},{x},{y},0,linear"));
+            lines.Add(string.Create(CultureInfo.InvariantCulture, $"{++seq},{line},{seq * 0.5},{(seq + 1) * 0.5},{x},{y},0,0,0,0,linear"));
         }
 
         File.WriteAllLines(path, lines);
@@ -159,6 +159,8 @@ public class ExecutedOverlayTests
     [InlineData("seq,line,x\n1,2,3\n", "1:1", "expected the header")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,2,0,1,abc,0,0,linear\n", "2:", "column 'x' expects a number, found 'abc'")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,2,0,1,0,0\n", "2:1", "expected 8 comma-separated fields")]
+    [InlineData("sequence,line,start_s,end_s,x,y,z,a,b,c,kind\n1,2,0,1,0,0,0,linear\n", "2:1", "expected 11 comma-separated fields")]
+    [InlineData("sequence,line,start_s,end_s,x,y,z,a,b,c,kind\n1,2,0,1,0,0,0,0,x,0,linear\n", "2:", "column 'b' expects a number, found 'x'")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n-1,2,0,1,0,0,0,linear\n", "2:1", "column 'sequence' expects a whole number >= 0")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,2.5,0,1,0,0,0,linear\n", "2:3", "column 'line' expects a whole number")]
     public void Malformed_log_names_file_line_and_column(string content, string where, string what)
@@ -180,8 +182,10 @@ public class ExecutedOverlayTests
     [Fact]
     public void Log_rows_parse_with_invariant_numbers()
     {
-        var row = ExecutedLogReader.ParseRow("12,345,1.5,2.25,-1.5e1,2,3.125,circle", "log", 2);
+        var row = ExecutedLogReader.ParseRow("12,345,1.5,2.25,-1.5e1,2,3.125,circle", "log", 2, rotary: false);
         row.Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle"));
+        ExecutedLogReader.ParseRow("12,345,1.5,2.25,-1.5e1,2,3.125,90,-45.5,0.25,circle", "log", 2)
+            .Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle") { Rotary = (90, -45.5, 0.25) });
     }
 
     [Fact]

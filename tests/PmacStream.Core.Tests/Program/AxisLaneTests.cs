@@ -232,7 +232,8 @@ public class AxisLaneTests
             taken += CheckSameThroughTheLane(text, round % 2 == 0 ? MachineProfile.Default : OffsetProfile, $"seed {seed} round {round}");
         }
 
-        taken.Should().BeGreaterThan(300, "both paths are exercised: the lane for hundreds of lines, between mode changes that close it");
+        // Inch mode closes the lane too (its values are converted to millimetres on the full path).
+        taken.Should().BeGreaterThan(250, "both paths are exercised: the lane for hundreds of lines, between mode changes that close it");
     }
 
     // ---- the splitter ----

@@ -13,16 +13,19 @@ public class Prog1000LibraryTests
         var text = Prog1000Library.Generate(MachineProfile.Default, new Prog1000Options { Comments = false });
         var lines = Lines(text);
         lines[0].Should().Be("CLOSE");
-        lines[1].Should().Be("OPEN PROG 1000 CLEAR");
+        lines[1].Should().Be("DEFINE TBUF 1");
+        lines[2].Should().Be("OPEN PROG 1000 CLEAR");
+        // The motion and distance modes are also kept in the library's state (Q31, Q30) for G53 and M06 to restore.
         lines.Should().Contain([
-            "N0 RAPID RET", "N1000 LINEAR RET", "N2000 CIRCLE1 RET", "N3000 CIRCLE2 RET", "N4000 READ(P) DWELL(Q116) RET",
+            "N0 RAPID Q31=0 RET", "N1000 LINEAR Q31=1 RET", "N2000 CIRCLE1 Q31=2 RET", "N3000 CIRCLE2 Q31=3 RET", "N4000 READ(P) DWELL(Q116) RET",
             "N9000 DWELL0 RET", "N17000 NORMAL K-1 RET", "N18000 NORMAL J-1 RET", "N19000 NORMAL I-1 RET",
-            "N90000 ABS RET", "N91000 INC RET",
+            "N90000 ABS Q30=90 RET", "N91000 INC Q30=91 RET",
         ]);
         var m = lines.IndexOf("OPEN PROG 1001 CLEAR");
         m.Should().BeGreaterThan(1);
         lines[m - 1].Should().Be("CLOSE");
-        lines[^1].Should().Be("CLOSE");
+        lines[^2].Should().Be("CLOSE");
+        lines[^1].Should().MatchRegex(@"^P7000=1 P7001=\d+$", "the library ends by recording which it is");
         lines.Should().OnlyContain(l => l.All(c => c < 128));
     }
 
@@ -42,8 +45,10 @@ public class Prog1000LibraryTests
                 r.Converted.Should().Be(r.Controller == ControllerSupport.Library, $"{name} {r.Code}");
             }
 
+            // Every converted code, and the library's five own routines, have one label; each routine ends in RET
+            // (on its own line after a multi-line body, whose last line may be a one-line IF).
             var labelLines = Lines(text).Where(l => l.StartsWith('N')).ToList();
-            labelLines.Should().HaveCount(routines.Count(r => r.Converted));
+            labelLines.Should().HaveCount(routines.Count(r => r.Converted) + 5);
 
             // Each routine ends in RET: on its label's line, or on a line of its own after a one-line IF.
             var lines = Lines(text).ToList();
@@ -107,7 +112,7 @@ public class Prog1000LibraryTests
         routines.Single(r => r.Code == "G112").Should().Match<Prog1000Routine>(r => r.Program == 1010 && r.Label == 12000 && r.Converted);
         routines.Single(r => r.Code == "G64.1").Should().Match<Prog1000Routine>(r => r.Label == 64100 && !r.Converted);
         var lines = Lines(Prog1000Library.Generate(profile, new Prog1000Options { Comments = false }));
-        lines.Should().ContainInOrder("OPEN PROG 1000 CLEAR", "N1000 LINEAR RET", "CLOSE", "OPEN PROG 1001 CLEAR", "CLOSE", "OPEN PROG 1010 CLEAR", "N12000 NORMAL K-1 RET", "CLOSE");
+        lines.Should().ContainInOrder("OPEN PROG 1000 CLEAR", "N1000 LINEAR Q31=1 RET", "CLOSE", "OPEN PROG 1001 CLEAR", "CLOSE", "OPEN PROG 1010 CLEAR", "N12000 NORMAL K-1 RET", "CLOSE");
         lines.Should().NotContain(l => l.StartsWith("N64100", StringComparison.Ordinal), "a code without a routine gets no empty label that looks as if it ran");
     }
 

@@ -44,9 +44,10 @@ public class SplitterTests
     public void A_word_the_check_reports_unused_is_not_written_forced_or_not()
     {
         // A PMAC does not ignore a stray Q on a motion line (W003 says the block does not use it): it is left out.
+        // (G99.9: the library's power-on state, sent before the first block when a profile's conversions run.)
         const string src = "O1\nG01 X2 Q7 F100\nG04 P200 Y3\nM05 P2\nG00 X1 R5\n";
         var checkedSplit = new SplitOptions { ProgramTail = "", CheckProfile = MachineProfile.Default };
-        string[] expected = ["P500=100", "M0==2 G01 X2 F(P500)", "M0==3 G04 P200", "M05", "M0==5 G00 X1 F(P500)"];
+        string[] expected = ["G99.9", "P500=100", "M0==2 G01 X2 F(P500)", "M0==3 G04 P200", "M05", "M0==5 G00 X1 F(P500)"];
         BodyOf(src, checkedSplit).Should().Equal(expected);
         BodyOf(src, checkedSplit with { AllowErrors = true }).Should().Equal(expected);
 

@@ -79,7 +79,7 @@ public class StartFromLineTests
         plan.Line.Should().BeGreaterThanOrEqualTo(500);
         plan.Start.Should().Be(interp.Position);
         plan.State.Should().Be(interp.State);
-        plan.GCode.Should().Contain(l => l.StartsWith("G21 G17 G54", StringComparison.Ordinal));
+        plan.GCode.Should().Contain(l => l.StartsWith("G17 G54", StringComparison.Ordinal), "the controller preamble is in millimetres: no units code");
         plan.GCode.Should().Contain("M08").And.Contain(l => l.Contains("M03", StringComparison.Ordinal));
         var z = plan.GCode.ToList().FindIndex(l => l.StartsWith("G90 G00 Z10", StringComparison.Ordinal));
         var xy = plan.GCode.ToList().FindIndex(l => l.StartsWith("G00 X", StringComparison.Ordinal));

@@ -43,8 +43,8 @@ public sealed class ProfilesCommandTests
         var (code, output) = Run("grbl");
         code.Should().Be(0);
         var rows = output.Split('\n').Select(l => l.TrimEnd()).ToList();
-        rows.Should().Contain(l => l.StartsWith("G0 ", StringComparison.Ordinal) && l.EndsWith("PROG 1000 N0: RAPID", StringComparison.Ordinal));
-        rows.Should().Contain(l => l.StartsWith("G10 ", StringComparison.Ordinal) && l.Contains("not yet:") && l.Contains("needs L P"));
+        rows.Should().Contain(l => l.StartsWith("G0 ", StringComparison.Ordinal) && l.EndsWith("PROG 1000 N0: RAPID Q31=0", StringComparison.Ordinal));
+        rows.Should().Contain(l => l.StartsWith("G10 ", StringComparison.Ordinal) && l.Contains("PROG 1000 N10000:") && l.Contains("needs L P"));
         rows.Should().Contain(l => l.StartsWith("M5 ", StringComparison.Ordinal) && l.Contains("PROG 1001 N5000: DWELL0 M902=0"));
         rows.Should().NotContain(l => l.StartsWith("M6 ", StringComparison.Ordinal), "grbl has no tool changer");
         Run("no-such-profile").Code.Should().Be(2);

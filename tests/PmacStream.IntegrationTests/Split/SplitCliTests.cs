@@ -70,15 +70,15 @@ public sealed class SplitCliTests : IDisposable
     [Fact]
     public void Split_names_the_codes_the_controller_cannot_run_yet_and_sets_the_feed_only_where_it_changes()
     {
-        var src = Write("real.nc", "%\nO1\nN10 (FACE1)\nG90 G94 G17 G49 G40 G80\nT1 M06\nS5000 M03\nG43 H1 Z15.\n" +
+        var src = Write("real.nc", "%\nO1\nN10 (FACE1)\nG90 G94 G17 G49 G40 G80\nT1 M31\nS5000 M03\nG43 H1 Z15.\n" +
             string.Concat(Enumerable.Range(1, 6).Select(i => $"G01 X{i}. F{(i < 4 ? 800 : 400)}.\n")) + "G28 G91 Z0.\nM30\n%\n");
         var outDir = Path.Combine(_folder, "real_chunks");
         var (code, stdout, stderr) = Run("split", src, "--out", outDir);
         code.Should().Be(0, stderr);
-        stdout.Should().Contain("not runnable on the controller yet under profile 'fanuc-mill'").And.Contain("M06 (line 5), G43 (line 7), G28 (line 14)");
+        stdout.Should().Contain("not runnable on the controller yet under profile 'fanuc-mill'").And.Contain("M31 (line 5)");
         var manifest = ChunkManifest.Load(Path.Combine(outDir, "manifest.json"));
         manifest.CheckedProfile.Should().StartWith("fanuc-mill@");
-        manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M06"] = 5, ["G43"] = 7, ["G28"] = 14 });
+        manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M31"] = 5 }, "G43 runs in the library and G28 is expanded by the host");
         var chunk = File.ReadAllText(Path.Combine(outDir, "real_0001.pmc"));
         chunk.Split("\r\n").Where(l => l.StartsWith("P500=", StringComparison.Ordinal)).Should().Equal("P500=800.", "P500=400.");
     }
@@ -145,7 +145,27 @@ public sealed class SplitCliTests : IDisposable
         code.Should().Be(0, stderr);
         stdout.Should().Contain("routines");
         var text = File.ReadAllText(target);
-        text.Should().Contain("OPEN PROG 1000 CLEAR\r\n").And.Contain("OPEN PROG 1001 CLEAR\r\n").And.Contain("N1000 LINEAR RET\r\n");
+        text.Should().Contain("OPEN PROG 1000 CLEAR\r\n").And.Contain("OPEN PROG 1001 CLEAR\r\n").And.Contain("N1000 LINEAR Q31=1 RET\r\n").And.Contain("N54000 Q20=1 GOSUB99100 RET\r\n");
+        text.TrimEnd().Split("\r\n")[^1].Should().MatchRegex(@"^P7000=1 P7001=\d+$", "the library ends by recording which it is");
         Run("prog1000", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
+    }
+
+    [Fact]
+    public void Machine_shows_the_tables_with_their_variables_and_writes_the_lines_that_download_them()
+    {
+        var profile = Path.Combine(_folder, "machine.json");
+        File.WriteAllText(profile, Streaming.PositionProofTests.Machine().ToJson());
+        var (code, stdout, stderr) = Run("machine", "--profile", profile);
+        code.Should().Be(0, stderr);
+        stdout.Should().Contain("  G55  X100 Y50 Z-10  (P7106-P7108)\n").And.Contain("  H3  47.5  (P7303)\n")
+            .And.Contain("  G30  X-100 Y-50 Z-20\n").And.Contain("tool change position: X-150 Y-80 Z0  (P7010-P7012)\n");
+        Run("machine").Out.Should().Contain("tool lengths: none", "the built-in profile has no tool table");
+
+        var target = Path.Combine(_folder, "tables.pmc");
+        Run("machine", "--profile", profile, "--lines", "--out", target).Code.Should().Be(0);
+        var lines = File.ReadAllLines(target);
+        lines.Should().Contain("P7106=100 P7107=50 P7108=-10").And.Contain("P7303=47.5").And.Contain("P7010=-150 P7011=-80 P7012=0");
+        File.Exists(target + ".tmp").Should().BeFalse();
+        Run("machine", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
     }
 }

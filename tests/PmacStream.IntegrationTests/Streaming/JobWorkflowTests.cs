@@ -153,7 +153,7 @@ public sealed class JobWorkflowTests : IDisposable
         sim.StartClock();
         var spec = $"127.0.0.1:{server.Port}";
 
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--tcp", spec, "--feed-override", "70", "--job-db", Db);
+        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--tcp", spec, "--load-library", "--feed-override", "70", "--job-db", Db);
         code.Should().Be(0, stderr + stdout);
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(5));
@@ -167,7 +167,7 @@ public sealed class JobWorkflowTests : IDisposable
         await setup.GetResponseAsync("&1 A"); // the rotary program of the job above still waits for lines
         await setup.GetResponseAsync("&1 %30");
         sim.StartClock();
-        var again = CliProcess.Run("stream", src, "--tcp", spec, "--job-db", Db);
+        var again = CliProcess.Run("stream", src, "--tcp", spec, "--load-library", "--job-db", Db);
         again.Code.Should().Be(0, again.Err + again.Out);
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(5));

@@ -159,7 +159,7 @@ public sealed partial class SignalTests : IDisposable
         sim.StartClock();
         using var stopClock = new StopClockOnDispose(sim);
 
-        using (var p = Process.Start(CliProcess.Info("stream", src, "--tcp", $"127.0.0.1:{server.Port}", "--lines", "250", "--job-db", db))!)
+        using (var p = Process.Start(CliProcess.Info("stream", src, "--tcp", $"127.0.0.1:{server.Port}", "--load-library", "--lines", "250", "--job-db", db))!)
         {
             p.StandardInput.Close();
             var stderr = p.StandardError.ReadToEndAsync();

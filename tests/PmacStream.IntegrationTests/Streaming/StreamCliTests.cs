@@ -107,7 +107,7 @@ public sealed class StreamCliTests : IDisposable
         var spec = $"127.0.0.1:{server.Port}";
 
         // First host: killed once execution is well into the job (past the first chunk boundary).
-        using (var first = Process.Start(CliProcess.Info("stream", src, "--tcp", spec, "--lines", "250", "--job-db", db))!)
+        using (var first = Process.Start(CliProcess.Info("stream", src, "--tcp", spec, "--load-library", "--lines", "250", "--job-db", db))!)
         {
             var sw = Stopwatch.StartNew();
             while (sim.ReadVariable('M', 0) < 400 && sw.Elapsed < TimeSpan.FromSeconds(60))

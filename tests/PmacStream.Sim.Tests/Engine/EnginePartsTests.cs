@@ -92,7 +92,7 @@ public class EnginePartsTests
     [Fact]
     public void A_linear_move_takes_its_length_over_the_feed_and_moves_the_calculated_position()
     {
-        var calc = new MoveCalculator(new SimOptions { FeedTimeUnitMs = 60000 });
+        var calc = new MoveCalculator(new SimOptions { FeedTimeUnitMs = 60000 }, new AxisMatrices());
         calc.Reset();
         calc.Apply(new ParamStmt(ParamKind.Feed, new ConstExpr(600)), null!).Should().BeTrue();
         calc.ClearWords();
@@ -112,7 +112,7 @@ public class EnginePartsTests
     [Fact]
     public void A_quarter_circle_by_centre_or_by_radius_is_a_quarter_of_its_circumference()
     {
-        var calc = new MoveCalculator(new SimOptions());
+        var calc = new MoveCalculator(new SimOptions(), new AxisMatrices());
         calc.Reset();
         calc.ClearWords();
         calc.SetWord('X', 10);
@@ -137,7 +137,7 @@ public class EnginePartsTests
     [Fact]
     public void Words_that_move_nothing_give_no_segment_and_a_dwell_stands_still()
     {
-        var calc = new MoveCalculator(new SimOptions());
+        var calc = new MoveCalculator(new SimOptions(), new AxisMatrices());
         calc.Reset();
         calc.ClearWords();
         calc.SetWord('I', 5);

@@ -218,17 +218,20 @@ public class MotionTests
     public void Executed_log_csv_has_the_documented_header_and_rows()
     {
         using var h = WithLibrary();
-        h.Download("&1 B0", "OPEN ROT", "M0==7 F(P500) G01 X10", "M0==8 G04 P250", "CLOSE");
+        h.Download("&1 B0", "OPEN ROT", "M0==7 F(P500) G01 X10", "M0==8 G04 P250", "M0==9 G00 A90 B-45.5", "CLOSE");
         h.Ok("R");
         h.Sim.RunUntilIdle();
         var path = Path.Combine(Path.GetTempPath(), $"simlog-{Guid.NewGuid():N}.csv");
         try
         {
             h.Sim.WriteExecutedLog(path);
-            File.ReadAllLines(path).Should().Equal(
-                "sequence,line,start_s,end_s,x,y,z,kind",
-                "1,7,0,1,10,0,0,Linear",
-                "2,8,1,1.25,10,0,0,Dwell");
+            var rows = File.ReadAllLines(path);
+            rows.Take(3).Should().Equal(
+                "sequence,line,start_s,end_s,x,y,z,a,b,c,kind",
+                "1,7,0,1,10,0,0,0,0,0,Linear",
+                "2,8,1,1.25,10,0,0,0,0,0,Dwell");
+            var rotary = rows.Should().HaveCount(4).And.Subject.Last().Split(',');
+            string.Join(',', rotary[1], rotary[4], rotary[5], rotary[6], rotary[7], rotary[8], rotary[9], rotary[10]).Should().Be("9,10,0,0,90,-45.5,0,Rapid", "a, b, c are the rotary axes' ends");
         }
         finally
         {

@@ -1,0 +1,285 @@
+using System.Net;
+using System.Text.Json.Nodes;
+using PmacStream.GCode;
+using PmacStream.Jobs;
+using PmacStream.Pmac;
+using PmacStream.Program;
+using PmacStream.Sim;
+using PmacStream.Sim.Servers;
+using PmacStream.Streaming;
+using Xunit.Abstractions;
+
+namespace PmacStream.IntegrationTests.Streaming;
+
+/// <summary>
+/// Issue 17's proof: a program streamed with the chunk strategy over TCP into the simulator (running the generated
+/// library, with the machine's work offsets and tool table downloaded) ends every moving block where the interpreter
+/// says, in machine coordinates, within 0.001 mm, and every moving line executes once, in order (a canned cycle's or
+/// a reference return's moves all carry its line).
+/// </summary>
+public class PositionProofTests(ITestOutputHelper output)
+{
+    private const double Tolerance = 0.001;
+
+    /// <summary>fanuc-mill with a machine's tables: offsets that are not zero, tool lengths, reference positions.</summary>
+    public static MachineProfile Machine(string name = "fanuc-mill")
+    {
+        var json = JsonNode.Parse(MachineProfile.Named(name)!.ToJson())!.AsObject();
+        json["workOffsets"] = new JsonObject
+        {
+            ["G54"] = new JsonArray(10.5, 20.25, -30),
+            ["G55"] = new JsonArray(100, 50, -10),
+            ["G56"] = new JsonArray(-40, 12.5, -5),
+            ["G57"] = new JsonArray(1, 2, 3),
+            ["G58"] = new JsonArray(-1, -2, -3),
+            ["G59"] = new JsonArray(200, 0, -50),
+        };
+        json["referencePositions"] = new JsonObject { ["G28"] = new JsonArray(0, 0, 0), ["G30"] = new JsonArray(-100, -50, -20) };
+        var tools = new JsonObject();
+        for (var h = 1; h <= 20; h++)
+        {
+            tools[h.ToString(System.Globalization.CultureInfo.InvariantCulture)] = 40 + (h * 2.5);
+        }
+
+        json["toolLengths"] = tools;
+        json["toolChangePosition"] = new JsonArray(-150, -80, 0);
+        return MachineProfile.Parse(json.ToJsonString(), name + "+machine");
+    }
+
+    /// <summary>A program with every code of fanuc-mill the controller runs (library) or the host converts.</summary>
+    public const string EveryCode = """
+        %
+        O1000 (EVERY FANUC-MILL CODE THE CONTROLLER RUNS)
+        G90 G17 G21 G40 G49 G54 G64 G67 G69 G80 G94 G97 G98 G15 G50 G50.1 G23 G91.1
+        G05.1 Q1
+        G08 P1
+        G187 P2 E0.01
+        T1 M06
+        S2000 M03
+        M08
+        G00 X10. Y10.
+        G43 Z50. H1
+        G01 Z2. F500.
+        X20. Y15. F800.
+        G02 X30. Y25. I10. J0
+        G03 X20. Y35. R10.
+        G09 G01 X25.
+        G04 P250
+        G04 X0.5
+        G18 G02 X35. Z2. I5. K0
+        G19 G03 Y45. Z2. J5. K0
+        G17
+        G55 G00 X0 Y0
+        G56 X5. Y5.
+        G57 X6.
+        G58 X7.
+        G59 X8.
+        G54.1 P2 X9.
+        G154 P3 X10.
+        G10 L2 P1 X5. Y6. Z-20.
+        G54 X1. Y1.
+        G10 L20 P2 X11. Y12. Z-13.
+        G54.1 P2 X2.
+        G10 L10 P1 R55.
+        G10 L11 P1 R-0.25
+        G43 H1 Z40.
+        G44 H2 Z30.
+        G49 Z60.
+        G43 H3 Z50.
+        G52 X10. Y-5.
+        G00 X0 Y0
+        G52 X0 Y0
+        G92 X50. Y50.
+        G01 X60. Y55. F300.
+        G92.1
+        G00 X0 Y0
+        G53 G00 Z-5.
+        G53 X-20. Y-30.
+        G28 G91 Z0
+        G90 G28 X0 Y0
+        G30 Z10.
+        G00 X0 Y0 Z20.
+        G99 G81 X5. Y5. Z-3. R2. F200.
+        X10.
+        G98 G82 X15. Z-4. R2. P300
+        G73 X20. Z-6. R2. Q1.5
+        G83 X25. Z-7. R2. Q2.
+        G84 X30. Z-5. R2. P100
+        M04
+        G74 X35. Z-5. R2. P100
+        M03
+        G76 X40. Z-8. R2. Q0.5 P200
+        G85 X45. Z-5. R2.
+        G86 X50. Z-5. R2.
+        G87 X55. Z-5. R-10. Q0.5
+        G88 X60. Z-5. R2. P100
+        G89 X65. Z-5. R2. P100
+        G91 G81 X5. Z-5. R-18. K3
+        G90 G80
+        G95 G01 X70. Y0 F0.2
+        G94 G00 Z20.
+        G90.1 G02 X80. Y0 I75. J0 F400.
+        G91.1
+        G20
+        G01 X3.5 Y0.5 F20.
+        G02 X3.5 Y0.5 I0.5 J0
+        G91 G01 X0.1 Y-0.1
+        G90 G21
+        G00 Z30.
+        M19
+        M07
+        M09
+        M05
+        M01
+        M00
+        G91 G28 Z0
+        M30
+        %
+        """;
+
+    [Fact]
+    public async Task A_program_using_every_fanuc_mill_code_ends_each_block_where_the_interpreter_says()
+    {
+        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        try
+        {
+            var path = Path.Combine(dir, "every.nc");
+            await File.WriteAllTextAsync(path, EveryCode);
+            var profile = Machine();
+            var (lines, diags) = new Checker(profile).CheckText(EveryCode);
+            diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty("the program is valid fanuc-mill");
+            lines.NotYetCodes.Should().BeEmpty("every code it uses runs on the controller or on the host");
+            var report = await ProveAsync(path, profile, force: false);
+            output.WriteLine($"{report.Lines} moving lines, {report.Moves} moves, largest difference {report.Largest:0.######} mm");
+            report.Lines.Should().BeGreaterThan(50);
+            report.Moves.Should().BeGreaterThan(report.Lines + 50, "cycles and reference returns are several moves of one line");
+
+            // The proof can fail: a controller without the machine's tables ends elsewhere.
+            var without = () => ProveAsync(path, profile, force: false, tables: false);
+            (await without.Should().ThrowAsync<Exception>()).Which.Message.Should().Contain("the interpreter says");
+        }
+        finally
+        {
+            Directory.Delete(dir, recursive: true);
+        }
+    }
+
+    [SkippableFact]
+    public async Task Every_corpus_program_ends_each_block_where_the_interpreter_says()
+    {
+        var files = Requires.Corpus();
+        var profile = Machine();
+        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        try
+        {
+            // Two at a time: the machine has two cores, and each run is a TCP server and a session.
+            var runs = new List<Task<ProofReport>>();
+            foreach (var file in files)
+            {
+                var copy = Path.Combine(dir, Path.GetFileName(file));
+                File.Copy(file, copy);
+                var errors = new Checker(profile).CheckFile(copy, _ => { }).Errors;
+                runs.Add(ProveAsync(copy, profile, force: errors > 0));
+                if (runs.Count % 2 == 0)
+                {
+                    await Task.WhenAll(runs);
+                }
+            }
+
+            foreach (var r in await Task.WhenAll(runs))
+            {
+                output.WriteLine($"{r.Name}: {r.Lines} moving lines, {r.Moves} moves, largest difference {r.Largest:0.######} mm");
+            }
+        }
+        finally
+        {
+            Directory.Delete(dir, recursive: true);
+        }
+    }
+
+    /// <summary>The outcome of one program's proof.</summary>
+    public sealed record ProofReport(string Name, int Lines, int Moves, double Largest);
+
+    private static async Task<ProofReport> ProveAsync(string path, MachineProfile profile, bool force, bool tables = true)
+    {
+        var name = Path.GetFileName(path);
+        var split = Splitter.Split(path, new SplitOptions
+        {
+            CheckProfile = profile, AllowErrors = force, LinesPerChunk = 300, OutDir = path + (tables ? "_chunks" : "_chunks_bare"),
+        });
+        var program = ChunkedProgram.Open(split.ManifestPath);
+        await using var host = new SimHost(new SimHostOptions
+        {
+            Simulator = new SimOptions { Speed = SimSpeed.Instant },
+            TcpEndPoint = new IPEndPoint(IPAddress.Loopback, 0),
+        });
+        host.Start();
+        await using (var eth = new EthernetConnection(new EthernetOptions { Port = host.TcpEndPoint!.Port, Timeout = TimeSpan.FromSeconds(10) }))
+        {
+            // Program stops would wait for an operator: this run has none, so M00/M01/M06 only wait for the moves ahead.
+            await eth.DownloadAsync(ControllerLibrary.Lines(profile, new Prog1000Options { ProgramStops = false }));
+            if (tables)
+            {
+                await eth.DownloadAsync(ControllerLibrary.TableLines(profile));
+            }
+            var session = new StreamingSession(eth, program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 60_000 });
+            await session.StartAsync();
+            var deadline = DateTime.UtcNow + TimeSpan.FromMinutes(3);
+            while (session.State is not (SessionState.Completed or SessionState.Faulted or SessionState.Aborted) && DateTime.UtcNow < deadline)
+            {
+                await session.TickAsync();
+                await Task.Delay(5);
+            }
+
+            session.State.Should().Be(SessionState.Completed, $"{name} should run to its end");
+        }
+
+        await host.StopAsync();
+        var executed = host.Simulator.ExecutedMoves
+            .Where(m => !(m.Kind == MoveKind.Dwell && m.Duration == 0)) // DWELL0 of the library's routines: no block of the program
+            .ToList();
+        var expected = Expected(path, profile);
+        var groups = new List<(int Line, ExecutedMove Last)>();
+        foreach (var m in executed)
+        {
+            if (groups.Count > 0 && groups[^1].Line == m.SourceLine)
+            {
+                groups[^1] = (m.SourceLine, m);
+            }
+            else
+            {
+                groups.Add((m.SourceLine, m));
+            }
+        }
+
+        groups.Select(g => g.Line).Should().Equal(expected.Select(e => e.Line), $"{name}: every moving line once, in order");
+        var largest = 0.0;
+        for (var i = 0; i < expected.Count; i++)
+        {
+            var (line, end) = expected[i];
+            var got = groups[i].Last;
+            var d = Math.Max(Math.Abs(got.X - end.X), Math.Max(Math.Abs(got.Y - end.Y), Math.Abs(got.Z - end.Z)));
+            largest = Math.Max(largest, d);
+            d.Should().BeLessThan(Tolerance, $"{name}:{line}: the controller ended at ({got.X}, {got.Y}, {got.Z}), the interpreter says ({end.X}, {end.Y}, {end.Z})");
+        }
+
+        return new ProofReport(name, expected.Count, executed.Count, largest);
+    }
+
+    /// <summary>The interpreter's end of every moving block, machine coordinates in millimetres.</summary>
+    private static List<(int Line, Point3 End)> Expected(string path, MachineProfile profile)
+    {
+        var interp = new Interpreter(profile) { BlockDeleteEnabled = true };
+        var list = new List<(int, Point3)>();
+        using var reader = GCodeReader.Open(path);
+        while (reader.Read())
+        {
+            if (interp.Step(reader.Current) is { Motion: not MotionKind.None } d)
+            {
+                list.Add((d.Line, d.End));
+            }
+        }
+
+        return list;
+    }
+}

@@ -1,0 +1,262 @@
+using System.Diagnostics;
+using System.Globalization;
+using System.Text.RegularExpressions;
+using PmacStream.GCode;
+using Xunit.Abstractions;
+
+namespace PmacStream.IntegrationTests.Streaming;
+
+/// <summary>
+/// An independent check of what the interpreter says a program means (issue 17): LinuxCNC's stand-alone interpreter
+/// rs274 runs the program with the same tool table and offsets, and its canonical moves (program coordinates plus the
+/// work offset, G92 offset and tool length offset it reports, in the units it reports them) must pass through every
+/// block end the interpreter computes, in order, within 0.001 mm. Where rs274 refuses a program, that program is
+/// named and left out.
+/// </summary>
+public partial class Rs274ComparisonTests(ITestOutputHelper output)
+{
+    private const double Tolerance = 0.001;
+
+    // rs274 prints 4 decimals in the program's units: half of 0.0001 in is 0.00127 mm, for the position and again for
+    // the tool length offset it reports.
+    private const double InchTolerance = 0.0026;
+
+    /// <summary>RS274/NGC with the codes of the every-code program rs274 knows (G04 P in seconds, G10 L20 from the position).</summary>
+    private const string Program = """
+        G21 G90 G17 G94 G40 G49 G54
+        G10 L2 P2 X100 Y50 Z-10
+        G10 L2 P1 X10.5 Y20.25 Z-30
+        T1 M6
+        G43 H1
+        G0 X10 Y10 Z50
+        G1 Z2 F500
+        X20 Y15 F800
+        G2 X30 Y25 I10 J0
+        G3 X20 Y35 R10
+        G4 P0.25
+        G18 G2 X30 Z2 I5 K0
+        G19 G3 Y45 Z2 J5 K0
+        G17
+        G55 G0 X0 Y0
+        G10 L20 P1 X1 Y2 Z3
+        G54 X5 Y5
+        G43 H2 Z30
+        G49 Z60
+        G43 H3 Z50
+        G52 X10 Y-5
+        G0 X0 Y0
+        G52 X0 Y0
+        G92 X50 Y50
+        G1 X60 Y55 F300
+        G92.1
+        G0 X0 Y0
+        G53 G0 Z-5
+        G91 G28 Z0
+        G90 G0 X0 Y0 Z20
+        G99 G81 X5 Y5 Z-3 R2 F200
+        X10
+        G98 G82 X15 Z-4 R2 P0.3
+        G73 X20 Z-6 R2 Q1.5
+        G83 X25 Z-7 R2 Q2
+        G85 X45 Z-5 R2
+        G89 X65 Z-5 R2 P0.1
+        G91 G81 X5 Z-5 R-18 L3
+        G90 G80
+        G0 Z20
+        G20
+        G1 X3.5 Y0.5 F20
+        G2 X3.5 Y0.5 I0.5 J0
+        G91 G1 X0.1 Y-0.1
+        G90 G21
+        G0 Z30
+        M2
+        """;
+
+    /// <summary>linuxcnc-mill with tool lengths (and the zero G28/G30 positions rs274 has without a parameter file).</summary>
+    private static MachineProfile Machine() => MachineProfile.Parse(
+        MachineProfile.Named("linuxcnc-mill")!.ToJson().Replace("\"referencePositions\": {}",
+            "\"referencePositions\": {}, \"toolLengths\": { \"1\": 50, \"2\": 75.5, \"3\": 42.25 }"), "linuxcnc-mill+tools");
+
+    [SkippableFact]
+    public void Rs274_passes_through_every_block_end_of_an_rs274ngc_program_using_the_offsets_cycles_and_units()
+    {
+        var rs274 = Requires.Rs274();
+        var dir = Directory.CreateTempSubdirectory("pmacstream-rs274-").FullName;
+        try
+        {
+            var path = Path.Combine(dir, "every.ngc");
+            File.WriteAllText(path, Program + "\n");
+            var profile = Machine();
+            var (summary, diags) = new Checker(profile).CheckText(Program);
+            diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+            var (accepted, why) = Compare(rs274, path, profile, dir);
+            accepted.Should().BeTrue(why);
+            output.WriteLine(why);
+        }
+        finally
+        {
+            Directory.Delete(dir, recursive: true);
+        }
+    }
+
+    [SkippableFact]
+    public void Rs274_agrees_on_every_corpus_program_it_accepts()
+    {
+        var rs274 = Requires.Rs274();
+        var files = Requires.Corpus();
+        var profile = Machine();
+        var dir = Directory.CreateTempSubdirectory("pmacstream-rs274-").FullName;
+        try
+        {
+            var compared = 0;
+            foreach (var file in files)
+            {
+                if (new Checker(profile).CheckFile(file, _ => { }).Errors > 0)
+                {
+                    output.WriteLine($"{Path.GetFileName(file)}: not RS274/NGC for linuxcnc-mill (checker errors): left out");
+                    continue;
+                }
+
+                var (accepted, why) = Compare(rs274, file, profile, dir);
+                output.WriteLine($"{Path.GetFileName(file)}: {why}");
+                if (accepted)
+                {
+                    compared++;
+                }
+            }
+
+            compared.Should().BeGreaterThan(3, "rs274 takes most of the corpus");
+        }
+        finally
+        {
+            Directory.Delete(dir, recursive: true);
+        }
+    }
+
+    /// <summary>Runs rs274 and matches the interpreter's block ends against its moves; (false, why) when rs274 refuses the program.</summary>
+    private static (bool Accepted, string Why) Compare(string rs274, string path, MachineProfile profile, string dir)
+    {
+        // rs274 without LinuxCNC reads tool table lengths in inches (its stand-alone machine units): written so.
+        var tools = Path.Combine(dir, "tool.tbl");
+        // Tools 1-99 (a program may change to any of them); the profile's lengths where it has them, else 0.
+        File.WriteAllLines(tools, Enumerable.Range(1, 99).Select(t =>
+            $"T{t} P{t} Z{(profile.ToolLength(t) / 25.4).ToString("0.##########", CultureInfo.InvariantCulture)} D6"));
+        var psi = new ProcessStartInfo(rs274, ["-t", tools, "-g", path, "/dev/stdout"]) { RedirectStandardOutput = true, RedirectStandardError = true, RedirectStandardInput = true };
+        using var p = Process.Start(psi)!;
+        p.StandardInput.Close();
+        var stdout = p.StandardOutput.ReadToEndAsync();
+        var stderr = p.StandardError.ReadToEndAsync();
+        if (!p.WaitForExit(60_000))
+        {
+            p.Kill();
+            return (false, "rs274 did not finish in 60 s");
+        }
+
+        var canon = stdout.Result;
+        var err = stderr.Result;
+        // rs274 reports an interpreter error as a text line (and the block) among its canonical calls, exit code 0.
+        var complaint = (err + canon).Split('\n').Select(l => l.Trim()).FirstOrDefault(l => l.Length > 0 && l != "executing" && !CanonLine().IsMatch(l));
+        if (p.ExitCode != 0 || complaint is not null)
+        {
+            return (false, $"rs274 refused it (exit {p.ExitCode}): {complaint}");
+        }
+
+        var moves = Moves(canon, out var inch);
+        var tolerance = inch ? InchTolerance : Tolerance;
+        var interp = new Interpreter(profile);
+        var ends = new List<(int Line, Point3 End)>();
+        using (var reader = GCodeReader.Open(path))
+        {
+            while (reader.Read())
+            {
+                if (interp.Step(reader.Current) is { Motion: not MotionKind.None and not MotionKind.Dwell } d)
+                {
+                    ends.Add((d.Line, d.End));
+                }
+            }
+        }
+
+        var at = 0;
+        foreach (var (line, end) in ends)
+        {
+            while (at < moves.Count && Distance(moves[at], end) > tolerance)
+            {
+                at++;
+            }
+
+            at.Should().BeLessThan(moves.Count, $"{Path.GetFileName(path)}:{line}: rs274 never reaches ({end.X}, {end.Y}, {end.Z}) after the ends before it");
+            at++;
+        }
+
+        return (true, $"{ends.Count} block ends, all on rs274's {moves.Count} moves in order");
+    }
+
+    private static double Distance(Point3 a, Point3 b) => Math.Max(Math.Abs(a.X - b.X), Math.Max(Math.Abs(a.Y - b.Y), Math.Abs(a.Z - b.Z)));
+
+    /// <summary>rs274's move ends in machine millimetres: program coordinates + work offset + G92 offset + tool length, scaled from its units.</summary>
+    private static List<Point3> Moves(string canon, out bool inch)
+    {
+        inch = false;
+        var list = new List<Point3>();
+        var scale = 1.0;
+        var plane = "XY";
+        Point3 work = default, g92 = default, tool = default;
+        Point3 S(double x, double y, double z) => new(x * scale, y * scale, z * scale);
+        foreach (var raw in canon.Split('\n'))
+        {
+            var m = Call().Match(raw);
+            if (!m.Success)
+            {
+                continue;
+            }
+
+            var args = Numbers().Matches(m.Groups[2].Value).Select(x => double.Parse(x.Value, CultureInfo.InvariantCulture)).ToList();
+            switch (m.Groups[1].Value)
+            {
+                case "SELECT_PLANE":
+                    plane = raw.Contains("XZ", StringComparison.Ordinal) ? "XZ" : raw.Contains("YZ", StringComparison.Ordinal) ? "YZ" : "XY";
+                    break;
+                case "USE_LENGTH_UNITS":
+                    scale = raw.Contains("INCHES", StringComparison.Ordinal) ? 25.4 : 1.0;
+                    inch |= scale != 1.0;
+                    break;
+                case "SET_G5X_OFFSET":
+                    work = S(args[1], args[2], args[3]);
+                    break;
+                case "SET_G92_OFFSET":
+                    g92 = S(args[0], args[1], args[2]);
+                    break;
+                case "USE_TOOL_LENGTH_OFFSET":
+                    tool = S(args[0], args[1], args[2]);
+                    break;
+                case "STRAIGHT_TRAVERSE" or "STRAIGHT_FEED" or "STRAIGHT_PROBE":
+                    list.Add(S(args[0], args[1], args[2]) + work + g92 + tool);
+                    break;
+                case "ARC_FEED":
+                    // ARC_FEED(first_end, second_end, first_axis, second_axis, rotation, axis_end_point, a, b, c, ...)
+                    // in the plane's own order; the plane is the one SELECT_PLANE chose.
+                    var e = ArcEnd(args, plane);
+                    list.Add(S(e.X, e.Y, e.Z) + work + g92 + tool);
+                    break;
+            }
+        }
+
+        return list;
+    }
+
+    private static Point3 ArcEnd(List<double> a, string plane) => plane switch
+    {
+        "XZ" => new Point3(a[1], a[5], a[0]),
+        "YZ" => new Point3(a[5], a[0], a[1]),
+        _ => new Point3(a[0], a[1], a[5]),
+    };
+
+    [GeneratedRegex(@"^\d+ N[\d.]*\s+[A-Z_0-9]+\(")]
+    private static partial Regex CanonLine();
+
+    [GeneratedRegex(@"N[\d.]*\s+([A-Z_0-9]+)\((.*)\)")]
+    private static partial Regex Call();
+
+    [GeneratedRegex(@"-?\d+(\.\d+)?(e[-+]?\d+)?")]
+    private static partial Regex Numbers();
+}
