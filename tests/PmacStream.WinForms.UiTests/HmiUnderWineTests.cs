@@ -231,7 +231,8 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         screen.WaitFor("line 2000 selected and in view", v => v.SelectedLine == 2000 && v.TopLine <= 2000 && 2000 <= v.TopLine + v.VisibleLines);
         screen.Click(HmiLayout.StartFromLineButton);
         s = screen.WaitFor("the confirmation", v => v.DialogTitle == En[TextId.ConfirmStartTitle]);
-        s.DialogText.Should().Contain("2000").And.Contain("G21").And.Contain("S6000 M03", "the preamble restores units, spindle and the approach");
+        // Lengths go to the controller in millimetres (the host converts inch programs), so the preamble names no units code.
+        s.DialogText.Should().Contain("2000").And.Contain("G17 G54").And.Contain("S6000 M03", "the preamble restores plane, work offset, spindle and the approach");
         screen.Screenshot("11-start-from-line-confirmation");
         Confirm(screen, En[TextId.ConfirmStartTitle]);
         s = screen.WaitFor("running from line 2000, the next file downloaded", v => v.DialogTitle is null && v.Status[StateRow] == En[TextId.StateRunning] && v.ExecutingLine >= 2000
@@ -247,7 +248,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         Step("resume after interruption: the checkpoint's preamble shown and confirmed");
         screen.Click(HmiLayout.ResumeInterruptedButton);
         s = screen.WaitFor("the resume confirmation", v => v.DialogTitle == En[TextId.ConfirmResumeTitle]);
-        s.DialogText.Should().Contain("G21");
+        s.DialogText.Should().Contain("G17 G54").And.Contain("M03");
         var resumeAt = int.Parse(System.Text.RegularExpressions.Regex.Match(s.DialogText!, @"line (\d+)").Groups[1].Value, System.Globalization.CultureInfo.InvariantCulture);
         resumeAt.Should().BeInRange(2000, interrupted, "the checkpoint resumes where the interrupted job was, never past it");
         screen.Screenshot("13-resume-confirmation");

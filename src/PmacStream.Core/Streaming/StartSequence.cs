@@ -21,6 +21,7 @@ namespace PmacStream.Streaming;
 internal sealed class StartSequence(ChunkedProgram program, StreamingOptions options, CoordinateSystemCommands cs, ControllerChannel channel,
     ControllerQueries queries, ProgramSender sender, RotaryBufferModel buffer, Action checkpoint, Func<CancellationToken, Task> downloadFirstChunk)
 {
+    private static readonly ILogger Logger = Log.ForContext<StartSequence>();
     private StreamPosition _startAt = new(1, 0);
     private List<ProgramLine>? _preamble;
 
@@ -59,7 +60,7 @@ internal sealed class StartSequence(ChunkedProgram program, StreamingOptions opt
             return false;
         }
 
-        Log.Information("{Cs}: the previous job's rotary program waits for lines after its last line {Line}, with nothing ahead and no move: ended ({Abort})",
+        Logger.Information("{Cs}: the previous job's rotary program waits for lines after its last line {Line}, with nothing ahead and no move: ended ({Abort})",
             cs.Prefix, line, cs.Abort);
         await channel.OnlineAsync(cs.Abort, cancellationToken).ConfigureAwait(false);
         return await queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) != true;
