@@ -21,22 +21,14 @@ namespace PmacStream.IntegrationTests.Streaming;
 [Collection("stream-cli")]
 public sealed class JobWorkflowTests : IDisposable
 {
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-jobs-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("jobs");
+    private readonly string _folder;
 
-    public JobWorkflowTests() => Directory.CreateDirectory(_folder);
+    public JobWorkflowTests() => _folder = _temp.Path;
 
     private string Db => Path.Combine(_folder, "jobs.db");
 
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     private string Program(int blocks, string? insert = null)
     {

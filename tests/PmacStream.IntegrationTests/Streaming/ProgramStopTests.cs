@@ -136,15 +136,7 @@ public sealed class ProgramStopTests : IDisposable
         (await RunUntilStoppedAsync(rig)).Should().BeTrue();
 
         // The host is gone; a new one takes the record: the controller still waits at the stop, the job is not lost.
-        rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, time: rig.Time);
-        await rig.Session.ResumeAsync(rig.Sink.Record());
-        (await RunUntilStoppedAsync(rig)).Should().BeTrue();
-        rig.Session.Status.Stop.Should().Be(new ProgramStop(64, "M00"));
-        await rig.Session.ResumeMotionAsync();
-        (await RunUntilStoppedAsync(rig)).Should().BeTrue("M01 stops next");
-        await rig.Session.ResumeMotionAsync();
-        (await rig.RunAsync(0.5)).Should().BeTrue(rig.Session.Status.Message);
-        rig.ExecutedLines().Should().Equal(rig.Program.TrackedLines());
+        await ResumeAtTheM00AndRunToTheEndAsync(rig);
     }
 
     [Fact]
@@ -164,6 +156,12 @@ public sealed class ProgramStopTests : IDisposable
         // record says running at an earlier line, the controller is not running: a stop block, not a lost job.
         rig.Sim.Advance(TimeSpan.FromSeconds(60));
         rig.Sim.IsRunning().Should().BeFalse();
+        await ResumeAtTheM00AndRunToTheEndAsync(rig);
+    }
+
+    /// <summary>A new host resumes the job from its record: it stands at the M00 of line 64; then M01, then the end, every block once.</summary>
+    private static async Task ResumeAtTheM00AndRunToTheEndAsync(SimRig rig)
+    {
         rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, time: rig.Time);
         await rig.Session.ResumeAsync(rig.Sink.Record());
         (await RunUntilStoppedAsync(rig)).Should().BeTrue(rig.Session.Status.Message);

@@ -17,22 +17,14 @@ namespace PmacStream.IntegrationTests.Streaming;
 [Collection("stream-cli")]
 public sealed class ResumeCliTests : IDisposable
 {
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-resumecli-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("resumecli");
+    private readonly string _folder;
 
-    public ResumeCliTests() => Directory.CreateDirectory(_folder);
+    public ResumeCliTests() => _folder = _temp.Path;
 
     private string Db => Path.Combine(_folder, "jobs.db");
 
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     /// <summary>1500 moves of 2 mm at F3000 (40 ms each: 3 s at the simulator's 20x), 250 lines a chunk.</summary>
     private string Program()

@@ -20,20 +20,12 @@ public sealed partial class SignalTests : IDisposable
     private const int SigInt = 2;
     private const int SigKill = 9;
     private const int SigTerm = 15;
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-signal-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("signal");
+    private readonly string _folder;
 
-    public SignalTests() => Directory.CreateDirectory(_folder);
+    public SignalTests() => _folder = _temp.Path;
 
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     [LibraryImport("libc", EntryPoint = "kill", SetLastError = true)]
     private static partial int Kill(int pid, int signal);
