@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
 # Peak memory where issue 20 found it unbounded, for this tree's CLI or another build (PMACSTREAM_CLI=path/to/
 # pmacstream.dll, e.g. main's, for the numbers before):
-#  1. stream --sim: the in-process simulator's executed-move log (was kept in memory, now checked as it runs);
+#  1. stream --sim, each strategy (STRATEGIES, default "chunk adaptive pr"): the in-process simulator's executed-move
+#     log (was kept in memory, now checked as it runs). Goal: peak <= 100 MB in every mode;
 #  2. pmacstream sim --executed-log + stream --tcp: the simulator server's log (was kept until stop, now streamed);
 #  3. pmacstream sim + a client that sends SENDLINE packets and never fetches the replies (were all kept, now at most
 #     16 KiB per connection, the oldest dropped);
 #  4. check, split and preview of hostile programs (issue 20 phase 2): 1, 2 and 9 MB of 1 MiB lines of "X " (every X a
 #     finding: all were held, 420 MB for 1 MB in check), one 9 MB line and ALL_ERRORS_MB (default 256) of all-error
 #     lines. Goal: peak <= 64 MB whatever the size. AOT_BIN=path (bench/scripts/publish-aot.sh) is measured too.
+#     samples/demo.nc (a clean 3,000-line program) comes first: the floor the hostile files are read against.
+# The CLI's runtimeconfig caps the collector's gen0 budget (System.GC.Gen0MaxBudget, src/PmacStream.Cli's project);
+# DOTNET_GCgen0MaxBudget or DOTNET_GCgen0size in the environment measure other budgets.
 # Usage: bench/scripts/memory-bench.sh [LINES] [PACKETS]   (defaults 220000 and 20000); ONLY=hostile runs section 4 only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -49,9 +53,10 @@ hostile() {
   [ -n "${AOT_BIN:-}" ] && builds+=("aot:$AOT_BIN")
   printf "%-5s %-24s %9s %9s %9s\n" build file check split preview
   local b name cmd f c row extra
+  cp samples/demo.nc "$WORK/demo.nc"
   for b in "${builds[@]}"; do
     name=${b%%:*} cmd=${b#*:}
-    for f in lines-1mb lines-2mb lines-9mb one-line-9mb all-errors; do
+    for f in demo lines-1mb lines-2mb lines-9mb one-line-9mb all-errors; do
       row=""
       for c in check split preview; do
         extra=(); [ "$c" = preview ] && extra=(--png "$WORK/$f.png")
@@ -84,10 +89,12 @@ start_sim() { # LOG ARGS... -> sets SIM and PORT
   PORT=$(grep -o "port [0-9]*" "$1" | grep -o "[0-9]*")
 }
 
-echo "== 1. stream --sim (built-in simulator, instant clock)"
-/usr/bin/time -v "${CLI[@]}" stream "$WORK/part.nc" --sim --sim-speed instant --job-db "$WORK/jobs1.db" >"$WORK/s1.out" 2>"$WORK/s1.err" || true
-grep -h "^executed" "$WORK/s1.out" || tail -n 3 "$WORK/s1.err"
-echo "peak RSS $(grep 'Maximum resident' "$WORK/s1.err" | awk '{print $6}') KB"
+echo "== 1. stream --sim (built-in simulator, instant clock), goal <= 100 MB"
+for strategy in ${STRATEGIES:-chunk adaptive pr}; do
+  rm -f "$WORK"/jobs1.db*
+  /usr/bin/time -v "${CLI[@]}" stream "$WORK/part.nc" --sim --sim-speed instant --strategy "$strategy" --job-db "$WORK/jobs1.db" >"$WORK/s1.out" 2>"$WORK/s1.err" || true
+  echo "$strategy: $(grep -h "^executed" "$WORK/s1.out" || tail -n 3 "$WORK/s1.err"); peak RSS $(grep 'Maximum resident' "$WORK/s1.err" | awk '{print $6}') KB"
+done
 
 echo "== 2. pmacstream sim --executed-log, stream --tcp (simulator process measured)"
 start_sim "$WORK/sim2.log" --speed instant --executed-log "$WORK/executed.csv"
