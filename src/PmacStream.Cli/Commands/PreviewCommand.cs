@@ -71,10 +71,22 @@ internal static class PreviewCommand
             picture = await CliProgress.RunAsync("preview", report => Task.Run(
                 () => PreviewRenderer.Render(
                     source,
-                    new PreviewOptions { Width = width, Height = height, View = ParseView(parse.GetValue(view)!), Culture = culture, Progress = (f, s) => report(f, s) },
+                    new PreviewOptions
+                    {
+                        Width = width, Height = height, View = ParseView(parse.GetValue(view)!), Culture = culture, Progress = (f, s) => report(f, s),
+                        DrawIf = parse.GetValue(force) ? null : () => source.IssueCount == 0,
+                    },
                     log,
                     ct),
                 ct)).ConfigureAwait(false);
+        }
+        catch (PreviewRefusedException)
+        {
+            // The gate every command keeps: a program with errors is not drawn as if it were whole (refused after
+            // the measuring pass, before the picture takes its memory).
+            Refusals.Print(Console.Error, "pmacstream preview", "preview", Refusals.Shown(path), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
+                $"{Refusals.Shown(path)}: {source.IssueCount} error(s) under profile '{machine.Name}'; {output} not written");
+            return CliGlobals.Failed;
         }
         catch (InvalidDataException e)
         {
@@ -99,14 +111,6 @@ internal static class PreviewCommand
             }
 
             Console.Error.WriteLine($"{path}: error: no moves to draw ({(source.IssueCount > 0 ? "none could be interpreted" : "an empty program")}); {output} not written");
-            return CliGlobals.Failed;
-        }
-
-        if (source.IssueCount > 0 && !parse.GetValue(force))
-        {
-            // The gate every command keeps: a program with errors is not drawn as if it were whole.
-            Refusals.Print(Console.Error, "pmacstream preview", "preview", Refusals.Shown(path), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
-                $"{Refusals.Shown(path)}: {source.IssueCount} error(s) under profile '{machine.Name}'; {output} not written");
             return CliGlobals.Failed;
         }
 

@@ -130,6 +130,11 @@ public static class ControllerLibrary
     public static async Task EnsureAsync(IPmacConnection connection, MachineProfile? profile, LibraryPolicy policy, CancellationToken cancellationToken = default)
     {
         profile ??= MachineProfile.Default;
+
+        // A host killed mid-download leaves a buffer open on this port (one per port, whatever the connection): the
+        // identity query would be stored in it as a program line and read as "no library". CLOSE with none open does
+        // nothing.
+        await connection.GetResponseAsync("CLOSE", cancellationToken).ConfigureAwait(false);
         if (policy == LibraryPolicy.Load)
         {
             await DownloadTolerantAsync(connection, Lines(profile), cancellationToken).ConfigureAwait(false);

@@ -82,6 +82,22 @@ public sealed record PreviewOptions
 
     /// <summary>Progress (fraction 0..1 of all passes, stage text); called at most every 4096 moves.</summary>
     public Action<double, string>? Progress { get; init; }
+
+    /// <summary>
+    /// Asked after the measuring pass, before the picture and the drawing library take their memory: false stops with
+    /// <see cref="PreviewRefusedException"/> (a program with errors is not drawn unless forced). Null: always draw.
+    /// </summary>
+    public Func<bool>? DrawIf { get; init; }
+}
+
+/// <summary>The measuring pass is done and <see cref="PreviewOptions.DrawIf"/> said not to draw.</summary>
+public sealed class PreviewRefusedException : Exception
+{
+    /// <summary>A refusal to draw.</summary>
+    public PreviewRefusedException()
+        : base("not drawn: the program has errors")
+    {
+    }
 }
 
 /// <summary>Extents and counts of a toolpath (pass 1).</summary>

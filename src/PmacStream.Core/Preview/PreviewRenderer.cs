@@ -90,6 +90,11 @@ public static class PreviewRenderer
         var arcLines = executedLogPath is null ? null : new LineSet();
         var extents = Measure(source, arcLines, f => Report(f, "extents"), cancellationToken);
         pass++;
+        if (options.DrawIf is { } drawIf && !drawIf())
+        {
+            throw new PreviewRefusedException();
+        }
+
         var min = extents.Min;
         var max = extents.Max;
         if (!logBox.IsEmpty)

@@ -39,4 +39,21 @@ public class LibraryIdentityTests
         await ControllerLibrary.EnsureAsync(link, MachineProfile.Default, LibraryPolicy.Verify);
         (await ControllerLibrary.ReadIdentityAsync(link)).Should().Be(ControllerLibrary.ExpectedIdentity());
     }
+
+    [Fact]
+    public async Task A_buffer_a_killed_host_left_open_on_the_port_does_not_hide_the_library()
+    {
+        using var sim = new PmacSimulator();
+        await using var link = new InProcessConnection(sim.OpenPort("host"), "sim");
+        await link.DownloadAsync(ControllerLibrary.Lines());
+
+        // The killed host was downloading a chunk: its rotary buffer is still open on this port.
+        await link.GetResponseAsync("OPEN ROT");
+        (await ControllerLibrary.ReadIdentityAsync(link)).Should().Be((0, 0), "an open buffer stores the query as a program line");
+        await link.GetResponseAsync("CLOSE");
+        await link.GetResponseAsync("OPEN ROT");
+
+        await ControllerLibrary.EnsureAsync(link, MachineProfile.Default, LibraryPolicy.Verify);
+        (await ControllerLibrary.ReadIdentityAsync(link)).Should().Be(ControllerLibrary.ExpectedIdentity());
+    }
 }
