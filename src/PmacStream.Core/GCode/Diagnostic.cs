@@ -107,6 +107,9 @@ public static class DiagnosticCodes
     /// <summary>More than <see cref="FindingLimits.WordsPerLine"/> words on one line: the rest of the line is not read.</summary>
     public const string TooManyWords = "E128";
 
+    /// <summary>A move the programmable transformations in force (G51.1, G51, G68) cannot turn into a path the controller runs: an arc under unequal scaling, an arc out of the rotation's plane.</summary>
+    public const string TransformNotRunnable = "E129";
+
     /// <summary>A code the profile knows but the controller cannot run yet (reported at its first use).</summary>
     public const string NotYetOnController = "W006";
 
@@ -139,7 +142,7 @@ public static class DiagnosticCodes
         ArcRadiusMismatch, FeedMoveWithoutFeed, UnsupportedLetter, EmptyProgram, NulByte, Utf16File,
         NoProgramNumber, NoSequenceNumber, UnusedWord, LowercaseLetter, MissingWord,
         NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
-        NotRunnableInJob, TooManyWords,
+        NotRunnableInJob, TooManyWords, TransformNotRunnable,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

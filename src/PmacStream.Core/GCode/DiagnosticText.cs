@@ -45,6 +45,7 @@ public static class DiagnosticText
         [OWordKey] = ("'{0}' is a LinuxCNC o-word (subroutine or flow control): this profile does not run o-word subroutines, loops or conditions; expand them in the CAM output (or post for FANUC)", "'{0}' 是 LinuxCNC 的 o-word（子程序或流程控制）：此机床配置不执行 o-word 子程序、循环或条件；请在 CAM 输出中展开（或按 FANUC 后处理）"),
         [DoubleSlashKey] = ("illegal characters '//': a tool-table entry of an older ISO dialect (T1//15.98: tool 1, diameter 15.98), not FANUC syntax; the rest of the line is ignored", "非法字符 '//'：旧式 ISO 方言的刀具表条目（T1//15.98：1 号刀，直径 15.98），不是 FANUC 语法；本行其余部分被忽略"),
         [DiagnosticCodes.TooManyWords] = ("more than {0} words on one line: the rest of the line is not read", "一行中超过 {0} 个字：该行其余部分不再读取"),
+        [DiagnosticCodes.TransformNotRunnable] = ("{0} under {1}: {2}", "{1} 下的 {0}：{3}"),
         [UnlistedKey] = ("{0} more not listed (at most {1} a line)", "另有 {0} 条未列出（每行最多 {1} 条）"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };

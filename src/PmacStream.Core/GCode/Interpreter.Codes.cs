@@ -107,7 +107,13 @@ public sealed partial class Interpreter
             case 980: _returnToR = false; break;
             case 990: _returnToR = true; break;
             case (>= 540 and <= 590) or 591 or 592 or 593 or 541 or 1540: _coords.Select(key, p); break;
-            default: return;
+            default:
+                if (ApplyTransformMode(key))
+                {
+                    break;
+                }
+
+                return;
         }
 
         _dirty = true;

@@ -392,11 +392,13 @@ public sealed partial class Interpreter
         // Modal groups first (units, plane, distance, offsets), so that motion in the same block uses them.
         ClearNonModal();
         var codes = new BlockCodes();
+        var exactStopOnce = false;
         for (var gi = 0; anyG && gi < _gCount; gi++)
         {
             if (gCol[gi] != 0)
             {
                 var key = MachineProfile.Key(gIn[gi]);
+                exactStopOnce |= key == 90;
                 var info = _gInfo[key];
                 SetG(gi, gIn[gi]);
                 ApplyG(key, Word('P', col, val));
@@ -500,6 +502,10 @@ public sealed partial class Interpreter
                 Add(diags, DiagnosticCodes.UnusedWord, line, ColOf('X', col), 'X');
             }
         }
+        else if (codes.Data is 510 or 511 or 680)
+        {
+            SetTransform(codes.Data, x, y, z, i0, j0, k0, p, r, wordSpan, diags, line, words[0].Column);
+        }
         else if (codes.Data != 0)
         {
             // The axis words are data: offsets change, nothing moves.
@@ -529,6 +535,11 @@ public sealed partial class Interpreter
         }
         else if (hasAxes && _cycle.Active && !codes.MachineCoordinates)
         {
+            if (_transform != null)
+            {
+                (x, y, z, r) = TransformCycleWords(x, y, z, r, diags, line, codes.CycleColumn != 0 ? codes.CycleColumn : words[0].Column);
+            }
+
             (end, kind, length, seconds) = Holes(start, x, y, z, r, col, val, diags, line, ref codes);
         }
         else if (hasAxes || ((codes.MotionInBlock is 2 or 3) && (i0.HasValue || j0.HasValue || k0.HasValue)))
@@ -551,11 +562,18 @@ public sealed partial class Interpreter
                     break;
                 case 2:
                 case 3:
-                    kind = mode == 2 ? MotionKind.ArcCw : MotionKind.ArcCcw;
                     usedArcWords = true;
                     codes.Read |= MotionWords();
-                    (center, length) = ArcGeometry.Solve(mode == 2, _plane, start, end, i0, j0, k0, r, _arcAbsolute, _coords.Active,
+                    var cw = mode == 2;
+                    if (_transform != null && !codes.MachineCoordinates)
+                    {
+                        (i0, j0, k0, r, cw) = TransformArc(cw, i0, j0, k0, r, diags, line, modeCol);
+                    }
+
+                    kind = cw ? MotionKind.ArcCw : MotionKind.ArcCcw;
+                    (center, length) = ArcGeometry.Solve(cw, _plane, start, end, i0, j0, k0, r, _arcAbsolute && _transform == null, _coords.Active,
                         _profile.ArcTolerance, diags, line, modeCol, col);
+                    (_arcCentre, _arcClockwise) = (center, cw);
                     seconds = FeedTime(length, hasF, diags, line, modeCol, mode);
                     break;
                 default:
@@ -589,7 +607,14 @@ public sealed partial class Interpreter
             ReportUnusedWords(col, codes.Read, usedArcWords, usedP || (codes.Read & (1 << ('P' - 'A'))) != 0, effective, diags, line);
         }
 
-        HostBlock = _scale != 1.0 || codes.Host || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
+        _exactStopBlock = (_exactStop || exactStopOnce) && kind is not (MotionKind.None or MotionKind.Dwell);
+        if (_transform != null && (kind != MotionKind.None || codes.Data != 0) && codes.Data is not (510 or 511 or 680))
+        {
+            // Blocks that moved (or changed offsets) leave the untransformed position where their end is.
+            _programPos = _transform.Inverse(end - _coords.Active);
+        }
+
+        HostBlock = _scale != 1.0 || codes.Host || _exactStopBlock || (_transform != null && kind is not (MotionKind.None or MotionKind.Dwell)) || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
             kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol));
         _pos = end;
         UpdateLane();

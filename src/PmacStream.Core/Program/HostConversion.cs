@@ -160,6 +160,12 @@ internal sealed class HostConversion
                 // levels, reference returns (their moves follow), feed modes (feeds are sent per minute).
                 case 200 or 210 or 901 or 911 or 800 or 980 or 990 or 270 or 280 or 290 or 300 or 930 or 940 or 950:
                     break;
+                // Mirror, scaling and rotation are in the positions sent; exact stop mode and G09 are a G09 after the move.
+                case 510 or 511 or 680:
+                    axisData = true;
+                    break;
+                case 500 or 501 or 690 or 610 or 90:
+                    break;
                 case >= 730 and <= 890 when CodeIsCycle(key):
                     break;
                 default:
@@ -199,6 +205,10 @@ internal sealed class HostConversion
         else if (axisData)
         {
             // The axis words were the data settings' values (G10, G52, G92).
+        }
+        else if (_interp.Transforming && !machine && (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue)))
+        {
+            TransformedMove(a, b, c, feed);
         }
         else if (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue))
         {
@@ -259,8 +269,71 @@ internal sealed class HostConversion
             _lines.Add("F" + Num(fv));
         }
 
+        if (_interp.ExactStopBlock)
+        {
+            // The library's G09 (DWELL0) after the move: the move decelerates to rest before the next one starts.
+            _lines.Add(_profile.Find('G', 9)?.Code ?? "G09");
+        }
+
         Add(after);
         return _lines;
+    }
+
+    /// <summary>
+    /// A move under mirror, scaling or rotation: the interpreter's end point in work coordinates (absolute, whatever the
+    /// distance mode), an arc's centre as the PMAC's incremental vector from the start, the direction it really runs.
+    /// </summary>
+    private void TransformedMove(double? a, double? b, double? c, double? feed)
+    {
+        var incremental = !_interp.AbsoluteMode;
+        if (incremental)
+        {
+            _lines.Add("G90");
+        }
+
+        var mode = _interp.MotionCode;
+        var end = _interp.Position - _interp.ActiveOffset;
+        _sb.Clear();
+        var sent = mode;
+        if (mode is 2 or 3 && _interp.LastArc is { Centre: not null } arc)
+        {
+            sent = arc.Clockwise ? 2 : 3;
+        }
+
+        if (sent is >= 0 and <= 3)
+        {
+            _sb.Append("G0").Append(sent.ToString(CultureInfo.InvariantCulture)).Append(' ');
+        }
+
+        AppendAxes(end.X, end.Y, end.Z, 1.0);
+        AppendWord('A', a);
+        AppendWord('B', b);
+        AppendWord('C', c);
+        if (sent is 2 or 3 && _interp.LastArc.Centre is { } at)
+        {
+            var v = at - _start;
+            var plane = _interp.State.Plane;
+            AppendWord('I', plane is 17 or 18 ? v.X : null);
+            AppendWord('J', plane is 17 or 19 ? v.Y : null);
+            AppendWord('K', plane is 18 or 19 ? v.Z : null);
+        }
+
+        if (feed is { } fv)
+        {
+            AppendWord('F', fv);
+        }
+
+        _lines.Add(_sb.ToString().TrimEnd());
+        if (incremental)
+        {
+            _lines.Add("G91");
+        }
+
+        if (sent != mode && mode is >= 0 and <= 3)
+        {
+            // A mirrored arc ran the other way: the program's motion mode comes back for the blocks that follow.
+            _lines.Add("G0" + mode.ToString(CultureInfo.InvariantCulture));
+        }
     }
 
     private static bool CodeIsCycle(int key) => key is 730 or 740 or 760 or 810 or 820 or 830 or 840 or 850 or 860 or 870 or 880 or 890;
