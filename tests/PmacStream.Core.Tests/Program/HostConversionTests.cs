@@ -75,4 +75,35 @@ public class HostConversionTests
         const string program = "O1\nG20 G90\nG01 X1. F10.\nG81 X2. Z-0.1 R0.1\nG80\nM30\n";
         Body(program, force: true).Should().Equal(Body(program));
     }
+
+    [Fact]
+    public void Exact_stop_sends_g09_after_every_move_until_g64()
+    {
+        var body = Body("O1\nG90 G01 X1. F100.\nG61\nX2.\nY2.\nG64\nX3.\nG09 Y3.\nM30\n");
+        body.Should().NotContain(l => l.Contains("G61", StringComparison.Ordinal));
+        var i = body.IndexOf("M0==4 X2 F(P500)");
+        i.Should().BeGreaterThan(0);
+        body[i + 1].Should().Be("G09", "the library's DWELL0 after the move: it ends at rest");
+        body[i + 2].Should().Be("M0==5 Y2 F(P500)");
+        body[i + 3].Should().Be("G09");
+        var g64 = body.IndexOf("M0==7 X3. F(P500)");
+        body[g64 + 1].Should().Be("M0==8 Y3 F(P500)", "G64 blends again; G09 of line 8 goes after its move, not before it");
+        body[g64 + 2].Should().Be("G09");
+    }
+
+    [Fact]
+    public void Moves_under_rotation_and_scaling_are_sent_as_the_positions_they_reach()
+    {
+        var body = Body("O1\nG90 G00 X0 Y0 Z0\nG68 X0 Y0 R90.\nG01 X10. Y0 F100.\nG91 X5.\nG90 G02 X0 Y-15. I-15. J0\nG69\nG51 X0 Y0 P2000\nG01 X1. Y1.\nG50\nX0 Y0\nM30\n");
+        body.Should().NotContain(l => l.Contains("G68", StringComparison.Ordinal) || l.Contains("G69", StringComparison.Ordinal) ||
+            l.Contains("G51", StringComparison.Ordinal) || l.Contains("G50", StringComparison.Ordinal));
+        body.Should().Contain("M0==4 G01 X0 Y10 Z0 F(P500)");
+        var inc = body.IndexOf("M0==5 G01 X0 Y15 Z0 F(P500)");
+        inc.Should().BeGreaterThan(0, "an incremental move is sent absolute, turned");
+        body[inc - 1].Should().Be("G90");
+        body[inc + 1].Should().Be("G91");
+        body.Should().Contain("M0==6 G02 X15 Y0 Z0 I0 J-15 F(P500)", "the arc from (0,15) about the origin, rotated: the centre vector is turned too");
+        body.Should().Contain("M0==9 G01 X2 Y2 Z0 F(P500)");
+        body.Should().Contain("M0==11 X0 Y0 F(P500)", "after G50 the block goes as written");
+    }
 }
