@@ -151,15 +151,15 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     public async Task Split_refuses_codes_the_controller_cannot_run_yet_listing_each()
     {
         var toolChange = Path.Combine(_dir, "tc.nc");
-        File.WriteAllText(toolChange, "G21 G90\nG61\nG00 X0 Y0\nG01 X10 F500\nG63\nM30\n");
+        File.WriteAllText(toolChange, "G21 G90\nG16\nG00 X0 Y0\nG01 X10 F500\nG63\nM30\n");
         var (p, v) = NewHmi();
         await Do(p, () => v.ChooseFile(toolChange));
         await Do(p, v.ClickSplit);
 
         v.Errors.Should().ContainSingle().Which.Should().Be(
-            "The controller cannot run G61 (line 2), G63 (line 5) yet under profile fanuc-mill: the PMAC would skip each code and run the rest of its block");
+            "The controller cannot run G16 (line 2), G63 (line 5) yet under profile fanuc-mill: the PMAC would skip each code and run the rest of its block");
         v.Diagnostics.Should().HaveCount(2).And.OnlyContain(d => d.Contains("  E  E127  "));
-        v.Diagnostics[0].Should().StartWith("2:1  E  E127  G61 (exact stop mode) cannot run on the controller yet");
+        v.Diagnostics[0].Should().StartWith("2:1  E  E127  G16 (polar coordinate command) cannot run on the controller yet");
         v.Commands.Execute.Should().BeFalse("nothing to run");
     }
 

@@ -99,20 +99,20 @@ public sealed class PrepareTests : IDisposable
     public async Task Codes_the_controller_cannot_run_yet_are_refused_for_a_job_each_at_its_first_use_unless_forced()
     {
         // Exact stop and tapping mode have no routine yet: the PMAC would skip them and blend or cut as if never asked.
-        using var p = new TempProgram(Program(300, "G61\nG90\nG63\nG64"));
+        using var p = new TempProgram(Program(300, "G16\nG90\nG63\nG64"));
         var act = () => Prepare(p, RunSettings.Default);
         var refused = (await act.Should().ThrowAsync<ProgramRefusedException>()).Which;
 
-        refused.NotRunnableCodes.Should().BeEquivalentTo(new Dictionary<string, int> { ["G61"] = 154, ["G63"] = 156 });
+        refused.NotRunnableCodes.Should().BeEquivalentTo(new Dictionary<string, int> { ["G16"] = 154, ["G63"] = 156 });
         refused.Profile.Should().Be(MachineProfile.DefaultName);
         refused.Lines("p.nc").Should().Equal(
-            "p.nc:154:1: error E127: G61 (exact stop mode) cannot run on the controller yet under profile 'fanuc-mill': the PMAC would skip the code and run the rest of the block",
+            "p.nc:154:1: error E127: G16 (polar coordinate command) cannot run on the controller yet under profile 'fanuc-mill': the PMAC would skip the code and run the rest of the block",
             "p.nc:156:1: error E127: G63 (tapping mode) cannot run on the controller yet under profile 'fanuc-mill': the PMAC would skip the code and run the rest of the block");
         refused.ErrorCount.Should().Be(2);
 
         // The split itself is the program's (split writes it too) and is reused; only running it is refused.
         var forced = await Prepare(p, RunSettings.Default, force: true);
-        forced.Program.Manifest.NotYetCodes.Should().ContainKeys("G61", "G63");
+        forced.Program.Manifest.NotYetCodes.Should().ContainKeys("G16", "G63");
         var again = () => Prepare(p, RunSettings.Default);
         await again.Should().ThrowAsync<ProgramRefusedException>("forcing once does not open the gate for the next job");
     }
@@ -120,10 +120,10 @@ public sealed class PrepareTests : IDisposable
     [Fact]
     public async Task A_job_resumed_from_a_forced_split_or_with_codes_not_run_yet_needs_force_again()
     {
-        using var notYet = new TempProgram(Program(50, "G61"));
+        using var notYet = new TempProgram(Program(50, "G16"));
         var manifest = (await Prepare(notYet, RunSettings.Default, force: true)).Program.Manifest;
         var gate = () => ProgramGate.EnsureRunnable(notYet.SourcePath, manifest, MachineProfile.Default, force: false);
-        gate.Should().Throw<ProgramRefusedException>().Which.NotRunnableCodes.Should().ContainKey("G61");
+        gate.Should().Throw<ProgramRefusedException>().Which.NotRunnableCodes.Should().ContainKey("G16");
         ProgramGate.EnsureRunnable(notYet.SourcePath, manifest, MachineProfile.Default, force: true);
 
         using var bad = new TempProgram(Program(50, "G77 X3"));

@@ -38,15 +38,15 @@ public sealed class GateCliTests : IDisposable
     [Fact]
     public void Stream_refuses_codes_the_controller_cannot_run_yet_naming_each_and_force_and_sends_nothing()
     {
-        var src = Write("toolchange.nc", "G21 G90 G17\nG61\nG00 X0 Y0\nG01 F600\n" + Moves(40) + "G63\nM30\n");
+        var src = Write("toolchange.nc", "G21 G90 G17\nG16\nG00 X0 Y0\nG01 F600\n" + Moves(40) + "G63\nM30\n");
         var db = Path.Combine(_folder, "jobs.db");
         var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant");
 
         code.Should().Be(1, stdout + stderr);
         var lines = stderr.Split('\n', StringSplitOptions.RemoveEmptyEntries | StringSplitOptions.TrimEntries);
-        lines.Should().Contain(l => l.EndsWith("toolchange.nc:2:1: error E127: G61 (exact stop mode) cannot run on the controller yet under profile 'fanuc-mill': the PMAC would skip the code and run the rest of the block", StringComparison.Ordinal));
+        lines.Should().Contain(l => l.EndsWith("toolchange.nc:2:1: error E127: G16 (polar coordinate command) cannot run on the controller yet under profile 'fanuc-mill': the PMAC would skip the code and run the rest of the block", StringComparison.Ordinal));
         lines.Should().Contain(l => l.Contains("toolchange.nc:45:1: error E127: G63 (", StringComparison.Ordinal));
-        lines[^1].Should().MatchRegex(@"^pmacstream stream: .*toolchange\.nc: the controller cannot run G61 \(line 2\), G63 \(line 45\) yet under profile 'fanuc-mill' .*nothing sent to the controller \(--force runs it anyway\)$");
+        lines[^1].Should().MatchRegex(@"^pmacstream stream: .*toolchange\.nc: the controller cannot run G16 \(line 2\), G63 \(line 45\) yet under profile 'fanuc-mill' .*nothing sent to the controller \(--force runs it anyway\)$");
         stdout.Should().NotContain("job ", "no job is created for a refused program");
         if (File.Exists(db))
         {
@@ -56,7 +56,7 @@ public sealed class GateCliTests : IDisposable
 
         (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant", "--force");
         code.Should().Be(0, stdout + stderr);
-        stderr.Should().Contain("--force: the controller cannot run G61 (line 2), G63 (line 45) yet under profile 'fanuc-mill': it skips each of them and runs the rest of its block");
+        stderr.Should().Contain("--force: the controller cannot run G16 (line 2), G63 (line 45) yet under profile 'fanuc-mill': it skips each of them and runs the rest of its block");
         stdout.Should().MatchRegex(@"executed (\d+) of \1 blocks");
     }
 

@@ -126,6 +126,27 @@ public class PositionProofTests(ITestOutputHelper output)
         G91 G01 X0.1 Y-0.1
         G90 G21
         G00 Z30.
+        G61
+        G01 X10. Y10. F600.
+        Y20.
+        G64
+        G68 X10. Y10. R30.
+        G01 X20. Y10.
+        Y20.
+        G91 X-5.
+        G90 G02 X5. Y20. I-5. J0
+        G98 G81 X12. Y12. Z-3. R2.
+        G80
+        G69
+        G51 X0 Y0 P1500
+        G01 X10. Y10.
+        G03 X0 Y20. R10.
+        G50
+        G51.1 X0
+        G01 X10. Y5.
+        G02 X0 Y-5. I-10. J0
+        G50.1
+        G00 Z30.
         M19
         M07
         M09
