@@ -14,6 +14,10 @@ public sealed partial class Interpreter
     private bool _exactStopBlock;            // the last block moved and ends at rest (G61 in force or G09 in it)
     private Point3? _arcCentre;              // the last arc's centre, machine coordinates
     private bool _arcClockwise;
+    private double _inverseTimeLength;       // the last move's path length in G93 (arcs along the arc)
+
+    /// <summary>The path length of the last feed move under G93 inverse time (millimetres, arcs along the arc).</summary>
+    internal double InverseTimeLength => _inverseTimeLength;
 
     /// <summary>Whether a programmable transformation (G51.1, G51, G68) is in force: the host converts every move.</summary>
     internal bool Transforming => _transform != null;

@@ -614,7 +614,14 @@ public sealed partial class Interpreter
             _programPos = _transform.Inverse(end - _coords.Active);
         }
 
-        HostBlock = _scale != 1.0 || codes.Host || _exactStopBlock || (_transform != null && kind is not (MotionKind.None or MotionKind.Dwell)) || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
+        var inverseTime = _feedMode == 93 && kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw;
+        if (inverseTime)
+        {
+            // G93: the host sends each move's feed per minute, its length times F (the move takes 1/F minute).
+            _inverseTimeLength = kind == MotionKind.Linear ? start.DistanceTo(end) : length;
+        }
+
+        HostBlock = _scale != 1.0 || codes.Host || _exactStopBlock || inverseTime || (_transform != null && kind is not (MotionKind.None or MotionKind.Dwell)) || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
             kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol));
         _pos = end;
         UpdateLane();

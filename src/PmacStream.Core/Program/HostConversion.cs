@@ -464,7 +464,7 @@ internal sealed class HostConversion
             // Per revolution: at the spindle speed in force.
             95 => fv * _interp.UnitScale * _interp.State.SpindleSpeed,
             // Inverse time: the move takes 1/F minutes, so its feed is its length times F.
-            93 => _start.DistanceTo(_interp.Position) * fv,
+            93 => _interp.InverseTimeLength * fv,
             _ => fv * _interp.UnitScale,
         };
     }

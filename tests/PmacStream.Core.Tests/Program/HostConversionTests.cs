@@ -106,4 +106,14 @@ public class HostConversionTests
         body.Should().Contain("M0==9 G01 X2 Y2 Z0 F(P500)");
         body.Should().Contain("M0==11 X0 Y0 F(P500)", "after G50 the block goes as written");
     }
+
+    [Fact]
+    public void Inverse_time_feeds_are_sent_per_minute_from_each_move_length()
+    {
+        var body = Body("O1\nG90 G00 X0 Y0 Z0\nG93 G01 X30. Y40. F2.\nG02 X40. Y30. I0 J-10. F1.\nG94 G01 X0 F500.\nM30\n");
+        body.Should().NotContain(l => l.Contains("G93", StringComparison.Ordinal));
+        body.Should().Contain("P500=100", "50 mm in half a minute");
+        body.Should().Contain("P500=" + HostConversion.Num(Math.PI * 10 / 2), "a quarter circle of radius 10 in one minute: along the arc, not the chord");
+        body.Should().Contain("P500=500.");
+    }
 }

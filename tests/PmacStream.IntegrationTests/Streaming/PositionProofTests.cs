@@ -146,6 +146,9 @@ public class PositionProofTests(ITestOutputHelper output)
         G01 X10. Y5.
         G02 X0 Y-5. I-10. J0
         G50.1
+        G93 G01 X20. Y20. F10.
+        G02 X30. Y10. I0 J-10. F4.
+        G94 G01 X0 F600.
         G00 Z30.
         M19
         M07
