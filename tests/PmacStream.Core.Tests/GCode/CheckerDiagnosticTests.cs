@@ -79,6 +79,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\n%\nG00 X2\n", 4, 1 },
         { DiagnosticCodes.IllegalCharacter, "G0 X1 /Y2", 1, 7, "linuxcnc-mill" },
         { DiagnosticCodes.TooManyWords, "O1\nG01 F100 " + string.Join(" ", Enumerable.Repeat("X1", 255)), 2, 10 + (3 * 254) },
+        { DiagnosticCodes.TransformNotRunnable, "O1\nG51 X0 Y0 I2000 J1000\nG02 X1 Y0 I0.5 F100", 3, 1 },
     };
 
     public static TheoryData<string, string> Good => new()
@@ -113,6 +114,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.NotYetOnController, "O1\nG00 G17 G21 G90 G54 X1\nG01 X2 F100\nM03 S1000\nM08\nM30" },
         { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\nM30\n%\n\n  \n" },
         { DiagnosticCodes.TooManyWords, "O1\nG01 F100 " + string.Join(" ", Enumerable.Repeat("X1", 254)) },
+        { DiagnosticCodes.TransformNotRunnable, "O1\nG51 X0 Y0 P2000\nG02 X1 Y0 I0.5 F100\nG50" },
     };
 
     [Theory]
