@@ -11,7 +11,8 @@ namespace PmacStream.GCode;
 /// is a full circle, <c>G04 P</c> is in milliseconds or seconds as the profile says and <c>G04 X</c> in seconds,
 /// drilling cycles run hole by hole (<see cref="CannedCycle"/>), G28/G30 pass their point to the reference position,
 /// G53 moves in machine coordinates, G10/G52/G92 set offsets (<see cref="WorkCoordinates"/>), G43/G44 H apply the tool
-/// length on Z. Positions are machine coordinates in millimetres whatever the program's units (G20 values are scaled
+/// length on Z, G51.1/G51/G68 mirror, scale and rotate the programmed positions before the work offset
+/// (<see cref="ProgramTransform"/>). Positions are machine coordinates in millimetres whatever the program's units (G20 values are scaled
 /// by 25.4), so they are what the controller's axes reach. Cutter radius compensation is recorded, not applied to
 /// the path; rotary axes (A/B/C) are accepted and not tracked.
 /// </summary>

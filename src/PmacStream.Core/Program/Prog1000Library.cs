@@ -249,7 +249,7 @@ public static class Prog1000Library
         910 => "INC",
         // Codes that ask for what the coordinate system already does (the profile's note says why for each):
         // millimetres (G21), the G54 origin, no length offset (G49), no cycle (G80), feed per minute (G94), blending
-        // (G64, G61 in grbl), cancels of what is never applied (G15, G23, G50, G50.1, G67, G69), rpm (G97), cycle
+        // (G64, G61 in grbl), cancels of what is never applied (G15, G23, G67; G50, G50.1, G69 in a profile that does not have the host transform positions), rpm (G97), cycle
         // return levels only cycles read (G98, G99), incremental circle centres (G91.1), lookahead on the
         // controller (G05.1, G08, G187).
         210 or 540 or 490 or 800 or 940 or 640 or 610 or 150 or 230 or 500 or 501 or 670 or 690 or 970 or 980 or 990 or 911 or 51 or 80 or 1870 => "",
