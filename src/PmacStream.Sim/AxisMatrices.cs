@@ -17,11 +17,16 @@ internal sealed class AxisMatrices
     /// <summary><c>DEFINE TBUF n</c>: n matrices, each the identity (no displacement).</summary>
     public void Define(int count)
     {
-        _displacements = new double[count][];
+        // The matrices kept are reset in place: a coordinate system that selected one (TSEL) holds its array.
+        var kept = Math.Min(count, _displacements.Length);
+        var next = new double[count][];
         for (var i = 0; i < count; i++)
         {
-            _displacements[i] = new double[3];
+            next[i] = i < kept ? _displacements[i] : new double[3];
+            Array.Clear(next[i]);
         }
+
+        _displacements = next;
     }
 
     /// <summary>The displacement of matrix <paramref name="number"/> (1-based); a number TBUF did not reserve is a run-time error.</summary>

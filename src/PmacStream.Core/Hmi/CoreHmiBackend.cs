@@ -30,10 +30,11 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
     public async Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(controller);
-        if (controller.IsSimulator)
-        {
-            await ControllerLibrary.DownloadTolerantAsync(controller.Connection, ControllerLibrary.Lines(profile), cancellationToken).ConfigureAwait(false);
-        }
+
+        // The built-in simulator gets the profile's library and tables; a real controller must already run that
+        // library (checked, as at connect): its G and M codes would otherwise not do what the program says.
+        await ControllerLibrary.EnsureAsync(controller.Connection, profile, controller.IsSimulator ? LibraryPolicy.Load : LibraryPolicy.Verify, cancellationToken)
+            .ConfigureAwait(false);
     }
 
     /// <inheritdoc />

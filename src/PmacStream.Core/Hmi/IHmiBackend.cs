@@ -201,7 +201,10 @@ public interface IHmiBackend
     /// <summary>Opens a controller link (the profile's library is downloaded to the built-in simulator).</summary>
     Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
 
-    /// <summary>Downloads the profile's PROG 1000/1001 library again to the built-in simulator (another profile was chosen); other controllers keep theirs.</summary>
+    /// <summary>
+    /// Another profile was chosen: downloads its PROG 1000/1001 library and tables to the built-in simulator, and checks
+    /// that any other controller runs that library (a <see cref="Jobs.JobException"/> says it does not).
+    /// </summary>
     Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default);
 
     /// <summary>Checks a program under a profile (every diagnostic, in the language asked).</summary>

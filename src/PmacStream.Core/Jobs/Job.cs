@@ -28,7 +28,7 @@ public sealed class Job : IAsyncDisposable
     private static readonly ILogger Log = Serilog.Log.ForContext<Job>();
     private readonly JobStore? _store;
     private readonly double? _feedOverride;
-    private volatile bool _continueRequested;
+    private volatile ProgramStop? _continueFrom; // the stop the operator's Enter was for
 
     internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feedOverride, JobStore? store, long? id)
     {
@@ -140,9 +140,17 @@ public sealed class Job : IAsyncDisposable
     {
         if (Session.State == SessionState.Stopped)
         {
-            _continueRequested = true;
+            _continueFrom = Session.Status.Stop;
         }
     }
+
+    /// <summary>
+    /// Whether the loop gives the run command now: stopped, and either told to go on at every stop or the operator's
+    /// continue was for this very stop. A continue for a stop the controller has left since (continued from its panel)
+    /// must not carry over to the next stop.
+    /// </summary>
+    internal static bool ContinuesNow(StreamingStatus status, bool continueAtStops, ProgramStop? continueFrom) =>
+        status.State == SessionState.Stopped && (continueAtStops || (continueFrom is not null && continueFrom == status.Stop));
 
     /// <summary>
     /// The timer loop (timer1_Tick of the HMI) for a host without a timer: tick, report, wait one period and, when the
@@ -169,10 +177,14 @@ public sealed class Job : IAsyncDisposable
                 break;
             }
 
-            if (s.State == SessionState.Stopped && (ContinueAtStops || _continueRequested))
+            if (ContinuesNow(s, ContinueAtStops, _continueFrom))
             {
-                _continueRequested = false;
+                _continueFrom = null;
                 await ContinueAsync(s.Stop).ConfigureAwait(false);
+            }
+            else if (s.State != SessionState.Stopped)
+            {
+                _continueFrom = null;
             }
 
             try

@@ -17,6 +17,23 @@ public class AxisMatrixTests
     }
 
     [Fact]
+    public void A_new_define_tbuf_resets_the_matrix_a_coordinate_system_already_selected()
+    {
+        using var h = new SimHarness();
+        h.Ok("DEFINE TBUF 1");
+        h.Download("OPEN PROG 1 CLEAR", "LINEAR ABS F6000 Q34=100 Q35=50 Q36=-10 TSEL1 ADIS34", "X0 Y0 Z0", "CLOSE");
+        h.Ok("&1 B1 R");
+        h.Sim.RunUntilIdle(TimeSpan.FromMinutes(1));
+
+        // The library loaded again: DEFINE TBUF makes every matrix the identity, the one selected too.
+        h.Ok("DEFINE TBUF 1");
+        h.Download("OPEN PROG 2 CLEAR", "LINEAR ABS F6000 X1 Y1 Z1", "CLOSE");
+        h.Ok("&1 B2 R");
+        h.Sim.RunUntilIdle(TimeSpan.FromMinutes(1));
+        h.Sim.ExecutedMoves.Select(m => (m.X, m.Y, m.Z)).Should().Equal((100.0, 50.0, -10.0), (1.0, 1.0, 1.0));
+    }
+
+    [Fact]
     public void Tsel_of_a_matrix_tbuf_did_not_reserve_stops_the_program_and_arot_is_refused_not_ignored()
     {
         using var h = new SimHarness();
