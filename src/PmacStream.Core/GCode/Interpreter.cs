@@ -622,7 +622,9 @@ public sealed partial class Interpreter
             _inverseTimeLength = kind == MotionKind.Linear ? start.DistanceTo(end) : length;
         }
 
-        HostBlock = _scale != 1.0 || codes.Host || _exactStopBlock || inverseTime || (_transform != null && kind is not (MotionKind.None or MotionKind.Dwell)) || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
+        // G95: every move (and a lone F) goes with its feed per minute at the spindle speed now in force.
+        var perRevolution = _feedMode == 95 && (kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw || col['F' - 'A'] != 0);
+        HostBlock = _scale != 1.0 || codes.Host || _exactStopBlock || inverseTime || perRevolution || (_transform != null && kind is not (MotionKind.None or MotionKind.Dwell)) || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
             kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol));
         _pos = end;
         UpdateLane();

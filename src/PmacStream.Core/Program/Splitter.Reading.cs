@@ -22,6 +22,13 @@ public static partial class Splitter
                     // The host's conversions (units, cycles, data blocks...) need the interpreter's state: the checker's, or
                     // without a check (--force) one of their own. Without a profile the program goes as it is written.
                     var own = _own = check == null && _o.CheckProfile != null ? new Interpreter(_o.CheckProfile) { MeasureMoves = false, RecordBlocks = false } : null;
+                    if ((check?.Interpreter ?? own) is { } interpreter)
+                    {
+                        // The blocks block delete leaves out never run: positions the host computes (G92, cycles, G28,
+                        // transformed moves) must not count them either.
+                        interpreter.BlockDeleteEnabled = _o.BlockDelete;
+                    }
+
                     var host = _host = check != null ? new HostConversion(check.Interpreter) : own != null ? new HostConversion(own) : null;
                     // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
                     // The lane takes G0/G1 lines without looking them up: only when the profile runs both on the controller.

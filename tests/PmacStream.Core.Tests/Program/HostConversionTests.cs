@@ -70,6 +70,25 @@ public class HostConversionTests
     }
 
     [Fact]
+    public void A_block_block_delete_leaves_out_does_not_move_the_position_the_host_computes_from()
+    {
+        // The deleted G00 X50. never runs: G92 X0 makes the tool's X (10) the new zero, not 50.
+        const string program = "O1\nG00 X10. Y0 Z5.\n/G00 X50.\nG92 X0\nG00 X10.\nM30\n";
+        Body(program).Should().Contain("G92 X10").And.NotContain(l => l.Contains("X50", StringComparison.Ordinal));
+        Body(program, force: true).Should().Contain("G92 X10");
+    }
+
+    [Fact]
+    public void Feed_per_revolution_goes_as_feed_per_minute_at_the_spindle_speed_in_force_on_every_move()
+    {
+        // 0.2 mm/rev at 1000 rpm is 200 mm/min; after S2000 the same F is 400 mm/min. Raw, F0.2 would run at 0.2 mm/min.
+        var body = Body("O1\nG21 G90 G00 X0 Y0 Z5.\nG95 S1000 M03\nG01 X10. F0.2\nX20.\nS2000\nX30.\nG94 F300\nX40.\nM30\n");
+        body.SkipWhile(l => l != "M03").Skip(1).Take(6).Should().Equal(
+            "P500=200", "M0==4 G01 X10 F(P500)", "M0==5 X20 F(P500)", "S2000", "P500=400", "M0==7 X30 F(P500)");
+        body.Should().Contain("P500=300").And.NotContain("P500=0.2", "no per-revolution feed reaches the controller");
+    }
+
+    [Fact]
     public void Forced_splits_convert_as_checked_ones_do()
     {
         const string program = "O1\nG20 G90\nG01 X1. F10.\nG81 X2. Z-0.1 R0.1\nG80\nM30\n";
