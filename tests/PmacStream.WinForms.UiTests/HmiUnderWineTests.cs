@@ -6,7 +6,7 @@ namespace PmacStream.WinForms.UiTests;
 
 /// <summary>
 /// The operator's session on the real form: the win-x64 HMI under Wine in Xvfb, its real message loop and its real
-/// <c>timer1</c> streaming <c>samples/demo.nc</c> into the built-in simulator (clock at 20x). The main path is
+/// <c>timer1</c> streaming <c>samples/demo.nc</c> into the built-in simulator (clock at 10x). The main path is
 /// driven by real X input at the places <see cref="HmiLayout"/> gives; selecting a line or a chunk uses the form's
 /// scripted mode. Every step waits (bounded) for what the screen shows and saves a screenshot.
 /// </summary>
@@ -180,7 +180,15 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         executedPixels.Should().BeGreaterThan(300, "the executed part is drawn over the planned toolpath");
         File.Copy(shot, Path.Combine(shots, "hmi-screen.png"), overwrite: true);
         s = screen.ClickUntil("held", HmiLayout.HoldButton, v => v.Status[StateRow] == En[TextId.StateHeld] && v.Controls["btnResume"].Enabled);
+        // A hold slews the override to 0 (Isx95), so the move in progress decelerates before the line stands still.
         var held = screen.WaitTicks(10).ExecutingLine;
+        var stopping = Stopwatch.StartNew();
+        for (var next = screen.WaitTicks(10).ExecutingLine; next != held; next = screen.WaitTicks(10).ExecutingLine)
+        {
+            stopping.Elapsed.Should().BeLessThan(TimeSpan.FromSeconds(20), "a held job comes to a stop");
+            held = next;
+        }
+
         screen.WaitTicks(20).ExecutingLine.Should().Be(held, "nothing moves while held (20 more ticks of timer1)");
         screen.Screenshot("07-held");
 
@@ -209,8 +217,12 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
 
             return feeds.Count >= 1;
         }, TimeSpan.FromSeconds(60));
-        s = screen.WaitTicks(20);
-        (s.Controls["numFeed"].Text, s.Status[FeedOverrideRow]).Should().Be(("50", "50 %"), "the override holds while the program runs on");
+        // The controller slews the override (about 1 s from 100 % to 50 %) and the session reads it back every 20 ticks,
+        // so the row may show "59.9 % → 50 %" for a while: wait for the controller to report the setting reached.
+        screen.WaitTicks(20);
+        screen.WaitFor("the controller reports 50 % in force", v => v.Status[FeedOverrideRow] == "50 %", TimeSpan.FromSeconds(30));
+        s = screen.WaitTicks(40);
+        (s.Controls["numFeed"].Text, s.Status[FeedOverrideRow]).Should().Be(("50", "50 %"), "the override holds while the program runs on (two reads from the controller later)");
         output.WriteLine($"  feeds shown: {string.Join(", ", feeds)}");
         screen.Screenshot("09-feed-override");
 
