@@ -67,6 +67,17 @@ internal static class CodeRoles
     /// </summary>
     public static bool ReadsAxesWhileInForce(int key) => key is 501 or 510 or 511 or 660 or 680 or 682;
 
+    /// <summary>
+    /// True for the words of a mode code that are lengths in program units (converted to millimetres with the rest of
+    /// an inch program): G64's path tolerances P and Q (LinuxCNC), G187's corner tolerance E (Haas).
+    /// </summary>
+    public static bool WordIsLength(int key, char letter) => key switch
+    {
+        640 => letter is 'P' or 'Q',
+        1870 => letter == 'E',
+        _ => false,
+    };
+
     /// <summary>True for M codes that end the program (M02, M30).</summary>
     public static bool EndsProgram(int key) => key is 20 or 300;
 }

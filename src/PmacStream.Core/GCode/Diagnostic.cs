@@ -110,6 +110,18 @@ public static class DiagnosticCodes
     /// <summary>A move the programmable transformations in force (G51.1, G51, G68) cannot turn into a path the controller runs: an arc under unequal scaling, an arc out of the rotation's plane.</summary>
     public const string TransformNotRunnable = "E129";
 
+    /// <summary>
+    /// A canned cycle's holes in inverse time (G93): the cycle's feed moves have no F of their own, so no time to give
+    /// them (LinuxCNC's rs274ngc refuses canned cycles in inverse time as well).
+    /// </summary>
+    public const string CycleInInverseTime = "E130";
+
+    /// <summary>
+    /// A work offset, G52 or G92 on a rotary axis (A, B, C) that would make its program value differ from its machine
+    /// value: the library's offsets are on X, Y and Z, and the host does not track rotary positions.
+    /// </summary>
+    public const string RotaryOffset = "E131";
+
     /// <summary>A code the profile knows but the controller cannot run yet (reported at its first use).</summary>
     public const string NotYetOnController = "W006";
 
@@ -142,7 +154,7 @@ public static class DiagnosticCodes
         ArcRadiusMismatch, FeedMoveWithoutFeed, UnsupportedLetter, EmptyProgram, NulByte, Utf16File,
         NoProgramNumber, NoSequenceNumber, UnusedWord, LowercaseLetter, MissingWord,
         NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
-        NotRunnableInJob, TooManyWords, TransformNotRunnable,
+        NotRunnableInJob, TooManyWords, TransformNotRunnable, CycleInInverseTime, RotaryOffset,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

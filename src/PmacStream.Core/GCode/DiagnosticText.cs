@@ -46,6 +46,8 @@ public static class DiagnosticText
         [DoubleSlashKey] = ("illegal characters '//': a tool-table entry of an older ISO dialect (T1//15.98: tool 1, diameter 15.98), not FANUC syntax; the rest of the line is ignored", "非法字符 '//'：旧式 ISO 方言的刀具表条目（T1//15.98：1 号刀，直径 15.98），不是 FANUC 语法；本行其余部分被忽略"),
         [DiagnosticCodes.TooManyWords] = ("more than {0} words on one line: the rest of the line is not read", "一行中超过 {0} 个字：该行其余部分不再读取"),
         [DiagnosticCodes.TransformNotRunnable] = ("{0} under {1}: {2}", "{1} 下的 {0}：{3}"),
+        [DiagnosticCodes.CycleInInverseTime] = ("canned cycle G{0} in inverse time (G93): the cycle's feed moves have no F of their own; program G94 and a feed per minute before the cycle", "反时限进给（G93）下的固定循环 G{0}：循环的进给运动没有自己的 F；请在循环前指定 G94 和每分钟进给"),
+        [DiagnosticCodes.RotaryOffset] = ("{0} on rotary axis {1}: offsets on A, B and C are not applied on the controller, so {1} would run at its program value; set the rotary offset at the machine", "旋转轴 {1} 上的 {0}：控制器上不应用 A、B、C 的偏置，{1} 将按程序值运行；请在机床上设定旋转轴偏置"),
         [UnlistedKey] = ("{0} more not listed (at most {1} a line)", "另有 {0} 条未列出（每行最多 {1} 条）"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };

@@ -214,9 +214,11 @@ public sealed partial class Interpreter
 
         /// <summary>
         /// The host converts the code, or rewrites its block so that the library routine's READ finds its words right
-        /// after the code (dwell, data settings, tool length, machine coordinates, cycles, reference returns, tool change).
+        /// after the code (dwell, data settings, tool length, machine coordinates, cycles, reference returns, tool change,
+        /// and every other library code that reads words: M19 R, G64 P Q ...). A move's own words are the controller's.
         /// </summary>
         public bool HostRewrites { get; } = def.Controller == ControllerSupport.Host ||
+            (def.Controller == ControllerSupport.Library && def.Words.Length > 0 && role != GRole.Motion) ||
             (def.Code.StartsWith('M') ? def.Key == 60 : role is not (GRole.Mode or GRole.Motion) || def.Key is 430 or 440);
 
         public bool Reads(char letter) => (WordMask & (1 << (letter - 'A'))) != 0;

@@ -56,6 +56,37 @@ public sealed partial class Interpreter
         }
     }
 
+    /// <summary>
+    /// E131 for a data code that would give a rotary axis (A, B, C) an offset: the library's offsets are on X, Y and Z
+    /// and rotary positions are not tracked, so the axis would run at its program value. Zero offsets are what the
+    /// controller does anyway; G92 and "from the current position" settings depend on a position nobody knows here.
+    /// </summary>
+    private void CheckRotaryOffset(int key, double? l, Span<int> col, Span<double> val, List<Diagnostic> diags, int line)
+    {
+        foreach (var c in "ABC")
+        {
+            var at = col[c - 'A'];
+            if (at == 0)
+            {
+                continue;
+            }
+
+            var zero = val[c - 'A'] == 0;
+            var what = key switch
+            {
+                920 => "G92",
+                520 when !zero => "G52",
+                100 when l is 2 && !zero => "G10 L2",
+                100 when l is 20 && (!zero || !_profile.ExtendedWorkOffsets) => "G10 L20",
+                _ => null,
+            };
+            if (what != null)
+            {
+                Add(diags, DiagnosticCodes.RotaryOffset, line, at, what, c);
+            }
+        }
+    }
+
     /// <summary>The offsets a data code sets from its words.</summary>
     private void SetData(int key, double? x, double? y, double? z, double? l, double? p, double? r)
     {
@@ -84,7 +115,7 @@ public sealed partial class Interpreter
             case 100 when l is 1 or 10 && !_profile.ExtendedWorkOffsets && p is { } t && z is { } zl:
                 // RS274/NGC: L1 sets tool P's length to Z; L10 so that the current position reads as Z with it applied.
                 var c = _coords;
-                _coords.SetToolLength((int)t, l == 1 ? zl : _pos.Z - zl - (c.OffsetOf(c.Selected) + c.Local + c.Shift).Z, wear: false);
+                _coords.SetToolLength((int)t, l == 1 ? zl : _pos.Z - zl - (c.OffsetOf(c.Selected) + c.External + c.Local + c.Shift).Z, wear: false);
                 UpdateToolLength();
                 break;
             default:

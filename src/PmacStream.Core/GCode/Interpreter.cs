@@ -510,6 +510,11 @@ public sealed partial class Interpreter
         else if (codes.Data != 0)
         {
             // The axis words are data: offsets change, nothing moves.
+            if (diags != null && (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0)
+            {
+                CheckRotaryOffset(codes.Data, Word('L', col, val), col, val, diags, line);
+            }
+
             SetData(codes.Data, x, y, z, Word('L', col, val), p, r);
         }
         else if (codes.Reference != 0)
@@ -536,6 +541,11 @@ public sealed partial class Interpreter
         }
         else if (hasAxes && _cycle.Active && !codes.MachineCoordinates)
         {
+            if (_feedMode == 93)
+            {
+                Add(diags, DiagnosticCodes.CycleInInverseTime, line, codes.CycleColumn != 0 ? codes.CycleColumn : words[0].Column, CodeText(_cycle.Code / 10.0));
+            }
+
             if (_transform != null)
             {
                 (x, y, z, r) = TransformCycleWords(x, y, z, r, diags, line, codes.CycleColumn != 0 ? codes.CycleColumn : words[0].Column);

@@ -48,6 +48,7 @@ public sealed class MachineProfile
         DwellPInMilliseconds = dto.DwellPInMilliseconds ?? true;
         SlashInBlock = dto.SlashInBlock ?? false;
         ExtendedWorkOffsets = dto.ExtendedWorkOffsets ?? false;
+        ExternalWorkOffset = dto.ExternalWorkOffset ?? false;
         ProgramTail = dto.ProgramTail ?? "M05";
         Startup = dto.Startup ?? "G00 G21 G90 G54 G17 G49 G40 M05 M09";
         Letters = (dto.Letters ?? "NOGMXYZIJKRFSTHDP").ToUpperInvariant();
@@ -158,6 +159,12 @@ public sealed class MachineProfile
     /// <c>G10 L20 P</c> sets work offset P so that the current position reads as the values given.
     /// </summary>
     public bool ExtendedWorkOffsets { get; }
+
+    /// <summary>
+    /// FANUC's external work offset: <c>G10 L2 P0</c> sets an offset added to every work coordinate system. False
+    /// (LinuxCNC, grbl): <c>G10 L2 P0</c> sets the work offset selected now.
+    /// </summary>
+    public bool ExternalWorkOffset { get; }
 
     /// <summary>Code the splitter appends after the last chunk (some machines want <c>M03 M05</c>).</summary>
     public string ProgramTail { get; }

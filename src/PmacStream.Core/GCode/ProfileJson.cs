@@ -42,6 +42,7 @@ internal static class ProfileJson
             w.WriteBoolean("dwellPInMilliseconds", p.DwellPInMilliseconds);
             w.WriteBoolean("slashInBlock", p.SlashInBlock);
             w.WriteBoolean("extendedWorkOffsets", p.ExtendedWorkOffsets);
+            w.WriteBoolean("externalWorkOffset", p.ExternalWorkOffset);
             w.WriteString("programTail", p.ProgramTail);
             w.WriteString("startup", p.Startup);
             w.WriteString("letters", p.Letters);
@@ -189,6 +190,7 @@ internal static class ProfileJson
                     case "dwellpinmilliseconds": dto.DwellPInMilliseconds = v.GetBoolean(); break;
                     case "slashinblock": dto.SlashInBlock = v.GetBoolean(); break;
                     case "extendedworkoffsets": dto.ExtendedWorkOffsets = v.GetBoolean(); break;
+                    case "externalworkoffset": dto.ExternalWorkOffset = v.GetBoolean(); break;
                     case "programtail": dto.ProgramTail = v.GetString(); break;
                     case "startup": dto.Startup = v.GetString(); break;
                     case "letters": dto.Letters = v.GetString(); break;
@@ -300,6 +302,8 @@ internal static class ProfileJson
         public bool? SlashInBlock { get; set; }
 
         public bool? ExtendedWorkOffsets { get; set; }
+
+        public bool? ExternalWorkOffset { get; set; }
 
         public string? ProgramTail { get; set; }
 

@@ -9,6 +9,7 @@ internal sealed class WorkCoordinates
 {
     private readonly MachineProfile _profile;
     private Dictionary<int, Point3>? _set; // offsets G10 changed, by key (540 for G54, 5410+P for G54.1 Pn)
+    private Point3 _external; // FANUC's external work offset (G10 L2 P0), added to every work coordinate system
     private Point3 _local;
     private Point3 _shift;
     private double _toolLength;
@@ -26,7 +27,7 @@ internal sealed class WorkCoordinates
     /// <summary>The selected work offset as a key: 540..590 for G54..G59, 5410 + P for G54.1 P / G154 P.</summary>
     public int Selected { get; private set; }
 
-    /// <summary>The whole offset from program to machine coordinates (work offset + G52 + G92), looked up once per change.</summary>
+    /// <summary>The whole offset from program to machine coordinates (work offset + external offset + G52 + G92), looked up once per change.</summary>
     public Point3 Active
     {
         [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
@@ -35,7 +36,7 @@ internal sealed class WorkCoordinates
 
     private Point3 Compute()
     {
-        _active = Offset(Selected) + _local + _shift + new Point3(0, 0, _toolLength);
+        _active = Offset(Selected) + _external + _local + _shift + new Point3(0, 0, _toolLength);
         _known = true;
         return _active;
     }
@@ -52,15 +53,23 @@ internal sealed class WorkCoordinates
     }
 
     /// <summary>
-    /// G10 L2/L20: sets work offset <paramref name="p"/> (0: the selected one, 1..6: G54..G59, 7..9: G59.1..G59.3 with
-    /// LinuxCNC; the extended ones with <paramref name="extended"/>) on the given axes, to the values or, with
-    /// <paramref name="fromPosition"/>, so that <paramref name="position"/> reads as the values.
+    /// G10 L2/L20: sets work offset <paramref name="p"/> (0: the selected one, or FANUC's external offset where the
+    /// profile has one; 1..6: G54..G59, 7..9: G59.1..G59.3 with LinuxCNC; the extended ones with
+    /// <paramref name="extended"/>) on the given axes, to the values or, with <paramref name="fromPosition"/>, so that
+    /// <paramref name="position"/> reads as the values.
     /// </summary>
     public void SetOffset(int p, bool extended, bool fromPosition, double? x, double? y, double? z, Point3 position)
     {
+        if (p == 0 && !extended && !fromPosition && _profile.ExternalWorkOffset)
+        {
+            _external = new Point3(x ?? _external.X, y ?? _external.Y, z ?? _external.Z);
+            _known = false;
+            return;
+        }
+
         var key = extended ? 5410 + p : p == 0 ? Selected : p <= 6 ? 530 + (p * 10) : 590 + (p - 6);
         var old = Offset(key);
-        var shift = _local + _shift + new Point3(0, 0, _toolLength);
+        var shift = _external + _local + _shift + new Point3(0, 0, _toolLength);
         var value = fromPosition
             ? new Point3(x is { } ax ? position.X - ax - shift.X : old.X, y is { } ay ? position.Y - ay - shift.Y : old.Y, z is { } az ? position.Z - az - shift.Z : old.Z)
             : new Point3(x ?? old.X, y ?? old.Y, z ?? old.Z);
@@ -78,7 +87,7 @@ internal sealed class WorkCoordinates
     /// <summary>G92: shifts coordinates so that <paramref name="position"/> reads as the given values.</summary>
     public void SetShift(double? x, double? y, double? z, Point3 position)
     {
-        var o = Offset(Selected) + _local + new Point3(0, 0, _toolLength);
+        var o = Offset(Selected) + _external + _local + new Point3(0, 0, _toolLength);
         _shift = new Point3(x is { } ax ? position.X - ax - o.X : _shift.X, y is { } ay ? position.Y - ay - o.Y : _shift.Y, z is { } az ? position.Z - az - o.Z : _shift.Z);
         _known = false;
     }
@@ -92,6 +101,9 @@ internal sealed class WorkCoordinates
 
     /// <summary>The work offset <paramref name="key"/> stands for now (540 for G54, 5410 + P for the extended ones).</summary>
     public Point3 OffsetOf(int key) => Offset(key);
+
+    /// <summary>FANUC's external work offset (G10 L2 P0 where the profile has one), added to every work offset.</summary>
+    public Point3 External => _external;
 
     /// <summary>The G52 local shift.</summary>
     public Point3 Local => _local;

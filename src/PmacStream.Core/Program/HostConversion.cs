@@ -26,11 +26,15 @@ internal sealed class HostConversion
     /// </summary>
     public const string PowerOnState = "G99.9";
 
+    /// <summary>The library's own exact stop (PROG 1000 N9900, DWELL0), for a profile without a G09 routine.</summary>
+    public const string ExactStopCode = "G09.9";
+
     private readonly Interpreter _interp;
     private readonly MachineProfile _profile;
     private readonly List<HostMove> _moves = [];
     private readonly List<string> _lines = [];
     private readonly StringBuilder _sb = new(128);
+    private readonly double?[] _given = new double?[26]; // the block's words by letter (the first of each)
     private Point3 _start;
     private Point3 _offsetBefore;
     private int _toolBefore;
@@ -74,8 +78,14 @@ internal sealed class HostConversion
         var cycleOrReference = _moves.Count > 0;
         double? x = null, y = null, z = null, a = null, b = null, c = null, i = null, j = null, k = null, r = null, f = null, p = null, s = null, l = null, h = null;
         var codes = new List<(char Letter, double Value)>();
+        Array.Clear(_given);
         foreach (var w in words)
         {
+            if (w.Letter is >= 'A' and <= 'Z' && _given[w.Letter - 'A'] is null)
+            {
+                _given[w.Letter - 'A'] = w.Value;
+            }
+
             switch (w.Letter)
             {
                 case 'G' or 'M': codes.Add((w.Letter, w.Value)); break;
@@ -106,7 +116,7 @@ internal sealed class HostConversion
             var key = (int)Math.Round(value * 10);
             if (letter == 'M')
             {
-                var m = "M" + Code(value);
+                var m = "M" + Code(value) + LibraryWords('M', value, scale);
                 if (key == 60)
                 {
                     // The tool change routine reads the tool it changes to.
@@ -171,7 +181,7 @@ internal sealed class HostConversion
                 default:
                     // Codes that take the block's axis words as data (scaling, rotation, macro calls...) never move.
                     axisData |= CodeRoles.OfG(key) == GRole.AxisData;
-                    modes.Add("G" + Code(value));
+                    modes.Add("G" + Code(value) + LibraryWords('G', value, scale));
                     break;
             }
         }
@@ -271,8 +281,9 @@ internal sealed class HostConversion
 
         if (_interp.ExactStopBlock)
         {
-            // The library's G09 (DWELL0) after the move: the move decelerates to rest before the next one starts.
-            _lines.Add(_profile.Find('G', 9)?.Code ?? "G09");
+            // The library's G09 (DWELL0) after the move: the move decelerates to rest before the next one starts. A
+            // profile without a G09 routine (grbl) has the library's own G09.9.
+            _lines.Add(_profile.Find('G', 9) is { Controller: ControllerSupport.Library } g09 ? g09.Code : ExactStopCode);
         }
 
         Add(after);
@@ -419,6 +430,31 @@ internal sealed class HostConversion
         }
     }
 
+    /// <summary>
+    /// The words a library routine reads (the profile's <c>words</c> of the code), as the block gave them, to go right
+    /// after the code: <c>READ</c> takes the letters that follow the call, so a word left out or sent elsewhere on the
+    /// line would be lost or run as a statement. Lengths among them are sent in millimetres like everything else.
+    /// </summary>
+    private string LibraryWords(char letter, double value, double scale)
+    {
+        if (_profile.Find(letter, value) is not { Controller: ControllerSupport.Library, Words.Length: > 0 } def)
+        {
+            return string.Empty;
+        }
+
+        var key = (int)Math.Round(value * 10);
+        var text = new StringBuilder();
+        foreach (var c in def.Words)
+        {
+            if (_given[c - 'A'] is { } v)
+            {
+                text.Append(' ').Append(c).Append(Num(letter == 'G' && CodeRoles.WordIsLength(key, c) ? v * scale : v));
+            }
+        }
+
+        return text.ToString();
+    }
+
     /// <summary>The profile's spelling of a spindle M code (M3 or M03).</summary>
     private string SpindleCode(int code) =>
         _profile.Find('M', code)?.Code ?? "M" + code.ToString("00", CultureInfo.InvariantCulture);
@@ -429,6 +465,11 @@ internal sealed class HostConversion
         var coords = _interp.Coordinates;
         switch (l)
         {
+            case 2 when p is 0 && _profile.ExternalWorkOffset:
+                // FANUC's external work offset: index 0 of the library's table, which its displacement adds to every offset.
+                var e = coords.External;
+                yield return $"G10 L2 P0 X{Num(e.X)} Y{Num(e.Y)} Z{Num(e.Z)}";
+                break;
             case 2 or 20:
                 var extended = l == 20 && _profile.ExtendedWorkOffsets;
                 var n = (int)(p ?? 0);

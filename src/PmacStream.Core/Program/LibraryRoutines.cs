@@ -28,6 +28,9 @@ internal static class LibraryRoutines
     /// <summary>Back from machine coordinates after a G53 block (the host's <c>G53.9</c>).</summary>
     public const int BackFromMachine = 53900;
 
+    /// <summary>The move before ends at rest (the host's <c>G09.9</c> in exact stop mode, where the profile has no G09 of its own).</summary>
+    public const int ExactStop = 9900;
+
     private const long BitX = 1L << 23;
     private const long BitY = 1L << 24;
     private const long BitZ = 1L << 25;
@@ -36,7 +39,7 @@ internal static class LibraryRoutines
     public static IEnumerable<(int Label, string Body, string What)> Private(MachineProfile profile, Prog1000Options o)
     {
         var m = o.Map;
-        foreach (var label in new[] { Recompose, ApplyToolLength, MachineCoordinates, PowerOn, BackFromMachine })
+        foreach (var label in new[] { Recompose, ApplyToolLength, MachineCoordinates, PowerOn, BackFromMachine, ExactStop })
         {
             if (profile.Find('G', label / 1000.0) is { } clash)
             {
@@ -45,10 +48,14 @@ internal static class LibraryRoutines
         }
 
         var w = m.WorkOffsets;
+        // FANUC's external work offset (G10 L2 P0) is index 0 of the table, added to whichever offset is selected.
+        string Ext(int axis) => profile.ExternalWorkOffset ? $"+P{w + axis}" : string.Empty;
         yield return (Recompose,
-            $"{m.Q(14)}=P({w}+{m.Q(0)}*3)+{m.Q(1)}+{m.Q(4)} " +
-            $"{m.Q(15)}=P({w + 1}+{m.Q(0)}*3)+{m.Q(2)}+{m.Q(5)} {m.Q(16)}=P({w + 2}+{m.Q(0)}*3)+{m.Q(3)}+{m.Q(6)}+{m.Q(7)} TSEL{m.Matrix} ADIS{m.State + 14}",
-            "compose the displacement: work offset + G52 + G92 + tool length on Z, applied with ADIS (renames, moves nothing)");
+            $"{m.Q(14)}=P({w}+{m.Q(0)}*3){Ext(0)}+{m.Q(1)}+{m.Q(4)} " +
+            $"{m.Q(15)}=P({w + 1}+{m.Q(0)}*3){Ext(1)}+{m.Q(2)}+{m.Q(5)} {m.Q(16)}=P({w + 2}+{m.Q(0)}*3){Ext(2)}+{m.Q(3)}+{m.Q(6)}+{m.Q(7)} TSEL{m.Matrix} ADIS{m.State + 14}",
+            profile.ExternalWorkOffset
+                ? "compose the displacement: work offset + external offset (index 0) + G52 + G92 + tool length on Z, applied with ADIS (renames, moves nothing)"
+                : "compose the displacement: work offset + G52 + G92 + tool length on Z, applied with ADIS (renames, moves nothing)");
         yield return (ApplyToolLength,
             $"{m.Q(7)}=0\r\nIF({m.Q(9)}=43) {m.Q(7)}=P({m.ToolLengths}+{m.Q(8)})\r\nIF({m.Q(9)}=44) {m.Q(7)}=-P({m.ToolLengths}+{m.Q(8)})\r\nGOSUB{Recompose}",
             "tool length of offset H from the tool table, + for G43, - for G44, 0 for G49");
@@ -58,6 +65,8 @@ internal static class LibraryRoutines
         yield return (BackFromMachine,
             $"{m.Q(13)}=0 GOSUB{Recompose}\r\nIF({m.Q(10)}=91) INC\r\nIF({m.Q(11)}=0) RAPID\r\nIF({m.Q(11)}=1) LINEAR\r\nIF({m.Q(11)}=2) CIRCLE1\r\nIF({m.Q(11)}=3) CIRCLE2",
             "G53.9 (sent by the host after a G53 block): back to work coordinates, distance and motion modes");
+        yield return (ExactStop, "DWELL0",
+            "G09.9 (sent by the host after each move in exact stop mode where the profile has no G09): the move ends at rest");
         yield return (PowerOn,
             $"{m.Q(0)}=1 {m.Q(1)}=0 {m.Q(2)}=0 {m.Q(3)}=0 {m.Q(4)}=0 {m.Q(5)}=0 {m.Q(6)}=0 {m.Q(8)}=0 {m.Q(9)}=0 {m.Q(10)}=90 {m.Q(13)}=0 ABS GOSUB{ApplyToolLength}",
             "power-on state: G54, no G52/G92 shift, G49, G90");
@@ -113,11 +122,48 @@ internal static class LibraryRoutines
             40 => $"DWELL0 {o.SpindleOrient}=0 {o.SpindleReverse}=1 {o.SpindleOn}=1",
             70 => $"{o.MistCoolant}=1",
             90 => $"DWELL0 {o.Coolant}=0 {o.MistCoolant}=0",
-            190 => $"DWELL0 {o.SpindleOn}=0 {o.SpindleOrient}=1",
+            190 => SpindleOrient(profile, o),
             60 => "READ(T) DWELL0\r\n" + (o.ToolChangeHook ?? DefaultToolChange(profile, o) + stop) + $"\r\n{m.Q(12)}=Q120",
             _ => null,
         };
     }
+
+    /// <summary>
+    /// M19: reads the words the profile's M19 takes, so none is left to run as a statement, and passes the angle
+    /// (R; P where the code takes no Q, as Haas's whole degrees) and LinuxCNC's direction P to the orientation logic
+    /// before it switches the orientation on. LinuxCNC's Q (seconds to wait for the orientation) is read: the routine
+    /// does not wait for an orientation-done input.
+    /// </summary>
+    private static string SpindleOrient(MachineProfile profile, Prog1000Options o)
+    {
+        var words = profile.Find('M', 19)?.Words ?? string.Empty;
+        var set = $"DWELL0 {o.SpindleOn}=0 {o.SpindleOrientAngle}=0";
+        if (words.Length == 0)
+        {
+            return $"{set} {o.SpindleOrient}=1";
+        }
+
+        var read = $"READ({string.Join(',', words.ToCharArray())})\r\n{set}";
+        var pIsDirection = words.Contains('Q');
+        if (pIsDirection)
+        {
+            read += $" {o.SpindleOrientDirection}=0\r\nIF(Q100&{Bit('P')}>0) {o.SpindleOrientDirection}=Q116";
+        }
+        else if (words.Contains('P'))
+        {
+            read += $"\r\nIF(Q100&{Bit('P')}>0) {o.SpindleOrientAngle}=Q116";
+        }
+
+        if (words.Contains('R'))
+        {
+            read += $"\r\nIF(Q100&{Bit('R')}>0) {o.SpindleOrientAngle}=Q118";
+        }
+
+        return $"{read}\r\n{o.SpindleOrient}=1";
+    }
+
+    /// <summary>The bit of Q100 that <c>READ</c> sets when letter <paramref name="c"/> came (A is bit 0).</summary>
+    private static long Bit(char c) => 1L << (c - 'A');
 
     /// <summary>Spindle off, to the tool change position in machine coordinates (Z first) when the machine has one.</summary>
     private static string DefaultToolChange(MachineProfile profile, Prog1000Options o)

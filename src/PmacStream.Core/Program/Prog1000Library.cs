@@ -28,6 +28,18 @@ public sealed record Prog1000Options
     /// <summary>M-variable of the spindle orientation output (M19).</summary>
     public string SpindleOrient { get; init; } = "M906";
 
+    /// <summary>
+    /// Variable the M19 routine sets to the orientation angle in degrees (R, or P where the profile's M19 takes no Q:
+    /// Haas's whole-degree P), 0 when the block gives none. Assumed: the machine's orientation logic reads it.
+    /// </summary>
+    public string SpindleOrientAngle { get; init; } = "M907";
+
+    /// <summary>
+    /// Variable the M19 routine sets to the turning direction where the profile's M19 takes P beside Q (LinuxCNC: 0
+    /// shortest way, 1 clockwise, 2 counter-clockwise), 0 when the block gives none. Assumed, like the angle.
+    /// </summary>
+    public string SpindleOrientDirection { get; init; } = "M908";
+
     /// <summary>Write <c>;</c> comment lines (PComm's download strips them; turn off for a raw terminal).</summary>
     public bool Comments { get; init; } = true;
 
@@ -249,10 +261,10 @@ public static class Prog1000Library
         910 => "INC",
         // Codes that ask for what the coordinate system already does (the profile's note says why for each):
         // millimetres (G21), the G54 origin, no length offset (G49), no cycle (G80), feed per minute (G94), blending
-        // (G64, G61 in grbl), cancels of what is never applied (G15, G23, G67; G50, G50.1, G69 in a profile that does not have the host transform positions), rpm (G97), cycle
+        // (G64), cancels of what is never applied (G15, G23, G67; G50, G50.1, G69 in a profile that does not have the host transform positions), rpm (G97), cycle
         // return levels only cycles read (G98, G99), incremental circle centres (G91.1), lookahead on the
         // controller (G05.1, G08, G187).
-        210 or 540 or 490 or 800 or 940 or 640 or 610 or 150 or 230 or 500 or 501 or 670 or 690 or 970 or 980 or 990 or 911 or 51 or 80 or 1870 => "",
+        210 or 540 or 490 or 800 or 940 or 640 or 150 or 230 or 500 or 501 or 670 or 690 or 970 or 980 or 990 or 911 or 51 or 80 or 1870 => "",
         _ => null,
     };
 

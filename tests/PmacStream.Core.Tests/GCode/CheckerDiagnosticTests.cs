@@ -80,6 +80,8 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.IllegalCharacter, "G0 X1 /Y2", 1, 7, "linuxcnc-mill" },
         { DiagnosticCodes.TooManyWords, "O1\nG01 F100 " + string.Join(" ", Enumerable.Repeat("X1", 255)), 2, 10 + (3 * 254) },
         { DiagnosticCodes.TransformNotRunnable, "O1\nG51 X0 Y0 I2000 J1000\nG02 X1 Y0 I0.5 F100", 3, 1 },
+        { DiagnosticCodes.CycleInInverseTime, "O1\nG93 G81 X1 Y1 Z-1 R1 F2", 2, 5 },
+        { DiagnosticCodes.RotaryOffset, "O1\nG10 L2 P2 A90.", 2, 11 },
     };
 
     public static TheoryData<string, string> Good => new()
@@ -115,6 +117,8 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\nM30\n%\n\n  \n" },
         { DiagnosticCodes.TooManyWords, "O1\nG01 F100 " + string.Join(" ", Enumerable.Repeat("X1", 254)) },
         { DiagnosticCodes.TransformNotRunnable, "O1\nG51 X0 Y0 P2000\nG02 X1 Y0 I0.5 F100\nG50" },
+        { DiagnosticCodes.CycleInInverseTime, "O1\nG94 G81 X1 Y1 Z-1 R1 F100\nG80\nG93 G01 X2 F2\nG94" },
+        { DiagnosticCodes.RotaryOffset, "O1\nG10 L2 P2 X1 A0\nG52 A0\nG00 A90.\nG52 X0" },
     };
 
     [Theory]

@@ -45,10 +45,10 @@ public class Prog1000LibraryTests
                 r.Converted.Should().Be(r.Controller == ControllerSupport.Library, $"{name} {r.Code}");
             }
 
-            // Every converted code, and the library's five own routines, have one label; each routine ends in RET
+            // Every converted code, and the library's six own routines, have one label; each routine ends in RET
             // (on its own line after a multi-line body, whose last line may be a one-line IF).
             var labelLines = Lines(text).Where(l => l.StartsWith('N')).ToList();
-            labelLines.Should().HaveCount(routines.Count(r => r.Converted) + 5);
+            labelLines.Should().HaveCount(routines.Count(r => r.Converted) + 6);
 
             // Each routine ends in RET: on its label's line, or on a line of its own after a one-line IF.
             var lines = Lines(text).ToList();
