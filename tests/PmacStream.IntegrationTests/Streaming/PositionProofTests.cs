@@ -78,6 +78,10 @@ public class PositionProofTests(ITestOutputHelper output)
         G154 P3 X10.
         G10 L2 P1 X5. Y6. Z-20.
         G54 X1. Y1.
+        G10 L2 P0 X1.5 Y-2. Z0.5
+        G55 X2. Y2.
+        G54 X1. Y1.
+        G10 L2 P0 X0 Y0 Z0
         G10 L20 P2 X11. Y12. Z-13.
         G54.1 P2 X2.
         G10 L10 P1 R55.
@@ -150,6 +154,7 @@ public class PositionProofTests(ITestOutputHelper output)
         G02 X30. Y10. I0 J-10. F4.
         G94 G01 X0 F600.
         G00 Z30.
+        M19 R45.
         M19
         M07
         M09
