@@ -2,9 +2,66 @@ using System.Runtime.CompilerServices;
 
 namespace PmacStream.GCode;
 
-/// <summary>The interpreter's moves beyond straight lines and arcs: cycle holes, offsets that data codes set, move times.</summary>
+/// <summary>The interpreter's moves beyond straight lines and arcs: dwells, reference returns, cycle holes, offsets that data codes set, move times.</summary>
 public sealed partial class Interpreter
 {
+    /// <summary>G04: the dwell's seconds from P (in the profile's unit) or X (seconds); W005 without either, W003 for the axis words it does not read.</summary>
+    private double ConvertDwell(double? p, double? x, double? y, double? z, Span<int> col, List<Diagnostic>? diags, int line, int column)
+    {
+        var seconds = 0.0;
+        if (p is { } pd && pd >= 0)
+        {
+            seconds = _profile.DwellPInMilliseconds ? pd / 1000.0 : pd;
+        }
+        else if (x is { } xd && xd >= 0)
+        {
+            seconds = xd;
+        }
+        else if (!p.HasValue && !x.HasValue)
+        {
+            Add(diags, DiagnosticCodes.MissingWord, line, column, "G04", "P", "dwell of 0 s", "暂停 0 秒");
+        }
+
+        if (y.HasValue)
+        {
+            Add(diags, DiagnosticCodes.UnusedWord, line, col['Y' - 'A'], 'Y');
+        }
+
+        if (z.HasValue)
+        {
+            Add(diags, DiagnosticCodes.UnusedWord, line, col['Z' - 'A'], 'Z');
+        }
+
+        if (p.HasValue && x.HasValue)
+        {
+            Add(diags, DiagnosticCodes.UnusedWord, line, col['X' - 'A'], 'X');
+        }
+
+        return seconds;
+    }
+
+    /// <summary>G27-G30: through the programmed point to the reference position, on the axes named (their steps for the host in <see cref="HostMoves"/>).</summary>
+    private (Point3 End, MotionKind Kind, double Length, double Seconds) ConvertReference(int key, Point3 start, double? x, double? y, double? z, bool hasAxes)
+    {
+        var via = Target(start, x, y, z);
+        var home = key is 280 or 300 ? _profile.ReferencePosition(key / 10) : via;
+        var end = new Point3(x.HasValue ? home.X : start.X, y.HasValue ? home.Y : start.Y, z.HasValue ? home.Z : start.Z);
+        if (HostMoves != null && hasAxes)
+        {
+            // Only the axes the block names move, to the intermediate point too: the others stay wherever the
+            // machine is (at a program's first G28 the host does not know where that is).
+            var named = (x.HasValue ? 1 : 0) | (y.HasValue ? 2 : 0) | (z.HasValue ? 4 : 0);
+            HostMoves.Add(new HostMove(HostMoveKind.Rapid, via, 0, named));
+            if (key is 280 or 300)
+            {
+                HostMoves.Add(new HostMove(HostMoveKind.MachineRapid, end, 0, named));
+            }
+        }
+
+        var length = MeasureMoves ? start.DistanceTo(via) + via.DistanceTo(end) : 0;
+        return (end, hasAxes ? MotionKind.Rapid : MotionKind.None, length, RapidTime(length));
+    }
+
     /// <summary>The holes of a positioning block while a cycle is in force (see <see cref="CannedCycle"/>).</summary>
     private (Point3 End, MotionKind Kind, double Length, double Seconds) Holes(Point3 start, double? x, double? y, double? z, double? r,
         Span<int> col, Span<double> val, List<Diagnostic>? diags, int line, ref BlockCodes codes)
