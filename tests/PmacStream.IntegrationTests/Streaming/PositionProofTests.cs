@@ -193,6 +193,27 @@ public class PositionProofTests(ITestOutputHelper output)
         }
     }
 
+    [Fact]
+    public async Task A_grbl_program_in_exact_path_mode_ends_each_block_where_the_interpreter_says()
+    {
+        // grbl's G61 is in force from power-on: every move ends at rest (G09.9 after it), in inch blocks too.
+        const string program = "G21 G90 G54\nG10 L2 P0 X5 Y5\nG0 X0 Y0 Z5\nG1 Z-1 F300\nX10 Y10\nG2 X20 Y0 I10 J0\nG20 G1 X1 Y1\nG21 G4 P0.2\nG0 Z5\nM30\n";
+        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        try
+        {
+            var path = Path.Combine(dir, "grbl.nc");
+            await File.WriteAllTextAsync(path, program);
+            var profile = Machine("grbl");
+            new Checker(profile).CheckText(program).Diagnostics.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+            var report = await ProveAsync(path, profile, force: false);
+            report.Lines.Should().Be(7, "seven lines move or dwell");
+        }
+        finally
+        {
+            Directory.Delete(dir, recursive: true);
+        }
+    }
+
     [SkippableFact]
     public async Task Every_corpus_program_ends_each_block_where_the_interpreter_says()
     {
