@@ -99,6 +99,12 @@ internal sealed class WorkCoordinates
         _known = false;
     }
 
+    /// <summary>The work offsets G10 changed, by key (540 for G54, 5410 + P for the extended ones), in key order.</summary>
+    public IEnumerable<int> ChangedOffsets => _set is null ? [] : _set.Keys.Order();
+
+    /// <summary>The tools (H numbers) whose length or wear G10 changed, in order.</summary>
+    public IEnumerable<int> ChangedTools => (_tools?.Keys ?? Enumerable.Empty<int>()).Concat(_wear?.Keys ?? Enumerable.Empty<int>()).Distinct().Order();
+
     /// <summary>The work offset <paramref name="key"/> stands for now (540 for G54, 5410 + P for the extended ones).</summary>
     public Point3 OffsetOf(int key) => Offset(key);
 

@@ -40,17 +40,18 @@ public static class ControllerLibrary
             .ToList();
 
     /// <summary>
-    /// The machine's tables as the library keeps them, as online assignments the host downloads: work offsets G54-G59
-    /// (and G59.1-G59.3), tool lengths and the tool change position of the profile (millimetres, machine coordinates).
+    /// The machine's tables as the library keeps them, as online assignments the host downloads: FANUC's external work
+    /// offset (zero) where the profile has one, work offsets G54-G59 (and G59.1-G59.3), tool lengths and the tool change position of the profile (millimetres, machine coordinates).
     /// </summary>
     public static IReadOnlyList<string> TableLines(MachineProfile profile, LibraryMap? map = null)
     {
         map ??= new LibraryMap();
         var lines = new List<string>();
         string Num(double v) => HostConversion.Num(v);
-        for (var index = 1; index <= 9; index++)
+        // Index 0 is FANUC's external work offset where the profile has one: zero, as the host's interpreter starts it.
+        for (var index = profile.ExternalWorkOffset ? 0 : 1; index <= 9; index++)
         {
-            var code = index <= 6 ? 53 + index : 0;
+            var code = index is >= 1 and <= 6 ? 53 + index : 0;
             var o = code > 0 ? profile.WorkOffset(code) : default;
             var at = map.WorkOffsets + (3 * index);
             lines.Add($"P{at}={Num(o.X)} P{at + 1}={Num(o.Y)} P{at + 2}={Num(o.Z)}");

@@ -107,6 +107,9 @@ public static class StartFromLine
             var before = interp.State;
             var start = interp.Position;
             var activeOffset = interp.ActiveOffset;
+            // What the controller must hold (tables, shifts) as the blocks before this one left it: taken before the
+            // block changes it, for the blocks from the requested line on only (the start is the first that moves).
+            var controller = block.LineNumber >= line ? HostConversion.ControllerState(interp) : default;
             var decoded = interp.Step(block);
             var moved = decoded is not null && decoded.Motion != MotionKind.None;
             if (block.LineNumber >= line && moved)
@@ -122,7 +125,7 @@ public static class StartFromLine
                 // The block's own F travels on a feed-variable line before its marker line, which a start at the
                 // block skips: the preamble's feed is the one the block runs with.
                 var feedState = decoded!.Modal.Feed is { } blockFeed && blockFeed != before.Feed ? before with { Feed = blockFeed } : before;
-                return BuildCore(block.LineNumber, before, feedState, startWork, safeZ, options.FeedMode, options.FeedVariable);
+                return BuildCore(block.LineNumber, before, feedState, startWork, safeZ, options.FeedMode, options.FeedVariable, controller);
             }
 
             if (moved)
@@ -142,26 +145,37 @@ public static class StartFromLine
     /// feed down to the block's Z, then distance mode, motion mode and feed.
     /// </summary>
     public static StartPlan Build(int line, ModalState state, Point3 start, double safeZ, FeedMode feedMode = FeedMode.Paper, string feedVariable = "P500") =>
-        BuildCore(line, state, state, start, safeZ, feedMode, feedVariable);
+        BuildCore(line, state, state, start, safeZ, feedMode, feedVariable, default);
 
-    private static StartPlan BuildCore(int line, ModalState state, ModalState preambleState, Point3 start, double safeZ, FeedMode feedMode, string feedVariable)
+    private static StartPlan BuildCore(int line, ModalState state, ModalState preambleState, Point3 start, double safeZ, FeedMode feedMode, string feedVariable,
+        (IReadOnlyList<string>? Before, string? Selection) controller)
     {
         var modal = preambleState.ToPreamble(null, forController: true).ToList();
         var last = modal[^1];
         modal.RemoveAt(modal.Count - 1);
+        if (controller.Selection is { } selection)
+        {
+            modal.Insert(1, selection); // after the plane and G54..G59 line, which cannot name it
+        }
+
+        var restore = controller.Before ?? [];
         var unit = preambleState.Units == LengthUnits.Inches ? 25.4 : 1.0;
         var approachFeed = preambleState.Feed is > 0 ? Math.Min(preambleState.Feed.Value * unit, 500) : 300;
         var z = Math.Max(safeZ, start.Z);
-        var gcode = new List<string>(modal)
+        // Tables and shifts go as the library reads them (no feed word); the rest as the splitter translates it.
+        var gcode = new List<string>(restore.Count + modal.Count + 4);
+        gcode.AddRange(restore.Select(l => l == HostConversion.PowerOnState ? l + " (the library's power-on state: G54, no G52/G92 shift, G49, G90)" : l));
+        gcode.AddRange(modal);
+        gcode.AddRange(new[]
         {
             $"G90 G00 Z{Num(z)}",
             $"G00 X{Num(start.X)} Y{Num(start.Y)}",
             $"G01 Z{Num(start.Z)} F{Num(approachFeed)}",
             last,
-        };
+        });
 
-        var pmac = new List<string>();
-        foreach (var g in gcode)
+        var pmac = new List<string>(restore);
+        foreach (var g in gcode.Skip(restore.Count))
         {
             pmac.AddRange(ToPmac(g, feedMode, feedVariable));
         }

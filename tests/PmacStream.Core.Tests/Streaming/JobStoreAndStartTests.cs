@@ -1,3 +1,4 @@
+using PmacStream.Jobs;
 using Microsoft.Data.Sqlite;
 using PmacStream.GCode;
 using PmacStream.Streaming;
@@ -90,6 +91,34 @@ public class StartFromLineTests
         plan.PmacLines.Should().Contain(l => l.StartsWith("P500=", StringComparison.Ordinal));
         plan.PmacLines.Where(l => l.Contains('X') || l.Contains('Z')).Should().OnlyContain(l => l.EndsWith("F(P500)", StringComparison.Ordinal));
         plan.PmacLines.Should().NotContain(l => System.Text.RegularExpressions.Regex.IsMatch(l, @"(?<![A-Z])F\d"));
+    }
+
+    [Fact]
+    public void The_plan_restores_what_the_program_set_on_the_controller_before_the_block()
+    {
+        // The blocks a start skips set tables, shifts and an extended offset: the controller must hold them all.
+        using var dir = new TestFolder("start-tables");
+        var src = Path.Combine(dir.Path, "tables.nc");
+        File.WriteAllText(src, "G21 G90 G17\nG10 L2 P0 X1.5\nG10 L2 P2 X30. Y-20. Z5.\nG10 L10 P2 R55.\nG54.1 P3\nG52 X10. Y10.\n"
+            + "G00 X0 Y0 Z10.\nG92 X5. Y10.\nG01 X5. F300.\nX10.\nM30\n");
+        var plan = StartFromLine.Plan(src, 10, new StartPlanOptions { Profile = MachineProfile.Named("fanuc-mill") });
+
+        plan.PmacLines.Take(6).Should().Equal(
+            "G99.9", "G10 L2 P0 X1.5 Y0 Z0", "G10 L2 P2 X30 Y-20 Z5", "G10 L1 P2 Z55", "G52 X10 Y10 Z0", "G92 X-5 Y-10 Z0");
+        plan.GCode[7].Should().Be("G54.1 P3", "the selection the plane and G54..G59 line cannot name comes right after it");
+        plan.GCode.Skip(1).Take(5).Should().Equal(plan.PmacLines.Skip(1).Take(5), "the operator sees the tables and shifts as they go, without a feed word");
+        plan.GCode[0].Should().StartWith("G99.9 (the library's power-on state");
+
+        // Without such blocks only the power-on state comes first.
+        var plain = StartFromLine.Plan(RepoRoot.DemoProgram, 500, new StartPlanOptions { Profile = MachineProfile.Named("fanuc-mill") }).GCode;
+        (plain[0][..5], plain[1]).Should().Be(("G99.9", "G17 G54"));
+    }
+
+    [Fact]
+    public void The_machine_tables_zero_the_external_offset_where_the_profile_has_one()
+    {
+        ControllerLibrary.TableLines(MachineProfile.Named("fanuc-mill")!)[0].Should().Be("P7100=0 P7101=0 P7102=0", "the host's interpreter starts FANUC's external offset at zero");
+        ControllerLibrary.TableLines(MachineProfile.Named("linuxcnc-mill")!)[0].Should().StartWith("P7103=", "LinuxCNC has no external offset: G54 is index 1");
     }
 
     [Fact]

@@ -51,7 +51,8 @@ public class StartPlanTests
 
             // Order: modal state first (units/plane/offset, tool, spindle, coolant), then retract, XY, feed down, then modes and feed.
             var g = plan.GCode.ToList();
-            g[0].Should().Be("G17 G54", "the controller preamble is in millimetres: no units code");
+            g[0].Should().StartWith("G99.9 ", "the library's power-on state first: the controller may hold another job's shifts");
+            g[1].Should().Be("G17 G54", "the controller preamble is in millimetres: no units code");
             var retract = g.IndexOf("G90 G00 Z10");
             g.Take(retract).Should().NotContain(l => l.StartsWith("T", StringComparison.Ordinal), "the host hands the tool to M06; a T word would call PROG 1002").And.Contain("S8000 M03").And.Contain("M08");
             g.Skip(retract).Should().Equal("G90 G00 Z10", "G00 X40 Y20", "G01 Z-1 F500", "G90 G01 F1200");

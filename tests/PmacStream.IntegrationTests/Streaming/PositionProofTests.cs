@@ -214,6 +214,68 @@ public class PositionProofTests(ITestOutputHelper output)
         }
     }
 
+    /// <summary>A program that changes the offsets before its moves: work offset data, G52, G92, tool length, rotation.</summary>
+    public const string OffsetsBeforeTheStart = """
+        G21 G90 G17 G40 G49 G80
+        G10 L2 P2 X30. Y-20. Z5.
+        G55
+        G52 X10. Y10.
+        G43 H1
+        S1000 M03
+        G00 X0 Y0 Z10.
+        G01 Z-1. F300.
+        X20.
+        G92 X0 Y0
+        G01 X5. Y5.
+        X10.
+        G68 X0 Y0 R30.
+        G01 X20. Y0
+        X30. Y10.
+        G69
+        X40. Y10.
+        G00 Z10.
+        M30
+        """;
+
+    /// <summary>Extended work offsets, FANUC's external offset, a tool length set by the program, scaling.</summary>
+    public const string TablesBeforeTheStart = """
+        G21 G90 G17 G40 G49 G80
+        G10 L2 P0 X1.5 Y-2. Z0.5
+        G10 L20 P3 X-60. Y25. Z-15.
+        G10 L10 P2 R55.
+        G54.1 P3
+        G43 H2
+        G00 X0 Y0 Z10.
+        G01 Z-2. F400.
+        G51 X0 Y0 P2.
+        G01 X10. Y5.
+        X15.
+        G50
+        X20. Y0
+        G00 Z10.
+        M30
+        """;
+
+    [Theory]
+    [InlineData("offsets", 8)]
+    [InlineData("offsets", 11)]
+    [InlineData("offsets", 14)]
+    [InlineData("offsets", 17)]
+    [InlineData("tables", 8)]
+    [InlineData("tables", 11)]
+    [InlineData("tables", 13)]
+    public async Task A_start_from_a_block_after_offsets_were_set_ends_each_block_where_the_interpreter_says(string program, int line)
+    {
+        var text = program == "offsets" ? OffsetsBeforeTheStart : TablesBeforeTheStart;
+        using var dir = new TestFolder("proof");
+        var path = Path.Combine(dir.Path, program + ".nc");
+        await File.WriteAllTextAsync(path, text);
+        var profile = Machine();
+        new Checker(profile).CheckText(text).Diagnostics.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+        var report = await ProveAsync(path, profile, force: false, fromLine: line);
+        report.Lines.Should().BeGreaterThan(0, "the blocks from the start on ran");
+    }
+
     [SkippableFact]
     public async Task Every_corpus_program_ends_each_block_where_the_interpreter_says()
     {
@@ -250,7 +312,7 @@ public class PositionProofTests(ITestOutputHelper output)
     /// <summary>The outcome of one program's proof.</summary>
     public sealed record ProofReport(string Name, int Lines, int Moves, double Largest);
 
-    private static async Task<ProofReport> ProveAsync(string path, MachineProfile profile, bool force, bool tables = true)
+    private static async Task<ProofReport> ProveAsync(string path, MachineProfile profile, bool force, bool tables = true, int? fromLine = null)
     {
         var name = Path.GetFileName(path);
         var split = Splitter.Split(path, new SplitOptions
@@ -273,7 +335,18 @@ public class PositionProofTests(ITestOutputHelper output)
                 await eth.DownloadAsync(ControllerLibrary.TableLines(profile));
             }
             var session = new StreamingSession(eth, program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 60_000 });
-            await session.StartAsync();
+            if (fromLine is { } from)
+            {
+                // Start from a block as the HMI and --from-line do: the one start planner's preamble, then the chunks.
+                var plan = StartFromLine.Plan(path, from, StartPlanOptions.For(program.Manifest, new StartPlanOptions { Profile = profile }));
+                await session.StartAsync(plan.Line, plan.PmacLines);
+                fromLine = plan.Line;
+            }
+            else
+            {
+                await session.StartAsync();
+            }
+
             var deadline = DateTime.UtcNow + TimeSpan.FromMinutes(3);
             while (session.State is not (SessionState.Completed or SessionState.Faulted or SessionState.Aborted) && DateTime.UtcNow < deadline)
             {
@@ -287,8 +360,9 @@ public class PositionProofTests(ITestOutputHelper output)
         await host.StopAsync();
         var executed = host.Simulator.ExecutedMoves
             .Where(m => !(m.Kind == MoveKind.Dwell && m.Duration == 0)) // DWELL0 of the library's routines: no block of the program
+            .Where(m => m.SourceLine >= (fromLine ?? 0)) // a start from a block: its preamble's approach is no block of the program
             .ToList();
-        var expected = Expected(path, profile);
+        var expected = Expected(path, profile).Where(e => e.Line >= (fromLine ?? 0)).ToList();
         var groups = new List<(int Line, ExecutedMove Last)>();
         foreach (var m in executed)
         {
