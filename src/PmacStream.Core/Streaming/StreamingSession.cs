@@ -291,10 +291,17 @@ public sealed partial class StreamingSession
             _channel.BufferOpen = true; // unknown: the crashed host may have left it open
             await _channel.OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
             var seen = await _queries.ReadAsync(Program.LineProbeVariable, cancellationToken).ConfigureAwait(false);
+            if (!checkpoint.Started && RunCommandRule.WhyNot(seen, Program.Sync.Variable) is { } arrived)
+            {
+                // The crashed host gave the run command but died before recording it: the job is reconciled as started.
+                Log.Information("resume: {Why:l}", arrived);
+                checkpoint = checkpoint with { Started = true };
+            }
+
             var decision = ResumeReconciliation.Decide(Program, checkpoint, seen, _buffer.BufferWords);
             if (!checkpoint.Started)
             {
-                // The crashed host had begun sending but never gave the run command.
+                // The crashed host had begun sending but never gave the run command, and nothing has run.
                 await _channel.OnlineAsync(RunCommand, cancellationToken).ConfigureAwait(false);
             }
 
@@ -416,15 +423,32 @@ public sealed partial class StreamingSession
             await _channel.OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
             if (!_runSent)
             {
-                // The start broke off before the run command, so nothing has run yet. When the loading (preamble,
-                // first chunk) broke off, how much of it arrived is not known: clear the buffer and load it again.
-                if (!_start.Loaded && await _queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) != true)
+                // The start broke off around the run command: the link may have lost the command or only its reply.
+                var seen = await _queries.ReadAsync(null, cancellationToken).ConfigureAwait(false);
+                if (RunCommandRule.WhyNot(seen, Program.Sync.Variable) is { } arrived)
                 {
-                    await _start.LoadAsync(cancellationToken).ConfigureAwait(false);
-                    SaveCheckpoint(durable: true);
+                    if (!_start.Loaded)
+                    {
+                        // The load broke off, yet the coordinate system runs or ran something: not this start.
+                        _log.Message = $"still cannot continue: the start had not finished loading the buffer, yet {arrived}; check what the controller runs";
+                        return false;
+                    }
+
+                    Log.Information("recover: {Why:l}", arrived);
+                }
+                else
+                {
+                    // Nothing has run. When the loading (preamble, first chunk) broke off, how much of it arrived is not
+                    // known: clear the buffer and load it again.
+                    if (!_start.Loaded)
+                    {
+                        await _start.LoadAsync(cancellationToken).ConfigureAwait(false);
+                        SaveCheckpoint(durable: true);
+                    }
+
+                    await _channel.OnlineAsync(RunCommand, cancellationToken).ConfigureAwait(false);
                 }
 
-                await _channel.OnlineAsync(RunCommand, cancellationToken).ConfigureAwait(false);
                 _runSent = true;
             }
 
