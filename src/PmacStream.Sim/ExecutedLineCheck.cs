@@ -2,8 +2,10 @@ namespace PmacStream.Sim;
 
 /// <summary>
 /// Checks, as moves finish, that the controller ran every block of a program once and in order, without keeping the
-/// moves: the executed source lines are folded (one block may make several moves; line 0 is a preamble move, before
-/// any tracking assignment) and compared one by one with the program's tracked lines, which are read lazily too.
+/// moves: the executed moves are counted as blocks (a block starts at the move its synchronous tracking assignment
+/// fires on, <see cref="ExecutedMove.BlockStart"/>, or where the line changes; the block's further moves are not
+/// counted; line 0 is a preamble move, before any tracking assignment) and compared one by one with the program's
+/// tracked lines, which are read lazily too. So a one-move block run twice in a row counts twice.
 /// </summary>
 public sealed class ExecutedLineCheck
 {
@@ -26,24 +28,35 @@ public sealed class ExecutedLineCheck
         _fromLine = fromLine;
     }
 
-    /// <summary>Blocks executed (folded lines counted).</summary>
+    /// <summary>Blocks executed.</summary>
     public long Executed { get; private set; }
 
     /// <summary>The first place execution left the program's order, or null while it has not.</summary>
     public string? FirstBreak { get; private set; }
 
-    /// <summary>The source lines of executed moves in execution order, one per block: repeats of a line folded, line 0 left out.</summary>
-    public static IEnumerable<int> Fold(IEnumerable<int> sourceLines)
+    /// <summary>
+    /// The source line of each block the moves executed, in execution order: a block starts at a move marked
+    /// <see cref="ExecutedMove.BlockStart"/> or whose line differs from the move before; line 0 is left out.
+    /// </summary>
+    public static IEnumerable<int> Blocks(IEnumerable<ExecutedMove> moves)
     {
-        ArgumentNullException.ThrowIfNull(sourceLines);
+        ArgumentNullException.ThrowIfNull(moves);
+        return Blocks(moves.Select(m => (m.SourceLine, m.BlockStart)));
+    }
+
+    /// <summary><see cref="Blocks(IEnumerable{ExecutedMove})"/> of moves given as their line and block-start mark.</summary>
+    public static IEnumerable<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves)
+    {
+        ArgumentNullException.ThrowIfNull(moves);
         var last = 0;
-        foreach (var line in sourceLines)
+        foreach (var (line, blockStart) in moves)
         {
-            if (line > 0 && line != last)
+            if (StartsBlock(line, blockStart, last))
             {
-                last = line;
                 yield return line;
             }
+
+            last = line > 0 ? line : last;
         }
     }
 
@@ -61,14 +74,14 @@ public sealed class ExecutedLineCheck
     }
 
     /// <summary>Takes one finished move.</summary>
-    public void Add(ExecutedMove move) => Add(move.SourceLine);
+    public void Add(ExecutedMove move) => Add(move.SourceLine, move.BlockStart);
 
-    /// <summary>Takes the source line of one finished move.</summary>
-    public void Add(int sourceLine)
+    /// <summary>Takes the source line of one finished move, and whether the move starts a block.</summary>
+    public void Add(int sourceLine, bool blockStart)
     {
         lock (_lock)
         {
-            if (sourceLine <= 0 || sourceLine == _last)
+            if (!StartsBlock(sourceLine, blockStart, _last))
             {
                 return;
             }
@@ -112,6 +125,9 @@ public sealed class ExecutedLineCheck
             return new ExecutedLineResult(Executed, _expectedSeen, FirstBreak);
         }
     }
+
+    // Line 0 (a preamble move) never starts a block and does not end the one before it.
+    private static bool StartsBlock(int line, bool blockStart, int previousLine) => line > 0 && (blockStart || line != previousLine);
 
     private int? NextExpected()
     {

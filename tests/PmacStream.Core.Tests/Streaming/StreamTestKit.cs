@@ -162,5 +162,5 @@ public sealed class Rig
     }
 
     /// <summary>Distinct source lines of the executed moves, in execution order (what the demo counts).</summary>
-    public List<int> ExecutedLines() => MoveLines.Fold(Controller.Moves.Select(m => m.SourceLine));
+    public List<int> ExecutedLines() => MoveLines.Blocks(Controller.Moves.Select(m => (m.SourceLine, m.BlockStart)));
 }

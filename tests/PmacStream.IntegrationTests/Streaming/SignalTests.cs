@@ -177,6 +177,6 @@ public sealed partial class SignalTests : IDisposable
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(10));
         var expected = ChunkedProgram.Open(Path.Combine(Splitter.DefaultOutDir(src), ChunkManifest.FileName)).TrackedLines().ToList();
-        MoveLines.Fold(sim.ExecutedMoves.Select(m => m.SourceLine)).Should().Equal(expected, "every block once, in order, across the SIGTERM");
+        MoveLines.Blocks(sim.ExecutedMoves).Should().Equal(expected, "every block once, in order, across the SIGTERM");
     }
 }
