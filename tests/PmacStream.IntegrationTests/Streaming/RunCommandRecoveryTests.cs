@@ -1,5 +1,4 @@
 using System.Globalization;
-using System.Text;
 using PmacStream.Pmac;
 using PmacStream.Streaming;
 
@@ -15,19 +14,7 @@ public sealed class RunCommandRecoveryTests : IDisposable
 
     public void Dispose() => _folder.Dispose();
 
-    private string Source(int moves)
-    {
-        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nF1500\n");
-        for (var i = 0; i < moves; i++)
-        {
-            var (row, col) = Math.DivRem(i, 200);
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{(row % 2 == 0 ? col : 199 - col) * 0.25:0.00} Y{row * 0.25:0.00}\n");
-        }
-
-        var path = Path.Combine(_folder.Path, "part.nc");
-        File.WriteAllText(path, sb.Append("M30\n").ToString());
-        return path;
-    }
+    private string Source(int moves) => RasterProgram.Write(Path.Combine(_folder.Path, "part.nc"), moves);
 
     private static async Task<int> TrackedAsync(IPmacConnection c) => int.Parse((await c.GetResponseAsync("M0")).Trim(), CultureInfo.InvariantCulture);
 
