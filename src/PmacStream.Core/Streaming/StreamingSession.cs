@@ -148,8 +148,6 @@ public sealed partial class StreamingSession
     /// <summary>True while the optional-stop switch is on: the controller stops at <c>M01</c>.</summary>
     public bool OptionalStop => _optionalStop;
 
-    private string RunCommand => _cs.Run(_singleBlock);
-
     private string OptionalStopCommand => $"{Options.OptionalStopVariable}={(_optionalStop ? 1 : 0)}";
 
     /// <summary>
@@ -421,35 +419,9 @@ public sealed partial class StreamingSession
         {
             _channel.BufferOpen = true;
             await _channel.OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
-            if (!_runSent)
+            if (!_runSent && !await FinishBrokenStartAsync(cancellationToken).ConfigureAwait(false))
             {
-                // The start broke off around the run command: the link may have lost the command or only its reply.
-                var seen = await _queries.ReadAsync(null, cancellationToken).ConfigureAwait(false);
-                if (RunCommandRule.WhyNot(seen, Program.Sync.Variable) is { } arrived)
-                {
-                    if (!_start.Loaded)
-                    {
-                        // The load broke off, yet the coordinate system runs or ran something: not this start.
-                        _log.Message = $"still cannot continue: the start had not finished loading the buffer, yet {arrived}; check what the controller runs";
-                        return false;
-                    }
-
-                    Log.Information("recover: {Why:l}", arrived);
-                }
-                else
-                {
-                    // Nothing has run. When the loading (preamble, first chunk) broke off, how much of it arrived is not
-                    // known: clear the buffer and load it again.
-                    if (!_start.Loaded)
-                    {
-                        await _start.LoadAsync(cancellationToken).ConfigureAwait(false);
-                        SaveCheckpoint(durable: true);
-                    }
-
-                    await _channel.OnlineAsync(RunCommand, cancellationToken).ConfigureAwait(false);
-                }
-
-                _runSent = true;
+                return false;
             }
 
             _strategy.Reset();

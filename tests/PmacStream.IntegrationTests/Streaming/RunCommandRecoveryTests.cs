@@ -46,6 +46,29 @@ public sealed class RunCommandRecoveryTests : IDisposable
     }
 
     [Fact]
+    public async Task A_recovery_after_the_run_command_s_reply_was_lost_does_not_release_the_operator_s_hold()
+    {
+        using var rig = new SimRig(Source(2000), 500, new StreamingOptions());
+        var link = new RunReplyLost(rig.Connection);
+        var session = new StreamingSession(link, rig.Program, rig.Options, rig.Sink, time: rig.Time);
+        var start = () => session.StartAsync();
+        await start.Should().ThrowAsync<PmacLinkException>();
+        session.State.Should().Be(SessionState.Faulted);
+
+        rig.Sim.Advance(TimeSpan.FromSeconds(1));
+        await using var panel = new InProcessConnection(rig.Sim.OpenPort("panel"), "panel");
+        await panel.GetResponseAsync("&1 H");
+        rig.Sim.Advance(TimeSpan.FromSeconds(1));
+        var held = await TrackedAsync(panel);
+        held.Should().BeGreaterThan(0, "the run command arrived: the job ran until the hold");
+
+        (await session.RecoverAsync()).Should().BeTrue(session.Status.Message);
+        link.RunCommands.Should().Be(1, "the run command is not given again to a program that started");
+        rig.Sim.Advance(TimeSpan.FromSeconds(3));
+        (await TrackedAsync(panel)).Should().Be(held, "the operator's hold stays");
+    }
+
+    [Fact]
     public async Task A_completed_job_whose_run_command_was_not_recorded_is_not_started_again()
     {
         using var rig = new SimRig(Source(60), 500, new StreamingOptions());
@@ -62,5 +85,32 @@ public sealed class RunCommandRecoveryTests : IDisposable
         (await resume.Should().ThrowAsync<ControllerLostJobException>()).Which.RestartLine.Should().Be(rig.Program.FinalTrackedLine);
         rig.Sim.RunUntilIdle(TimeSpan.FromMinutes(1));
         rig.Sim.ExecutedMoves.Count.Should().Be(moves, "no run command went to the idle coordinate system");
+    }
+
+    /// <summary>The controller gets the run command, the host never gets its reply (the link drops once, there).</summary>
+    private sealed class RunReplyLost(IPmacConnection inner) : IPmacConnection
+    {
+        public int RunCommands { get; private set; }
+
+        public string Description => inner.Description;
+
+        public async Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default)
+        {
+            var reply = await inner.GetResponseAsync(command, cancellationToken);
+            if (command == "&1 R" && ++RunCommands == 1)
+            {
+                throw new PmacLinkException("link dropped before the reply");
+            }
+
+            return reply;
+        }
+
+        public Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default) => inner.DownloadAsync(lines, cancellationToken);
+
+        public Task FlushAsync(CancellationToken cancellationToken = default) => inner.FlushAsync(cancellationToken);
+
+        public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => inner.ControlAsync(control, cancellationToken);
+
+        public ValueTask DisposeAsync() => ValueTask.CompletedTask;
     }
 }
