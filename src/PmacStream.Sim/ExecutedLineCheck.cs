@@ -2,17 +2,17 @@ namespace PmacStream.Sim;
 
 /// <summary>
 /// Checks, as moves finish, that the controller ran every block of a program once and in order, without keeping the
-/// moves: the executed moves are counted as blocks (a block starts at the move its synchronous tracking assignment
-/// fires on, <see cref="ExecutedMove.BlockStart"/>, or where the line changes; the block's further moves are not
-/// counted; line 0 is a preamble move, before any tracking assignment) and compared one by one with the program's
-/// tracked lines, which are read lazily too. So a one-move block run twice in a row counts twice.
+/// moves: the executed moves are counted as blocks (<see cref="BlockStarts"/>: where the line changes or the block's
+/// synchronous tracking assignment fired again; a block's further moves are not counted; line 0 is a preamble move)
+/// and compared one by one with the program's tracked lines, which are read lazily too. So a one-move block run twice
+/// in a row counts twice.
 /// </summary>
 public sealed class ExecutedLineCheck
 {
     private readonly IEnumerator<int> _expected;
     private readonly int? _fromLine;
     private readonly object _lock = new();
-    private int _last;
+    private readonly BlockStarts _starts;
     private long _expectedSeen;
     private bool _expectedDone;
     private PmacSimulator? _attached;
@@ -20,12 +20,14 @@ public sealed class ExecutedLineCheck
     /// <summary>
     /// A check against <paramref name="expected"/> (the tracked lines in program order); with <paramref name="fromLine"/>,
     /// executed lines before it are left out (a start from a line runs its preamble's moves first).
+    /// <paramref name="expandedBlocks"/>: the blocks whose tracking assignment the program carries more than once (see <see cref="BlockStarts"/>).
     /// </summary>
-    public ExecutedLineCheck(IEnumerable<int> expected, int? fromLine = null)
+    public ExecutedLineCheck(IEnumerable<int> expected, int? fromLine = null, IReadOnlyDictionary<int, int>? expandedBlocks = null)
     {
         ArgumentNullException.ThrowIfNull(expected);
         _expected = expected.GetEnumerator();
         _fromLine = fromLine;
+        _starts = new BlockStarts(expandedBlocks);
     }
 
     /// <summary>Blocks executed.</summary>
@@ -35,28 +37,19 @@ public sealed class ExecutedLineCheck
     public string? FirstBreak { get; private set; }
 
     /// <summary>
-    /// The source line of each block the moves executed, in execution order: a block starts at a move marked
-    /// <see cref="ExecutedMove.BlockStart"/> or whose line differs from the move before; line 0 is left out.
+    /// The source line of each block the moves executed, in execution order (<see cref="BlockStarts"/>, with the
+    /// program's <paramref name="expandedBlocks"/>); line 0 is left out.
     /// </summary>
-    public static IEnumerable<int> Blocks(IEnumerable<ExecutedMove> moves)
+    public static IEnumerable<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves, IReadOnlyDictionary<int, int>? expandedBlocks = null)
     {
         ArgumentNullException.ThrowIfNull(moves);
-        return Blocks(moves.Select(m => (m.SourceLine, m.BlockStart)));
-    }
-
-    /// <summary><see cref="Blocks(IEnumerable{ExecutedMove})"/> of moves given as their line and block-start mark.</summary>
-    public static IEnumerable<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves)
-    {
-        ArgumentNullException.ThrowIfNull(moves);
-        var last = 0;
+        var starts = new BlockStarts(expandedBlocks);
         foreach (var (line, blockStart) in moves)
         {
-            if (StartsBlock(line, blockStart, last))
+            if (starts.Next(line, blockStart))
             {
                 yield return line;
             }
-
-            last = line > 0 ? line : last;
         }
     }
 
@@ -81,12 +74,11 @@ public sealed class ExecutedLineCheck
     {
         lock (_lock)
         {
-            if (!StartsBlock(sourceLine, blockStart, _last))
+            if (!_starts.Next(sourceLine, blockStart))
             {
                 return;
             }
 
-            _last = sourceLine;
             if (_fromLine is { } from && sourceLine < from)
             {
                 return;
@@ -125,9 +117,6 @@ public sealed class ExecutedLineCheck
             return new ExecutedLineResult(Executed, _expectedSeen, FirstBreak);
         }
     }
-
-    // Line 0 (a preamble move) never starts a block and does not end the one before it.
-    private static bool StartsBlock(int line, bool blockStart, int previousLine) => line > 0 && (blockStart || line != previousLine);
 
     private int? NextExpected()
     {

@@ -1,4 +1,5 @@
 using PmacStream.Sim;
+using PmacStream.Streaming;
 
 namespace PmacStream.Testing;
 
@@ -6,12 +7,15 @@ namespace PmacStream.Testing;
 public static class MoveLines
 {
     /// <summary>
-    /// The source line of each block the moves executed, in execution order: a block starts at the move its
-    /// synchronous tracking assignment fired on (or where the line changes), its further moves are not counted, and
-    /// line 0 (a preamble move, no M0 yet) is left out. A one-move block run twice in a row shows twice.
+    /// The source line of each block the moves executed, in execution order (<see cref="BlockStarts"/>): a block starts
+    /// where the line changes or its synchronous tracking assignment fired again (once a block the host expands had
+    /// each of its <paramref name="program"/>'s assignments), its further moves are not counted, and line 0 (a preamble
+    /// move, no M0 yet) is left out. A one-move block run twice in a row shows twice.
     /// </summary>
-    public static List<int> Blocks(IEnumerable<ExecutedMove> moves) => ExecutedLineCheck.Blocks(moves).ToList();
+    public static List<int> Blocks(IEnumerable<ExecutedMove> moves, ChunkedProgram? program = null) =>
+        Blocks(moves.Select(m => (m.SourceLine, m.BlockStart)), program);
 
-    /// <summary><see cref="Blocks(IEnumerable{ExecutedMove})"/> of moves given as their line and block-start mark (the fake controller's).</summary>
-    public static List<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves) => ExecutedLineCheck.Blocks(moves).ToList();
+    /// <summary><see cref="Blocks(IEnumerable{ExecutedMove}, ChunkedProgram?)"/> of moves given as their line and block-start mark (the fake controller's).</summary>
+    public static List<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves, ChunkedProgram? program = null) =>
+        ExecutedLineCheck.Blocks(moves, program?.ExpandedBlocks()).ToList();
 }

@@ -82,7 +82,7 @@ public sealed class SimRig : IDisposable
     }
 
     /// <summary>The source line of each block executed (a block's further moves not counted, a repeated block twice), preamble (0) left out.</summary>
-    public List<int> ExecutedLines() => MoveLines.Blocks(Sim.ExecutedMoves);
+    public List<int> ExecutedLines() => MoveLines.Blocks(Sim.ExecutedMoves, Program);
 
     public void Dispose()
     {

@@ -85,10 +85,11 @@ public sealed class JobService
     /// <summary>
     /// Opens a controller: the built-in simulator through the host, anything else through <see cref="PmacConnections"/>;
     /// proves the link (<c>VERSION</c>) and loads the PROG 1000/1001 library of <paramref name="profile"/> and the
-    /// machine's tables into the simulator (which starts empty), only while it is idle. The library a real controller
+    /// machine's tables into the simulator (which starts empty), only while it is idle (one still running a job keeps
+    /// the library it runs). The library a real controller
     /// runs is checked by <see cref="CreateJobAsync"/> and <see cref="ResumeAsync"/>, before the first chunk.
     /// </summary>
-    /// <exception cref="JobException">No simulator in this host, the controller cannot be reached, or the simulator runs a program.</exception>
+    /// <exception cref="JobException">No simulator in this host, or the controller cannot be reached.</exception>
     public async Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile = null, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(spec);
@@ -121,7 +122,16 @@ public sealed class JobService
 
             if (sim is not null)
             {
-                await ControllerLibrary.EnsureAsync(connection, profile, LibraryPolicy.Load, cancellationToken).ConfigureAwait(false);
+                // A simulator that outlived its host may still run that host's job: it keeps the library it runs (a
+                // resume checks it is the job's).
+                if (await LibraryDownloadGuard.BusyAsync(connection, LibraryDownloadScope.Default, cancellationToken).ConfigureAwait(false) is { } busy)
+                {
+                    Log.Information("{Device:l}: {Busy:l}; the library it runs is kept", connection.Description, busy);
+                }
+                else
+                {
+                    await ControllerLibrary.EnsureAsync(connection, profile, LibraryPolicy.Load, cancellationToken).ConfigureAwait(false);
+                }
             }
 
             Log.Information("Connected to {Device:l} ({Spec:l}), firmware {Version:l}", connection.Description, spec.ToString(), version);

@@ -33,6 +33,19 @@ internal static class LibraryDownloadGuard
     /// <exception cref="JobException">A program runs or a move is in progress, or the status reply is not understood.</exception>
     public static async Task RefuseUnlessIdleAsync(IPmacConnection connection, LibraryDownloadScope scope, CancellationToken cancellationToken)
     {
+        if (await BusyAsync(connection, scope, cancellationToken).ConfigureAwait(false) is { } busy)
+        {
+            var message = $"{busy}: the PROG 1000/1001 library and the machine's tables are not loaded under it (they would change what its G and M codes, " +
+                          $"work offsets and tool lengths do in mid-cut). Let the program finish, or hold and abort it (&{scope.CoordinateSystem} H, &{scope.CoordinateSystem} A), then load the library again; " +
+                          "or run without --load-library on the library the controller has";
+            Log.Warning("Library load refused: {Message:l}", message);
+            throw new JobException(message, JobErrorKind.Failed);
+        }
+    }
+
+    /// <summary>What keeps the coordinate system from being idle (what runs, at which tracking line), or null when it is idle.</summary>
+    public static async Task<string?> BusyAsync(IPmacConnection connection, LibraryDownloadScope scope, CancellationToken cancellationToken)
+    {
         var cs = "&" + scope.CoordinateSystem.ToString(CultureInfo.InvariantCulture);
         var status = ControllerQueries.FirstValue(await connection.GetResponseAsync($"{cs}??", cancellationToken).ConfigureAwait(false))
             .Replace(" ", string.Empty, StringComparison.Ordinal);
@@ -40,7 +53,7 @@ internal static class LibraryDownloadGuard
         var stopped = ControllerQueries.MotionStopped(status);
         if (running == false && stopped == true)
         {
-            return;
+            return null;
         }
 
         var line = ControllerQueries.ParseInt(await connection.GetResponseAsync(scope.TrackingVariable, cancellationToken).ConfigureAwait(false), scope.TrackingVariable);
@@ -48,19 +61,14 @@ internal static class LibraryDownloadGuard
         if (running == true && stopped == true && ahead == 0 && scope.CompletedJobLine == line)
         {
             Log.Information("{Cs:l}: the completed job's rotary program waits for lines after its last line {Line}, with nothing ahead and no move: the library may be loaded", cs, line);
-            return;
+            return null;
         }
 
-        var what = running switch
+        return running switch
         {
             true => $"{cs} is running a program at {scope.TrackingVariable}={line} ({ahead} line(s) ahead{(stopped == false ? ", a move in progress" : string.Empty)})",
             false => $"{cs} has a move in progress at {scope.TrackingVariable}={line} (no program running)",
             null => $"{cs} answered its status query with '{status}', so whether it runs a program is not known ({scope.TrackingVariable}={line})",
         };
-        var message = $"{what}: the PROG 1000/1001 library and the machine's tables are not loaded under it (they would change what its G and M codes, " +
-                      $"work offsets and tool lengths do in mid-cut). Let the program finish, or hold and abort it ({cs} H, {cs} A), then load the library again; " +
-                      "or run without --load-library on the library the controller has";
-        Log.Warning("Library load refused: {Message:l}", message);
-        throw new JobException(message, JobErrorKind.Failed);
     }
 }

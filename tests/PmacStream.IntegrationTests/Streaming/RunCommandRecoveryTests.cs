@@ -58,7 +58,7 @@ public sealed class RunCommandRecoveryTests : IDisposable
         rig.Sim.Advance(TimeSpan.FromSeconds(1));
         await using var panel = new InProcessConnection(rig.Sim.OpenPort("panel"), "panel");
         await panel.GetResponseAsync("&1 H");
-        rig.Sim.Advance(TimeSpan.FromSeconds(1));
+        rig.Sim.Advance(TimeSpan.FromSeconds(2));
         var held = await TrackedAsync(panel);
         held.Should().BeGreaterThan(0, "the run command arrived: the job ran until the hold");
 

@@ -121,6 +121,22 @@ public sealed class ExecutedLogTests : IDisposable
         h.Ok("&1 R");
     }
 
+    [Fact]
+    public void A_block_the_host_expands_fires_its_assignment_on_each_line_and_counts_once_until_it_fires_again()
+    {
+        // Line 9, a reference return, is two controller lines, each with M0==9.
+        var expanded = new Dictionary<int, int> { [9] = 2 };
+        var once = new ExecutedLineCheck([9, 13], expandedBlocks: expanded);
+        foreach (var (line, fired) in new[] { (9, true), (9, true), (13, true), (13, false) })
+        {
+            once.Add(line, fired);
+        }
+
+        once.Finish().Should().Be(new ExecutedLineResult(2, 2, null));
+        ExecutedLineCheck.Blocks([(9, true), (9, true), (9, true), (9, true), (13, true)], expanded).Should().Equal(9, 9, 13);
+        ExecutedLineCheck.Blocks([(9, true), (9, true), (13, true)]).Should().Equal(new[] { 9, 9, 13 }, "without the program's expansions each assignment is a block");
+    }
+
     [Theory]
     [InlineData(new[] { 1, 1, 2, 0, 3 }, 3, null)]
     [InlineData(new[] { 1, 2, 2, 1, 2, 3 }, 5, "block order broken at block 3: expected line 3, executed line 1")]
