@@ -17,5 +17,13 @@ public static class MoveLines
 
     /// <summary><see cref="Blocks(IEnumerable{ExecutedMove}, ChunkedProgram?)"/> of moves given as their line and block-start mark (the fake controller's).</summary>
     public static List<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves, ChunkedProgram? program = null) =>
-        ExecutedLineCheck.Blocks(moves, program?.ExpandedBlocks()).ToList();
+        Blocks(moves, program?.ExpandedBlocks());
+
+    /// <summary>The blocks of <paramref name="moves"/> with the program's expanded blocks read before (<see cref="ChunkedProgram.ExpandedBlocks"/>).</summary>
+    public static List<int> Blocks(IEnumerable<ExecutedMove> moves, IReadOnlyDictionary<int, int>? expandedBlocks) =>
+        Blocks(moves.Select(m => (m.SourceLine, m.BlockStart)), expandedBlocks);
+
+    /// <summary>The blocks of moves given as their line and block-start mark, with the program's expanded blocks read before.</summary>
+    public static List<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves, IReadOnlyDictionary<int, int>? expandedBlocks) =>
+        ExecutedLineCheck.Blocks(moves, expandedBlocks).ToList();
 }

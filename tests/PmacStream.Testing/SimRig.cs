@@ -13,6 +13,7 @@ namespace PmacStream.Testing;
 public sealed class SimRig : IDisposable
 {
     private readonly TestFolder _folder;
+    private readonly IReadOnlyDictionary<int, int> _expanded;
 
     /// <summary>Virtual second 0 of every rig's clock, so checkpoint times are the same in every run.</summary>
     public static readonly DateTimeOffset TestEpoch = new(2026, 1, 1, 0, 0, 0, TimeSpan.Zero);
@@ -25,6 +26,7 @@ public sealed class SimRig : IDisposable
         _folder = new TestFolder("rig");
         var split = Splitter.Split(source, new SplitOptions { LinesPerChunk = linesPerChunk, OutDir = Path.Combine(Folder, "chunks"), Tracking = placement });
         Program = ChunkedProgram.Open(split.ManifestPath);
+        _expanded = Program.ExpandedBlocks(); // read now: a test may change a chunk later
         Sim = new PmacSimulator(simOptions);
         Port = Sim.OpenPort("stream");
         Connection = new InProcessConnection(Port, "sim");
@@ -82,7 +84,7 @@ public sealed class SimRig : IDisposable
     }
 
     /// <summary>The source line of each block executed (a block's further moves not counted, a repeated block twice), preamble (0) left out.</summary>
-    public List<int> ExecutedLines() => MoveLines.Blocks(Sim.ExecutedMoves, Program);
+    public List<int> ExecutedLines() => MoveLines.Blocks(Sim.ExecutedMoves, _expanded);
 
     public void Dispose()
     {
