@@ -8,7 +8,8 @@
 # Needs root, ip(8), /dev/net/tun and python3. Usage: sudo bench/scripts/link-faults.sh
 # Environment (defaults): STRATEGIES="chunk pr adaptive" RATES="1000 5000" (blocks/s) BLOCKS=20000 PR_BLOCKS=4000
 #   DOWN_AT=3 (s after the host first reports an executing line) DOWN_FOR=5 (s) DELAY_MS=2 JITTER_MS=1 LOSS=0.01 REORDER=0.05 SEED=1 PMACSTREAM_CLI=path/to/pmacstream.dll
-#   KEEP=1 keeps the work folder. Prints one result line per run and exits 1 if any run lost, repeated or reordered a block.
+#   KEEP=1 keeps the work folder. Prints one result line per run and exits 1 if any run lost, repeated or reordered a
+#   block, 2 when it cannot run here, 3 when the CLI does not build (PMACSTREAM_CLI given: used as it is, not rebuilt).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
@@ -22,8 +23,19 @@ DELAY_MS="${DELAY_MS:-2}" JITTER_MS="${JITTER_MS:-1}" LOSS="${LOSS:-0.01}" REORD
 
 [ "$(id -u)" = 0 ] || { echo "link-faults: needs root (network namespaces and TUN devices)"; exit 2; }
 [ -c /dev/net/tun ] || { echo "link-faults: no /dev/net/tun"; exit 2; }
-if [ -z "${PMACSTREAM_CLI:-}" ]; then
-  dotnet build src/PmacStream.Cli -c Release -v q -nologo >/dev/null
+# A built CLI given is used as it is; otherwise it is built here, and a build that fails is reported as such (exit 3),
+# never as a run that lost a block.
+if [ -n "${PMACSTREAM_CLI:-}" ]; then
+  [ -f "$PMACSTREAM_CLI" ] || { echo "link-faults: PMACSTREAM_CLI=$PMACSTREAM_CLI: no such file"; exit 2; }
+else
+  BUILD_LOG=$(mktemp /tmp/pmacstream-linkfaults-build.XXXXXX)
+  if ! dotnet build src/PmacStream.Cli -c Release -v q -nologo >"$BUILD_LOG" 2>&1; then
+    echo "link-faults: BUILD FAILED (dotnet build src/PmacStream.Cli -c Release); nothing was run. Last lines of the build:"
+    tail -n 20 "$BUILD_LOG"
+    rm -f "$BUILD_LOG"
+    exit 3
+  fi
+  rm -f "$BUILD_LOG"
   PMACSTREAM_CLI="$ROOT/src/PmacStream.Cli/bin/Release/net10.0/pmacstream.dll"
 fi
 CLI=(dotnet "$PMACSTREAM_CLI")
@@ -67,9 +79,11 @@ with open(out, "w") as f:
 EOF
 }
 
-# Every block once and in order: the executed log's source lines (repeats of one block's moves folded, 0 left out)
-# against the synchronous assignments M0==line of the chunks, in order (they rise through the program). Lost and
-# repeated are counted by line; a break in order is a line executed after a later one.
+# Every block once and in order: the executed log's blocks (a block starts at a row marked block=1, the move its
+# synchronous assignment M0==line fired on, or where the line changes; its further moves are not counted; 0 is left
+# out) against the synchronous assignments M0==line of the chunks, in order (they rise through the program). So a
+# one-move block run twice in a row counts twice. Lost and repeated are counted by line; a break in order is a line
+# executed after a later one (or the same line again).
 check_log() { # LOG CHUNK_DIR -> "executed expected lost repeated breaks breaks-without-repeats first-break lines-run-twice"
   python3 - "$1" "$2" <<'EOF'
 import csv, glob, re, sys
@@ -85,13 +99,13 @@ executed, last = [], 0
 with open(log) as f:
     for row in csv.DictReader(f):
         n = int(row["line"])
-        if n > 0 and n != last:
+        if n > 0 and (row.get("block") == "1" or n != last):
             executed.append(n)
-        last = n
+        last = n if n > 0 else last
 want, got = Counter(expected), Counter(executed)
 lost = sum(max(0, c - got[k]) for k, c in want.items())
 repeated = sum(max(0, c - want[k]) for k, c in got.items())
-breaks = [i for i in range(1, len(executed)) if executed[i] < executed[i - 1]]
+breaks = [i for i in range(1, len(executed)) if executed[i] <= executed[i - 1]]
 first = "line %d after line %d" % (executed[breaks[0]], executed[breaks[0] - 1]) if breaks else "-"
 twice = sorted(k for k, c in got.items() if c > want[k])
 runs = "%d-%d" % (twice[0], twice[-1]) if twice else "-"
@@ -101,7 +115,7 @@ for x in executed:
     kept[x] += 1
     if kept[x] <= want[x]:
         once.append(x)
-reordered = sum(1 for i in range(1, len(once)) if once[i] < once[i - 1])
+reordered = sum(1 for i in range(1, len(once)) if once[i] <= once[i - 1])
 print(len(executed), len(expected), lost, repeated, len(breaks), reordered, first.replace(" ", "_"), runs)
 EOF
 }

@@ -583,6 +583,7 @@ internal sealed class CoordinateSystem : IVariableAccess
             foreach (var (index, value) in sync)
             {
                 _sim.SetVariable('M', index, value);
+                seg.BlockStart |= index == _sim.Options.TrackingVariable;
             }
         }
 

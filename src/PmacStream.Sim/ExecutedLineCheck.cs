@@ -2,15 +2,17 @@ namespace PmacStream.Sim;
 
 /// <summary>
 /// Checks, as moves finish, that the controller ran every block of a program once and in order, without keeping the
-/// moves: the executed source lines are folded (one block may make several moves; line 0 is a preamble move, before
-/// any tracking assignment) and compared one by one with the program's tracked lines, which are read lazily too.
+/// moves: the executed moves are counted as blocks (<see cref="BlockStarts"/>: where the line changes or the block's
+/// synchronous tracking assignment fired again; a block's further moves are not counted; line 0 is a preamble move)
+/// and compared one by one with the program's tracked lines, which are read lazily too. So a one-move block run twice
+/// in a row counts twice.
 /// </summary>
 public sealed class ExecutedLineCheck
 {
     private readonly IEnumerator<int> _expected;
     private readonly int? _fromLine;
     private readonly object _lock = new();
-    private int _last;
+    private readonly BlockStarts _starts;
     private long _expectedSeen;
     private bool _expectedDone;
     private PmacSimulator? _attached;
@@ -18,30 +20,34 @@ public sealed class ExecutedLineCheck
     /// <summary>
     /// A check against <paramref name="expected"/> (the tracked lines in program order); with <paramref name="fromLine"/>,
     /// executed lines before it are left out (a start from a line runs its preamble's moves first).
+    /// <paramref name="expandedBlocks"/>: the blocks whose tracking assignment the program carries more than once (see <see cref="BlockStarts"/>).
     /// </summary>
-    public ExecutedLineCheck(IEnumerable<int> expected, int? fromLine = null)
+    public ExecutedLineCheck(IEnumerable<int> expected, int? fromLine = null, IReadOnlyDictionary<int, int>? expandedBlocks = null)
     {
         ArgumentNullException.ThrowIfNull(expected);
         _expected = expected.GetEnumerator();
         _fromLine = fromLine;
+        _starts = new BlockStarts(expandedBlocks);
     }
 
-    /// <summary>Blocks executed (folded lines counted).</summary>
+    /// <summary>Blocks executed.</summary>
     public long Executed { get; private set; }
 
     /// <summary>The first place execution left the program's order, or null while it has not.</summary>
     public string? FirstBreak { get; private set; }
 
-    /// <summary>The source lines of executed moves in execution order, one per block: repeats of a line folded, line 0 left out.</summary>
-    public static IEnumerable<int> Fold(IEnumerable<int> sourceLines)
+    /// <summary>
+    /// The source line of each block the moves executed, in execution order (<see cref="BlockStarts"/>, with the
+    /// program's <paramref name="expandedBlocks"/>); line 0 is left out.
+    /// </summary>
+    public static IEnumerable<int> Blocks(IEnumerable<(int SourceLine, bool BlockStart)> moves, IReadOnlyDictionary<int, int>? expandedBlocks = null)
     {
-        ArgumentNullException.ThrowIfNull(sourceLines);
-        var last = 0;
-        foreach (var line in sourceLines)
+        ArgumentNullException.ThrowIfNull(moves);
+        var starts = new BlockStarts(expandedBlocks);
+        foreach (var (line, blockStart) in moves)
         {
-            if (line > 0 && line != last)
+            if (starts.Next(line, blockStart))
             {
-                last = line;
                 yield return line;
             }
         }
@@ -61,19 +67,18 @@ public sealed class ExecutedLineCheck
     }
 
     /// <summary>Takes one finished move.</summary>
-    public void Add(ExecutedMove move) => Add(move.SourceLine);
+    public void Add(ExecutedMove move) => Add(move.SourceLine, move.BlockStart);
 
-    /// <summary>Takes the source line of one finished move.</summary>
-    public void Add(int sourceLine)
+    /// <summary>Takes the source line of one finished move, and whether the move starts a block.</summary>
+    public void Add(int sourceLine, bool blockStart)
     {
         lock (_lock)
         {
-            if (sourceLine <= 0 || sourceLine == _last)
+            if (!_starts.Next(sourceLine, blockStart))
             {
                 return;
             }
 
-            _last = sourceLine;
             if (_fromLine is { } from && sourceLine < from)
             {
                 return;

@@ -4,15 +4,16 @@ using System.Text;
 namespace PmacStream.Sim;
 
 /// <summary>
-/// The executed-move log as CSV (<c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind</c>: the end of each move in the
-/// coordinate system's base (machine) coordinates, after the axis transformation matrix), written as moves finish rather than
+/// The executed-move log as CSV (<c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block</c>: the end of each move in the
+/// coordinate system's base (machine) coordinates, after the axis transformation matrix; <c>block</c> 1 for the move that
+/// starts a block, <see cref="ExecutedMove.BlockStart"/>), written as moves finish rather than
 /// kept in memory: rows go to <c>PATH.tmp</c>, which <see cref="Complete"/> (or <see cref="Dispose"/>) renames to
 /// <c>PATH</c>. A host killed meanwhile leaves the rows written so far in <c>PATH.tmp</c>. Thread-safe.
 /// </summary>
 public sealed class ExecutedLogWriter : IDisposable
 {
     /// <summary>The CSV header line.</summary>
-    public const string Header = "sequence,line,start_s,end_s,x,y,z,a,b,c,kind";
+    public const string Header = "sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block";
 
     private readonly object _lock = new();
     private readonly string _temp;
@@ -69,7 +70,7 @@ public sealed class ExecutedLogWriter : IDisposable
         lock (_lock)
         {
             ObjectDisposedException.ThrowIf(_writer is null, this);
-            _writer.WriteLine(string.Create(CultureInfo.InvariantCulture, $"{m.Sequence},{m.SourceLine},{m.StartTime:0.######},{m.EndTime:0.######},{m.X:0.######},{m.Y:0.######},{m.Z:0.######},{m.Rotary.A:0.######},{m.Rotary.B:0.######},{m.Rotary.C:0.######},{m.Kind}"));
+            _writer.WriteLine(string.Create(CultureInfo.InvariantCulture, $"{m.Sequence},{m.SourceLine},{m.StartTime:0.######},{m.EndTime:0.######},{m.X:0.######},{m.Y:0.######},{m.Z:0.######},{m.Rotary.A:0.######},{m.Rotary.B:0.######},{m.Rotary.C:0.######},{m.Kind},{(m.BlockStart ? 1 : 0)}"));
             Rows++;
         }
     }

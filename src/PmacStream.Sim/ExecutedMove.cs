@@ -66,6 +66,13 @@ public readonly record struct ExecutedMove(long Sequence, int SourceLine, double
     /// <summary>A, B, C at the end.</summary>
     public (double A, double B, double C) Rotary { get; init; }
 
+    /// <summary>
+    /// True for the move that starts a block: the first move after the synchronous assignment of the tracking variable
+    /// (<c>M0==line</c>) fired. A block run twice in a row shows as two such moves of the same line, which the line
+    /// alone cannot tell from one block of two moves.
+    /// </summary>
+    public bool BlockStart { get; init; }
+
     /// <summary>Duration in virtual seconds.</summary>
     public double Duration => EndTime - StartTime;
 }

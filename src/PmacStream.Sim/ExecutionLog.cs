@@ -66,6 +66,7 @@ internal sealed class ExecutionLog
             Length = seg.Length,
             Feed = seg.Feed,
             Rotary = (seg.End[3], seg.End[4], seg.End[5]),
+            BlockStart = seg.BlockStart,
         };
         if (_retain)
         {

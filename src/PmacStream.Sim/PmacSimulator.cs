@@ -209,7 +209,7 @@ public sealed class PmacSimulator : IDisposable
     public void StopClock() => _clock.Stop();
 
     /// <summary>
-    /// Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind</c> (the moves kept in memory;
+    /// Writes the executed-move log as CSV: <c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block</c> (the moves kept in memory;
     /// a host that does not keep them streams the log with <see cref="ExecutedLogWriter.Attach"/>).
     /// </summary>
     public void WriteExecutedLog(string path) => ExecutedLogWriter.WriteAll(path, ExecutedMoves);

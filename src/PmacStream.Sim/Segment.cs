@@ -25,6 +25,9 @@ internal sealed class Segment
     public double StartTime;
     public int SourceLine;
 
+    // The synchronous assignment of the tracking variable fired at this segment's start: a block's first move.
+    public bool BlockStart;
+
     public bool IsArc => Kind is MoveKind.Circle1 or MoveKind.Circle2;
 
     public void PositionAt(double fraction, double[] into)

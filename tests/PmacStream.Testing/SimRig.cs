@@ -12,6 +12,9 @@ namespace PmacStream.Testing;
 /// </summary>
 public sealed class SimRig : IDisposable
 {
+    private readonly TestFolder _folder;
+    private readonly IReadOnlyDictionary<int, int> _expanded;
+
     /// <summary>Virtual second 0 of every rig's clock, so checkpoint times are the same in every run.</summary>
     public static readonly DateTimeOffset TestEpoch = new(2026, 1, 1, 0, 0, 0, TimeSpan.Zero);
 
@@ -20,10 +23,10 @@ public sealed class SimRig : IDisposable
 
     public SimRig(string source, int linesPerChunk, StreamingOptions options, TrackingPlacement placement = TrackingPlacement.Exact, SimOptions? simOptions = null)
     {
-        Folder = Path.Combine(Path.GetTempPath(), "pmacstream-it", Guid.NewGuid().ToString("N"));
-        Directory.CreateDirectory(Folder);
+        _folder = new TestFolder("rig");
         var split = Splitter.Split(source, new SplitOptions { LinesPerChunk = linesPerChunk, OutDir = Path.Combine(Folder, "chunks"), Tracking = placement });
         Program = ChunkedProgram.Open(split.ManifestPath);
+        _expanded = Program.ExpandedBlocks(); // read now: a test may change a chunk later
         Sim = new PmacSimulator(simOptions);
         Port = Sim.OpenPort("stream");
         Connection = new InProcessConnection(Port, "sim");
@@ -33,7 +36,7 @@ public sealed class SimRig : IDisposable
         Session = new StreamingSession(Connection, Program, options, Sink, time: Time);
     }
 
-    public string Folder { get; }
+    public string Folder => _folder.Path;
 
     public ChunkedProgram Program { get; }
 
@@ -80,18 +83,12 @@ public sealed class SimRig : IDisposable
         return false;
     }
 
-    /// <summary>Source lines of executed moves, consecutive repeats (one block, several moves) folded, preamble (0) left out.</summary>
-    public List<int> ExecutedLines() => MoveLines.Fold(Sim.ExecutedMoves.Select(m => m.SourceLine));
+    /// <summary>The source line of each block executed (a block's further moves not counted, a repeated block twice), preamble (0) left out.</summary>
+    public List<int> ExecutedLines() => MoveLines.Blocks(Sim.ExecutedMoves, _expanded);
 
     public void Dispose()
     {
         Sim.Dispose();
-        try
-        {
-            Directory.Delete(Folder, true);
-        }
-        catch (IOException)
-        {
-        }
+        _folder.Dispose();
     }
 }

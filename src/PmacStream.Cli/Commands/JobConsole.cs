@@ -71,7 +71,7 @@ internal static class JobConsole
 
         // Counted as the moves finish, against the program read lazily: nothing grows with the program.
         var check = job.Controller.IsSimulator && sim.Sim is { } counted
-            ? new ExecutedLineCheck(program.TrackedLines().Where(l => countFrom is null || l >= countFrom), countFrom).Attach(counted)
+            ? new ExecutedLineCheck(program.TrackedLines().Where(l => countFrom is null || l >= countFrom), countFrom, program.ExpandedBlocks()).Attach(counted)
             : null;
         job.EventRaised += (_, e) =>
         {

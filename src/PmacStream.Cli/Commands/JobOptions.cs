@@ -56,6 +56,11 @@ internal sealed class JobOptions
         HelpName = "on|off",
     };
 
+    private readonly Option<bool> _loadLibrary = new("--load-library")
+    {
+        Description = "Download the PROG 1000/1001 library of the profile and the machine's tables before the job's first chunk, only while the coordinate system is idle (otherwise the controller must already run it: P7000/P7001 are checked; --force runs anyway).",
+    };
+
     private readonly Option<double?> _clearance = new("--clearance") { Description = $"Added to the highest Z so far with --safe-z-mode highest (default {D.Clearance})." };
     private readonly Option<string> _simSpeed;
 
@@ -71,7 +76,7 @@ internal sealed class JobOptions
         var options = new List<Option>();
         if (face != JobFace.Demo)
         {
-            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop]);
+            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop, o._loadLibrary]);
         }
 
         if (face == JobFace.Stream)
@@ -87,6 +92,10 @@ internal sealed class JobOptions
 
         return o;
     }
+
+    /// <summary>What the job does about the controller's library: load it (<c>--load-library</c>), only warn (<paramref name="forced"/>), else verify it.</summary>
+    public LibraryPolicy Library(ParseResult parse, bool forced) =>
+        parse.GetValue(_loadLibrary) ? LibraryPolicy.Load : forced ? LibraryPolicy.Force : LibraryPolicy.Verify;
 
     /// <summary>True when the operator confirmed starts from a line with <c>--yes</c>.</summary>
     public bool Yes(ParseResult parse) => parse.GetValue(_yes);

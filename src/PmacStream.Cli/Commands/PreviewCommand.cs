@@ -24,7 +24,7 @@ internal static class PreviewCommand
         var size = new Option<string>("--size") { Description = "Image size WIDTHxHEIGHT, each 16..8192.", HelpName = "WxH", DefaultValueFactory = _ => "1200x900" };
         var view = new Option<string>("--view") { Description = "View: xy, xz, yz or iso.", DefaultValueFactory = _ => "xy" };
         view.AcceptOnlyFromAmong("xy", "xz", "yz", "iso");
-        var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV: sequence,line,start_s,end_s,x,y,z,a,b,c,kind; the older log without a,b,c is read too) to overlay; lists lines run zero or several times.", HelpName = "LOG.csv" };
+        var executed = new Option<string?>("--executed") { Description = "Simulator executed-move log (CSV: sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block; older logs without block, or without a,b,c, are read too) to overlay; lists lines run zero or several times.", HelpName = "LOG.csv" };
         var lang = new Option<string?>("--lang") { Description = "Legend language: en or zh-CN (default: the UI culture). Chinese needs a font with Chinese glyphs, e.g. fonts-noto-cjk." };
         var profile = CliProfiles.Option();
         var force = new Option<bool>("--force") { Description = "Draw a program that has errors under the machine profile: the blocks that cannot be read are listed and left out." };

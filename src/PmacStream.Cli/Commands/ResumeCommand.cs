@@ -16,8 +16,6 @@ internal static class ResumeCommand
         var cmd = new Command("resume", "Continue an interrupted job from its checkpoint without losing or repeating a block.");
         cmd.Options.Add(jobOption);
         cmd.Options.Add(profileOption);
-        var loadLibrary = new Option<bool>("--load-library") { Description = "Download the PROG 1000/1001 library and the machine's tables before resuming." };
-        cmd.Options.Add(loadLibrary);
         cmd.Options.Add(force);
         var options = JobOptions.AddTo(cmd, JobFace.Resume);
         cmd.SetAction(async (parse, ct) =>
@@ -39,8 +37,7 @@ internal static class ResumeCommand
             var settings = options.Settings(parse, resumable.Settings); // the job's own settings unless told otherwise
             var program = resumable.Program;
             var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
-            var libraryPolicy = parse.GetValue(loadLibrary) ? LibraryPolicy.Load : forced ? LibraryPolicy.Force : LibraryPolicy.Verify;
-            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), machine, libraryPolicy, ct).ConfigureAwait(false);
+            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), machine, ct).ConfigureAwait(false);
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 
@@ -102,5 +99,5 @@ internal static class ResumeCommand
 
                 Console.WriteLine($"restarting at the block of line {proposal.Line} (re-runs the block that was executing from its start)");
                 return Task.FromResult(JobConsole.Confirm(plan, options.Yes(parse)));
-            }, options.FeedOverride(parse), machine, ct, forced, options.OptionalStop(parse));
+            }, options.FeedOverride(parse), machine, ct, forced, options.OptionalStop(parse), options.Library(parse, forced));
 }

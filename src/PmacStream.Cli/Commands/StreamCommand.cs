@@ -20,8 +20,6 @@ internal static class StreamCommand
         cmd.Options.Add(fromLine);
         cmd.Options.Add(force);
         cmd.Options.Add(profile);
-        var loadLibrary = new Option<bool>("--load-library") { Description = "Download the PROG 1000/1001 library of the profile and the machine's tables before the job (otherwise the controller must already run it: P7000/P7001 are checked; --force runs anyway)." };
-        cmd.Options.Add(loadLibrary);
         var options = JobOptions.AddTo(cmd, JobFace.Stream);
         cmd.SetAction(async (parse, ct) =>
         {
@@ -63,11 +61,11 @@ internal static class StreamCommand
             }
 
             var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
-            var libraryPolicy = parse.GetValue(loadLibrary) ? LibraryPolicy.Load : parse.GetValue(force) ? LibraryPolicy.Force : LibraryPolicy.Verify;
-            await using var controller = await service.ConnectAsync(target, prepared.Profile, libraryPolicy, ct).ConfigureAwait(false);
+            await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
             await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind)
             {
                 Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(parse),
+                Library = options.Library(parse, parse.GetValue(force)),
             }, ct).ConfigureAwait(false);
             Console.WriteLine($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}");
             return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct, continueAtStops: continueAtStops).ConfigureAwait(false);

@@ -31,10 +31,12 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
     {
         ArgumentNullException.ThrowIfNull(controller);
 
-        // The built-in simulator gets the profile's library and tables; a real controller must already run that
-        // library (checked, as at connect): its G and M codes would otherwise not do what the program says.
-        await ControllerLibrary.EnsureAsync(controller.Connection, profile, controller.IsSimulator ? LibraryPolicy.Load : LibraryPolicy.Verify, cancellationToken)
-            .ConfigureAwait(false);
+        // The built-in simulator gets the profile's library and tables (only while idle). Whether a real controller
+        // runs that library is the job service's check at Execute and resume, the same as the command line's.
+        if (controller.IsSimulator)
+        {
+            await ControllerLibrary.EnsureAsync(controller.Connection, profile, LibraryPolicy.Load, cancellationToken).ConfigureAwait(false);
+        }
     }
 
     /// <inheritdoc />

@@ -202,8 +202,9 @@ public interface IHmiBackend
     Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
 
     /// <summary>
-    /// Another profile was chosen: downloads its PROG 1000/1001 library and tables to the built-in simulator, and checks
-    /// that any other controller runs that library (a <see cref="Jobs.JobException"/> says it does not).
+    /// Another profile was chosen: downloads its PROG 1000/1001 library and tables to the built-in simulator (a
+    /// <see cref="Jobs.JobException"/> when it runs a program). Whether another controller runs that library is checked
+    /// by the job service when a job starts or resumes.
     /// </summary>
     Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default);
 

@@ -127,9 +127,19 @@ public static class ControllerLibrary
     /// <see cref="LibraryPolicy.Verify"/> refuses a controller with no library or another one; <see cref="LibraryPolicy.Force"/>
     /// only warns.
     /// </summary>
-    /// <exception cref="JobException">The controller has no library or another one (Verify, Load).</exception>
-    public static async Task EnsureAsync(IPmacConnection connection, MachineProfile? profile, LibraryPolicy policy, CancellationToken cancellationToken = default)
+    /// <exception cref="JobException">The controller has no library or another one (Verify, Load), or it is not idle (Load).</exception>
+    public static Task EnsureAsync(IPmacConnection connection, MachineProfile? profile, LibraryPolicy policy, CancellationToken cancellationToken = default) =>
+        EnsureAsync(connection, profile, policy, LibraryDownloadScope.Default, cancellationToken);
+
+    /// <summary>
+    /// <see cref="EnsureAsync(IPmacConnection, MachineProfile?, LibraryPolicy, CancellationToken)"/> on the coordinate
+    /// system of <paramref name="scope"/>: <see cref="LibraryPolicy.Load"/> is refused unless it is idle (no program
+    /// running, no move in progress; the waiting rotary program of the completed job of the scope counts as idle).
+    /// </summary>
+    /// <exception cref="JobException">The controller has no library or another one (Verify, Load), or it is not idle (Load).</exception>
+    public static async Task EnsureAsync(IPmacConnection connection, MachineProfile? profile, LibraryPolicy policy, LibraryDownloadScope scope, CancellationToken cancellationToken = default)
     {
+        ArgumentNullException.ThrowIfNull(scope);
         profile ??= MachineProfile.Default;
 
         // A host killed mid-download leaves a buffer open on this port (one per port, whatever the connection): the
@@ -138,6 +148,7 @@ public static class ControllerLibrary
         await connection.GetResponseAsync("CLOSE", cancellationToken).ConfigureAwait(false);
         if (policy == LibraryPolicy.Load)
         {
+            await LibraryDownloadGuard.RefuseUnlessIdleAsync(connection, scope, cancellationToken).ConfigureAwait(false);
             await DownloadTolerantAsync(connection, Lines(profile), cancellationToken).ConfigureAwait(false);
             await DownloadTolerantAsync(connection, TableLines(profile), cancellationToken).ConfigureAwait(false);
         }

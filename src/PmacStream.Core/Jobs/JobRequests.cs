@@ -63,6 +63,13 @@ public sealed record JobRequest(ChunkedProgram Program, StrategyKind Strategy)
     /// <summary>The machine profile of the program (the move times of the ETA are interpreted with it).</summary>
     public MachineProfile Profile { get; init; } = MachineProfile.Default;
 
+    /// <summary>
+    /// What the job does about the controller's PROG 1000/1001 library before anything is recorded or sent: verify it
+    /// is the library of <see cref="Profile"/> (the default), load it first (only while the coordinate system is idle),
+    /// or only warn (forced).
+    /// </summary>
+    public LibraryPolicy Library { get; init; } = LibraryPolicy.Verify;
+
     /// <summary>Record the job and its checkpoints in the job store (resumable); the demo does not.</summary>
     public bool Record { get; init; } = true;
 }

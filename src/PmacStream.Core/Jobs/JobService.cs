@@ -84,19 +84,13 @@ public sealed class JobService
 
     /// <summary>
     /// Opens a controller: the built-in simulator through the host, anything else through <see cref="PmacConnections"/>;
-    /// proves the link (<c>VERSION</c>) and downloads the PROG 1000/1001 library to the simulator (which starts empty).
+    /// proves the link (<c>VERSION</c>) and loads the PROG 1000/1001 library of <paramref name="profile"/> and the
+    /// machine's tables into the simulator (which starts empty), only while it is idle (one still running a job keeps
+    /// the library it runs). The library a real controller
+    /// runs is checked by <see cref="CreateJobAsync"/> and <see cref="ResumeAsync"/>, before the first chunk.
     /// </summary>
     /// <exception cref="JobException">No simulator in this host, or the controller cannot be reached.</exception>
-    public Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile = null, CancellationToken cancellationToken = default) =>
-        ConnectAsync(spec, profile, LibraryPolicy.Verify, cancellationToken);
-
-    /// <summary>
-    /// <see cref="ConnectAsync(ConnectionSpec, MachineProfile?, CancellationToken)"/>, then the library check of
-    /// <paramref name="library"/> before any chunk is sent: the controller must run the library of the profile the
-    /// program was checked against (the built-in simulator gets it downloaded).
-    /// </summary>
-    /// <exception cref="JobException">The controller has no library or another one (<see cref="LibraryPolicy.Verify"/>).</exception>
-    public async Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile, LibraryPolicy library, CancellationToken cancellationToken = default)
+    public async Task<ControllerLink> ConnectAsync(ConnectionSpec spec, MachineProfile? profile = null, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(spec);
         SimulatorLink? sim = null;
@@ -128,11 +122,17 @@ public sealed class JobService
 
             if (sim is not null)
             {
-                await ControllerLibrary.DownloadTolerantAsync(connection, ControllerLibrary.Lines(profile), cancellationToken).ConfigureAwait(false);
-                await ControllerLibrary.DownloadTolerantAsync(connection, ControllerLibrary.TableLines(profile ?? MachineProfile.Default), cancellationToken).ConfigureAwait(false);
+                // A simulator that outlived its host may still run that host's job: it keeps the library it runs (a
+                // resume checks it is the job's).
+                if (await LibraryDownloadGuard.BusyAsync(connection, LibraryDownloadScope.Default, cancellationToken).ConfigureAwait(false) is { } busy)
+                {
+                    Log.Information("{Device:l}: {Busy:l}; the library it runs is kept", connection.Description, busy);
+                }
+                else
+                {
+                    await ControllerLibrary.EnsureAsync(connection, profile, LibraryPolicy.Load, cancellationToken).ConfigureAwait(false);
+                }
             }
-
-            await ControllerLibrary.EnsureAsync(connection, profile, library, cancellationToken).ConfigureAwait(false);
 
             Log.Information("Connected to {Device:l} ({Spec:l}), firmware {Version:l}", connection.Description, spec.ToString(), version);
             return new ControllerLink(spec, connection, sim);
@@ -179,9 +179,12 @@ public sealed class JobService
     }
 
     /// <summary>
-    /// A new job on an open controller, recorded in the job store unless <see cref="JobRequest.Record"/> is off;
-    /// nothing is sent until <see cref="Job.StartAsync"/>.
+    /// A new job on an open controller, recorded in the job store unless <see cref="JobRequest.Record"/> is off. First
+    /// the library check of <see cref="JobRequest.Library"/> (<see cref="ControllerLibrary.EnsureAsync(IPmacConnection, MachineProfile?, LibraryPolicy, LibraryDownloadScope, CancellationToken)"/>):
+    /// the controller must run the library of the request's profile, or get it loaded while idle; nothing else is sent
+    /// until <see cref="Job.StartAsync"/>.
     /// </summary>
+    /// <exception cref="JobException">The controller runs no library or another one, or a load was asked while it runs a program; nothing recorded.</exception>
     public async Task<Job> CreateJobAsync(ControllerLink controller, JobRequest request, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(controller);
@@ -196,6 +199,7 @@ public sealed class JobService
             var completed = store?.Latest(controller.Spec.ToString())?.Checkpoint is { State: SessionState.Completed } done ? done.LastExecutedLine : (int?)null;
             var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
                 with { OptionalStop = request.OptionalStop, CompletedJobLine = completed };
+            await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, request.Library, ScopeOf(options, program, completed), cancellationToken).ConfigureAwait(false);
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings),
                 (request.Profile.Source, request.Profile.Identity));
@@ -324,14 +328,17 @@ public sealed class JobService
     /// job is returned ready for <see cref="Job.StartAsync"/>. A <paramref name="feedOverride"/> (percent) is set on
     /// the continued job at once, or before the restart; null leaves the controller's. The job gate runs first
     /// (<see cref="ProgramGate"/>): a program with codes the controller cannot run yet, or a split forced past errors,
-    /// is resumed only with <paramref name="force"/>.
+    /// is resumed only with <paramref name="force"/>. Before anything else reaches the controller, the library check of
+    /// <paramref name="library"/> (null: <see cref="LibraryPolicy.Force"/> when forced, else <see cref="LibraryPolicy.Verify"/>);
+    /// a load is refused while the controller still runs the job.
     /// </summary>
     /// <exception cref="JobException">The controller could not be asked (link or ERR), or it and the job record
     /// disagree in a way that could repeat or skip a block (<see cref="ResumeRefusedException"/> inside: both positions
     /// and the operator's choices; nothing was sent).</exception>
     /// <exception cref="ProgramRefusedException">The gate refused it; nothing was sent.</exception>
     public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumableJob job, RunSettings settings, Func<RestartProposal, Task<bool>> confirmRestart,
-        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default, bool force = false, bool optionalStop = true)
+        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default, bool force = false, bool optionalStop = true,
+        LibraryPolicy? library = null)
     {
         ArgumentNullException.ThrowIfNull(controller);
         ArgumentNullException.ThrowIfNull(job);
@@ -346,6 +353,8 @@ public sealed class JobService
         {
             var options = settings.ToStreamingOptions(record.Strategy, singleBlock: false, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
                 with { OptionalStop = optionalStop };
+            await ControllerLibrary.EnsureAsync(controller.Connection, profile, library ?? (force ? LibraryPolicy.Force : LibraryPolicy.Verify), ScopeOf(options, job.Program, null), cancellationToken)
+                .ConfigureAwait(false);
             StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
             string? reason = null;
             var restartLine = job.RestartLine;
@@ -461,6 +470,9 @@ public sealed class JobService
 
     private async Task<IMoveTimes?> MoveTimesAsync(string sourcePath, MachineProfile profile, CancellationToken cancellationToken) =>
         File.Exists(sourcePath) ? await Task.Run(() => _moveTimes.Get(sourcePath, profile), cancellationToken).ConfigureAwait(false) : null;
+
+    private static LibraryDownloadScope ScopeOf(StreamingOptions options, ChunkedProgram program, int? completedJobLine) =>
+        new(options.CoordinateSystem, program.Sync.Variable, completedJobLine);
 
     private TimeProvider? TimeOf(ControllerLink controller) => controller.Simulator?.Time ?? _options.Time;
 

@@ -2,7 +2,7 @@ using System.Globalization;
 
 namespace PmacStream.Preview;
 
-/// <summary>One row of the simulator's executed-move log (<c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind</c>).</summary>
+/// <summary>One row of the simulator's executed-move log (<c>sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block</c>).</summary>
 /// <param name="Sequence">Running number of the executed move.</param>
 /// <param name="Line">Source line the controller was tracking for the move.</param>
 /// <param name="StartSeconds">Virtual time the move started.</param>
@@ -13,6 +13,9 @@ public readonly record struct ExecutedLogRow(long Sequence, long Line, double St
 {
     /// <summary>A, B, C at the end (degrees; 0 in a log written before the rotary columns).</summary>
     public (double A, double B, double C) Rotary { get; init; }
+
+    /// <summary>True when the move starts a block (its synchronous tracking assignment fired); null in a log written before the block column.</summary>
+    public bool? BlockStart { get; init; }
 }
 
 /// <summary>
@@ -22,6 +25,9 @@ public readonly record struct ExecutedLogRow(long Sequence, long Line, double St
 public static class ExecutedLogReader
 {
     /// <summary>The header the simulator writes.</summary>
+    public const string BlockHeader = "sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block";
+
+    /// <summary>The header of logs written before the block column (still read).</summary>
     public const string Header = "sequence,line,start_s,end_s,x,y,z,a,b,c,kind";
 
     /// <summary>The header of logs written before the rotary columns (still read).</summary>
@@ -37,10 +43,11 @@ public static class ExecutedLogReader
         var name = Path.GetFileName(path);
         var header = reader.ReadLine();
         var trimmed = header?.Trim().TrimStart('\uFEFF');
-        var rotary = string.Equals(trimmed, Header, StringComparison.OrdinalIgnoreCase);
+        var block = string.Equals(trimmed, BlockHeader, StringComparison.OrdinalIgnoreCase);
+        var rotary = block || string.Equals(trimmed, Header, StringComparison.OrdinalIgnoreCase);
         if (!rotary && !string.Equals(trimmed, LinearHeader, StringComparison.OrdinalIgnoreCase))
         {
-            throw new InvalidDataException($"{name}:1:1: expected the header '{Header}', found '{header ?? "<empty file>"}'");
+            throw new InvalidDataException($"{name}:1:1: expected the header '{BlockHeader}', found '{header ?? "<empty file>"}'");
         }
 
         var lineNo = 1L;
@@ -58,7 +65,7 @@ public static class ExecutedLogReader
                 continue;
             }
 
-            yield return ParseRow(text, name, lineNo, rotary);
+            yield return block ? ParseBlockRow(text, name, lineNo) : ParseRow(text, name, lineNo, rotary);
         }
     }
 
@@ -79,6 +86,19 @@ public static class ExecutedLogReader
             new Point3D(Num(text, parts, 4, name, lineNo), Num(text, parts, 5, name, lineNo), Num(text, parts, 6, name, lineNo)),
             span[parts[columns.Length - 1]].Trim().ToString());
         return rotary ? row with { Rotary = (Num(text, parts, 7, name, lineNo), Num(text, parts, 8, name, lineNo), Num(text, parts, 9, name, lineNo)) } : row;
+    }
+
+    /// <summary>Parses a data row of a log with the block column: the row before it, and the mark (1 or 0).</summary>
+    private static ExecutedLogRow ParseBlockRow(string text, string name, long lineNo)
+    {
+        var comma = text.LastIndexOf(',');
+        var mark = comma < 0 ? string.Empty : text[(comma + 1)..].Trim();
+        if (mark is not ("0" or "1"))
+        {
+            throw new InvalidDataException($"{name}:{lineNo}:{comma + 2}: column 'block' expects 1 or 0, found '{mark}'");
+        }
+
+        return ParseRow(text[..comma], name, lineNo) with { BlockStart = mark == "1" };
     }
 
     private static double Num(string text, ReadOnlySpan<Range> parts, int i, string name, long lineNo)

@@ -331,6 +331,36 @@ public sealed class ChunkedProgram
         }
     }
 
+    /// <summary>
+    /// The blocks the host expands into several controller lines that each carry the block's tracking assignment (a
+    /// canned cycle, a reference return), by source line, with how many they carry: each fires on the controller, so
+    /// an executed-move check counts that many assignments as one block (reads every chunk once).
+    /// </summary>
+    public IReadOnlyDictionary<int, int> ExpandedBlocks()
+    {
+        var expanded = new Dictionary<int, int>();
+        int last = 0, run = 0;
+        for (var c = 1; c <= TotalChunks; c++)
+        {
+            foreach (var l in Body(c))
+            {
+                if (l.TrackedLine <= 0)
+                {
+                    continue;
+                }
+
+                run = l.TrackedLine == last ? run + 1 : 1;
+                last = l.TrackedLine;
+                if (run > 1)
+                {
+                    expanded[last] = run;
+                }
+            }
+        }
+
+        return expanded;
+    }
+
     /// <summary>The last tracked source line of the program (the block whose execution ends the job).</summary>
     public int FinalTrackedLine
     {

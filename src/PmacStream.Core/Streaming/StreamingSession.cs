@@ -148,8 +148,6 @@ public sealed partial class StreamingSession
     /// <summary>True while the optional-stop switch is on: the controller stops at <c>M01</c>.</summary>
     public bool OptionalStop => _optionalStop;
 
-    private string RunCommand => _cs.Run(_singleBlock);
-
     private string OptionalStopCommand => $"{Options.OptionalStopVariable}={(_optionalStop ? 1 : 0)}";
 
     /// <summary>
@@ -291,10 +289,17 @@ public sealed partial class StreamingSession
             _channel.BufferOpen = true; // unknown: the crashed host may have left it open
             await _channel.OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
             var seen = await _queries.ReadAsync(Program.LineProbeVariable, cancellationToken).ConfigureAwait(false);
+            if (!checkpoint.Started && RunCommandRule.WhyNot(seen, Program.Sync.Variable) is { } arrived)
+            {
+                // The crashed host gave the run command but died before recording it: the job is reconciled as started.
+                Log.Information("resume: {Why:l}", arrived);
+                checkpoint = checkpoint with { Started = true };
+            }
+
             var decision = ResumeReconciliation.Decide(Program, checkpoint, seen, _buffer.BufferWords);
             if (!checkpoint.Started)
             {
-                // The crashed host had begun sending but never gave the run command.
+                // The crashed host had begun sending but never gave the run command, and nothing has run.
                 await _channel.OnlineAsync(RunCommand, cancellationToken).ConfigureAwait(false);
             }
 
@@ -414,18 +419,9 @@ public sealed partial class StreamingSession
         {
             _channel.BufferOpen = true;
             await _channel.OnlineAsync("CLOSE", cancellationToken).ConfigureAwait(false);
-            if (!_runSent)
+            if (!_runSent && !await FinishBrokenStartAsync(cancellationToken).ConfigureAwait(false))
             {
-                // The start broke off before the run command, so nothing has run yet. When the loading (preamble,
-                // first chunk) broke off, how much of it arrived is not known: clear the buffer and load it again.
-                if (!_start.Loaded && await _queries.ProgramRunningAsync(cancellationToken).ConfigureAwait(false) != true)
-                {
-                    await _start.LoadAsync(cancellationToken).ConfigureAwait(false);
-                    SaveCheckpoint(durable: true);
-                }
-
-                await _channel.OnlineAsync(RunCommand, cancellationToken).ConfigureAwait(false);
-                _runSent = true;
+                return false;
             }
 
             _strategy.Reset();

@@ -107,7 +107,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     private List<int> TrackedLines() => ChunkedProgram.Open(Splitter.DefaultOutDir(_source)).TrackedLines().ToList();
 
     /// <summary>Source lines of the executed moves, repeats of one block folded, preamble moves (line 0) left out.</summary>
-    private List<int> ExecutedLines() => MoveLines.Fold(_sim.ExecutedMoves.Select(m => m.SourceLine));
+    private List<int> ExecutedLines() => MoveLines.Blocks(_sim.ExecutedMoves, ChunkedProgram.Open(Splitter.DefaultOutDir(_source)));
 
     [Fact]
     public async Task Open_and_check_a_program_with_errors_lists_them_and_split_is_refused()

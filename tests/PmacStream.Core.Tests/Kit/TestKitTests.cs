@@ -25,10 +25,12 @@ public sealed class TestKitTests : IDisposable
     }
 
     [Fact]
-    public void Executed_lines_fold_repeats_of_one_block_and_leave_out_the_preamble()
+    public void Executed_blocks_count_a_block_s_further_moves_once_its_repeats_twice_and_leave_out_the_preamble()
     {
-        MoveLines.Fold([0, 0, 3, 3, 3, 5, 7, 7, 5]).Should().Equal(3, 5, 7, 5);
-        MoveLines.Fold([]).Should().BeEmpty();
+        MoveLines.Blocks([(0, false), (0, false), (3, true), (3, false), (3, false), (5, true), (7, true), (7, false), (5, true)]).Should().Equal(3, 5, 7, 5);
+        MoveLines.Blocks([(4, true), (4, true), (0, true), (4, true)]).Should().Equal(new[] { 4, 4, 4 }, "a one-move block run again, also after a preamble move");
+        MoveLines.Blocks([(2, false), (2, false), (3, false)]).Should().Equal(new[] { 2, 3 }, "moves without marks: where the line changes");
+        MoveLines.Blocks(Array.Empty<(int, bool)>()).Should().BeEmpty();
     }
 
     [Fact]

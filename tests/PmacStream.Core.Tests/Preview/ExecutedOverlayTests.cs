@@ -163,6 +163,7 @@ public class ExecutedOverlayTests
     [InlineData("sequence,line,start_s,end_s,x,y,z,a,b,c,kind\n1,2,0,1,0,0,0,0,x,0,linear\n", "2:", "column 'b' expects a number, found 'x'")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n-1,2,0,1,0,0,0,linear\n", "2:1", "column 'sequence' expects a whole number >= 0")]
     [InlineData("sequence,line,start_s,end_s,x,y,z,kind\n1,2.5,0,1,0,0,0,linear\n", "2:3", "column 'line' expects a whole number")]
+    [InlineData("sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block\n1,2,0,1,0,0,0,0,0,0,linear,yes\n", "2:", "column 'block' expects 1 or 0, found 'yes'")]
     public void Malformed_log_names_file_line_and_column(string content, string where, string what)
     {
         var path = Path.Combine(Path.GetTempPath(), $"pmacstream-badlog-{Guid.NewGuid():N}.csv");
@@ -186,6 +187,15 @@ public class ExecutedOverlayTests
         row.Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle"));
         ExecutedLogReader.ParseRow("12,345,1.5,2.25,-1.5e1,2,3.125,90,-45.5,0.25,circle", "log", 2)
             .Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle") { Rotary = (90, -45.5, 0.25) });
+    }
+
+    [Fact]
+    public void A_log_with_the_block_column_is_read_with_each_move_s_block_mark()
+    {
+        using var folder = new TestFolder("block-log");
+        var path = Path.Combine(folder.Path, "executed.csv");
+        File.WriteAllText(path, ExecutedLogReader.BlockHeader + "\n1,7,0,1,1,2,3,0,0,0,Linear,1\n2,7,1,2,1,2,3,0,0,0,Dwell,0\n");
+        ExecutedLogReader.Read(path).Select(r => (r.Line, r.Kind, r.BlockStart)).Should().Equal((7L, "Linear", (bool?)true), (7L, "Dwell", (bool?)false));
     }
 
     [Fact]

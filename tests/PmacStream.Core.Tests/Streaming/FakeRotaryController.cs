@@ -6,7 +6,7 @@ using PmacStream.Pmac;
 namespace PmacStream.Core.Tests.Streaming;
 
 /// <summary>One executed move of the fake: its order and the tracking variable at its start.</summary>
-public sealed record FakeMove(int Sequence, int SourceLine, double StartSeconds);
+public sealed record FakeMove(int Sequence, int SourceLine, double StartSeconds, bool BlockStart = false);
 
 /// <summary>
 /// A small, strict Turbo PMAC stand-in for streaming tests (until the real simulator is wired in): a rotary buffer
@@ -253,13 +253,14 @@ public sealed class FakeRotaryController : IPmacPortEndpoint
 
         if (motion.Success)
         {
+            var blockStart = _pending is not null;
             if (_pending is { } p)
             {
                 M0 = p;
                 _pending = null;
             }
 
-            Moves.Add(new FakeMove(Moves.Count + 1, M0, Now));
+            Moves.Add(new FakeMove(Moves.Count + 1, M0, Now, blockStart));
             _moveLeft = MoveSeconds * 100.0 / Math.Max(1, Override);
         }
 

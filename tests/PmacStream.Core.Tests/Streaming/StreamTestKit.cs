@@ -161,6 +161,6 @@ public sealed class Rig
         return false;
     }
 
-    /// <summary>Distinct source lines of the executed moves, in execution order (what the demo counts).</summary>
-    public List<int> ExecutedLines() => MoveLines.Fold(Controller.Moves.Select(m => m.SourceLine));
+    /// <summary>The source line of each block executed, in execution order (what the demo counts).</summary>
+    public List<int> ExecutedLines() => MoveLines.Blocks(Controller.Moves.Select(m => (m.SourceLine, m.BlockStart)), Program);
 }

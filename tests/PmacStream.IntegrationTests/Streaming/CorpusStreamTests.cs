@@ -97,7 +97,7 @@ public sealed class CorpusStreamTests(ITestOutputHelper output) : IDisposable
         using var sim = new PmacSimulator(new SimOptions { RetainExecutedMoves = false });
         var port = sim.OpenPort("stream");
         SimRig.LoadLibrary(port);
-        var check = new ExecutedLineCheck(program.TrackedLines(), null).Attach(sim);
+        var check = new ExecutedLineCheck(program.TrackedLines(), null, program.ExpandedBlocks()).Attach(sim);
         var options = RunSettings.Default.ToStreamingOptions(StrategyKind.Chunk, singleBlock: false, defineBuffer: true);
         var session = new StreamingSession(new InProcessConnection(port, "sim"), program, options, time: SimRig.Clock(sim));
         await session.StartAsync();

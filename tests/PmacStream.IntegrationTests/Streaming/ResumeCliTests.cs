@@ -94,7 +94,7 @@ public sealed class ResumeCliTests : IDisposable
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(10));
         var expected = ChunkedProgram.Open(Path.Combine(Splitter.DefaultOutDir(src), ChunkManifest.FileName)).TrackedLines().ToList();
-        MoveLines.Fold(sim.ExecutedMoves.Select(m => m.SourceLine)).Should().Equal(expected, "every block once, in order, whatever the record said");
+        MoveLines.Blocks(sim.ExecutedMoves).Should().Equal(expected, "every block once, in order, whatever the record said");
     }
 
     [Fact]

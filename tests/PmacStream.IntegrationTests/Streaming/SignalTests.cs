@@ -1,7 +1,6 @@
 using System.Diagnostics;
 using System.Globalization;
 using System.Net;
-using System.Runtime.InteropServices;
 using System.Text;
 using PmacStream.Program;
 using PmacStream.Sim;
@@ -15,20 +14,17 @@ namespace PmacStream.IntegrationTests.Streaming;
 /// removes what a killed one left.
 /// </summary>
 [Collection("stream-cli")]
-public sealed partial class SignalTests : IDisposable
+public sealed class SignalTests : IDisposable
 {
-    private const int SigInt = 2;
-    private const int SigKill = 9;
-    private const int SigTerm = 15;
+    private const int SigInt = PosixSignals.SigInt;
+    private const int SigKill = PosixSignals.SigKill;
+    private const int SigTerm = PosixSignals.SigTerm;
     private readonly TestFolder _temp = new("signal");
     private readonly string _folder;
 
     public SignalTests() => _folder = _temp.Path;
 
     public void Dispose() => _temp.Dispose();
-
-    [LibraryImport("libc", EntryPoint = "kill", SetLastError = true)]
-    private static partial int Kill(int pid, int signal);
 
     /// <summary>A program long enough that a split or check is still running when the signal comes.</summary>
     private string BigProgram(int lines = 1_500_000)
@@ -59,7 +55,7 @@ public sealed partial class SignalTests : IDisposable
             output.AppendLine(line);
             if (!sent && line.Contains(waitFor, StringComparison.Ordinal))
             {
-                Kill(p.Id, signal).Should().Be(0);
+                PosixSignals.Send(p.Id, signal).Should().Be(0);
                 sent = true;
             }
         }
@@ -120,7 +116,7 @@ public sealed partial class SignalTests : IDisposable
         var stdout = start.StandardOutput.ReadToEndAsync();
         await Task.Delay(1500);
         start.HasExited.Should().BeFalse("the check of 4M lines into a store takes longer than that");
-        Kill(start.Id, signal).Should().Be(0);
+        PosixSignals.Send(start.Id, signal).Should().Be(0);
         await start.WaitForExitAsync();
 
         start.ExitCode.Should().Be(1);
@@ -161,7 +157,7 @@ public sealed partial class SignalTests : IDisposable
                 await Task.Delay(20);
             }
 
-            Kill(p.Id, SigTerm).Should().Be(0);
+            PosixSignals.Send(p.Id, SigTerm).Should().Be(0);
             await p.WaitForExitAsync();
             p.ExitCode.Should().Be(1);
             (await stderr).Should().MatchRegex(@"interrupted at line \d+: sending stopped; the controller keeps the lines it holds\. The job is resumable: pmacstream resume --job 1");
@@ -177,6 +173,6 @@ public sealed partial class SignalTests : IDisposable
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(10));
         var expected = ChunkedProgram.Open(Path.Combine(Splitter.DefaultOutDir(src), ChunkManifest.FileName)).TrackedLines().ToList();
-        MoveLines.Fold(sim.ExecutedMoves.Select(m => m.SourceLine)).Should().Equal(expected, "every block once, in order, across the SIGTERM");
+        MoveLines.Blocks(sim.ExecutedMoves).Should().Equal(expected, "every block once, in order, across the SIGTERM");
     }
 }

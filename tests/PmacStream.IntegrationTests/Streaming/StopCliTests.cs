@@ -1,6 +1,5 @@
 using System.Diagnostics;
 using System.Globalization;
-using System.Runtime.InteropServices;
 using System.Text;
 using PmacStream.Streaming;
 
@@ -12,15 +11,13 @@ namespace PmacStream.IntegrationTests.Streaming;
 /// the job resumable.
 /// </summary>
 [Collection("stream-cli")]
-public sealed partial class StopCliTests : IDisposable
+public sealed class StopCliTests : IDisposable
 {
-    private const int SigInt = 2;
-    private readonly string _folder = Directory.CreateTempSubdirectory("pmacstream-stop-cli-").FullName;
+    private readonly TestFolder _temp = new("stop-cli");
 
-    public void Dispose() => Directory.Delete(_folder, true);
+    private string _folder => _temp.Path;
 
-    [LibraryImport("libc", EntryPoint = "kill", SetLastError = true)]
-    private static partial int Kill(int pid, int signal);
+    public void Dispose() => _temp.Dispose();
 
     /// <summary>M00 at line 24, M01 at line 45; 60 moves.</summary>
     private string Program(bool withM00 = true)
@@ -113,7 +110,7 @@ public sealed partial class StopCliTests : IDisposable
                 if (line.StartsWith("program stop (M00) at line 24", StringComparison.Ordinal))
                 {
                     await Task.Delay(300);
-                    Kill(p.Id, SigInt).Should().Be(0);
+                    PosixSignals.Send(p.Id, PosixSignals.SigInt).Should().Be(0);
                 }
             }
 

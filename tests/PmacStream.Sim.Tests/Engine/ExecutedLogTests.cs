@@ -10,9 +10,11 @@ namespace PmacStream.Sim.Tests.Engine;
 /// </summary>
 public sealed class ExecutedLogTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-executed-").FullName;
+    private readonly TestFolder _folder = new("executed");
 
-    public void Dispose() => Directory.Delete(_dir, true);
+    private string _dir => _folder.Path;
+
+    public void Dispose() => _folder.Dispose();
 
     private static void RunMoves(SimHarness h, params int[] lines)
     {
@@ -37,6 +39,30 @@ public sealed class ExecutedLogTests : IDisposable
         File.ReadAllLines(log.Path).Should().HaveCount(4).And.StartWith(ExecutedLogWriter.Header);
         File.ReadAllLines(log.Path).Skip(1).Select(l => l.Split(',')[0] + ":" + l.Split(',')[1]).Should().Equal("1:10", "2:11", "3:12");
         File.Exists(log.Path + ".tmp").Should().BeFalse();
+    }
+
+    [Fact]
+    public void A_one_move_block_run_twice_in_a_row_is_a_repeat_the_checks_and_the_log_show()
+    {
+        using var h = new SimHarness(new SimOptions { RotaryEndBehaviour = RotaryEndBehaviour.EndWhenClosed });
+        var check = new ExecutedLineCheck([1, 2, 3]).Attach(h.Sim);
+        var log = new ExecutedLogWriter(Path.Combine(_dir, "repeat.csv")).Attach(h.Sim);
+
+        // Block 2 (one move, its synchronous tracking assignment) sent twice, then a two-move block 3 (a DWELL after
+        // its move carries no assignment: the same block).
+        h.Download("&1 B0", "OPEN ROT", "M0==1 LINEAR X1 F6000", "M0==2 X2", "M0==2 X2", "M0==3 X3", "DWELL 10", "CLOSE");
+        h.Ok("&1 R");
+        h.Sim.RunUntilIdle(TimeSpan.FromMinutes(1));
+        log.Complete();
+
+        h.Sim.ExecutedMoves.Select(m => m.BlockStart).Should().Equal(true, true, true, true, false);
+        MoveLines.Blocks(h.Sim.ExecutedMoves).Should().Equal(1, 2, 2, 3);
+        var result = check.Finish();
+        result.Exact.Should().BeFalse("line 2 ran twice");
+        result.FirstBreak.Should().Be("block order broken at block 3: expected line 3, executed line 2");
+        var rows = File.ReadAllLines(log.Path);
+        rows[0].Should().Be("sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block", "the header names every column");
+        rows.Skip(1).Select(l => l.Split(',')[1] + ":" + l.Split(',')[11]).Should().Equal("1:1", "2:1", "2:1", "3:1", "3:0");
     }
 
     [Fact]
@@ -95,18 +121,34 @@ public sealed class ExecutedLogTests : IDisposable
         h.Ok("&1 R");
     }
 
+    [Fact]
+    public void A_block_the_host_expands_fires_its_assignment_on_each_line_and_counts_once_until_it_fires_again()
+    {
+        // Line 9, a reference return, is two controller lines, each with M0==9.
+        var expanded = new Dictionary<int, int> { [9] = 2 };
+        var once = new ExecutedLineCheck([9, 13], expandedBlocks: expanded);
+        foreach (var (line, fired) in new[] { (9, true), (9, true), (13, true), (13, false) })
+        {
+            once.Add(line, fired);
+        }
+
+        once.Finish().Should().Be(new ExecutedLineResult(2, 2, null));
+        ExecutedLineCheck.Blocks([(9, true), (9, true), (9, true), (9, true), (13, true)], expanded).Should().Equal(9, 9, 13);
+        ExecutedLineCheck.Blocks([(9, true), (9, true), (13, true)]).Should().Equal(new[] { 9, 9, 13 }, "without the program's expansions each assignment is a block");
+    }
+
     [Theory]
     [InlineData(new[] { 1, 1, 2, 0, 3 }, 3, null)]
     [InlineData(new[] { 1, 2, 2, 1, 2, 3 }, 5, "block order broken at block 3: expected line 3, executed line 1")]
     [InlineData(new[] { 1, 3 }, 2, "block order broken at block 2: expected line 2, executed line 3")]
     [InlineData(new[] { 1, 2 }, 2, null)]
     [InlineData(new[] { 1, 2, 3, 4 }, 4, "block 4 (line 4) executed after the program's last block")]
-    public void The_check_folds_a_block_s_moves_and_finds_repeats_skips_and_extras(int[] executed, int blocks, string? broken)
+    public void The_check_counts_a_block_s_unmarked_moves_once_and_finds_repeats_skips_and_extras(int[] executed, int blocks, string? broken)
     {
         var check = new ExecutedLineCheck([1, 2, 3]);
         foreach (var line in executed)
         {
-            check.Add(line);
+            check.Add(line, blockStart: false);
         }
 
         var result = check.Finish();
@@ -122,7 +164,7 @@ public sealed class ExecutedLogTests : IDisposable
         var check = new ExecutedLineCheck([20, 21], fromLine: 20);
         foreach (var line in new[] { 0, 5, 20, 21 })
         {
-            check.Add(line);
+            check.Add(line, blockStart: true);
         }
 
         check.Finish().Exact.Should().BeTrue();

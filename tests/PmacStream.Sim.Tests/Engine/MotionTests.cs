@@ -221,21 +221,15 @@ public class MotionTests
         h.Download("&1 B0", "OPEN ROT", "M0==7 F(P500) G01 X10", "M0==8 G04 P250", "M0==9 G00 A90 B-45.5", "CLOSE");
         h.Ok("R");
         h.Sim.RunUntilIdle();
-        var path = Path.Combine(Path.GetTempPath(), $"simlog-{Guid.NewGuid():N}.csv");
-        try
-        {
-            h.Sim.WriteExecutedLog(path);
-            var rows = File.ReadAllLines(path);
-            rows.Take(3).Should().Equal(
-                "sequence,line,start_s,end_s,x,y,z,a,b,c,kind",
-                "1,7,0,1,10,0,0,0,0,0,Linear",
-                "2,8,1,1.25,10,0,0,0,0,0,Dwell");
-            var rotary = rows.Should().HaveCount(4).And.Subject.Last().Split(',');
-            string.Join(',', rotary[1], rotary[4], rotary[5], rotary[6], rotary[7], rotary[8], rotary[9], rotary[10]).Should().Be("9,10,0,0,90,-45.5,0,Rapid", "a, b, c are the rotary axes' ends");
-        }
-        finally
-        {
-            File.Delete(path);
-        }
+        using var folder = new TestFolder("simlog");
+        var path = Path.Combine(folder.Path, "executed.csv");
+        h.Sim.WriteExecutedLog(path);
+        var rows = File.ReadAllLines(path);
+        rows.Take(3).Should().Equal(
+            "sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block",
+            "1,7,0,1,10,0,0,0,0,0,Linear,1",
+            "2,8,1,1.25,10,0,0,0,0,0,Dwell,1");
+        var rotary = rows.Should().HaveCount(4).And.Subject.Last().Split(',');
+        string.Join(',', rotary[1], rotary[4], rotary[5], rotary[6], rotary[7], rotary[8], rotary[9], rotary[10], rotary[11]).Should().Be("9,10,0,0,90,-45.5,0,Rapid,1", "a, b, c are the rotary axes' ends");
     }
 }
