@@ -35,7 +35,7 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
         // runs that library is the job service's check at Execute and resume, the same as the command line's.
         if (controller.IsSimulator)
         {
-            await ControllerLibrary.EnsureAsync(controller.Connection, profile, LibraryPolicy.Load, cancellationToken).ConfigureAwait(false);
+            await Service.LoadLibraryAsync(controller, profile, cancellationToken).ConfigureAwait(false);
         }
     }
 

@@ -196,7 +196,7 @@ public sealed class JobService
         try
         {
             // The previous job here completed: its rotary program may still wait for lines (the start ends it).
-            var completed = store?.Latest(controller.Spec.ToString())?.Checkpoint is { State: SessionState.Completed } done ? done.LastExecutedLine : (int?)null;
+            var completed = CompletedJobLine(store, controller);
             var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
                 with { OptionalStop = request.OptionalStop, CompletedJobLine = completed };
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, request.Library, ScopeOf(options, program, completed), cancellationToken).ConfigureAwait(false);
@@ -222,6 +222,29 @@ public sealed class JobService
             ? store.Get(n) ?? throw new JobException($"no job {n} in {store.Path}", JobErrorKind.BadRequest)
             : store.LatestUnfinished() ?? throw new JobException($"no unfinished job in {store.Path}", JobErrorKind.BadRequest);
     }
+
+    /// <summary>
+    /// Loads the profile's PROG 1000/1001 library and the machine's tables into the controller (the HMI's profile change
+    /// on the built-in simulator, as <c>--load-library</c> does before a job): refused unless the coordinate system is
+    /// idle; the completed job's rotary program, still waiting for lines after its end, is ended first.
+    /// </summary>
+    /// <exception cref="JobException">A program runs or a move is in progress.</exception>
+    public async Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(controller);
+        int? completed;
+        using (var store = File.Exists(JobDatabase) ? JobStore.Open(JobDatabase) : null)
+        {
+            completed = CompletedJobLine(store, controller);
+        }
+
+        await ControllerLibrary.EnsureAsync(controller.Connection, profile, LibraryPolicy.Load, LibraryDownloadScope.Default with { CompletedJobLine = completed }, cancellationToken)
+            .ConfigureAwait(false);
+    }
+
+    /// <summary>The last line of the newest job on this controller when it completed (its rotary program may still wait for lines); else null.</summary>
+    private static int? CompletedJobLine(JobStore? store, ControllerLink controller) =>
+        store?.Latest(controller.Spec.ToString())?.Checkpoint is { State: SessionState.Completed } done ? done.LastExecutedLine : null;
 
     /// <summary>The newest job recorded for a program, whoever started it, when it did not complete; else null.</summary>
     public ResumableJob? FindInterrupted(string sourcePath)

@@ -23,7 +23,7 @@ public sealed record LibraryDownloadScope(int CoordinateSystem = 1, string Track
 /// Refuses a library download unless the coordinate system is idle: PROG 1000/1001 and the machine's tables replaced
 /// under a running program would change what its G and M codes, work offsets and tool lengths do in mid-cut. Idle is
 /// no program running and no move in progress; the rotary program of a completed job that only waits for lines after
-/// its end (nothing ahead, no move, the tracking variable at that job's last line) counts as idle too.
+/// its end (nothing ahead, no move, the tracking variable at that job's last line) is ended first and then counts as idle.
 /// </summary>
 internal static class LibraryDownloadGuard
 {
@@ -43,7 +43,10 @@ internal static class LibraryDownloadGuard
         }
     }
 
-    /// <summary>What keeps the coordinate system from being idle (what runs, at which tracking line), or null when it is idle.</summary>
+    /// <summary>
+    /// What keeps the coordinate system from being idle (what runs, at which tracking line), or null when it is idle;
+    /// the rotary program of the completed job of <paramref name="scope"/>, waiting for lines, is ended (<c>&amp;nA</c>) here.
+    /// </summary>
     public static async Task<string?> BusyAsync(IPmacConnection connection, LibraryDownloadScope scope, CancellationToken cancellationToken)
     {
         var cs = "&" + scope.CoordinateSystem.ToString(CultureInfo.InvariantCulture);
@@ -60,8 +63,14 @@ internal static class LibraryDownloadGuard
         var ahead = ControllerQueries.ParseInt(await connection.GetResponseAsync("PR", cancellationToken).ConfigureAwait(false), "PR");
         if (running == true && stopped == true && ahead == 0 && scope.CompletedJobLine == line)
         {
-            Log.Information("{Cs:l}: the completed job's rotary program waits for lines after its last line {Line}, with nothing ahead and no move: the library may be loaded", cs, line);
-            return null;
+            // A controller refuses to open a program buffer while a motion program runs (ERR001): the completed job's
+            // rotary program only waits for lines after its end, so it is ended, as the next start would end it.
+            Log.Information("{Cs:l}: the completed job's rotary program waits for lines after its last line {Line}, with nothing ahead and no move: ended ({Cs:l}A) before the load", cs, line);
+            await connection.GetResponseAsync(cs + "A", cancellationToken).ConfigureAwait(false);
+            var after = ControllerQueries.FirstValue(await connection.GetResponseAsync($"{cs}??", cancellationToken).ConfigureAwait(false)).Replace(" ", string.Empty, StringComparison.Ordinal);
+            return ControllerQueries.ProgramRunning(after) == false
+                ? null
+                : $"{cs} still runs the completed job's rotary program after {cs}A ({scope.TrackingVariable}={line}, status '{after}')";
         }
 
         return running switch

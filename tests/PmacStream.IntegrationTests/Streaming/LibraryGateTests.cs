@@ -75,4 +75,36 @@ public sealed class LibraryGateTests : IDisposable
             (await ControllerLibrary.ReadIdentityAsync(controller.Connection)).Should().Be(ControllerLibrary.ExpectedIdentity(prepared.Profile));
         }
     }
+
+    [Fact]
+    public async Task A_completed_jobs_waiting_rotary_program_is_ended_before_a_library_load()
+    {
+        // The HMI's profile change after a job ran to its end: that job's rotary program still waits for lines.
+        var service = new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_folder.Path, "jobs.db") });
+        var prepared = await service.PrepareAsync(new PrepareRequest(Source(40), RunSettings.Default));
+        using var sim = new PmacSimulator();
+        await using var controller = new ControllerLink(ConnectionSpec.Ethernet("127.0.0.1:1025"), new InProcessConnection(sim.OpenPort("host"), "controller"));
+        await using (var job = await service.CreateJobAsync(controller, new JobRequest(prepared.Program, StrategyKind.Chunk) { Profile = prepared.Profile, Library = LibraryPolicy.Load }))
+        {
+            await job.StartAsync();
+            for (var i = 0; i < 500 && job.Status.State != SessionState.Completed; i++)
+            {
+                sim.Advance(TimeSpan.FromSeconds(0.5));
+                await job.TickAsync();
+            }
+
+            job.Status.State.Should().Be(SessionState.Completed);
+        }
+
+        var status = () => controller.Connection.GetResponseAsync("&1??");
+        ControllerQueries.ProgramRunning(ControllerQueries.FirstValue(await status()).Replace(" ", string.Empty, StringComparison.Ordinal))
+            .Should().BeTrue("the completed job's rotary program waits for lines after its end");
+        var unknown = () => ControllerLibrary.EnsureAsync(controller.Connection, MachineProfile.Named("grbl"), LibraryPolicy.Load);
+        (await unknown.Should().ThrowAsync<JobException>("without the job record, a running program is a running program")).Which.Message.Should().Contain("&1 is running a program");
+
+        await service.LoadLibraryAsync(controller, MachineProfile.Named("grbl")!);
+        ControllerQueries.ProgramRunning(ControllerQueries.FirstValue(await status()).Replace(" ", string.Empty, StringComparison.Ordinal))
+            .Should().BeFalse("the waiting program was ended (&1A) before the load");
+        (await ControllerLibrary.ReadIdentityAsync(controller.Connection)).Should().Be(ControllerLibrary.ExpectedIdentity(MachineProfile.Named("grbl")));
+    }
 }
