@@ -32,12 +32,19 @@ public static class StreamBench
             return Memory(long.Parse(args[1], CultureInfo.InvariantCulture), splitOnly: args.Length > 2 && args[2] == "--split-only");
         }
 
+        if (args.Length >= 2 && args[0] == "ticks")
+        {
+            var blockMs = args.Length > 2 ? int.Parse(args[2], CultureInfo.InvariantCulture) : 100;
+            var kinds = args.Length > 3 ? args[3].Split(',').Select(StreamingStrategies.Parse).ToArray() : [StrategyKind.Chunk, StrategyKind.Adaptive];
+            return TickBench.Run(int.Parse(args[1], CultureInfo.InvariantCulture), blockMs, kinds);
+        }
+
         if (args.Length >= 2 && args[0] == "stream-only")
         {
             return StreamOnly(args[1]);
         }
 
-        Console.Error.WriteLine("usage: stream-bench cpu LINES [chunk,pr,adaptive] | stream-bench memory MB");
+        Console.Error.WriteLine("usage: stream-bench cpu LINES [chunk,pr,adaptive] | stream-bench ticks LINES [BLOCK_MS] [chunk,adaptive] | stream-bench memory MB");
         return 2;
     }
 
@@ -246,11 +253,15 @@ internal sealed class TimedPort(IPmacPortEndpoint inner) : IPmacPortEndpoint
 {
     public TimeSpan Inside { get; set; }
 
+    public long InsideBytes { get; set; }
+
     public byte[] Execute(string commandLine)
     {
+        var b = GC.GetAllocatedBytesForCurrentThread();
         var t = Stopwatch.GetTimestamp();
         var r = inner.Execute(commandLine);
         Inside += Stopwatch.GetElapsedTime(t);
+        InsideBytes += GC.GetAllocatedBytesForCurrentThread() - b;
         return r;
     }
 
