@@ -34,7 +34,8 @@ public sealed partial class StreamingSession
     private readonly ProgramSender _sender;
     private readonly BufferDrain _drain = new();
     private readonly CompletionDetector _completion = new();
-    private readonly ProgramStopWatch _stops = new();
+    private readonly ProgramStopWatch _stops;
+    private readonly ExecutedBlockCount _executed;
     private readonly CheckpointWriter _checkpoints;
     private readonly ExecutionPace _pace;
     private readonly StartSequence _start;
@@ -58,6 +59,8 @@ public sealed partial class StreamingSession
         _strategy = strategy ?? StreamingStrategies.Create(options.Strategy);
         _cs = new CoordinateSystemCommands(options.CoordinateSystem, options.Feed ?? program.Manifest.Feed, program.Manifest.FeedVariable);
         _singleBlock = options.SingleBlock;
+        _stops = new ProgramStopWatch(options.StatusEveryTicks);
+        _executed = new ExecutedBlockCount(program);
         _optionalStop = options.OptionalStop;
         program.UseLineProbe(options.LineProbeVariable);
         _queries = new ControllerQueries(_channel, _cs, program.Sync);
@@ -118,7 +121,7 @@ public sealed partial class StreamingSession
     {
         get
         {
-            var executed = _tracked > 0 ? Program.BlocksThrough(_tracked) : 0;
+            var executed = _executed.Through(_tracked);
             var total = Math.Max(1, Program.Manifest.TotalMotionBlocks);
             var eta = _state == SessionState.Completed ? TimeSpan.Zero
                 : MoveTimes is not null ? _pace.EtaByMoveTimes(_tracked, Program.FinalTrackedLine)
@@ -509,7 +512,10 @@ public sealed partial class StreamingSession
     /// </summary>
     private async Task WatchProgramStopAsync(int m, CancellationToken cancellationToken)
     {
-        if (_singleBlock || _queries.StatusUnknown || !_stops.MustAsk(m, _state == SessionState.Running))
+        // No move past the tracked block in the buffer: the dry check reads PR now, and a stop must not pass for an
+        // underrun or the end. With moves still ahead, a stop leaves them uncalculated (PR above 0): no verdict yet.
+        var nothingAhead = _buffer.LastSentLine <= m;
+        if (_singleBlock || _queries.StatusUnknown || !_stops.MustAsk(m, _state == SessionState.Running, nothingAhead))
         {
             return;
         }
