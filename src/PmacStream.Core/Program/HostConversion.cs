@@ -39,6 +39,12 @@ internal sealed class HostConversion
     private Point3 _offsetBefore;
     private int _toolBefore;
 
+    // The words of the move line as written (an inch program converts every move), so it is not lexed again.
+    private readonly List<GWord> _moveWords = [];
+    private int _moveLine = -1;
+    private bool _recording;
+    private readonly List<string> _modes = [], _data = [], _before = [], _after = []; // a block's parts, reused
+
     public HostConversion(Interpreter interp)
     {
         _interp = interp;
@@ -67,11 +73,9 @@ internal sealed class HostConversion
         }
 
         _lines.Clear();
+        _moveLine = -1;
         var words = block.WordList;
-        var modes = new List<string>();
-        var data = new List<string>();
-        var before = new List<string>();
-        var after = new List<string>();
+        var (modes, data, before, after) = (Cleared(_modes), Cleared(_data), Cleared(_before), Cleared(_after));
         string? motionCode = null;
         var machine = false;
         var dwell = false;
@@ -223,14 +227,16 @@ internal sealed class HostConversion
         else if (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue))
         {
             _sb.Clear();
+            _moveWords.Clear();
+            _recording = true;
             if (machine)
             {
-                _sb.Append("G53 ");
+                AppendCode("G53");
             }
 
             if (motionCode != null)
             {
-                _sb.Append(motionCode).Append(' ');
+                AppendCode(motionCode);
             }
 
             AppendAxes(x, y, z, scale);
@@ -264,7 +270,9 @@ internal sealed class HostConversion
                 AppendWord('F', fv);
             }
 
-            _lines.Add(_sb.ToString().TrimEnd());
+            _lines.Add(_sb.Length > 0 && _sb[^1] == ' ' ? _sb.ToString(0, _sb.Length - 1) : _sb.ToString()); // less the blank after the last word
+            _moveLine = _recording ? _lines.Count - 1 : -1;
+            _recording = false;
             if (machine)
             {
                 _lines.Add(BackFromMachineCoordinates);
@@ -594,8 +602,77 @@ internal sealed class HostConversion
     {
         if (value is { } v)
         {
-            _sb.Append(letter).Append(Num(v)).Append(' ');
+            var at = _sb.Length;
+            _sb.Append(letter);
+            Span<char> text = stackalloc char[24];
+            if (Math.Round(v, 6).TryFormat(text, out var n, "0.######", CultureInfo.InvariantCulture))
+            {
+                // As Num, without a string for every word.
+                if (n == 2 && text[0] == '-' && text[1] == '0')
+                {
+                    _sb.Append('0');
+                }
+                else
+                {
+                    _sb.Append(text[..n]);
+                }
+            }
+            else
+            {
+                _sb.Append(Num(v));
+            }
+
+            Record(at);
+            _sb.Append(' ');
         }
+    }
+
+    private static List<string> Cleared(List<string> list)
+    {
+        list.Clear();
+        return list;
+    }
+
+    private void AppendCode(string code)
+    {
+        var at = _sb.Length;
+        _sb.Append(code);
+        Record(at);
+        _sb.Append(' ');
+    }
+
+    /// <summary>
+    /// The words of converted line <paramref name="index"/> when the conversion recorded them as it wrote the line
+    /// (the move), exactly as the lexer reads its text; false: the line must be lexed.
+    /// </summary>
+    public bool TryWordsOf(int index, out ReadOnlySpan<GWord> words)
+    {
+        words = index == _moveLine ? System.Runtime.InteropServices.CollectionsMarshal.AsSpan(_moveWords) : default;
+        return index == _moveLine;
+    }
+
+    /// <summary>Records the word just written at <paramref name="at"/> (its letter) to the end of the line, while a move is written.</summary>
+    private void Record(int at)
+    {
+        var start = at + 1;
+        var length = _sb.Length - start;
+        // Up to 15 characters the lexer's value is the correctly rounded one, as double.Parse gives; past that the
+        // lexer reads the number its own way, so the line is lexed.
+        if (!_recording || length > 15 || length == 0)
+        {
+            _recording = false;
+            return;
+        }
+
+        Span<char> number = stackalloc char[15];
+        _sb.CopyTo(start, number, length);
+        if (!double.TryParse(number[..length], NumberStyles.Float, CultureInfo.InvariantCulture, out var value))
+        {
+            _recording = false;
+            return;
+        }
+
+        _moveWords.Add(new GWord(_sb[at], value, at + 1, start, length, WasLowercase: false));
     }
 
     /// <summary>A code number as G-code writes it (01, 54.1).</summary>
