@@ -79,6 +79,7 @@ public static class TickBench
 
             host -= port.Inside;
             bytes -= port.InsideBytes;
+            sim.RunUntilIdle(TimeSpan.FromHours(1)); // the session completes while the last move still runs
             var executed = 0;
             var last = 0;
             var inOrder = true;

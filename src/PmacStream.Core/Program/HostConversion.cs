@@ -656,23 +656,45 @@ internal sealed class HostConversion
     {
         var start = at + 1;
         var length = _sb.Length - start;
-        // Up to 15 characters the lexer's value is the correctly rounded one, as double.Parse gives; past that the
-        // lexer reads the number its own way, so the line is lexed.
+        // Up to 15 characters the number has at most 15 digits, which the lexer reads as mantissa over a power of
+        // ten; a longer one it reads its own way, so the line is lexed.
         if (!_recording || length > 15 || length == 0)
         {
             _recording = false;
             return;
         }
 
-        Span<char> number = stackalloc char[15];
-        _sb.CopyTo(start, number, length);
-        if (!double.TryParse(number[..length], NumberStyles.Float, CultureInfo.InvariantCulture, out var value))
+        var negative = _sb[start] == '-';
+        long mantissa = 0;
+        var scale = -1;
+        var digits = 0;
+        for (var i = negative ? start + 1 : start; i < _sb.Length; i++)
+        {
+            var c = _sb[i];
+            if (c == '.' && scale < 0)
+            {
+                scale = 0;
+            }
+            else if (char.IsAsciiDigit(c))
+            {
+                mantissa = (mantissa * 10) + (c - '0');
+                scale += scale >= 0 ? 1 : 0;
+                digits++;
+            }
+            else
+            {
+                _recording = false;
+                return;
+            }
+        }
+
+        if (digits == 0)
         {
             _recording = false;
             return;
         }
 
-        _moveWords.Add(new GWord(_sb[at], value, at + 1, start, length, WasLowercase: false));
+        _moveWords.Add(new GWord(_sb[at], LineLexer.ShortNumber(mantissa, Math.Max(0, scale), negative), at + 1, start, length, WasLowercase: false));
     }
 
     /// <summary>A code number as G-code writes it (01, 54.1).</summary>

@@ -12,7 +12,7 @@ internal sealed class ExecutedBlockCount
     private readonly ChunkedProgram _program;
     private int[]? _blocksBefore;
     private int _chunk;
-    private int[] _lines = [];
+    private readonly List<int> _lines = [];
     private bool _rising;
     private int _lastTracked = -1;
     private int _last;
@@ -42,7 +42,7 @@ internal sealed class ExecutedBlockCount
         if (_rising)
         {
             // The lines are distinct and rising: those at or before the tracked one are a prefix.
-            var at = Array.BinarySearch(_lines, trackedLine);
+            var at = System.Runtime.InteropServices.CollectionsMarshal.AsSpan(_lines).BinarySearch(trackedLine);
             _last = BlocksBefore(chunk) + (at >= 0 ? at + 1 : ~at);
         }
         else
@@ -73,7 +73,9 @@ internal sealed class ExecutedBlockCount
     /// <summary>Reads the chunk's tracked lines once: distinct, in order, and whether they rise.</summary>
     private void Enter(int chunk)
     {
-        var lines = new List<int>();
+        _chunk = 0; // a chunk that cannot be read is read again next time
+        var lines = _lines;
+        lines.Clear();
         var rising = true;
         foreach (var l in _program.Body(chunk))
         {
@@ -87,7 +89,6 @@ internal sealed class ExecutedBlockCount
         }
 
         _chunk = chunk;
-        _lines = [.. lines];
         _rising = rising;
     }
 }
