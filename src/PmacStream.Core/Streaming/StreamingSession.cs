@@ -7,7 +7,7 @@ namespace PmacStream.Streaming;
 /// One job streaming a split program into a coordinate system's rotary buffer. The host calls <see cref="TickAsync"/>
 /// (or <see cref="Tick"/>) from its timer, every <see cref="StreamingOptions.TickPeriod"/> (the HMI's
 /// <c>timer1_Tick</c>); each tick reads the tracking variable (M0), lets the strategy send what it wants, and writes a
-/// checkpoint. Operator commands (hold, resume, abort, feed, step) are sent between ticks, never while a buffer is open.
+/// checkpoint when it changed. Operator commands (hold, resume, abort, feed, step) are sent between ticks, never while a buffer is open.
 /// Whatever fails, no block is skipped, repeated or reordered: on an <c>ERRnnn</c> or a lost link the session stops
 /// sending, keeps the exact position (or, when a download broke off mid-way, waits for the buffer to drain and
 /// re-derives it from M0), and <see cref="RecoverAsync"/> or <see cref="ResumeAsync(Checkpoint, CancellationToken)"/> continues.
