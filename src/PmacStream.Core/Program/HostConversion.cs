@@ -40,9 +40,8 @@ internal sealed class HostConversion
     private int _toolBefore;
 
     // The words of the move line as written (an inch program converts every move), so it is not lexed again.
-    private readonly List<GWord> _moveWords = [];
+    private readonly WrittenWords _moveWords = new();
     private int _moveLine = -1;
-    private bool _recording;
     private readonly List<string> _modes = [], _data = [], _before = [], _after = []; // a block's parts, reused
 
     public HostConversion(Interpreter interp)
@@ -227,8 +226,7 @@ internal sealed class HostConversion
         else if (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue))
         {
             _sb.Clear();
-            _moveWords.Clear();
-            _recording = true;
+            _moveWords.Begin();
             if (machine)
             {
                 AppendCode("G53");
@@ -271,8 +269,7 @@ internal sealed class HostConversion
             }
 
             _lines.Add(_sb.Length > 0 && _sb[^1] == ' ' ? _sb.ToString(0, _sb.Length - 1) : _sb.ToString()); // less the blank after the last word
-            _moveLine = _recording ? _lines.Count - 1 : -1;
-            _recording = false;
+            _moveLine = _moveWords.End() ? _lines.Count - 1 : -1;
             if (machine)
             {
                 _lines.Add(BackFromMachineCoordinates);
@@ -604,25 +601,8 @@ internal sealed class HostConversion
         {
             var at = _sb.Length;
             _sb.Append(letter);
-            Span<char> text = stackalloc char[24];
-            if (Math.Round(v, 6).TryFormat(text, out var n, "0.######", CultureInfo.InvariantCulture))
-            {
-                // As Num, without a string for every word.
-                if (n == 2 && text[0] == '-' && text[1] == '0')
-                {
-                    _sb.Append('0');
-                }
-                else
-                {
-                    _sb.Append(text[..n]);
-                }
-            }
-            else
-            {
-                _sb.Append(Num(v));
-            }
-
-            Record(at);
+            WrittenWords.AppendNumber(_sb, v);
+            _moveWords.Record(_sb, at);
             _sb.Append(' ');
         }
     }
@@ -637,7 +617,7 @@ internal sealed class HostConversion
     {
         var at = _sb.Length;
         _sb.Append(code);
-        Record(at);
+        _moveWords.Record(_sb, at);
         _sb.Append(' ');
     }
 
@@ -647,54 +627,8 @@ internal sealed class HostConversion
     /// </summary>
     public bool TryWordsOf(int index, out ReadOnlySpan<GWord> words)
     {
-        words = index == _moveLine ? System.Runtime.InteropServices.CollectionsMarshal.AsSpan(_moveWords) : default;
+        words = index == _moveLine ? _moveWords.Words : default;
         return index == _moveLine;
-    }
-
-    /// <summary>Records the word just written at <paramref name="at"/> (its letter) to the end of the line, while a move is written.</summary>
-    private void Record(int at)
-    {
-        var start = at + 1;
-        var length = _sb.Length - start;
-        // Up to 15 characters the number has at most 15 digits, which the lexer reads as mantissa over a power of
-        // ten; a longer one it reads its own way, so the line is lexed.
-        if (!_recording || length > 15 || length == 0)
-        {
-            _recording = false;
-            return;
-        }
-
-        var negative = _sb[start] == '-';
-        long mantissa = 0;
-        var scale = -1;
-        var digits = 0;
-        for (var i = negative ? start + 1 : start; i < _sb.Length; i++)
-        {
-            var c = _sb[i];
-            if (c == '.' && scale < 0)
-            {
-                scale = 0;
-            }
-            else if (char.IsAsciiDigit(c))
-            {
-                mantissa = (mantissa * 10) + (c - '0');
-                scale += scale >= 0 ? 1 : 0;
-                digits++;
-            }
-            else
-            {
-                _recording = false;
-                return;
-            }
-        }
-
-        if (digits == 0)
-        {
-            _recording = false;
-            return;
-        }
-
-        _moveWords.Add(new GWord(_sb[at], LineLexer.ShortNumber(mantissa, Math.Max(0, scale), negative), at + 1, start, length, WasLowercase: false));
     }
 
     /// <summary>A code number as G-code writes it (01, 54.1).</summary>
