@@ -1,6 +1,4 @@
 using System.Diagnostics;
-using System.Globalization;
-using System.Text;
 using PmacStream.Pmac;
 using PmacStream.Program;
 using PmacStream.Sim;
@@ -28,7 +26,7 @@ public static class TickBench
 
         Directory.CreateDirectory(dir);
         var src = Path.Combine(dir, "bench.nc");
-        WriteProgram(src, lines, blockMs);
+        StreamBench.WriteProgram(src, lines, blockMs);
         var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(dir, "chunks") });
         var times = StartFromLine.MoveTimes(src);
         Console.WriteLine($"program: {lines} blocks of {blockMs} ms, {split.Manifest.Chunks.Count} chunks; ticks every 50 ms of machine time");
@@ -39,7 +37,7 @@ public static class TickBench
             using var sim = new PmacSimulator(new SimOptions { DefaultRotWords = 65536 });
             var port = new TimedPort(sim.OpenPort("bench"));
             var counting = new CountingConnection(new InProcessConnection(port, "sim"));
-            foreach (var l in Library)
+            foreach (var l in StreamBench.Library)
             {
                 counting.GetResponseAsync(l).GetAwaiter().GetResult();
             }
@@ -103,33 +101,6 @@ public static class TickBench
         Directory.Delete(dir, true);
         return 0;
     }
-
-    /// <summary>Straight 0.1 mm segments, each taking <paramref name="blockMs"/> ms at its feed.</summary>
-    private static void WriteProgram(string path, int lines, int blockMs)
-    {
-        using var w = new StreamWriter(path, false, new UTF8Encoding(false), 1 << 16);
-        var feed = (6000.0 / blockMs).ToString("0.###", CultureInfo.InvariantCulture);
-        w.Write($"%\nO3000\nG21 G17 G90\nG00 X0 Y0 Z0\nG01 F{feed}\n");
-        for (var i = 1; i <= lines; i++)
-        {
-            var x = (i % 1000) * 0.1;
-            var y = (i / 1000) * 0.1;
-            w.Write("G01 X");
-            w.Write(((i / 1000) % 2 == 0 ? x : 100 - x).ToString("0.0", CultureInfo.InvariantCulture));
-            w.Write(" Y");
-            w.Write(y.ToString("0.0", CultureInfo.InvariantCulture));
-            w.Write('\n');
-        }
-
-        w.Write("M30\n%\n");
-    }
-
-    private static readonly string[] Library =
-    [
-        "OPEN PROG 1000 CLEAR", "N0 RAPID RET", "N1000 LINEAR RET", "N2000 CIRCLE1 RET", "N3000 CIRCLE2 RET",
-        "N17000 NORMAL K-1 RET", "N21000 RET", "N90000 ABS RET", "N91000 INC RET", "CLOSE",
-        "OPEN PROG 1001 CLEAR", "N30000 DWELL0 RET", "CLOSE",
-    ];
 }
 
 /// <summary>Counts the commands a session sends, by kind.</summary>
