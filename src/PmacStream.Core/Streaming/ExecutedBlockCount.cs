@@ -5,7 +5,7 @@ namespace PmacStream.Streaming;
 /// chunks before (summed once) and, per chunk execution is in, its tracked lines read once when execution enters it,
 /// so a tick costs a binary search instead of a rescan of the chunk. A chunk whose tracked lines do not rise (none
 /// the splitter writes today) is counted by <see cref="ChunkedProgram.BlocksThrough"/> itself, so the count is the
-/// same whatever the program.
+/// same whatever the program. Thread-safe: the status may be read off the ticking thread.
 /// </summary>
 internal sealed class ExecutedBlockCount
 {
@@ -28,6 +28,14 @@ internal sealed class ExecutedBlockCount
             return 0;
         }
 
+        lock (_lines)
+        {
+            return Count(trackedLine);
+        }
+    }
+
+    private int Count(int trackedLine)
+    {
         if (trackedLine == _lastTracked)
         {
             return _last;
