@@ -21,6 +21,16 @@ if (args.Length > 0 && args[0] == "hmi-toolpath")
     return PmacStream.Benchmarks.Hmi.ToolpathPaneBench.Run(args[1..]);
 }
 
+if (args.Length > 1 && args[0] == "tcp-packets")
+{
+    return PmacStream.Benchmarks.Transport.PacketCostBench.Run(args[1..]).GetAwaiter().GetResult();
+}
+
+if (args.Length > 1 && args[0] == "host-conversion")
+{
+    return PmacStream.Benchmarks.Streaming.HostConversionBench.Run(args[1..]);
+}
+
 if (args.Length > 0 && args[0] == "stream-bench")
 {
     return PmacStream.Benchmarks.Streaming.StreamBench.Run(args[1..]);

@@ -32,12 +32,19 @@ public static class StreamBench
             return Memory(long.Parse(args[1], CultureInfo.InvariantCulture), splitOnly: args.Length > 2 && args[2] == "--split-only");
         }
 
+        if (args.Length >= 2 && args[0] == "ticks")
+        {
+            var blockMs = args.Length > 2 ? int.Parse(args[2], CultureInfo.InvariantCulture) : 100;
+            var kinds = args.Length > 3 ? args[3].Split(',').Select(StreamingStrategies.Parse).ToArray() : [StrategyKind.Chunk, StrategyKind.Adaptive];
+            return TickBench.Run(int.Parse(args[1], CultureInfo.InvariantCulture), blockMs, kinds);
+        }
+
         if (args.Length >= 2 && args[0] == "stream-only")
         {
             return StreamOnly(args[1]);
         }
 
-        Console.Error.WriteLine("usage: stream-bench cpu LINES [chunk,pr,adaptive] | stream-bench memory MB");
+        Console.Error.WriteLine("usage: stream-bench cpu LINES [chunk,pr,adaptive] | stream-bench ticks LINES [BLOCK_MS] [chunk,adaptive] | stream-bench memory MB");
         return 2;
     }
 
@@ -53,11 +60,11 @@ public static class StreamBench
         return d;
     }
 
-    /// <summary>Straight 0.1 mm segments at 6000 mm/min: exactly 1 ms a block.</summary>
-    private static void WriteProgram(string path, long lines)
+    /// <summary>Straight 0.1 mm segments at 6000 mm/min: exactly 1 ms a block (<paramref name="blockMs"/> ms at a feed that much slower).</summary>
+    internal static void WriteProgram(string path, long lines, int blockMs = 1)
     {
         using var w = new StreamWriter(path, false, new UTF8Encoding(false), 1 << 16);
-        w.Write("%\nO3000\nG21 G17 G90\nG00 X0 Y0 Z0\nG01 F6000\n");
+        w.Write($"%\nO3000\nG21 G17 G90\nG00 X0 Y0 Z0\nG01 F{(6000.0 / blockMs).ToString("0.###", CultureInfo.InvariantCulture)}\n");
         for (long i = 1; i <= lines; i++)
         {
             var x = (i % 1000) * 0.1;
@@ -233,7 +240,7 @@ public static class StreamBench
         return 0;
     }
 
-    private static readonly string[] Library =
+    internal static readonly string[] Library =
     [
         "OPEN PROG 1000 CLEAR", "N0 RAPID RET", "N1000 LINEAR RET", "N2000 CIRCLE1 RET", "N3000 CIRCLE2 RET",
         "N17000 NORMAL K-1 RET", "N21000 RET", "N90000 ABS RET", "N91000 INC RET", "CLOSE",
@@ -246,11 +253,15 @@ internal sealed class TimedPort(IPmacPortEndpoint inner) : IPmacPortEndpoint
 {
     public TimeSpan Inside { get; set; }
 
+    public long InsideBytes { get; set; }
+
     public byte[] Execute(string commandLine)
     {
+        var b = GC.GetAllocatedBytesForCurrentThread();
         var t = Stopwatch.GetTimestamp();
         var r = inner.Execute(commandLine);
         Inside += Stopwatch.GetElapsedTime(t);
+        InsideBytes += GC.GetAllocatedBytesForCurrentThread() - b;
         return r;
     }
 

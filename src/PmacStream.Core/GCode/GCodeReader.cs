@@ -302,6 +302,23 @@ public sealed class GCodeReader : IDisposable
         return block;
     }
 
+    /// <summary>Lexes a single line of text into <paramref name="into"/>, reusing its buffer and lists (a caller that copies what it keeps).</summary>
+    internal static GBlock LexLine(string text, int lineNumber, GBlock into)
+    {
+        var length = System.Text.Encoding.UTF8.GetByteCount(text);
+        if (into.Buffer.Length < length)
+        {
+            into.Buffer = new byte[Math.Max(length, into.Buffer.Length * 2)];
+        }
+
+        System.Text.Encoding.UTF8.GetBytes(text, into.Buffer);
+        into.Length = length;
+        into.LineNumber = lineNumber;
+        into.ClearFindings();
+        LineLexer.Lex(into);
+        return into;
+    }
+
     /// <inheritdoc />
     public void Dispose()
     {

@@ -314,6 +314,13 @@ internal static class LineLexer
     private static double ParseNumber(ReadOnlySpan<byte> text) =>
         double.TryParse(text, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) ? v : double.NaN;
 
+    /// <summary>The value the lexer gives a number of at most 15 digits: <paramref name="mantissa"/> (its digits) over 10^<paramref name="scale"/> (fraction digits).</summary>
+    internal static double ShortNumber(long mantissa, int scale, bool negative)
+    {
+        var value = scale == 0 ? mantissa : mantissa / Pow10[scale];
+        return negative ? -value : value;
+    }
+
     private static readonly double[] Pow10 =
     [
         1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,

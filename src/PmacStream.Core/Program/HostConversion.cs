@@ -39,6 +39,11 @@ internal sealed class HostConversion
     private Point3 _offsetBefore;
     private int _toolBefore;
 
+    // The words of the move line as written (an inch program converts every move), so it is not lexed again.
+    private readonly WrittenWords _moveWords = new();
+    private int _moveLine = -1;
+    private readonly List<string> _modes = [], _data = [], _before = [], _after = []; // a block's parts, reused
+
     public HostConversion(Interpreter interp)
     {
         _interp = interp;
@@ -67,11 +72,9 @@ internal sealed class HostConversion
         }
 
         _lines.Clear();
+        _moveLine = -1;
         var words = block.WordList;
-        var modes = new List<string>();
-        var data = new List<string>();
-        var before = new List<string>();
-        var after = new List<string>();
+        var (modes, data, before, after) = (Cleared(_modes), Cleared(_data), Cleared(_before), Cleared(_after));
         string? motionCode = null;
         var machine = false;
         var dwell = false;
@@ -223,14 +226,15 @@ internal sealed class HostConversion
         else if (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue))
         {
             _sb.Clear();
+            _moveWords.Begin();
             if (machine)
             {
-                _sb.Append("G53 ");
+                AppendCode("G53");
             }
 
             if (motionCode != null)
             {
-                _sb.Append(motionCode).Append(' ');
+                AppendCode(motionCode);
             }
 
             AppendAxes(x, y, z, scale);
@@ -264,7 +268,8 @@ internal sealed class HostConversion
                 AppendWord('F', fv);
             }
 
-            _lines.Add(_sb.ToString().TrimEnd());
+            _lines.Add(_sb.Length > 0 && _sb[^1] == ' ' ? _sb.ToString(0, _sb.Length - 1) : _sb.ToString()); // less the blank after the last word
+            _moveLine = _moveWords.End() ? _lines.Count - 1 : -1;
             if (machine)
             {
                 _lines.Add(BackFromMachineCoordinates);
@@ -594,8 +599,36 @@ internal sealed class HostConversion
     {
         if (value is { } v)
         {
-            _sb.Append(letter).Append(Num(v)).Append(' ');
+            var at = _sb.Length;
+            _sb.Append(letter);
+            WrittenWords.AppendNumber(_sb, v);
+            _moveWords.Record(_sb, at);
+            _sb.Append(' ');
         }
+    }
+
+    private static List<string> Cleared(List<string> list)
+    {
+        list.Clear();
+        return list;
+    }
+
+    private void AppendCode(string code)
+    {
+        var at = _sb.Length;
+        _sb.Append(code);
+        _moveWords.Record(_sb, at);
+        _sb.Append(' ');
+    }
+
+    /// <summary>
+    /// The words of converted line <paramref name="index"/> when the conversion recorded them as it wrote the line
+    /// (the move), exactly as the lexer reads its text; false: the line must be lexed.
+    /// </summary>
+    public bool TryWordsOf(int index, out ReadOnlySpan<GWord> words)
+    {
+        words = index == _moveLine ? _moveWords.Words : default;
+        return index == _moveLine;
     }
 
     /// <summary>A code number as G-code writes it (01, 54.1).</summary>

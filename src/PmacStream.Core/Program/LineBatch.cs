@@ -103,21 +103,43 @@ internal sealed class LineBatch
             words = words[..kept];
         }
 
-        var length = block.Length;
-        if (TextLength + length > _text.Length)
+        Reserve(block.Length, words.Length);
+        block.Buffer.AsSpan(0, block.Length).CopyTo(_text.AsSpan(TextLength));
+        Take(block.LineNumber, block.Length, words, continues);
+    }
+
+    /// <summary>
+    /// Adds a line the host's conversion wrote with its words (<paramref name="words"/> as the lexer reads
+    /// <paramref name="text"/>): the line is not lexed again.
+    /// </summary>
+    public void Add(string text, ReadOnlySpan<GWord> words, int lineNumber, bool continues)
+    {
+        var length = System.Text.Encoding.UTF8.GetByteCount(text);
+        Reserve(length, words.Length);
+        System.Text.Encoding.UTF8.GetBytes(text, _text.AsSpan(TextLength));
+        Take(lineNumber, length, words, continues);
+    }
+
+    private void Reserve(int textLength, int words)
+    {
+        if (TextLength + textLength > _text.Length)
         {
-            Array.Resize(ref _text, Math.Max(TextLength + length, _text.Length * 2));
+            Array.Resize(ref _text, Math.Max(TextLength + textLength, _text.Length * 2));
         }
 
-        if (WordCount + words.Length > _words.Length)
+        if (WordCount + words > _words.Length)
         {
-            Array.Resize(ref _words, Math.Max(WordCount + words.Length, _words.Length * 2));
+            Array.Resize(ref _words, Math.Max(WordCount + words, _words.Length * 2));
         }
 
         Room();
-        block.Buffer.AsSpan(0, length).CopyTo(_text.AsSpan(TextLength));
+    }
+
+    /// <summary>Records the line whose text was just copied to the end of <see cref="Text"/>, and copies its words.</summary>
+    private void Take(int lineNumber, int length, ReadOnlySpan<GWord> words, bool continues)
+    {
         words.CopyTo(_words.AsSpan(WordCount));
-        _lines[Count++] = new LineRecord(block.LineNumber, TextLength, length, WordCount, words.Length) { Continues = continues };
+        _lines[Count++] = new LineRecord(lineNumber, TextLength, length, WordCount, words.Length) { Continues = continues };
         TextLength += length;
         WordCount += words.Length;
     }

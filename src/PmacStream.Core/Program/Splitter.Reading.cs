@@ -224,7 +224,14 @@ public static partial class Splitter
                 // One source block, several controller blocks: all carry its line, and they stay in one chunk.
                 for (var i = 0; i < converted.Count; i++)
                 {
-                    _batch!.Add(GCodeReader.LexLine(converted[i], b.LineNumber), continues: first || i > 0);
+                    if (_host!.TryWordsOf(i, out var words))
+                    {
+                        _batch!.Add(converted[i], words, b.LineNumber, continues: first || i > 0);
+                    }
+                    else
+                    {
+                        _batch!.Add(GCodeReader.LexLine(converted[i], b.LineNumber, _hostLine ??= new GBlock()), continues: first || i > 0);
+                    }
                 }
             }
             else

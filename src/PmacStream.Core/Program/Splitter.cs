@@ -211,6 +211,7 @@ public static partial class Splitter
         private readonly Dictionary<string, int> _stopCodes = new(StringComparer.Ordinal); // stop codes used, first line
         private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
         private HostConversion? _host;
+        private GBlock? _hostLine; // the host's converted lines are lexed into this one block (the batch copies them)
         private bool _started;              // the power-on call went before the first block
         private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
         private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)

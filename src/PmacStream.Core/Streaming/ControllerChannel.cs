@@ -1,6 +1,7 @@
 using System.Diagnostics;
 using PmacStream.Pmac;
 using Serilog;
+using Serilog.Events;
 
 namespace PmacStream.Streaming;
 
@@ -31,9 +32,14 @@ internal sealed class ControllerChannel
     /// <summary>Sends a line as it is (program lines, <c>OPEN ROT</c>, <c>CLEAR</c>); returns the reply.</summary>
     public async ValueTask<string> SendAsync(string command, CancellationToken cancellationToken)
     {
-        var sw = Stopwatch.StartNew();
+        var t0 = Stopwatch.GetTimestamp();
         var reply = await _conn.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
-        Log.Debug("{Device} {Command} -> {Reply} ({Ms:0.000} ms)", _conn.Description, command, reply, sw.Elapsed.TotalMilliseconds);
+        if (Log.IsEnabled(LogEventLevel.Debug))
+        {
+            // Checked first: four values would be boxed into an array on every command of every tick otherwise.
+            Log.Debug("{Device} {Command} -> {Reply} ({Ms:0.000} ms)", _conn.Description, command, reply, Stopwatch.GetElapsedTime(t0).TotalMilliseconds);
+        }
+
         return reply;
     }
 
@@ -71,9 +77,9 @@ internal sealed class ControllerChannel
     /// <summary>An online query whose round trip is measured.</summary>
     public async ValueTask<string> QueryTimedAsync(string command, CancellationToken cancellationToken)
     {
-        var sw = Stopwatch.StartNew();
+        var t0 = Stopwatch.GetTimestamp();
         var reply = await OnlineAsync(command, cancellationToken).ConfigureAwait(false);
-        MeasureRoundTrip(sw.Elapsed.TotalSeconds);
+        MeasureRoundTrip(Stopwatch.GetElapsedTime(t0).TotalSeconds);
         return reply;
     }
 

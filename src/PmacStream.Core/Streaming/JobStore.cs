@@ -27,7 +27,7 @@ public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256
 }
 
 /// <summary>
-/// Jobs and their checkpoints in SQLite (WAL). A checkpoint is written every tick with <c>synchronous=NORMAL</c>
+/// Jobs and their checkpoints in SQLite (WAL). A checkpoint is written every tick it changed with <c>synchronous=NORMAL</c>
 /// (survives a host process crash) and with <c>synchronous=FULL</c> at chunk boundaries, faults and the end
 /// (survives a power loss). Opening checks the files (header, write-ahead log frames, <c>PRAGMA quick_check</c>, a
 /// write-ahead log lost after a crash) and moves a damaged set aside instead of using or replacing it; every field

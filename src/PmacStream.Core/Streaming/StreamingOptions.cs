@@ -45,6 +45,14 @@ public sealed record StreamingOptions
     /// <summary>Words kept free as a margin against the splitter's estimate.</summary>
     public int SafetyWords { get; init; } = Jobs.RunSettings.BufferMarginWords;
 
+    /// <summary>
+    /// While the tracking variable stands on one block (a move longer than a tick), the coordinate system's status
+    /// (<c>&amp;n??</c>, to see a program stop) is read every this many ticks it stands (a stop is seen at most that
+    /// late); every tick while the buffer holds nothing past that block, and every tick while stopped. A tick
+    /// otherwise reads M0 alone. 1: every tick M0 stands still.
+    /// </summary>
+    public int StatusEveryTicks { get; init; } = 10;
+
     /// <summary><c>pr</c> strategy: lines kept ahead in the buffer.</summary>
     public int PrTargetLines { get; init; } = 200;
 

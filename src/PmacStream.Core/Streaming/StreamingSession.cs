@@ -7,7 +7,7 @@ namespace PmacStream.Streaming;
 /// One job streaming a split program into a coordinate system's rotary buffer. The host calls <see cref="TickAsync"/>
 /// (or <see cref="Tick"/>) from its timer, every <see cref="StreamingOptions.TickPeriod"/> (the HMI's
 /// <c>timer1_Tick</c>); each tick reads the tracking variable (M0), lets the strategy send what it wants, and writes a
-/// checkpoint. Operator commands (hold, resume, abort, feed, step) are sent between ticks, never while a buffer is open.
+/// checkpoint when it changed. Operator commands (hold, resume, abort, feed, step) are sent between ticks, never while a buffer is open.
 /// Whatever fails, no block is skipped, repeated or reordered: on an <c>ERRnnn</c> or a lost link the session stops
 /// sending, keeps the exact position (or, when a download broke off mid-way, waits for the buffer to drain and
 /// re-derives it from M0), and <see cref="RecoverAsync"/> or <see cref="ResumeAsync(Checkpoint, CancellationToken)"/> continues.
@@ -34,7 +34,8 @@ public sealed partial class StreamingSession
     private readonly ProgramSender _sender;
     private readonly BufferDrain _drain = new();
     private readonly CompletionDetector _completion = new();
-    private readonly ProgramStopWatch _stops = new();
+    private readonly ProgramStopWatch _stops;
+    private readonly ExecutedBlockCount _executed;
     private readonly CheckpointWriter _checkpoints;
     private readonly ExecutionPace _pace;
     private readonly StartSequence _start;
@@ -58,6 +59,8 @@ public sealed partial class StreamingSession
         _strategy = strategy ?? StreamingStrategies.Create(options.Strategy);
         _cs = new CoordinateSystemCommands(options.CoordinateSystem, options.Feed ?? program.Manifest.Feed, program.Manifest.FeedVariable);
         _singleBlock = options.SingleBlock;
+        _stops = new ProgramStopWatch(options.StatusEveryTicks);
+        _executed = new ExecutedBlockCount(program);
         _optionalStop = options.OptionalStop;
         program.UseLineProbe(options.LineProbeVariable);
         _queries = new ControllerQueries(_channel, _cs, program.Sync);
@@ -118,7 +121,7 @@ public sealed partial class StreamingSession
     {
         get
         {
-            var executed = _tracked > 0 ? Program.BlocksThrough(_tracked) : 0;
+            var executed = _executed.Through(_tracked);
             var total = Math.Max(1, Program.Manifest.TotalMotionBlocks);
             var eta = _state == SessionState.Completed ? TimeSpan.Zero
                 : MoveTimes is not null ? _pace.EtaByMoveTimes(_tracked, Program.FinalTrackedLine)
@@ -509,7 +512,10 @@ public sealed partial class StreamingSession
     /// </summary>
     private async Task WatchProgramStopAsync(int m, CancellationToken cancellationToken)
     {
-        if (_singleBlock || _queries.StatusUnknown || !_stops.MustAsk(m, _state == SessionState.Running))
+        // No move past the tracked block in the buffer: the dry check reads PR now, and a stop must not pass for an
+        // underrun or the end. With moves still ahead, a stop leaves them uncalculated (PR above 0): no verdict yet.
+        var nothingAhead = _buffer.LastSentLine <= m;
+        if (_singleBlock || _queries.StatusUnknown || !_stops.MustAsk(m, _state == SessionState.Running, nothingAhead))
         {
             return;
         }

@@ -112,14 +112,14 @@ public enum StreamingEventKind
 /// <param name="TrackedLine">The tracking variable when it happened.</param>
 public sealed record StreamingEvent(StreamingEventKind Kind, string Message, int Chunk, int TrackedLine);
 
-/// <summary>A crash-safe checkpoint: what was executed and what was sent, written every tick.</summary>
+/// <summary>A crash-safe checkpoint: what was executed and what was sent, written every tick on which it changed.</summary>
 /// <param name="LastExecutedLine">Tracking variable (source line) read last.</param>
 /// <param name="CurrentChunk">Chunk executing.</param>
 /// <param name="Next">Next program line to send.</param>
 /// <param name="NextExact">False when a download broke off and how much arrived is not known.</param>
 /// <param name="ChunksDownloaded">Chunks completely sent.</param>
 /// <param name="State">Session state.</param>
-/// <param name="TimeUtc">When it was taken.</param>
+/// <param name="TimeUtc">When it was taken (a tick that changes nothing writes none: in the job store, when the position last changed).</param>
 /// <param name="Started">True once the run command (<c>&amp;n R</c>) was given.</param>
 /// <param name="Loaded">
 /// False while the start loads the buffer (clear, preamble, first chunk) and until that load completed: how much of

@@ -45,10 +45,12 @@ internal sealed class VrPmacSession
     private readonly PmacTcpServerOptions _options;
     private readonly VrPmacCounters _counters;
     private readonly int _id;
+    private static readonly ReadOnlyMemory<byte> NoReply = new byte[] { 0 };
     private readonly byte[] _header = new byte[VrPmac.HeaderSize];
     private readonly byte[] _data = new byte[VrPmac.MaxData];
     private readonly byte[] _out = new byte[VrPmac.MaxReply + 8];
     private readonly PendingReplies _pending;
+    private readonly ReadDeadline _deadline = new();
     private long _lastActivity = Environment.TickCount64;
 
     public VrPmacSession(Stream stream, IPmacPortEndpoint port, object engineLock, PmacTcpServerOptions options, VrPmacCounters counters, int id)
@@ -70,6 +72,18 @@ internal sealed class VrPmacSession
 
     /// <summary>Serves packets until the client leaves, errs, falls silent or <paramref name="stop"/> is cancelled.</summary>
     public async Task<SessionEnd> RunAsync(CancellationToken stop)
+    {
+        try
+        {
+            return await ServeAsync(stop).ConfigureAwait(false);
+        }
+        finally
+        {
+            _deadline.Dispose();
+        }
+    }
+
+    private async Task<SessionEnd> ServeAsync(CancellationToken stop)
     {
         while (true)
         {
@@ -239,7 +253,7 @@ internal sealed class VrPmacSession
     {
         if (_pending.Count == 0)
         {
-            return SendAsync(new byte[] { 0 }, stop);
+            return SendAsync(NoReply, stop);
         }
 
         var n = _pending.Take(_out.AsSpan(0, VrPmac.MaxReply));
@@ -261,15 +275,9 @@ internal sealed class VrPmacSession
         var n = 0;
         if (first)
         {
-            using var idle = CancellationTokenSource.CreateLinkedTokenSource(stop);
-            if (_options.IdleTimeout > TimeSpan.Zero && _options.IdleTimeout != Timeout.InfiniteTimeSpan)
-            {
-                idle.CancelAfter(_options.IdleTimeout);
-            }
-
             try
             {
-                n = await _stream.ReadAsync(buffer.AsMemory(0, count), idle.Token).ConfigureAwait(false);
+                n = await _stream.ReadAsync(buffer.AsMemory(0, count), _deadline.Arm(stop, _options.IdleTimeout)).ConfigureAwait(false);
             }
             catch (OperationCanceledException) when (!stop.IsCancellationRequested)
             {
@@ -286,14 +294,14 @@ internal sealed class VrPmacSession
             Interlocked.Exchange(ref _lastActivity, Environment.TickCount64);
         }
 
-        using var timeout = CancellationTokenSource.CreateLinkedTokenSource(stop);
-        timeout.CancelAfter(_options.PacketTimeout);
+        // Usually the whole packet came with its first read: no deadline to arm then.
+        var rest = n < count ? _deadline.Arm(stop, _options.PacketTimeout) : stop;
         while (n < count)
         {
             int got;
             try
             {
-                got = await _stream.ReadAsync(buffer.AsMemory(n, count - n), timeout.Token).ConfigureAwait(false);
+                got = await _stream.ReadAsync(buffer.AsMemory(n, count - n), rest).ConfigureAwait(false);
             }
             catch (OperationCanceledException) when (!stop.IsCancellationRequested)
             {
@@ -308,6 +316,7 @@ internal sealed class VrPmacSession
             n += got;
         }
 
+        _deadline.Disarm();
         return null;
     }
 
