@@ -105,7 +105,7 @@ internal static class LibraryRoutines
         };
     }
 
-    /// <summary>The M codes whose meaning this library gives (null: the built-in outputs).</summary>
+    /// <summary>The M codes whose meaning this library gives, machine outputs among them (null: the built-in spindle and coolant outputs).</summary>
     public static string? M(int key, MachineProfile profile, Prog1000Options o)
     {
         var m = o.Map;
@@ -124,7 +124,7 @@ internal static class LibraryRoutines
             90 => $"DWELL0 {o.Coolant}=0 {o.MistCoolant}=0",
             190 => SpindleOrient(profile, o),
             60 => "READ(T) DWELL0\r\n" + (o.ToolChangeHook ?? DefaultToolChange(profile, o) + stop) + $"\r\n{m.Q(12)}=Q120",
-            _ => null,
+            _ => MachineOutputRoutines.M(key, o),
         };
     }
 

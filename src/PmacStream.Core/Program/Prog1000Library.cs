@@ -40,6 +40,27 @@ public sealed record Prog1000Options
     /// </summary>
     public string SpindleOrientDirection { get; init; } = "M908";
 
+    /// <summary>M-variable of the through-spindle coolant output (M88 on, M89 off). Assumed, default M909.</summary>
+    public string ThroughSpindleCoolant { get; init; } = "M909";
+
+    /// <summary>M-variable of the 4th axis brake output (M10 clamp = 1, M11 unclamp = 0). Assumed, default M910.</summary>
+    public string FourthAxisBrake { get; init; } = "M910";
+
+    /// <summary>M-variable of the 5th axis brake output (M12 clamp = 1, M13 unclamp = 0). Assumed, default M911.</summary>
+    public string FifthAxisBrake { get; init; } = "M911";
+
+    /// <summary>M-variable of the chip conveyor run output (M31/M32 = 1, M33 = 0). Assumed, default M912.</summary>
+    public string ChipConveyor { get; init; } = "M912";
+
+    /// <summary>M-variable of the chip conveyor direction output (1 = reverse, M32). Assumed, default M913.</summary>
+    public string ChipConveyorReverse { get; init; } = "M913";
+
+    /// <summary>M-variable of the through-tool air blast output (M73 on, M74 off). Assumed, default M914.</summary>
+    public string ThroughToolAir { get; init; } = "M914";
+
+    /// <summary>M-variable of the air gun output (M83 on, M84 off). Assumed, default M915.</summary>
+    public string AirGun { get; init; } = "M915";
+
     /// <summary>Write <c>;</c> comment lines (PComm's download strips them; turn off for a raw terminal).</summary>
     public bool Comments { get; init; } = true;
 

@@ -74,7 +74,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.ValueNotAllowed, "G21\nG10 L2 P7 X0", 2, 8, "grbl" },
         { DiagnosticCodes.NoMotionMode, "G21\nX1 Y1", 2, 1, "linuxcnc-mill" },
         { DiagnosticCodes.NoMotionMode, "G0 X0\nG81 X1 Y1 Z-1 R1 F10\nG80\nX2", 4, 1, "linuxcnc-mill" },
-        { DiagnosticCodes.NotYetOnController, "O1\nT1 M31\nM31", 2, 4 },
+        { DiagnosticCodes.NotYetOnController, "O1\nT1 M41\nM41", 2, 4 },
         { DiagnosticCodes.NotYetOnController, "O1\nG00 G41 D1 X1", 2, 5 },
         { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\n%\nG00 X2\n", 4, 1 },
         { DiagnosticCodes.IllegalCharacter, "G0 X1 /Y2", 1, 7, "linuxcnc-mill" },

@@ -80,10 +80,10 @@ public class DialectTests
     [Fact]
     public void Codes_the_controller_cannot_run_yet_are_warned_once_each_at_their_first_use()
     {
-        var (summary, diags) = Check("O1\nT1 M31\nG43 H1 Z10\nT2 M31\nG41 D1 X10 F100\n");
+        var (summary, diags) = Check("O1\nT1 M41\nG43 H1 Z10\nT2 M41\nG41 D1 X10 F100\n");
         diags.Where(d => d.Code == DiagnosticCodes.NotYetOnController).Select(d => (d.Line, d.Message[..3])).Should().Equal(
-            (2, "M31"), (5, "G41"));
-        summary.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M31"] = 2, ["G41"] = 5 });
+            (2, "M41"), (5, "G41"));
+        summary.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M41"] = 2, ["G41"] = 5 });
         Check("O1\nG00 X1\nG01 X2 F100\nM30").Summary.NotYetCodes.Should().BeEmpty();
     }
 

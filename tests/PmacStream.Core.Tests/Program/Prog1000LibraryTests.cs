@@ -124,4 +124,33 @@ public class Prog1000LibraryTests
             """);
         Prog1000Library.Routines(profile).Single().Body.Should().Be("READ(P) DWELL(Q116*1000)");
     }
+
+    [Fact]
+    public void Fanuc_mill_machine_outputs_have_routines_setting_their_configured_variables_and_only_codes_that_wait_stay_not_yet()
+    {
+        var o = new Prog1000Options
+        {
+            ThroughSpindleCoolant = "M1909", FourthAxisBrake = "M1910", FifthAxisBrake = "M1911", ChipConveyor = "M1912",
+            ChipConveyorReverse = "M1913", ThroughToolAir = "M1914", AirGun = "M1915",
+        };
+        var routines = Prog1000Library.Routines(MachineProfile.Default, o).Where(r => r.Code[0] == 'M').ToDictionary(r => r.Code);
+        var expected = new Dictionary<string, string>
+        {
+            ["M88"] = "M1909=1", ["M89"] = "DWELL0 M1909=0", ["M10"] = "DWELL0 M1910=1", ["M11"] = "DWELL0 M1910=0",
+            ["M12"] = "DWELL0 M1911=1", ["M13"] = "DWELL0 M1911=0", ["M31"] = "M1913=0 M1912=1", ["M32"] = "DWELL0 M1913=1 M1912=1",
+            ["M33"] = "DWELL0 M1912=0", ["M73"] = "M1914=1", ["M74"] = "DWELL0 M1914=0", ["M83"] = "M1915=1", ["M84"] = "DWELL0 M1915=0",
+        };
+        foreach (var (code, body) in expected)
+        {
+            routines[code].Converted.Should().BeTrue(code);
+            routines[code].Program.Should().Be(1001);
+            routines[code].Label.Should().Be(int.Parse(code[1..], System.Globalization.CultureInfo.InvariantCulture) * 1000);
+            routines[code].Body.Should().Be(body, code);
+        }
+
+        // Gear range changes wait for the gearbox; rigid tapping and subprograms are not outputs.
+        routines.Values.Where(r => r.Controller == ControllerSupport.NotYet).Select(r => r.Code).Should()
+            .BeEquivalentTo("M29", "M41", "M42", "M97", "M98", "M99");
+        routines["M41"].Note.Should().Contain("in-gear input");
+    }
 }

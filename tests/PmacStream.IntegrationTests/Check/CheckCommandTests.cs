@@ -73,7 +73,7 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void Chinese_output_is_Chinese_to_the_last_line()
     {
-        var file = Write("zh.nc", "O1\nT1 M31\nG01 X1\nG05\n");
+        var file = Write("zh.nc", "O1\nT1 M41\nG01 X1\nG05\n");
         var (code, output) = Run(file, "--lang", "zh-CN");
         code.Should().Be(1);
         var lines = output.TrimEnd().Split('\n').Select(l => l.TrimEnd('\r')).ToArray();
@@ -85,7 +85,7 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void Json_output_is_one_object_with_counts_and_diagnostics()
     {
-        var file = Write("bad.nc", "O1\nG01 X1\nM50\nM31\n");
+        var file = Write("bad.nc", "O1\nG01 X1\nM50\nM41\n");
         var (code, output) = Run(file, "--json", "--lang", "zh-CN");
         code.Should().Be(1);
         using var doc = JsonDocument.Parse(output);
@@ -93,7 +93,7 @@ public sealed class CheckCommandTests : IDisposable
         root.EnumerateObject().Select(p => p.Name).Should().Equal("file", "blocks", "errors", "warnings", "diagnostics", "notYetCodes");
         root.GetProperty("file").GetString().Should().Be(file);
         root.GetProperty("blocks").GetInt64().Should().Be(3);
-        root.GetProperty("notYetCodes").GetProperty("M31").GetInt32().Should().Be(4);
+        root.GetProperty("notYetCodes").GetProperty("M41").GetInt32().Should().Be(4);
         root.GetProperty("errors").GetInt32().Should().Be(2);
         var d = root.GetProperty("diagnostics")[0];
         d.EnumerateObject().Select(p => p.Name).Should().Equal("severity", "code", "line", "column", "message");

@@ -70,15 +70,15 @@ public sealed class SplitCliTests : IDisposable
     [Fact]
     public void Split_names_the_codes_the_controller_cannot_run_yet_and_sets_the_feed_only_where_it_changes()
     {
-        var src = Write("real.nc", "%\nO1\nN10 (FACE1)\nG90 G94 G17 G49 G40 G80\nT1 M31\nS5000 M03\nG43 H1 Z15.\n" +
+        var src = Write("real.nc", "%\nO1\nN10 (FACE1)\nG90 G94 G17 G49 G40 G80\nT1 M41\nS5000 M03\nG43 H1 Z15.\n" +
             string.Concat(Enumerable.Range(1, 6).Select(i => $"G01 X{i}. F{(i < 4 ? 800 : 400)}.\n")) + "G28 G91 Z0.\nM30\n%\n");
         var outDir = Path.Combine(_folder, "real_chunks");
         var (code, stdout, stderr) = Run("split", src, "--out", outDir);
         code.Should().Be(0, stderr);
-        stdout.Should().Contain("not runnable on the controller yet under profile 'fanuc-mill'").And.Contain("M31 (line 5)");
+        stdout.Should().Contain("not runnable on the controller yet under profile 'fanuc-mill'").And.Contain("M41 (line 5)");
         var manifest = ChunkManifest.Load(Path.Combine(outDir, "manifest.json"));
         manifest.CheckedProfile.Should().StartWith("fanuc-mill@");
-        manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M31"] = 5 }, "G43 runs in the library and G28 is expanded by the host");
+        manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M41"] = 5 }, "G43 runs in the library and G28 is expanded by the host");
         var chunk = File.ReadAllText(Path.Combine(outDir, "real_0001.pmc"));
         chunk.Split("\r\n").Where(l => l.StartsWith("P500=", StringComparison.Ordinal)).Should().Equal("P500=800.", "P500=400.");
     }
