@@ -1,3 +1,5 @@
+using PmacStream.Pmac;
+
 namespace PmacStream.Sim;
 
 /// <summary>

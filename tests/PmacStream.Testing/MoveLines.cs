@@ -1,3 +1,4 @@
+using PmacStream.Pmac;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 

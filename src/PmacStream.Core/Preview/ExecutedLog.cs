@@ -1,4 +1,5 @@
 using System.Globalization;
+using PmacStream.Pmac;
 
 namespace PmacStream.Preview;
 
@@ -126,12 +127,21 @@ public static class ExecutedLogReader
 }
 
 /// <summary>
-/// How often each source line was executed (saturating at 255), one byte per line number. Consecutive log rows of
-/// the same line count as one execution: one block may become several controller moves; running it again after
-/// other lines is what counts twice. Lines of 0 or less (no tracking value yet) are not counted.
+/// How often each source line was executed (saturating at 255), one byte per line number. A log with the block column
+/// counts the blocks its marks start (<see cref="BlockStarts"/>: a one-move block run twice in a row counts twice, a
+/// block's further moves not at all; a block the host expands into several controller lines, each with its tracking
+/// assignment, counts once per <c>expandedBlocks</c> assignments). A log without it folds consecutive rows of one line
+/// into one execution (one block may become several controller moves; running it again after other lines is what
+/// counts twice). Lines of 0 or less (no tracking value yet) are not counted.
 /// </summary>
-public sealed class ExecutionCounts
+/// <param name="expandedBlocks">
+/// The blocks that carry more than one tracking assignment, by source line, with how many (<see cref="BlockStarts"/>);
+/// <see cref="int.MaxValue"/> folds a line's consecutive marks into one execution. Null: every block has one.
+/// </param>
+public sealed class ExecutionCounts(IReadOnlyDictionary<int, int>? expandedBlocks = null)
 {
+    private const long MaxCountedLine = int.MaxValue - 64;
+    private readonly BlockStarts _starts = new(expandedBlocks);
     private byte[] _counts = new byte[1024];
     private long _previous = long.MinValue;
 
@@ -141,13 +151,22 @@ public sealed class ExecutionCounts
     /// <summary>Highest line number seen.</summary>
     public long MaxLine { get; private set; }
 
-    /// <summary>Counts one log row of <paramref name="line"/>.</summary>
-    public void Add(long line)
+    /// <summary>
+    /// Counts one log row of <paramref name="line"/>; <paramref name="blockStart"/> is the row's block mark (null: a
+    /// log without the block column, whose consecutive rows of one line are folded).
+    /// </summary>
+    public void Add(long line, bool? blockStart = null)
     {
         Rows++;
         var same = line == _previous;
         _previous = line;
-        if (same || line <= 0 || line > int.MaxValue - 64)
+        if (line <= 0 || line > MaxCountedLine)
+        {
+            return;
+        }
+
+        var starts = blockStart is { } mark ? _starts.Next((int)line, mark) : !same;
+        if (!starts)
         {
             return;
         }
@@ -157,7 +176,7 @@ public sealed class ExecutionCounts
             var size = _counts.Length;
             while (size <= line)
             {
-                size = (int)Math.Min(int.MaxValue - 64L, size * 2L);
+                size = (int)Math.Min(MaxCountedLine, size * 2L);
             }
 
             Array.Resize(ref _counts, size);
@@ -175,12 +194,12 @@ public sealed class ExecutionCounts
     public int this[long line] => line >= 0 && line < _counts.Length ? _counts[line] : 0;
 
     /// <summary>The counts of a whole log.</summary>
-    public static ExecutionCounts FromLog(string path, CancellationToken cancellationToken = default)
+    public static ExecutionCounts FromLog(string path, IReadOnlyDictionary<int, int>? expandedBlocks = null, CancellationToken cancellationToken = default)
     {
-        var counts = new ExecutionCounts();
+        var counts = new ExecutionCounts(expandedBlocks);
         foreach (var row in ExecutedLogReader.Read(path, cancellationToken))
         {
-            counts.Add(row.Line);
+            counts.Add(row.Line, row.BlockStart);
         }
 
         return counts;

@@ -55,7 +55,7 @@ public static class PreviewRenderer
 
     /// <summary>Pass 1 alone: the toolpath's extents and move counts.</summary>
     public static PreviewExtents MeasureExtents(IToolpathSource source, CancellationToken cancellationToken = default) =>
-        Measure(source, null, null, cancellationToken);
+        Measure(source, null, null, null, cancellationToken);
 
     /// <summary>Renders <paramref name="source"/>; with <paramref name="executedLogPath"/>, overlays that log.</summary>
     public static PreviewPicture Render(IToolpathSource source, PreviewOptions? options = null, string? executedLogPath = null, CancellationToken cancellationToken = default)
@@ -71,25 +71,28 @@ public static class PreviewRenderer
         var pass = 0;
         void Report(double f, string stage) => options.Progress?.Invoke((pass + Math.Clamp(f, 0, 1)) / passes, stage);
 
+        // The log holds only end points: an executed arc drawn from it would be a chord. Arc lines are noted here
+        // (one bit a line) so their executed band is drawn along the program's arc instead.
+        var arcLines = executedLogPath is null ? null : new LineSet();
+        var multiMoveLines = executedLogPath is null ? null : new Dictionary<int, int>();
+        var extents = Measure(source, arcLines, multiMoveLines, f => Report(f, "extents"), cancellationToken);
+        pass++;
         ExecutionCounts? counts = null;
         var logBox = Box3.Empty;
         if (executedLogPath is not null)
         {
-            counts = new ExecutionCounts();
+            // A block the program draws as several moves (a canned cycle, a reference return) may carry a tracking
+            // assignment on each controller line: its marks in a row count once. A one-move block counts every mark.
+            counts = new ExecutionCounts(multiMoveLines);
             foreach (var row in ExecutedLogReader.Read(executedLogPath, cancellationToken))
             {
-                counts.Add(row.Line);
+                counts.Add(row.Line, row.BlockStart);
                 logBox.Add(row.End);
             }
 
             pass++;
         }
 
-        // The log holds only end points: an executed arc drawn from it would be a chord. Arc lines are noted here
-        // (one bit a line) so their executed band is drawn along the program's arc instead.
-        var arcLines = executedLogPath is null ? null : new LineSet();
-        var extents = Measure(source, arcLines, f => Report(f, "extents"), cancellationToken);
-        pass++;
         if (options.DrawIf is { } drawIf && !drawIf())
         {
             throw new PreviewRefusedException();
@@ -197,12 +200,22 @@ public static class PreviewRenderer
         return false;
     }
 
-    private static PreviewExtents Measure(IToolpathSource source, LineSet? arcLines, Action<double>? progress, CancellationToken cancellationToken)
+    /// <summary>
+    /// The program's extents; notes arc lines in <paramref name="arcLines"/> and, in <paramref name="multiMoveLines"/>,
+    /// the lines drawn as more than one move in a row (value <see cref="int.MaxValue"/>: their marks fold).
+    /// </summary>
+    private static PreviewExtents Measure(IToolpathSource source, LineSet? arcLines, Dictionary<int, int>? multiMoveLines, Action<double>? progress, CancellationToken cancellationToken)
     {
         var box = Box3.Empty;
-        long rapids = 0, lines = 0, arcs = 0, n = 0;
+        long rapids = 0, lines = 0, arcs = 0, n = 0, previousLine = 0;
         foreach (var s in source.ReadSegments(cancellationToken))
         {
+            if (multiMoveLines is not null && s.SourceLine == previousLine && s.SourceLine is > 0 and <= int.MaxValue)
+            {
+                multiMoveLines[(int)s.SourceLine] = int.MaxValue;
+            }
+
+            previousLine = s.SourceLine;
             if (s.IsArc)
             {
                 arcs++;

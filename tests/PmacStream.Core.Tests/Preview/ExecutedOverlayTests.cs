@@ -199,6 +199,68 @@ public class ExecutedOverlayTests
     }
 
     [Fact]
+    public void Block_marks_count_a_one_move_block_run_twice_in_a_row_twice_and_a_block_s_further_moves_not()
+    {
+        var counts = new ExecutionCounts(new Dictionary<int, int> { [9] = 3 });
+        counts.Add(5, true);
+        counts.Add(5, true); // the same block again, straight after: its tracking assignment fired again
+        counts.Add(7, true);
+        counts.Add(7, false); // a further move of block 7 (a dwell, a library move)
+        counts.Add(9, true); // a block the host sends as three controller lines, each with its assignment
+        counts.Add(9, true);
+        counts.Add(9, true);
+        counts.Add(9, true); // then the block again
+        counts[5].Should().Be(2);
+        counts[7].Should().Be(1);
+        counts[9].Should().Be(2);
+
+        var old = new ExecutionCounts();
+        old.Add(5);
+        old.Add(5);
+        old[5].Should().Be(1, "a log without the block column cannot tell a block run twice in a row from one block of two moves");
+    }
+
+    [Fact]
+    public void The_preview_counts_a_block_run_twice_in_a_row_from_the_block_column_and_folds_an_old_log()
+    {
+        using var folder = new TestFolder("exec-block");
+        var rows = new[] { (2, 0, 0, 1), (3, 40, 0, 1), (4, 40, 40, 1), (4, 40, 40, 1), (5, 0, 40, 1), (6, 0, 0, 1) };
+        var withBlock = Path.Combine(folder.Path, "block.csv");
+        File.WriteAllLines(withBlock, new[] { ExecutedLogReader.BlockHeader }.Concat(rows.Select((r, i) =>
+            string.Create(CultureInfo.InvariantCulture, $"{i + 1},{r.Item1},{i},{i + 1},{r.Item2},{r.Item3},0,0,0,0,Linear,{r.Item4}"))));
+        var old = Path.Combine(folder.Path, "old.csv");
+        File.WriteAllLines(old, File.ReadAllLines(withBlock).Select((l, i) => i == 0 ? ExecutedLogReader.Header : l[..l.LastIndexOf(',')]));
+
+        using (var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: withBlock))
+        {
+            pic.Execution!.Repeated.Should().Equal(new LineRun(4, 4, 2));
+            pic.Execution.MissingLines.Should().Be(0);
+        }
+
+        using (var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: old))
+        {
+            pic.Execution!.IsExact.Should().BeTrue("consecutive rows of one line fold in a log without the block column");
+        }
+    }
+
+    [Fact]
+    public void A_canned_cycle_whose_controller_lines_each_mark_a_block_start_counts_once()
+    {
+        // Line 3 is a drilling cycle the program draws as several moves; the host sends each as a line with the
+        // block's tracking assignment, so every one of its moves is marked.
+        const string Cycle = "G21 G90 G17\nG0 X0 Y0 Z10\nG81 X10 Y0 Z-5 R2 F100\nG80\n";
+        using var folder = new TestFolder("exec-cycle");
+        var log = Path.Combine(folder.Path, "cycle.csv");
+        File.WriteAllLines(log, [
+            ExecutedLogReader.BlockHeader, "1,2,0,1,0,0,10,0,0,0,Rapid,1", "2,3,1,2,10,0,10,0,0,0,Rapid,1",
+            "3,3,2,3,10,0,2,0,0,0,Rapid,1", "4,3,3,4,10,0,-5,0,0,0,Linear,1", "5,3,4,5,10,0,10,0,0,0,Rapid,1",
+        ]);
+        using var pic = RenderGCode(Cycle, PreviewView.XY, 300, 300, log: log);
+        pic.Execution!.RepeatedLines.Should().Be(0);
+        pic.Execution.MissingLines.Should().Be(0);
+    }
+
+    [Fact]
     public void Counts_saturate_and_grow_with_line_numbers()
     {
         var counts = new ExecutionCounts();

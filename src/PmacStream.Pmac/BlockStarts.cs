@@ -1,8 +1,8 @@
-namespace PmacStream.Sim;
+namespace PmacStream.Pmac;
 
 /// <summary>
 /// Tells, move by move in execution order, which executed move starts a block. A block starts where the tracked line
-/// changes, or at a move its synchronous tracking assignment fired on (<see cref="ExecutedMove.BlockStart"/>) once the
+/// changes, or at a move its synchronous tracking assignment fired on (the executed move's block-start mark) once the
 /// block has had all its assignments: a block the host expands into several controller lines (a canned cycle, a
 /// reference return) carries one on each, so it may fire that many times (<c>expandedBlocks</c>: line, assignments;
 /// every other block has one). So a one-move block run twice in a row starts two blocks, and a block's further moves
