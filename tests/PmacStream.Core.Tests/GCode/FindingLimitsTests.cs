@@ -68,25 +68,18 @@ public class FindingLimitsTests
     [Fact]
     public void Split_refuses_with_the_count_of_every_error_and_lists_a_bounded_few()
     {
-        var folder = Path.Combine(Path.GetTempPath(), "pmacstream-limits-" + Guid.NewGuid().ToString("N"));
-        Directory.CreateDirectory(folder);
-        try
-        {
-            var src = Path.Combine(folder, "junk.nc");
-            File.WriteAllBytes(src, OneMegabyteOfX);
-            var act = () => Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(folder, "chunks"), CheckProfile = MachineProfile.Default });
-            var refused = act.Should().Throw<SplitException>().Which;
-            refused.ErrorCount.Should().Be((1 << 19) + 1);
-            refused.Diagnostics.Count.Should().BeLessThanOrEqualTo(FindingLimits.PerLine + 1);
+        using var temp = new TestFolder("limits");
+        var folder = temp.Path;
+        var src = Path.Combine(folder, "junk.nc");
+        File.WriteAllBytes(src, OneMegabyteOfX);
+        var act = () => Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(folder, "chunks"), CheckProfile = MachineProfile.Default });
+        var refused = act.Should().Throw<SplitException>().Which;
+        refused.ErrorCount.Should().Be((1 << 19) + 1);
+        refused.Diagnostics.Count.Should().BeLessThanOrEqualTo(FindingLimits.PerLine + 1);
 
-            var preview = new GCodeToolpathSource(src);
-            preview.ReadSegments().Should().BeEmpty();
-            preview.IssueCount.Should().Be(1 << 19, "the preview counts every lexical error too");
-            preview.Issues.Should().HaveCount(GCodeToolpathSource.MaxIssuesKept);
-        }
-        finally
-        {
-            Directory.Delete(folder, true);
-        }
+        var preview = new GCodeToolpathSource(src);
+        preview.ReadSegments().Should().BeEmpty();
+        preview.IssueCount.Should().Be(1 << 19, "the preview counts every lexical error too");
+        preview.Issues.Should().HaveCount(GCodeToolpathSource.MaxIssuesKept);
     }
 }

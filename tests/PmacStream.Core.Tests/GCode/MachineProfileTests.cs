@@ -122,15 +122,11 @@ public class MachineProfileTests
     public void Names_resolve_to_built_ins_files_load_and_anything_else_says_what_was_expected()
     {
         MachineProfile.Resolve("GRBL").Name.Should().Be("grbl");
-        var file = Path.Combine(Path.GetTempPath(), $"profile-{Guid.NewGuid():N}.json");
-        File.WriteAllText(file, MachineProfile.Paper.ToJson().Replace("\"paper-24g7m\"", "\"my-mill\""));
-        try
+        using (var temp = new TestFolder("profile"))
         {
+            var file = Path.Combine(temp.Path, "my-mill.json");
+            File.WriteAllText(file, MachineProfile.Paper.ToJson().Replace("\"paper-24g7m\"", "\"my-mill\""));
             MachineProfile.Resolve(file).Name.Should().Be("my-mill");
-        }
-        finally
-        {
-            File.Delete(file);
         }
 
         var act = () => MachineProfile.Resolve("haas-mill");

@@ -10,9 +10,16 @@ namespace PmacStream.Core.Tests.Jobs;
 public sealed class PrepareTests : IDisposable
 {
     private readonly TempProgram _clean = new(Program(2500));
-    private readonly JobService _service = new(new JobServiceOptions { JobDatabase = Path.Combine(Path.GetTempPath(), "pmacstream-prep-" + Guid.NewGuid().ToString("N"), "jobs.db") });
+    private readonly TestFolder _temp = new("prep");
+    private readonly JobService _service;
 
-    public void Dispose() => _clean.Dispose();
+    public PrepareTests() => _service = new(new JobServiceOptions { JobDatabase = Path.Combine(_temp.Path, "jobs.db") });
+
+    public void Dispose()
+    {
+        _clean.Dispose();
+        _temp.Dispose();
+    }
 
     private static string Program(int moves, string? extra = null)
     {

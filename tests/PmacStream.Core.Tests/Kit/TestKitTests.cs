@@ -3,17 +3,17 @@ namespace PmacStream.Core.Tests.Kit;
 /// <summary>The parts of the shared test kit that decide what a test sees: tool lookup and the executed-line fold.</summary>
 public sealed class TestKitTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-kit-").FullName;
+    private readonly TestFolder _temp = new("kit");
 
-    public void Dispose() => Directory.Delete(_dir, true);
+    public void Dispose() => _temp.Dispose();
 
     [SkippableFact]
     [System.Runtime.Versioning.UnsupportedOSPlatform("windows")]
     public void A_tool_is_found_only_where_the_search_path_says_and_only_when_executable()
     {
         Requires.NotWindows("Unix file modes");
-        var bin = Directory.CreateDirectory(Path.Combine(_dir, "bin")).FullName;
-        var other = Directory.CreateDirectory(Path.Combine(_dir, "other")).FullName;
+        var bin = Directory.CreateDirectory(Path.Combine(_temp.Path, "bin")).FullName;
+        var other = Directory.CreateDirectory(Path.Combine(_temp.Path, "other")).FullName;
         var tool = Path.Combine(bin, "fake-socat");
         File.WriteAllText(tool, "#!/bin/sh\n");
         File.SetUnixFileMode(tool, UnixFileMode.UserRead | UnixFileMode.UserWrite);

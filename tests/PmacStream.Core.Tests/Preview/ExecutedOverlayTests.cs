@@ -5,14 +5,18 @@ using static PmacStream.Core.Tests.Preview.PreviewTestKit;
 
 namespace PmacStream.Core.Tests.Preview;
 
-public class ExecutedOverlayTests
+public sealed class ExecutedOverlayTests : IDisposable
 {
+    private readonly TestFolder _temp = new("exec");
+
     // Lines: 1 G21.., 2 G0 to the corner (positioning), 3..6 the square's edges.
     private const string Square = "G21 G90 G17\nG0 X0 Y0 Z0\nG1 X40 F100\nG1 Y40\nG1 X0\nG1 Y0\n";
 
-    private static string WriteLog(params (long Line, double X, double Y)[] rows)
+    public void Dispose() => _temp.Dispose();
+
+    private string WriteLog(params (long Line, double X, double Y)[] rows)
     {
-        var path = Path.Combine(Path.GetTempPath(), $"pmacstream-exec-{Guid.NewGuid():N}.csv");
+        var path = Path.Combine(_temp.Path, $"exec-{Guid.NewGuid():N}.csv");
         var lines = new List<string> { ExecutedLogReader.Header };
         var seq = 0;
         foreach (var (line, x, y) in rows)
@@ -28,25 +32,18 @@ public class ExecutedOverlayTests
     public void Exact_log_covers_every_edge_with_the_executed_band_and_reports_nothing()
     {
         var log = WriteLog((2, 0, 0), (3, 40, 0), (4, 40, 40), (5, 0, 40), (6, 0, 0));
-        try
-        {
-            using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
-            pic.Execution!.IsExact.Should().BeTrue();
-            pic.Execution.LogRows.Should().Be(5);
-            PixelsOf(pic.Image, Palette.Missing).Should().BeEmpty();
-            PixelsOf(pic.Image, Palette.Repeated).Should().BeEmpty();
+        using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
+        pic.Execution!.IsExact.Should().BeTrue();
+        pic.Execution.LogRows.Should().Be(5);
+        PixelsOf(pic.Image, Palette.Missing).Should().BeEmpty();
+        PixelsOf(pic.Image, Palette.Repeated).Should().BeEmpty();
 
-            // The band lies under the program line: 2 pixels beside each edge's middle is executed green,
-            // while the edge itself stays in the feed colour on top.
-            var (mx, my) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
-            Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my), Palette.Feed, Palette.Executed).Should().BeTrue("the edge is drawn over the band");
-            Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) - 2, Palette.Executed).Should().BeTrue("the band is wider than the line");
-            Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) + 2, Palette.Executed).Should().BeTrue();
-        }
-        finally
-        {
-            File.Delete(log);
-        }
+        // The band lies under the program line: 2 pixels beside each edge's middle is executed green,
+        // while the edge itself stays in the feed colour on top.
+        var (mx, my) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
+        Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my), Palette.Feed, Palette.Executed).Should().BeTrue("the edge is drawn over the band");
+        Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) - 2, Palette.Executed).Should().BeTrue("the band is wider than the line");
+        Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) + 2, Palette.Executed).Should().BeTrue();
     }
 
     [Fact]
@@ -54,31 +51,24 @@ public class ExecutedOverlayTests
     {
         // Line 4 (the right edge) never ran; line 5 ran again after line 6, as after a resume from the wrong line.
         var log = WriteLog((2, 0, 0), (3, 40, 0), (5, 0, 40), (6, 0, 0), (5, 0, 40));
-        try
-        {
-            using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
-            var report = pic.Execution!;
-            report.IsExact.Should().BeFalse();
-            report.MissingLines.Should().Be(1);
-            report.Missing.Should().Equal(new LineRun(4, 4, 0));
-            report.RepeatedLines.Should().Be(1);
-            report.Repeated.Should().Equal(new LineRun(5, 5, 2));
+        using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
+        var report = pic.Execution!;
+        report.IsExact.Should().BeFalse();
+        report.MissingLines.Should().Be(1);
+        report.Missing.Should().Equal(new LineRun(4, 4, 0));
+        report.RepeatedLines.Should().Be(1);
+        report.Repeated.Should().Equal(new LineRun(5, 5, 2));
 
-            // The never-executed right edge is drawn in the missing colour.
-            var (rx, ry) = pic.Projection.ToPixel(new Point3D(40, 20, 0));
-            Is(pic.Image, (int)Math.Round(rx), (int)Math.Round(ry), Palette.Missing).Should().BeTrue();
-            // Having skipped line 4, the machine went straight from (40, 0) to (0, 40) for line 5: that executed
-            // move, of a line run twice, is a repeated-colour band across the square where the program has nothing.
-            var (tx, ty) = pic.Projection.ToPixel(new Point3D(20, 20, 0));
-            Is(pic.Image, (int)Math.Round(tx), (int)Math.Round(ty), Palette.Repeated).Should().BeTrue();
-            // The bottom edge ran once.
-            var (bx, by) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
-            Is(pic.Image, (int)Math.Round(bx), (int)Math.Round(by) + 2, Palette.Executed).Should().BeTrue();
-        }
-        finally
-        {
-            File.Delete(log);
-        }
+        // The never-executed right edge is drawn in the missing colour.
+        var (rx, ry) = pic.Projection.ToPixel(new Point3D(40, 20, 0));
+        Is(pic.Image, (int)Math.Round(rx), (int)Math.Round(ry), Palette.Missing).Should().BeTrue();
+        // Having skipped line 4, the machine went straight from (40, 0) to (0, 40) for line 5: that executed
+        // move, of a line run twice, is a repeated-colour band across the square where the program has nothing.
+        var (tx, ty) = pic.Projection.ToPixel(new Point3D(20, 20, 0));
+        Is(pic.Image, (int)Math.Round(tx), (int)Math.Round(ty), Palette.Repeated).Should().BeTrue();
+        // The bottom edge ran once.
+        var (bx, by) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
+        Is(pic.Image, (int)Math.Round(bx), (int)Math.Round(by) + 2, Palette.Executed).Should().BeTrue();
     }
 
     [Fact]
@@ -86,27 +76,20 @@ public class ExecutedOverlayTests
     {
         // Line 3: a half circle of radius 20 about (0, 0) from (20, 0) to (-20, 0) through (0, 20).
         var log = WriteLog((2, 20, 0), (3, -20, 0));
-        try
+        using var pic = RenderGCode("G21 G90 G17\nG0 X20 Y0 Z0\nG3 X-20 Y0 I-20 J0 F100\n", PreviewView.XY, 300, 300, log: log);
+        var proj = pic.Projection;
+        var (cx, cy) = proj.ToPixel(new Point3D(0, 0, 0));
+        var rpx = 20 * proj.Scale;
+        foreach (var deg in new[] { 30, 60, 90, 120, 150 })
         {
-            using var pic = RenderGCode("G21 G90 G17\nG0 X20 Y0 Z0\nG3 X-20 Y0 I-20 J0 F100\n", PreviewView.XY, 300, 300, log: log);
-            var proj = pic.Projection;
-            var (cx, cy) = proj.ToPixel(new Point3D(0, 0, 0));
-            var rpx = 20 * proj.Scale;
-            foreach (var deg in new[] { 30, 60, 90, 120, 150 })
-            {
-                var a = deg * Math.PI / 180;
-                // Two pixels outside the arc is band; the chord's middle (the centre) has none.
-                var (bx, by) = (cx + ((rpx + 2) * Math.Cos(a)), cy - ((rpx + 2) * Math.Sin(a)));
-                Near(pic.Image, bx, by, Palette.Executed, 1).Should().BeTrue($"the band runs along the arc at {deg} degrees");
-            }
+            var a = deg * Math.PI / 180;
+            // Two pixels outside the arc is band; the chord's middle (the centre) has none.
+            var (bx, by) = (cx + ((rpx + 2) * Math.Cos(a)), cy - ((rpx + 2) * Math.Sin(a)));
+            Near(pic.Image, bx, by, Palette.Executed, 1).Should().BeTrue($"the band runs along the arc at {deg} degrees");
+        }
 
-            pic.Image.GetPixel((int)Math.Round(cx), (int)Math.Round(cy) - 2).Should().Be(Palette.Background, "no chord is drawn through the centre");
-            pic.Execution!.IsExact.Should().BeTrue();
-        }
-        finally
-        {
-            File.Delete(log);
-        }
+        pic.Image.GetPixel((int)Math.Round(cx), (int)Math.Round(cy) - 2).Should().Be(Palette.Background, "no chord is drawn through the centre");
+        pic.Execution!.IsExact.Should().BeTrue();
     }
 
     [Fact]
@@ -122,37 +105,23 @@ public class ExecutedOverlayTests
         }
 
         var log = WriteLog(rows.ToArray());
-        try
-        {
-            using var pic = RenderGCode(program, PreviewView.XY, 200, 200, log: log);
-            pic.Execution!.Missing.Should().Equal(new LineRun(6, 9, 0));
-            pic.Execution.MissingLines.Should().Be(4);
-            pic.Execution.Repeated.Should().Equal(new LineRun(10, 10, 2), new LineRun(11, 11, 3), new LineRun(12, 12, 2));
-            pic.Execution.RepeatedLines.Should().Be(3);
-            pic.Execution.Missing[0].ToString().Should().Be("lines 6-9");
-        }
-        finally
-        {
-            File.Delete(log);
-        }
+        using var pic = RenderGCode(program, PreviewView.XY, 200, 200, log: log);
+        pic.Execution!.Missing.Should().Equal(new LineRun(6, 9, 0));
+        pic.Execution.MissingLines.Should().Be(4);
+        pic.Execution.Repeated.Should().Equal(new LineRun(10, 10, 2), new LineRun(11, 11, 3), new LineRun(12, 12, 2));
+        pic.Execution.RepeatedLines.Should().Be(3);
+        pic.Execution.Missing[0].ToString().Should().Be("lines 6-9");
     }
 
     [Fact]
     public void Executed_moves_off_the_program_are_inside_the_picture()
     {
         var log = WriteLog((3, 40, 0), (4, 200, 200));
-        try
-        {
-            using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
-            var (x, y) = pic.Projection.ToPixel(new Point3D(200, 200, 0));
-            x.Should().BeInRange(0, 299);
-            y.Should().BeInRange(0, 299);
-            Near(pic.Image, x, y, Palette.Executed, 2).Should().BeTrue();
-        }
-        finally
-        {
-            File.Delete(log);
-        }
+        using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
+        var (x, y) = pic.Projection.ToPixel(new Point3D(200, 200, 0));
+        x.Should().BeInRange(0, 299);
+        y.Should().BeInRange(0, 299);
+        Near(pic.Image, x, y, Palette.Executed, 2).Should().BeTrue();
     }
 
     [Theory]
@@ -166,18 +135,11 @@ public class ExecutedOverlayTests
     [InlineData("sequence,line,start_s,end_s,x,y,z,a,b,c,kind,block\n1,2,0,1,0,0,0,0,0,0,linear,yes\n", "2:", "column 'block' expects 1 or 0, found 'yes'")]
     public void Malformed_log_names_file_line_and_column(string content, string where, string what)
     {
-        var path = Path.Combine(Path.GetTempPath(), $"pmacstream-badlog-{Guid.NewGuid():N}.csv");
+        var path = Path.Combine(_temp.Path, "badlog.csv");
         File.WriteAllText(path, content);
-        try
-        {
-            var act = () => ExecutedLogReader.Read(path).ToList();
-            act.Should().Throw<InvalidDataException>()
-                .Which.Message.Should().StartWith(Path.GetFileName(path) + ":" + where).And.Contain(what);
-        }
-        finally
-        {
-            File.Delete(path);
-        }
+        var act = () => ExecutedLogReader.Read(path).ToList();
+        act.Should().Throw<InvalidDataException>()
+            .Which.Message.Should().StartWith(Path.GetFileName(path) + ":" + where).And.Contain(what);
     }
 
     [Fact]
@@ -289,17 +251,11 @@ public class ToolpathSourceTests
 {
     private static List<PathSegment> Segments(string gcode, out GCodeToolpathSource source)
     {
-        var path = Path.Combine(Path.GetTempPath(), $"pmacstream-src-{Guid.NewGuid():N}.nc");
+        using var temp = new TestFolder("src");
+        var path = Path.Combine(temp.Path, "src.nc");
         File.WriteAllText(path, gcode);
-        try
-        {
-            source = new GCodeToolpathSource(path);
-            return source.ReadSegments().ToList();
-        }
-        finally
-        {
-            File.Delete(path);
-        }
+        source = new GCodeToolpathSource(path);
+        return source.ReadSegments().ToList();
     }
 
     [Fact]

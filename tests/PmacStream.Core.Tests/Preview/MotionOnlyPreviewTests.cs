@@ -9,13 +9,13 @@ namespace PmacStream.Core.Tests.Preview;
 /// </summary>
 public sealed class MotionOnlyPreviewTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-preview-motion-").FullName;
+    private readonly TestFolder _temp = new("preview-motion");
 
-    public void Dispose() => Directory.Delete(_dir, true);
+    public void Dispose() => _temp.Dispose();
 
     private GCodeToolpathSource Source(string program, MachineProfile? profile = null)
     {
-        var path = Path.Combine(_dir, "p.nc");
+        var path = Path.Combine(_temp.Path, "p.nc");
         File.WriteAllText(path, program);
         return new GCodeToolpathSource(path, profile);
     }

@@ -14,24 +14,18 @@ public class PictureAndFontTests(ITestOutputHelper output)
     [Fact]
     public void WritePng_leaves_a_complete_png_and_no_temporary_file()
     {
-        var dir = Directory.CreateTempSubdirectory("pmacstream-png-");
-        try
-        {
-            using var pic = RenderGCode(Square, PreviewView.XY, 64, 48);
-            var path = Path.Combine(dir.FullName, "a.png");
-            pic.WritePng(path);
-            Directory.GetFiles(dir.FullName).Should().ContainSingle().Which.Should().Be(path);
-            var bytes = File.ReadAllBytes(path);
-            bytes.Take(8).Should().Equal(0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A);
-            using var decoded = SKBitmap.Decode(bytes);
-            decoded.Width.Should().Be(64);
-            decoded.Height.Should().Be(48);
-            decoded.Pixels.Should().Equal(pic.Image.Pixels, "PNG is lossless");
-        }
-        finally
-        {
-            dir.Delete(true);
-        }
+        using var temp = new TestFolder("png");
+        var dir = temp.Path;
+        using var pic = RenderGCode(Square, PreviewView.XY, 64, 48);
+        var path = Path.Combine(dir, "a.png");
+        pic.WritePng(path);
+        Directory.GetFiles(dir).Should().ContainSingle().Which.Should().Be(path);
+        var bytes = File.ReadAllBytes(path);
+        bytes.Take(8).Should().Equal(0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A);
+        using var decoded = SKBitmap.Decode(bytes);
+        decoded.Width.Should().Be(64);
+        decoded.Height.Should().Be(48);
+        decoded.Pixels.Should().Equal(pic.Image.Pixels, "PNG is lossless");
     }
 
     [Fact]

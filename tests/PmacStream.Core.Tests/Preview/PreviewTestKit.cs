@@ -13,16 +13,10 @@ internal static class PreviewTestKit
 
     public static PreviewPicture RenderGCode(string gcode, PreviewView view, int width = 400, int height = 400, bool legend = false, string? log = null)
     {
-        var path = Path.Combine(Path.GetTempPath(), $"pmacstream-preview-{Guid.NewGuid():N}.nc");
+        using var temp = new TestFolder("preview");
+        var path = Path.Combine(temp.Path, "program.nc");
         File.WriteAllText(path, gcode);
-        try
-        {
-            return PreviewRenderer.Render(new GCodeToolpathSource(path), new PreviewOptions { Width = width, Height = height, View = view, Legend = legend }, log);
-        }
-        finally
-        {
-            File.Delete(path);
-        }
+        return PreviewRenderer.Render(new GCodeToolpathSource(path), new PreviewOptions { Width = width, Height = height, View = view, Legend = legend }, log);
     }
 
     /// <summary>

@@ -7,6 +7,8 @@ namespace PmacStream.Core.Tests.Program;
 /// <summary>A temporary folder holding a source program; deleted on dispose.</summary>
 internal sealed class TempProgram : IDisposable
 {
+    private readonly TestFolder _temp = new("split");
+
     public TempProgram(string text, string name = "prog.nc")
         : this(Encoding.UTF8.GetBytes(text), name)
     {
@@ -14,8 +16,7 @@ internal sealed class TempProgram : IDisposable
 
     public TempProgram(byte[] bytes, string name = "prog.nc")
     {
-        Folder = Path.Combine(Path.GetTempPath(), "pmacsplit-" + Guid.NewGuid().ToString("N"));
-        Directory.CreateDirectory(Folder);
+        Folder = _temp.Path;
         SourcePath = Path.Combine(Folder, name);
         File.WriteAllBytes(SourcePath, bytes);
     }
@@ -29,16 +30,7 @@ internal sealed class TempProgram : IDisposable
     public SplitResult Split(SplitOptions? options = null) =>
         Splitter.Split(SourcePath, (options ?? new SplitOptions()) with { OutDir = OutDir });
 
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(Folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 }
 
 /// <summary>Reads chunk files back and undoes the splitter's annotations.</summary>

@@ -5,17 +5,11 @@ namespace PmacStream.Core.Tests.Program;
 /// <summary>What a killed split leaves is found by its unheld lock and removed; a live split's folder is left alone.</summary>
 public class SplitWorkFolderTests
 {
-    private static string Parent()
-    {
-        var d = Path.Combine(Path.GetTempPath(), "pmacstream-tests", "work-" + Guid.NewGuid().ToString("N"));
-        Directory.CreateDirectory(d);
-        return d;
-    }
-
     [Fact]
     public void Stale_folders_go_live_and_foreign_ones_stay()
     {
-        var parent = Parent();
+        using var temp = new TestFolder("work");
+        var parent = temp.Path;
         var outDir = Path.Combine(parent, "part_chunks");
         using var live = SplitWorkFolder.Create(outDir);
         File.WriteAllText(Path.Combine(live.Path, "part_0001.pmc"), "CLOSE");
@@ -47,7 +41,8 @@ public class SplitWorkFolderTests
     [Fact]
     public void A_finished_split_leaves_no_work_folder_or_lock()
     {
-        var parent = Parent();
+        using var temp = new TestFolder("work");
+        var parent = temp.Path;
         var src = Path.Combine(parent, "part.nc");
         File.WriteAllText(src, "G21 G90\nG00 X0 Y0\nG01 X10 F100\nM30\n");
 

@@ -7,12 +7,12 @@ namespace PmacStream.Core.Tests.Store;
 /// <summary>The two-thread import (<see cref="ImportPipeline"/>): batch boundaries and failures on either side.</summary>
 public sealed class ImportPipelineTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-pipeline-").FullName;
+    private readonly TestFolder _temp = new("pipeline");
 
     public void Dispose()
     {
         SqliteConnection.ClearAllPools();
-        Directory.Delete(_dir, true);
+        _temp.Dispose();
     }
 
     private string Program(int moves, int seed, string? extraAt = null, int extraLine = -1)
@@ -37,7 +37,7 @@ public sealed class ImportPipelineTests : IDisposable
         }
 
         sb.Append("M30\n%\n");
-        var path = Path.Combine(_dir, $"p{seed}.nc");
+        var path = Path.Combine(_temp.Path, $"p{seed}.nc");
         File.WriteAllText(path, sb.ToString());
         return path;
     }
@@ -60,7 +60,7 @@ public sealed class ImportPipelineTests : IDisposable
         var file = Program(moves, moves);
         var expected = Interpret(file);
         // Land exactly on a batch boundary too: the header blocks plus the moves are not a multiple of the batch.
-        using var store = ProgramStore.Open(Path.Combine(_dir, "s.db"));
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "s.db"));
         var (id, summary) = store.Import(file, MachineProfile.Default);
         summary.Blocks.Should().Be(expected.Count);
         var stored = store.ReadBlocks(id).ToList();
@@ -75,7 +75,7 @@ public sealed class ImportPipelineTests : IDisposable
     public void Exactly_one_full_batch_and_diagnostics_across_batches_are_stored()
     {
         // "O0100" alone is no block: 1 header block + (BatchSize - 2) moves + M30 = BatchSize blocks.
-        var path = Path.Combine(_dir, "exact.nc");
+        var path = Path.Combine(_temp.Path, "exact.nc");
         var lines = new List<string> { "O0100", "N1 G21 G90 G01 F100" };
         for (var i = 0; i < ImportPipeline.BatchSize - 2; i++)
         {
@@ -86,7 +86,7 @@ public sealed class ImportPipelineTests : IDisposable
         lines.Add("N9999 M30");
         File.WriteAllLines(path, lines);
         var seen = new List<Diagnostic>();
-        using var store = ProgramStore.Open(Path.Combine(_dir, "s.db"));
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "s.db"));
         var (id, summary) = store.Import(path, MachineProfile.Default, seen.Add);
         summary.Blocks.Should().Be(ImportPipeline.BatchSize);
         store.ReadBlocks(id).Count().Should().Be(ImportPipeline.BatchSize);
@@ -98,7 +98,7 @@ public sealed class ImportPipelineTests : IDisposable
     [Fact]
     public void A_store_failure_mid_import_stops_the_reader_and_rolls_back_everything()
     {
-        var db = Path.Combine(_dir, "s.db");
+        var db = Path.Combine(_temp.Path, "s.db");
         var ok = Program(50, 7);
         var big = Program(ImportPipeline.BatchSize * 20, 8);
         using var store = ProgramStore.Open(db);
@@ -131,7 +131,7 @@ public sealed class ImportPipelineTests : IDisposable
     public void A_reader_failure_mid_import_rolls_back_and_surfaces_unwrapped()
     {
         var big = Program(ImportPipeline.BatchSize * 10, 9, extraAt: "G77", extraLine: ImportPipeline.BatchSize * 8);
-        using var store = ProgramStore.Open(Path.Combine(_dir, "s.db"));
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "s.db"));
         var act = () => store.Import(big, MachineProfile.Default, d => throw new InvalidOperationException($"stop at {d.Line}"));
         act.Should().Throw<InvalidOperationException>().WithMessage("stop at *");
         store.ListPrograms().Should().BeEmpty();

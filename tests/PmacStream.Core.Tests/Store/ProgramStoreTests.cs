@@ -5,14 +5,14 @@ namespace PmacStream.Core.Tests.Store;
 
 public sealed class ProgramStoreTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-store-").FullName;
+    private readonly TestFolder _temp = new("store");
 
     private string Demo => RepoRoot.DemoProgram;
 
     public void Dispose()
     {
         Microsoft.Data.Sqlite.SqliteConnection.ClearAllPools();
-        Directory.Delete(_dir, true);
+        _temp.Dispose();
     }
 
     private static List<DecodedBlock> Interpret(string file)
@@ -25,7 +25,7 @@ public sealed class ProgramStoreTests : IDisposable
     [Fact]
     public void Import_stores_every_block_with_program_row_and_hash()
     {
-        using var store = ProgramStore.Open(Path.Combine(_dir, "p.db"));
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "p.db"));
         var (id, summary) = store.Import(Demo, MachineProfile.Default);
         var info = store.GetProgram(id)!;
         info.Blocks.Should().Be(summary.Blocks);
@@ -42,7 +42,7 @@ public sealed class ProgramStoreTests : IDisposable
     public void Stored_blocks_read_back_equal_to_the_interpreted_ones()
     {
         var expected = Interpret(Demo);
-        using var store = ProgramStore.Open(Path.Combine(_dir, "p.db"));
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "p.db"));
         var (id, _) = store.Import(Demo, MachineProfile.Default);
 
         var all = store.ReadBlocks(id).ToList();
@@ -65,9 +65,9 @@ public sealed class ProgramStoreTests : IDisposable
     [Fact]
     public void Programs_are_kept_apart_and_diagnostics_are_stored()
     {
-        var bad = Path.Combine(_dir, "bad.nc");
+        var bad = Path.Combine(_temp.Path, "bad.nc");
         File.WriteAllText(bad, "O1\nG01 X1\nG05 Y-\n");
-        using var store = ProgramStore.Open(Path.Combine(_dir, "p.db"));
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "p.db"));
         var (demoId, _) = store.Import(Demo, MachineProfile.Default);
         var (badId, summary) = store.Import(bad, MachineProfile.Default);
         summary.Errors.Should().Be(3);
@@ -86,7 +86,7 @@ public sealed class ProgramStoreTests : IDisposable
     [Fact]
     public void An_unfinished_import_leaves_nothing_behind()
     {
-        using var store = ProgramStore.Open(Path.Combine(_dir, "p.db"));
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "p.db"));
         long id;
         using (var writer = store.BeginProgram("x.nc", 10, "default-mill"))
         {
@@ -107,21 +107,21 @@ public sealed class ProgramStoreTests : IDisposable
     [Fact]
     public void Every_profiles_modal_groups_read_back_without_loss()
     {
-        var program = Path.Combine(_dir, "groups.nc");
+        var program = Path.Combine(_temp.Path, "groups.nc");
         File.WriteAllText(program, "%\nO1\nG90 G54 G64 G50 G17 G40 G80 G94 G91.1 G49\nG21 T1 M06\nG43 H1 Z10 M08\nG98 G81 X1 Y1 Z-1 R2 F100\nX2\nG80\nG00 Z10 M09\nM30\n%\n");
         foreach (var name in MachineProfile.BuiltInNames)
         {
             var profile = MachineProfile.Named(name)!;
             var expected = new List<DecodedBlock>();
             new Checker(profile).CheckFile(program, _ => { }, expected.Add);
-            using var store = ProgramStore.Open(Path.Combine(_dir, name + ".db"));
+            using var store = ProgramStore.Open(Path.Combine(_temp.Path, name + ".db"));
             var (id, _) = store.Import(program, profile);
             store.ReadBlocks(id).Should().Equal(expected, name);
             store.GroupsOf(id).GNames.Should().Equal(profile.GGroups.Select(g => g.Name));
             store.GroupsOf(id).MNames.Should().Equal(profile.MGroups.Select(g => g.Name));
         }
 
-        using var check = ProgramStore.Open(Path.Combine(_dir, "fanuc-mill.db"));
+        using var check = ProgramStore.Open(Path.Combine(_temp.Path, "fanuc-mill.db"));
         using var cmd = new Microsoft.Data.Sqlite.SqliteConnection($"Data Source={check.Path}");
         cmd.Open();
         using var q = cmd.CreateCommand();
@@ -143,7 +143,7 @@ public sealed class ProgramStoreTests : IDisposable
     [Fact]
     public void A_store_from_before_named_groups_gets_the_new_columns_and_its_programs_read_as_the_papers()
     {
-        var path = Path.Combine(_dir, "old.db");
+        var path = Path.Combine(_temp.Path, "old.db");
         using (var old = new Microsoft.Data.Sqlite.SqliteConnection($"Data Source={path};Pooling=False"))
         {
             old.Open();

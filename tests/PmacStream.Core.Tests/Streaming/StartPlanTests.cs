@@ -6,8 +6,12 @@ using PmacStream.Streaming;
 namespace PmacStream.Core.Tests.Streaming;
 
 /// <summary>The one start-from-line planner: work coordinates, both safe-Z modes, and the block's own feed.</summary>
-public class StartPlanTests
+public sealed class StartPlanTests : IDisposable
 {
+    private readonly TestFolder _temp = new("plan");
+
+    public void Dispose() => _temp.Dispose();
+
     private static MachineProfile WithG54(double x, double y, double z)
     {
         var json = JsonNode.Parse(MachineProfile.Default.ToJson())!;
@@ -15,9 +19,9 @@ public class StartPlanTests
         return MachineProfile.Parse(json.ToJsonString());
     }
 
-    private static string Source(string text)
+    private string Source(string text)
     {
-        var path = Path.Combine(Path.GetTempPath(), "pmacstream-plan-" + Guid.NewGuid().ToString("N") + ".nc");
+        var path = Path.Combine(_temp.Path, $"plan-{Guid.NewGuid():N}.nc");
         File.WriteAllText(path, text);
         return path;
     }

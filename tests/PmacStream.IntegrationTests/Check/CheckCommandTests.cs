@@ -12,17 +12,17 @@ namespace PmacStream.IntegrationTests.Check;
 /// <summary>`pmacstream check`: output formats, exit codes, hostile files. Tests in this class share the output hook, so they run in sequence.</summary>
 public sealed class CheckCommandTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-check-").FullName;
+    private readonly TestFolder _temp = new("check");
 
     public void Dispose()
     {
         Microsoft.Data.Sqlite.SqliteConnection.ClearAllPools();
-        Directory.Delete(_dir, true);
+        _temp.Dispose();
     }
 
     private string Write(string name, byte[] bytes)
     {
-        var path = Path.Combine(_dir, name);
+        var path = Path.Combine(_temp.Path, name);
         File.WriteAllBytes(path, bytes);
         return path;
     }
@@ -106,7 +106,7 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void Db_option_stores_every_block()
     {
-        var db = Path.Combine(_dir, "store.db");
+        var db = Path.Combine(_temp.Path, "store.db");
         var demo = RepoRoot.DemoProgram;
         var (code, output) = Run(demo, "--db", db);
         code.Should().Be(0);
@@ -120,7 +120,7 @@ public sealed class CheckCommandTests : IDisposable
     [Fact]
     public void Db_option_appends_to_an_existing_store_and_leaves_nothing_when_it_cannot_write()
     {
-        var db = Path.Combine(_dir, "store.db");
+        var db = Path.Combine(_temp.Path, "store.db");
         var demo = RepoRoot.DemoProgram;
         Run(demo, "--db", db).Code.Should().Be(0);
         Run(Write("bad.nc", "O1\nG01 X1\n"), "--db", db).Code.Should().Be(1, "the program has an error, and is still stored");
@@ -130,21 +130,21 @@ public sealed class CheckCommandTests : IDisposable
         }
 
         // A database in a folder that does not exist: exit 2, and no temporary file anywhere in the work folder.
-        var before = Directory.GetFiles(_dir, "*", SearchOption.AllDirectories).Order().ToList();
-        Run(demo, "--db", Path.Combine(_dir, "no-such-dir", "x.db")).Code.Should().Be(2);
-        Directory.GetFiles(_dir, "*", SearchOption.AllDirectories).Order().Should().Equal(before);
+        var before = Directory.GetFiles(_temp.Path, "*", SearchOption.AllDirectories).Order().ToList();
+        Run(demo, "--db", Path.Combine(_temp.Path, "no-such-dir", "x.db")).Code.Should().Be(2);
+        Directory.GetFiles(_temp.Path, "*", SearchOption.AllDirectories).Order().Should().Equal(before);
     }
 
     [Fact]
     public void Usage_and_io_problems_exit_2()
     {
-        Run(Path.Combine(_dir, "missing.nc")).Code.Should().Be(2);
-        Run(_dir).Code.Should().Be(2);
+        Run(Path.Combine(_temp.Path, "missing.nc")).Code.Should().Be(2);
+        Run(_temp.Path).Code.Should().Be(2);
         var ok = Write("ok.nc", "O1\nG00 X1\n");
         Run(ok, "--lang", "fr").Code.Should().Be(2);
         Run(ok, "--profile", Write("bad-profile.json", "{ nope")).Code.Should().Be(2);
-        Run(ok, "--profile", Path.Combine(_dir, "no-profile.json")).Code.Should().Be(2);
-        Run(ok, "--db", _dir).Code.Should().Be(2);
+        Run(ok, "--profile", Path.Combine(_temp.Path, "no-profile.json")).Code.Should().Be(2);
+        Run(ok, "--db", _temp.Path).Code.Should().Be(2);
         Run().Code.Should().Be(2);
         Run(ok).Code.Should().Be(0);
     }
@@ -214,7 +214,7 @@ public sealed class CheckCommandTests : IDisposable
     {
         var cli = Path.Combine(AppContext.BaseDirectory, "pmacstream.dll");
         File.Exists(cli).Should().BeTrue();
-        foreach (var (args, expected) in new[] { ((string[])[Write("nul2.nc", "G00\0\0X1")], 1), ([Path.Combine(_dir, "nope.nc")], 2) })
+        foreach (var (args, expected) in new[] { ((string[])[Write("nul2.nc", "G00\0\0X1")], 1), ([Path.Combine(_temp.Path, "nope.nc")], 2) })
         {
             var psi = new ProcessStartInfo("dotnet") { RedirectStandardOutput = true, RedirectStandardError = true };
             psi.ArgumentList.Add(cli);

@@ -5,9 +5,9 @@ namespace PmacStream.IntegrationTests.Plc;
 
 public sealed class PlcCliTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("plc-cli-").FullName;
+    private readonly TestFolder _temp = new("plc-cli");
 
-    public void Dispose() => Directory.Delete(_dir, recursive: true);
+    public void Dispose() => _temp.Dispose();
 
     private static async Task<(int Code, string Out, string Err)> Run(string path, int? plc, string? outPath)
     {
@@ -32,22 +32,22 @@ public sealed class PlcCliTests : IDisposable
     [Fact]
     public async Task Plc_option_overrides_the_file_and_out_writes_the_file()
     {
-        var outPath = Path.Combine(_dir, "motor.pmc");
+        var outPath = Path.Combine(_temp.Path, "motor.pmc");
         var (code, stdout, stderr) = await Run(PlcSamples.Path_("motor-fwd-rev.ladder"), 4, outPath);
         code.Should().Be(CliGlobals.Ok);
         stdout.Should().BeEmpty();
         stderr.Should().Contain("PLC 4: 2 rungs");
         var text = await File.ReadAllTextAsync(outPath);
         text.Should().Contain("OPEN PLC 4 CLEAR").And.Contain("ENABLE PLC 4").And.NotContain("PLC 10");
-        Directory.GetFiles(_dir).Should().ContainSingle("no temporary file is left behind");
+        Directory.GetFiles(_temp.Path).Should().ContainSingle("no temporary file is left behind");
     }
 
     [Fact]
     public async Task Ladder_errors_print_file_line_column_exit_1_and_write_nothing()
     {
-        var bad = Path.Combine(_dir, "bad.ladder");
+        var bad = Path.Combine(_temp.Path, "bad.ladder");
         await File.WriteAllTextAsync(bad, "input A 0\noutput B 0\nB = A & (C\nB = A\n");
-        var outPath = Path.Combine(_dir, "bad.pmc");
+        var outPath = Path.Combine(_temp.Path, "bad.pmc");
         var (code, stdout, stderr) = await Run(bad, null, outPath);
         code.Should().Be(CliGlobals.Failed);
         stdout.Should().BeEmpty();
@@ -60,7 +60,7 @@ public sealed class PlcCliTests : IDisposable
     [Fact]
     public async Task Missing_file_and_bad_plc_number_are_usage_errors()
     {
-        var missing = async () => await Run(Path.Combine(_dir, "nope.ladder"), null, null);
+        var missing = async () => await Run(Path.Combine(_temp.Path, "nope.ladder"), null, null);
         (await missing.Should().ThrowAsync<CliException>()).Which.ExitCode.Should().Be(CliGlobals.UsageOrIo);
         var badPlc = async () => await Run(PlcSamples.Path_("motor-fwd-rev.ladder"), 32, null);
         (await badPlc.Should().ThrowAsync<CliException>()).Which.Message.Should().Contain("0..31");
@@ -69,23 +69,23 @@ public sealed class PlcCliTests : IDisposable
     [Fact]
     public async Task Unwritable_output_is_a_usage_error_and_leaves_nothing()
     {
-        var outPath = Path.Combine(_dir, "no-such-dir", "x.pmc");
+        var outPath = Path.Combine(_temp.Path, "no-such-dir", "x.pmc");
         var act = async () => await Run(PlcSamples.Path_("motor-fwd-rev.ladder"), null, outPath);
         (await act.Should().ThrowAsync<CliException>()).Which.ExitCode.Should().Be(CliGlobals.UsageOrIo);
-        Directory.GetFileSystemEntries(_dir).Should().BeEmpty();
+        Directory.GetFileSystemEntries(_temp.Path).Should().BeEmpty();
     }
 
     [Fact]
     public async Task Command_line_errors_exit_2_without_a_stack_trace()
     {
-        var code = await CliGlobals.InvokeAsync(PlcCommand.Create().Parse(["plc", Path.Combine(_dir, "nope.ladder")]));
+        var code = await CliGlobals.InvokeAsync(PlcCommand.Create().Parse(["plc", Path.Combine(_temp.Path, "nope.ladder")]));
         code.Should().Be(CliGlobals.UsageOrIo);
     }
 
     [Fact]
     public async Task Command_line_parsing_wires_the_argument_and_options()
     {
-        var outPath = Path.Combine(_dir, "spindle.pmc");
+        var outPath = Path.Combine(_temp.Path, "spindle.pmc");
         var code = await PlcCommand.Create().Parse(["plc", PlcSamples.Path_("sand-mould-spindle.ladder"), "--plc", "12", "--out", outPath]).InvokeAsync();
         code.Should().Be(CliGlobals.Ok);
         (await File.ReadAllTextAsync(outPath)).Should().Contain("OPEN PLC 12 CLEAR").And.Contain("M902=");

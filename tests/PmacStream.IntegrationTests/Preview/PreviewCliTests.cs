@@ -6,13 +6,13 @@ namespace PmacStream.IntegrationTests.Preview;
 /// <summary>`pmacstream preview` as a process: the picture it writes, its exit codes, and the executed-log report.</summary>
 public sealed class PreviewCliTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-preview-cli-").FullName;
+    private readonly TestFolder _temp = new("preview-cli");
 
-    public void Dispose() => Directory.Delete(_dir, recursive: true);
+    public void Dispose() => _temp.Dispose();
 
     private string Program(string text)
     {
-        var path = Path.Combine(_dir, "part.nc");
+        var path = Path.Combine(_temp.Path, "part.nc");
         File.WriteAllText(path, text);
         return path;
     }
@@ -22,7 +22,7 @@ public sealed class PreviewCliTests : IDisposable
     [Fact]
     public void Writes_a_png_of_the_requested_size()
     {
-        var png = Path.Combine(_dir, "out.png");
+        var png = Path.Combine(_temp.Path, "out.png");
         var (code, stdout, stderr) = CliProcess.Run("preview", Program(Square), "--png", png, "--size", "320x200");
 
         code.Should().Be(0, stderr);
@@ -36,7 +36,7 @@ public sealed class PreviewCliTests : IDisposable
     [Fact]
     public void Chinese_legend_is_asked_for_with_lang_and_an_unknown_language_is_a_usage_error()
     {
-        var png = Path.Combine(_dir, "zh.png");
+        var png = Path.Combine(_temp.Path, "zh.png");
         var (code, stdout, stderr) = CliProcess.Run("preview", Program(Square), "--png", png, "--lang", "zh-CN");
         code.Should().Be(0, stderr);
         File.Exists(png).Should().BeTrue(stdout);
@@ -46,7 +46,7 @@ public sealed class PreviewCliTests : IDisposable
             stderr.Should().Contain("warning").And.Contain("fonts-noto-cjk");
         }
 
-        var bad = Path.Combine(_dir, "fr.png");
+        var bad = Path.Combine(_temp.Path, "fr.png");
         (code, _, stderr) = CliProcess.Run("preview", Program(Square), "--png", bad, "--lang", "fr");
         code.Should().Be(2);
         stderr.Should().Contain("--lang fr: expected en or zh-CN");
@@ -56,8 +56,8 @@ public sealed class PreviewCliTests : IDisposable
     [Fact]
     public void Missing_program_is_a_usage_error_and_writes_nothing()
     {
-        var png = Path.Combine(_dir, "none.png");
-        var (code, _, stderr) = CliProcess.Run("preview", Path.Combine(_dir, "missing.nc"), "--png", png);
+        var png = Path.Combine(_temp.Path, "none.png");
+        var (code, _, stderr) = CliProcess.Run("preview", Path.Combine(_temp.Path, "missing.nc"), "--png", png);
 
         code.Should().Be(2);
         stderr.Should().Contain("missing.nc");
@@ -67,10 +67,10 @@ public sealed class PreviewCliTests : IDisposable
     [Fact]
     public void Executed_log_with_a_skipped_line_is_reported_and_fails()
     {
-        var log = Path.Combine(_dir, "executed.csv");
+        var log = Path.Combine(_temp.Path, "executed.csv");
         // Lines 2..6 move; line 4 never ran.
         File.WriteAllText(log, "sequence,line,start_s,end_s,x,y,z,kind\n1,2,0,1,0,0,0,Rapid\n2,3,1,2,10,0,0,Linear\n3,5,2,3,0,10,0,Linear\n4,6,3,4,0,0,0,Linear\n");
-        var (code, stdout, stderr) = CliProcess.Run("preview", Program(Square), "--png", Path.Combine(_dir, "x.png"), "--executed", log);
+        var (code, stdout, stderr) = CliProcess.Run("preview", Program(Square), "--png", Path.Combine(_temp.Path, "x.png"), "--executed", log);
 
         code.Should().Be(1, stdout + stderr);
         (stdout + stderr).Should().MatchRegex("(?s)never.*\\b4\\b");

@@ -7,20 +7,9 @@ namespace PmacStream.IntegrationTests.Split;
 /// <summary>The split and prog1000 commands run as the real process (pmacstream.dll beside the tests).</summary>
 public sealed class SplitCliTests : IDisposable
 {
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacsplit-cli-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("split-cli");
 
-    public SplitCliTests() => Directory.CreateDirectory(_folder);
-
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     private static (int Code, string Out, string Err) Run(params string[] args)
     {
@@ -45,7 +34,7 @@ public sealed class SplitCliTests : IDisposable
 
     private string Write(string name, string text)
     {
-        var path = Path.Combine(_folder, name);
+        var path = Path.Combine(_temp.Path, name);
         File.WriteAllText(path, text, new UTF8Encoding(false));
         return path;
     }
@@ -54,7 +43,7 @@ public sealed class SplitCliTests : IDisposable
     public void Split_prints_the_summary_writes_chunks_and_exits_0()
     {
         var src = Write("part.nc", "%\nO1000 (零件)\nG21 G90 G17\n" + string.Concat(Enumerable.Range(1, 25).Select(i => $"N{i}0 G01 X{i}. Y{i}. F500.\n")) + "M30\n%\n");
-        var outDir = Path.Combine(_folder, "chunks");
+        var outDir = Path.Combine(_temp.Path, "chunks");
         var (code, stdout, stderr) = Run("split", src, "--out", outDir, "--lines", "10", "--tracking", "paper", "--tail", "M03 M05");
         code.Should().Be(0, stderr);
         stdout.Should().Contain("3 chunks, 27 blocks, largest chunk ");
@@ -72,7 +61,7 @@ public sealed class SplitCliTests : IDisposable
     {
         var src = Write("real.nc", "%\nO1\nN10 (FACE1)\nG90 G94 G17 G49 G40 G80\nT1 M41\nS5000 M03\nG43 H1 Z15.\n" +
             string.Concat(Enumerable.Range(1, 6).Select(i => $"G01 X{i}. F{(i < 4 ? 800 : 400)}.\n")) + "G28 G91 Z0.\nM30\n%\n");
-        var outDir = Path.Combine(_folder, "real_chunks");
+        var outDir = Path.Combine(_temp.Path, "real_chunks");
         var (code, stdout, stderr) = Run("split", src, "--out", outDir);
         code.Should().Be(0, stderr);
         stdout.Should().Contain("not runnable on the controller yet under profile 'fanuc-mill'").And.Contain("M41 (line 5)");
@@ -87,7 +76,7 @@ public sealed class SplitCliTests : IDisposable
     public void Split_refuses_a_program_with_errors_naming_them_and_exits_1_unless_forced()
     {
         var src = Write("bad.nc", "G21 G90\nG01 X1 F100\nG01 X#2\nG01 X3\nM30\n");
-        var outDir = Path.Combine(_folder, "bad_chunks");
+        var outDir = Path.Combine(_temp.Path, "bad_chunks");
         var (code, _, stderr) = Run("split", src, "--out", outDir);
         code.Should().Be(1);
         stderr.Should().Contain("bad.nc:3:").And.Contain("not split");
@@ -105,12 +94,12 @@ public sealed class SplitCliTests : IDisposable
         // profile does not use) are known: the hidden folder must go too, and the messages are the checker's.
         var body = string.Concat(Enumerable.Range(2, 3000).Select(i => $"N{i} G01 X{i}.5 F100\n"));
         var src = Write("late.nc", "O1\n" + body + "N3002 G05 X2\nN3003 G00 X1 Q5\nM30\n");
-        var outDir = Path.Combine(_folder, "late_chunks");
+        var outDir = Path.Combine(_temp.Path, "late_chunks");
         var (code, _, stderr) = Run("split", src, "--out", outDir, "--lines", "100", "--profile", "paper-24g7m");
         code.Should().Be(1, stderr);
         stderr.Should().Contain("late.nc:3002:7").And.Contain("E104").And.Contain("late.nc:3003:14").And.Contain("E118")
             .And.Contain("2 error(s) under profile 'paper-24g7m'; not split (--force splits anyway)");
-        Directory.GetFileSystemEntries(_folder).Should().Equal(src);
+        Directory.GetFileSystemEntries(_temp.Path).Should().Equal(src);
 
         var forced = Run("split", src, "--out", outDir, "--lines", "100", "--force", "--profile", "paper-24g7m");
         forced.Code.Should().Be(0, forced.Err);
@@ -120,7 +109,7 @@ public sealed class SplitCliTests : IDisposable
     [Fact]
     public void Split_usage_and_io_errors_exit_2()
     {
-        Run("split", Path.Combine(_folder, "missing.nc")).Code.Should().Be(2);
+        Run("split", Path.Combine(_temp.Path, "missing.nc")).Code.Should().Be(2);
         var src = Write("ok.nc", "G01 X1\n");
         Run("split", src, "--lines", "0").Code.Should().Be(2);
         Run("split", src, "--tracking", "sideways").Code.Should().Be(2);
@@ -131,29 +120,29 @@ public sealed class SplitCliTests : IDisposable
     public void Split_of_a_block_bigger_than_a_chunk_exits_1_naming_the_line()
     {
         var src = Write("big.nc", "G21 G90\nG01 X1.123456 Y2.123456 Z3.123456 F100\n");
-        var (code, _, stderr) = Run("split", src, "--rot-words", "6", "--words-per-block", "1", "--out", Path.Combine(_folder, "big_chunks"));
+        var (code, _, stderr) = Run("split", src, "--rot-words", "6", "--words-per-block", "1", "--out", Path.Combine(_temp.Path, "big_chunks"));
         code.Should().Be(1);
         stderr.Should().Contain("big.nc:2:").And.Contain("does not fit one chunk");
-        Directory.Exists(Path.Combine(_folder, "big_chunks")).Should().BeFalse();
+        Directory.Exists(Path.Combine(_temp.Path, "big_chunks")).Should().BeFalse();
     }
 
     [Fact]
     public void Prog1000_writes_the_library_file()
     {
-        var target = Path.Combine(_folder, "lib.pmc");
+        var target = Path.Combine(_temp.Path, "lib.pmc");
         var (code, stdout, stderr) = Run("prog1000", "--out", target);
         code.Should().Be(0, stderr);
         stdout.Should().Contain("routines");
         var text = File.ReadAllText(target);
         text.Should().Contain("OPEN PROG 1000 CLEAR\r\n").And.Contain("OPEN PROG 1001 CLEAR\r\n").And.Contain("N1000 LINEAR Q31=1 RET\r\n").And.Contain("N54000 Q20=1 GOSUB99100 RET\r\n");
         text.TrimEnd().Split("\r\n")[^1].Should().MatchRegex(@"^P7000=1 P7001=\d+$", "the library ends by recording which it is");
-        Run("prog1000", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
+        Run("prog1000", "--profile", Path.Combine(_temp.Path, "nope.json")).Code.Should().Be(2);
     }
 
     [Fact]
     public void Machine_shows_the_tables_with_their_variables_and_writes_the_lines_that_download_them()
     {
-        var profile = Path.Combine(_folder, "machine.json");
+        var profile = Path.Combine(_temp.Path, "machine.json");
         File.WriteAllText(profile, Streaming.PositionProofTests.Machine().ToJson());
         var (code, stdout, stderr) = Run("machine", "--profile", profile);
         code.Should().Be(0, stderr);
@@ -161,11 +150,11 @@ public sealed class SplitCliTests : IDisposable
             .And.Contain("  G30  X-100 Y-50 Z-20\n").And.Contain("tool change position: X-150 Y-80 Z0  (P7010-P7012)\n");
         Run("machine").Out.Should().Contain("tool lengths: none", "the built-in profile has no tool table");
 
-        var target = Path.Combine(_folder, "tables.pmc");
+        var target = Path.Combine(_temp.Path, "tables.pmc");
         Run("machine", "--profile", profile, "--lines", "--out", target).Code.Should().Be(0);
         var lines = File.ReadAllLines(target);
         lines.Should().Contain("P7106=100 P7107=50 P7108=-10").And.Contain("P7303=47.5").And.Contain("P7010=-150 P7011=-80 P7012=0");
         File.Exists(target + ".tmp").Should().BeFalse();
-        Run("machine", "--profile", Path.Combine(_folder, "nope.json")).Code.Should().Be(2);
+        Run("machine", "--profile", Path.Combine(_temp.Path, "nope.json")).Code.Should().Be(2);
     }
 }

@@ -12,20 +12,9 @@ namespace PmacStream.IntegrationTests.Split;
 /// </summary>
 public sealed class TrackingOnSimulatorTests : IDisposable
 {
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacsplit-sim-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("split-sim");
 
-    public TrackingOnSimulatorTests() => Directory.CreateDirectory(_folder);
-
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     private static async Task<(SplitResult Split, IReadOnlyList<ExecutedMove> Moves)> RunAsync(string source, string outDir, TrackingPlacement tracking)
     {
@@ -65,20 +54,20 @@ public sealed class TrackingOnSimulatorTests : IDisposable
     [Fact]
     public async Task Exact_tracking_reports_the_executing_line_and_paper_tracking_the_line_before()
     {
-        var source = Path.Combine(_folder, "p.nc");
+        var source = Path.Combine(_temp.Path, "p.nc");
         File.WriteAllText(source, string.Join('\n',
             "%", "O1 (TRACK)", "G21 G17 G90", "S1000 M03", "G00 X10 Y0", "G01 Z-1 F300", "(ARC)", "G02 X0 Y10 I-10 J0",
             "G04 P100", "G03 X-10 Y0 I0 J-10", "G01 X0 Y0", "N99 G00 Z5", "M05", "M30", "%") + "\n");
         var motion = MotionLines(source);
         motion.Should().Equal(5, 6, 8, 9, 10, 11, 12);
 
-        var exact = await RunAsync(source, Path.Combine(_folder, "exact"), TrackingPlacement.Exact);
+        var exact = await RunAsync(source, Path.Combine(_temp.Path, "exact"), TrackingPlacement.Exact);
         Folded(exact.Moves).Should().Equal(motion, "M0==i before the move of line i: every move reports its own line");
         Folded(exact.Moves).Should().HaveCount(exact.Split.Manifest.TotalMotionBlocks);
 
         // Same program, same moves; only the marker moved to the end of the line. Where the exact run starts the
         // move of motion line i, the paper run still reports the motion line before it.
-        var paper = await RunAsync(source, Path.Combine(_folder, "paper"), TrackingPlacement.Paper);
+        var paper = await RunAsync(source, Path.Combine(_temp.Path, "paper"), TrackingPlacement.Paper);
         paper.Moves.Should().HaveCount(exact.Moves.Count);
         var checkedMoves = 0;
         for (var k = 0; k < exact.Moves.Count; k++)
@@ -114,7 +103,7 @@ public sealed class TrackingOnSimulatorTests : IDisposable
     public async Task Demo_sample_executes_one_move_per_counted_motion_block()
     {
         var sample = RepoRoot.DemoProgram;
-        var run = await RunAsync(sample, Path.Combine(_folder, "demo"), TrackingPlacement.Exact);
+        var run = await RunAsync(sample, Path.Combine(_temp.Path, "demo"), TrackingPlacement.Exact);
         Folded(run.Moves).Should().HaveCount(run.Split.Manifest.TotalMotionBlocks, "pmacstream demo prints executed N of N from these two numbers");
         Folded(run.Moves).Should().Equal(MotionLines(sample));
     }

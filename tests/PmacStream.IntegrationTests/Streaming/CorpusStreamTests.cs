@@ -40,9 +40,9 @@ public sealed class CorpusStreamTests(ITestOutputHelper output) : IDisposable
         "rustyford__cam__router_panel.ngc", "stcline__CNC_Training__smiley.nc",
     ];
 
-    private readonly string _folder = Directory.CreateTempSubdirectory("pmacstream-corpus-stream-").FullName;
+    private readonly TestFolder _temp = new("corpus-stream");
 
-    public void Dispose() => Directory.Delete(_folder, true);
+    public void Dispose() => _temp.Dispose();
 
     public static TheoryData<string> Programs => new(NotYet.Keys.Concat(WithErrors).Concat(Runnable).Order(StringComparer.Ordinal));
 
@@ -53,8 +53,8 @@ public sealed class CorpusStreamTests(ITestOutputHelper output) : IDisposable
         var files = Requires.Corpus();
         files.Select(Path.GetFileName).Should().BeEquivalentTo(NotYet.Keys.Concat(WithErrors).Concat(Runnable), "every corpus program is in one of the three lists");
         var source = files.Single(f => Path.GetFileName(f) == name);
-        var service = new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_folder, "jobs.db") });
-        var request = new PrepareRequest(source, RunSettings.Default) { OutDir = Path.Combine(_folder, "chunks") };
+        var service = new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_temp.Path, "jobs.db") });
+        var request = new PrepareRequest(source, RunSettings.Default) { OutDir = Path.Combine(_temp.Path, "chunks") };
 
         if (!Runnable.Contains(name))
         {

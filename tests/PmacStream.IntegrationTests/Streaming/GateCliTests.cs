@@ -13,13 +13,13 @@ namespace PmacStream.IntegrationTests.Streaming;
 [Collection("stream-cli")]
 public sealed class GateCliTests : IDisposable
 {
-    private readonly string _folder = Directory.CreateTempSubdirectory("pmacstream-gate-").FullName;
+    private readonly TestFolder _temp = new("gate");
 
-    public void Dispose() => Directory.Delete(_folder, true);
+    public void Dispose() => _temp.Dispose();
 
     private string Write(string name, string text)
     {
-        var path = Path.Combine(_folder, name);
+        var path = Path.Combine(_temp.Path, name);
         File.WriteAllText(path, text);
         return path;
     }
@@ -39,7 +39,7 @@ public sealed class GateCliTests : IDisposable
     public void Stream_refuses_codes_the_controller_cannot_run_yet_naming_each_and_force_and_sends_nothing()
     {
         var src = Write("toolchange.nc", "G21 G90 G17\nG16\nG00 X0 Y0\nG01 F600\n" + Moves(40) + "G63\nM30\n");
-        var db = Path.Combine(_folder, "jobs.db");
+        var db = Path.Combine(_temp.Path, "jobs.db");
         var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant");
 
         code.Should().Be(1, stdout + stderr);
@@ -65,10 +65,10 @@ public sealed class GateCliTests : IDisposable
     {
         // M06 is an error under grbl (no tool changer), the A word too (three axes).
         var src = Write("grbl.nc", "G21 G90\nG00 X0 Y0\nM06 T1\nG01 X5 A3 F100\nM30\n");
-        var png = Path.Combine(_folder, "grbl.png");
+        var png = Path.Combine(_temp.Path, "grbl.png");
         foreach (var (args, what) in new (string[] Args, string What)[]
                  {
-                     (["stream", src, "--sim", "--profile", "grbl", "--job-db", Path.Combine(_folder, "j.db")], "nothing sent to the controller (--force runs it anyway)"),
+                     (["stream", src, "--sim", "--profile", "grbl", "--job-db", Path.Combine(_temp.Path, "j.db")], "nothing sent to the controller (--force runs it anyway)"),
                      (["split", src, "--profile", "grbl"], "not split (--force splits anyway)"),
                      (["preview", src, "--png", png, "--profile", "grbl"], "grbl.png not written (--force draws what can be read)"),
                  })
@@ -96,7 +96,7 @@ public sealed class GateCliTests : IDisposable
         var profileFile = Write("mill.json", MachineProfile.Default.ToJson().Replace("\"name\": \"fanuc-mill\"", "\"name\": \"shop-mill\"", StringComparison.Ordinal));
         var profile = MachineProfile.Resolve(profileFile);
         var src = Write("part.nc", "G21 G90 G17\nG00 X0 Y0\nG01 F3000\n" + Moves(300) + "M30\n");
-        var db = Path.Combine(_folder, "jobs.db");
+        var db = Path.Combine(_temp.Path, "jobs.db");
         using (var jobs = JobStore.Open(db))
         {
             var split = Splitter.Split(src, new SplitOptions { OutDir = Splitter.DefaultOutDir(src), LinesPerChunk = 100, CheckProfile = profile });

@@ -11,9 +11,9 @@ namespace PmacStream.IntegrationTests.Streaming;
 /// </summary>
 public sealed class ProgramStopTests : IDisposable
 {
-    private readonly string _folder = Directory.CreateTempSubdirectory("pmacstream-stops-").FullName;
+    private readonly TestFolder _temp = new("stops");
 
-    public void Dispose() => Directory.Delete(_folder, true);
+    public void Dispose() => _temp.Dispose();
 
     /// <summary>200 moves; M00 alone at line 64, M01 at line 132 (after M05), then more moves; 40 lines per chunk.</summary>
     private string Program()
@@ -32,7 +32,7 @@ public sealed class ProgramStopTests : IDisposable
             }
         }
 
-        var path = Path.Combine(_folder, "stops.nc");
+        var path = Path.Combine(_temp.Path, "stops.nc");
         File.WriteAllText(path, sb.Append("M30\n").ToString());
         return path;
     }

@@ -5,7 +5,8 @@ public class ResumeMissingDbTests
     [Fact]
     public void Resume_with_a_missing_job_database_says_so_and_creates_nothing()
     {
-        var dir = Path.Combine(Path.GetTempPath(), "pmacstream-resume-" + Guid.NewGuid().ToString("N"));
+        using var temp = new TestFolder("resume");
+        var dir = Path.Combine(temp.Path, "missing");
         var db = Path.Combine(dir, "sub", "jobs.db");
 
         var (code, _, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes");

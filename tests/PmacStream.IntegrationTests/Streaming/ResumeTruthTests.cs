@@ -14,20 +14,9 @@ namespace PmacStream.IntegrationTests.Streaming;
 public sealed class ResumeTruthTests : IDisposable
 {
     private const int Moves = 3000;
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-truth-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("truth");
 
-    public ResumeTruthTests() => Directory.CreateDirectory(_folder);
-
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     /// <summary>Moves of 0.25 mm at F1500 (10 ms each, 100 blocks a second) with coolant and spindle lines between them.</summary>
     private string Source()
@@ -43,7 +32,7 @@ public sealed class ResumeTruthTests : IDisposable
             }
         }
 
-        var path = Path.Combine(_folder, "part.nc");
+        var path = Path.Combine(_temp.Path, "part.nc");
         File.WriteAllText(path, sb.Append("M30\n").ToString());
         return path;
     }

@@ -81,22 +81,16 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
     public void Rs274_passes_through_every_block_end_of_an_rs274ngc_program_using_the_offsets_cycles_and_units()
     {
         var rs274 = Requires.Rs274();
-        var dir = Directory.CreateTempSubdirectory("pmacstream-rs274-").FullName;
-        try
-        {
-            var path = Path.Combine(dir, "every.ngc");
-            File.WriteAllText(path, Program + "\n");
-            var profile = Machine();
-            var (summary, diags) = new Checker(profile).CheckText(Program);
-            diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
-            var (accepted, why) = Compare(rs274, path, profile, dir);
-            accepted.Should().BeTrue(why);
-            output.WriteLine(why);
-        }
-        finally
-        {
-            Directory.Delete(dir, recursive: true);
-        }
+        using var temp = new TestFolder("rs274");
+        var dir = temp.Path;
+        var path = Path.Combine(dir, "every.ngc");
+        File.WriteAllText(path, Program + "\n");
+        var profile = Machine();
+        var (summary, diags) = new Checker(profile).CheckText(Program);
+        diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+        var (accepted, why) = Compare(rs274, path, profile, dir);
+        accepted.Should().BeTrue(why);
+        output.WriteLine(why);
     }
 
     [SkippableFact]
@@ -105,32 +99,26 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
         var rs274 = Requires.Rs274();
         var files = Requires.Corpus();
         var profile = Machine();
-        var dir = Directory.CreateTempSubdirectory("pmacstream-rs274-").FullName;
-        try
+        using var temp = new TestFolder("rs274");
+        var dir = temp.Path;
+        var compared = 0;
+        foreach (var file in files)
         {
-            var compared = 0;
-            foreach (var file in files)
+            if (new Checker(profile).CheckFile(file, _ => { }).Errors > 0)
             {
-                if (new Checker(profile).CheckFile(file, _ => { }).Errors > 0)
-                {
-                    output.WriteLine($"{Path.GetFileName(file)}: not RS274/NGC for linuxcnc-mill (checker errors): left out");
-                    continue;
-                }
-
-                var (accepted, why) = Compare(rs274, file, profile, dir);
-                output.WriteLine($"{Path.GetFileName(file)}: {why}");
-                if (accepted)
-                {
-                    compared++;
-                }
+                output.WriteLine($"{Path.GetFileName(file)}: not RS274/NGC for linuxcnc-mill (checker errors): left out");
+                continue;
             }
 
-            compared.Should().BeGreaterThan(3, "rs274 takes most of the corpus");
+            var (accepted, why) = Compare(rs274, file, profile, dir);
+            output.WriteLine($"{Path.GetFileName(file)}: {why}");
+            if (accepted)
+            {
+                compared++;
+            }
         }
-        finally
-        {
-            Directory.Delete(dir, recursive: true);
-        }
+
+        compared.Should().BeGreaterThan(3, "rs274 takes most of the corpus");
     }
 
     /// <summary>Runs rs274 and matches the interpreter's block ends against its moves; (false, why) when rs274 refuses the program.</summary>

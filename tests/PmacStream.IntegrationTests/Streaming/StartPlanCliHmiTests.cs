@@ -12,37 +12,26 @@ namespace PmacStream.IntegrationTests.Streaming;
 [Collection("stream-cli")]
 public sealed class StartPlanCliHmiTests : IDisposable
 {
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-plan-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("plan");
 
-    public StartPlanCliHmiTests() => Directory.CreateDirectory(_folder);
-
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     [Theory]
     [InlineData(1500, "fixed")]
     [InlineData(2400, "highest")]
     public async Task Cli_and_hmi_plan_the_same_preamble_for_a_line(int line, string mode)
     {
-        var src = Path.Combine(_folder, "demo.nc");
+        var src = Path.Combine(_temp.Path, "demo.nc");
         File.Copy(RepoRoot.DemoProgram, src);
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--from-line", line.ToString(), "--safe-z-mode", mode, "--job-db", Path.Combine(_folder, "jobs.db"));
+        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--from-line", line.ToString(), "--safe-z-mode", mode, "--job-db", Path.Combine(_temp.Path, "jobs.db"));
         code.Should().Be(2, "without --yes the start is refused after showing the plan; " + stderr);
         var shown = stdout.Split('\n').Select(l => l.TrimEnd('\r'));
         var cli = shown.SkipWhile(l => !l.Contains("preamble:", StringComparison.Ordinal)).Skip(1).TakeWhile(l => l.StartsWith("  ", StringComparison.Ordinal)).Select(l => l.Trim()).ToList();
         cli.Should().NotBeEmpty(stdout);
 
-        var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(_folder, "hmi-split") });
+        var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(_temp.Path, "hmi-split") });
         var options = new StartPlanOptions { SafeZMode = mode == "fixed" ? SafeZMode.Fixed : SafeZMode.HighestSoFar };
-        var backend = new CoreHmiBackend(new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_folder, "hmi.db") }));
+        var backend = new CoreHmiBackend(new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_temp.Path, "hmi.db") }));
         var settings = RunSettings.Default with { SafeZMode = options.SafeZMode };
         var hmi = await backend.BuildPreambleAsync(new HmiSplitResult(split.Manifest, split.OutputDirectory), line, settings, PmacStream.GCode.MachineProfile.Default);
 

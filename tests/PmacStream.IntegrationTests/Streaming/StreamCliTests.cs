@@ -18,20 +18,9 @@ public sealed class StreamCliCollection
 [Collection("stream-cli")]
 public sealed class StreamCliTests : IDisposable
 {
-    private readonly string _folder = Path.Combine(Path.GetTempPath(), "pmacstream-cli-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("cli");
 
-    public StreamCliTests() => Directory.CreateDirectory(_folder);
-
-    public void Dispose()
-    {
-        try
-        {
-            Directory.Delete(_folder, true);
-        }
-        catch (IOException)
-        {
-        }
-    }
+    public void Dispose() => _temp.Dispose();
 
     private string Program(int blocks, double feed = 3000)
     {
@@ -43,7 +32,7 @@ public sealed class StreamCliTests : IDisposable
         }
 
         sb.Append("M05\nM30\n%\n");
-        var path = Path.Combine(_folder, "part.nc");
+        var path = Path.Combine(_temp.Path, "part.nc");
         File.WriteAllText(path, sb.ToString());
         return path;
     }
@@ -55,7 +44,7 @@ public sealed class StreamCliTests : IDisposable
     public void Stream_to_the_simulator_ends_with_the_count_and_underruns(string strategy)
     {
         var src = Program(900);
-        var db = Path.Combine(_folder, "jobs.db");
+        var db = Path.Combine(_temp.Path, "jobs.db");
         var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--strategy", strategy, "--lines", "200", "--sim-speed", "100x", "--job-db", db);
         code.Should().Be(0, stderr + stdout);
         stdout.Should().MatchRegex(@"executed 901 of 901 blocks, \d+ underruns");
@@ -67,7 +56,7 @@ public sealed class StreamCliTests : IDisposable
     public void Stream_from_a_line_shows_the_preamble_and_needs_yes()
     {
         var src = Program(300);
-        var db = Path.Combine(_folder, "jobs.db");
+        var db = Path.Combine(_temp.Path, "jobs.db");
         var refused = CliProcess.Run("stream", src, "--sim", "--from-line", "150", "--job-db", db);
         refused.Code.Should().Be(2);
         refused.Out.Should().Contain("start at line 150").And.Contain("G90 G00 Z10");
@@ -82,17 +71,17 @@ public sealed class StreamCliTests : IDisposable
     [Fact]
     public void Bad_usage_and_missing_files_exit_2()
     {
-        CliProcess.Run("stream", Path.Combine(_folder, "none.nc"), "--sim").Code.Should().Be(2);
+        CliProcess.Run("stream", Path.Combine(_temp.Path, "none.nc"), "--sim").Code.Should().Be(2);
         CliProcess.Run("stream", Program(10)).Code.Should().Be(2);
         CliProcess.Run("stream", Program(10), "--sim", "--strategy", "fast").Code.Should().Be(2);
-        CliProcess.Run("resume", "--job-db", Path.Combine(_folder, "empty.db")).Code.Should().Be(2);
+        CliProcess.Run("resume", "--job-db", Path.Combine(_temp.Path, "empty.db")).Code.Should().Be(2);
     }
 
     [Fact]
     public async Task Host_killed_mid_job_then_resume_over_tcp_loses_and_repeats_nothing()
     {
         var src = Program(1500, feed: 6000);
-        var db = Path.Combine(_folder, "jobs.db");
+        var db = Path.Combine(_temp.Path, "jobs.db");
         using var sim = new PmacSimulator(new SimOptions { Speed = SimSpeed.Factor(20) });
         var lib = new InProcessConnection(sim.OpenPort("setup"));
         await lib.DownloadAsync(SimRig.Library);
@@ -147,7 +136,7 @@ public sealed class StreamCliTests : IDisposable
     public void Resume_refuses_when_the_program_changed()
     {
         var src = Program(200);
-        var db = Path.Combine(_folder, "jobs.db");
+        var db = Path.Combine(_temp.Path, "jobs.db");
         using (var jobs = JobStore.Open(db))
         {
             var split = Splitter.Split(src, new SplitOptions { OutDir = Splitter.DefaultOutDir(src) });
@@ -165,7 +154,7 @@ public sealed class StreamCliTests : IDisposable
     public void Resume_on_a_fresh_simulator_restarts_at_the_checkpoint_line_with_a_preamble()
     {
         var src = Program(400);
-        var db = Path.Combine(_folder, "jobs.db");
+        var db = Path.Combine(_temp.Path, "jobs.db");
         long id;
         using (var jobs = JobStore.Open(db))
         {

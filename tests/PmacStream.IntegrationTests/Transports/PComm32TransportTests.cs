@@ -99,31 +99,25 @@ public sealed class PComm32TransportTests : IAsyncLifetime
         _controller.Executed.Should().Equal(lines.Take(40));
 
         // PComm's own file download, with its message and progress callbacks marshalled back into .NET.
-        var file = Path.Combine(Path.GetTempPath(), $"pcomm-{Guid.NewGuid():N}.pmc");
+        using var temp = new TestFolder("pcomm");
+        var file = Path.Combine(temp.Path, "download.pmc");
         await File.WriteAllLinesAsync(file, ["X1 ; first", "", "X2", "BAD", "X3"]);
-        try
+        while (_controller.Executed.TryDequeue(out _))
         {
-            while (_controller.Executed.TryDequeue(out _))
-            {
-            }
-
-            var messages = new List<string>();
-            var progress = new List<int>();
-            var ok = await connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add, progress.Add);
-            ok.Should().BeFalse();
-            messages.Should().ContainSingle().Which.Should().Be("ERR003 at line 4: BAD");
-            progress.Should().Equal(20, 60);
-            _controller.Executed.Should().Equal("X1", "X2");
-
-            await File.WriteAllLinesAsync(file, ["X1", "X2"]);
-            messages.Clear();
-            (await connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add)).Should().BeTrue();
-            messages.Should().Equal("2 lines downloaded");
         }
-        finally
-        {
-            File.Delete(file);
-        }
+
+        var messages = new List<string>();
+        var progress = new List<int>();
+        var ok = await connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add, progress.Add);
+        ok.Should().BeFalse();
+        messages.Should().ContainSingle().Which.Should().Be("ERR003 at line 4: BAD");
+        progress.Should().Equal(20, 60);
+        _controller.Executed.Should().Equal("X1", "X2");
+
+        await File.WriteAllLinesAsync(file, ["X1", "X2"]);
+        messages.Clear();
+        (await connection.DownloadFileAsync(file, new DownloadOptions(), messages.Add)).Should().BeTrue();
+        messages.Should().Equal("2 lines downloaded");
     }
 
     [SkippableFact]

@@ -7,7 +7,7 @@ namespace PmacStream.IntegrationTests.Transports;
 public sealed class PmacDevicesTests : IAsyncLifetime, IDisposable
 {
     private readonly ScriptedController _controller = new();
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-dl-").FullName;
+    private readonly TestFolder _temp = new("dl");
     private PmacTcpServer _server = null!;
     private PmacDevices _devices = null!;
 
@@ -25,11 +25,11 @@ public sealed class PmacDevicesTests : IAsyncLifetime, IDisposable
         await _server.DisposeAsync();
     }
 
-    public void Dispose() => Directory.Delete(_dir, true);
+    public void Dispose() => _temp.Dispose();
 
     private string Write(string name, params string[] lines)
     {
-        var path = Path.Combine(_dir, name);
+        var path = Path.Combine(_temp.Path, name);
         File.WriteAllLines(path, lines);
         return path;
     }
@@ -89,13 +89,13 @@ public sealed class PmacDevicesTests : IAsyncLifetime, IDisposable
         var report = await _devices.DownloadAsync(0, path, new DownloadOptions(Macro: true, Log: true));
         report.Success.Should().BeFalse();
         report.LinesSent.Should().Be(3);
-        report.Error.Should().Be(new DownloadError(3, Path.Combine(_dir, "lib.pmc"), 4, "BAD THING"));
+        report.Error.Should().Be(new DownloadError(3, Path.Combine(_temp.Path, "lib.pmc"), 4, "BAD THING"));
         _controller.Executed.Should().Equal("OPEN ROT", "F(P500)", "X(10)");
 
         var log = await File.ReadAllLinesAsync(Path.ChangeExtension(path, ".log"));
         log.Should().Contain($"{path}:4: OPEN ROT");
-        log.Should().Contain($"{Path.Combine(_dir, "lib.pmc")}:3: X(10)");
-        log.Should().Contain($"; ERR003 (data error or unrecognized command) at {Path.Combine(_dir, "lib.pmc")}:4: BAD THING");
+        log.Should().Contain($"{Path.Combine(_temp.Path, "lib.pmc")}:3: X(10)");
+        log.Should().Contain($"; ERR003 (data error or unrecognized command) at {Path.Combine(_temp.Path, "lib.pmc")}:4: BAD THING");
         log.Should().NotContain(l => l.EndsWith(": Z1", StringComparison.Ordinal), "nothing after the refused line was sent");
         log[^1].Should().Be("; result: FAILED, 3 lines accepted");
     }
@@ -108,7 +108,7 @@ public sealed class PmacDevicesTests : IAsyncLifetime, IDisposable
         var map = await File.ReadAllLinesAsync(Path.ChangeExtension(path, ".map"));
         map.Should().Contain($"FEED\tP500\t; {path}:2");
         map.Should().Contain($"RATE\tFEED\t; {path}:3");
-        map.Should().Contain($"XPOS\t10\t; {Path.Combine(_dir, "lib.pmc")}:2");
+        map.Should().Contain($"XPOS\t10\t; {Path.Combine(_temp.Path, "lib.pmc")}:2");
     }
 
     [Fact]

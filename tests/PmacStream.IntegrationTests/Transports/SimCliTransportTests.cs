@@ -9,11 +9,11 @@ namespace PmacStream.IntegrationTests.Transports;
 public sealed class SimCliTransportTests : IDisposable
 {
     private static readonly string[] Program = [.. Enumerable.Range(1, 400).Select(i => $"X{i}.125 Y{i % 7}.5")];
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-simcli-").FullName;
+    private readonly TestFolder _temp = new("simcli");
 
-    private string Log => Path.Combine(_dir, "executed.csv");
+    private string Log => Path.Combine(_temp.Path, "executed.csv");
 
-    public void Dispose() => Directory.Delete(_dir, true);
+    public void Dispose() => _temp.Dispose();
 
     [Fact]
     public async Task Ethernet_against_the_simulator_process()

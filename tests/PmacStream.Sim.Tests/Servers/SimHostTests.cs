@@ -7,9 +7,9 @@ namespace PmacStream.Sim.Tests.Servers;
 /// <summary>The host that <c>pmacstream sim</c> runs: options in, a served simulator with its clock out, a log on stop.</summary>
 public sealed class SimHostTests : IDisposable
 {
-    private readonly string _dir = Directory.CreateTempSubdirectory("pmacstream-simhost-").FullName;
+    private readonly TestFolder _temp = new("simhost");
 
-    public void Dispose() => Directory.Delete(_dir, true);
+    public void Dispose() => _temp.Dispose();
 
     private SimHostOptions Tcp(string? log = null) => new()
     {
@@ -28,7 +28,7 @@ public sealed class SimHostTests : IDisposable
     [Fact]
     public async Task Serves_ethernet_on_the_chosen_port_runs_moves_on_its_clock_and_writes_the_log_on_stop()
     {
-        var log = Path.Combine(_dir, "executed.csv");
+        var log = Path.Combine(_temp.Path, "executed.csv");
         await using var host = new SimHost(Tcp(log));
         host.TcpEndPoint.Should().BeNull("nothing is bound before Start");
         host.Start();
