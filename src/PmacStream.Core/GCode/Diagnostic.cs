@@ -122,6 +122,22 @@ public static class DiagnosticCodes
     /// </summary>
     public const string RotaryOffset = "E131";
 
+    /// <summary>G41/G42 without a cutter radius: the D number (or, under RS274/NGC, the tool) is not in the profile's <c>toolRadii</c>.</summary>
+    public const string NoCutterRadius = "E132";
+
+    /// <summary>
+    /// A block cutter radius compensation cannot be computed for: compensation outside the XY plane (G18, G19) or under a
+    /// programmable transformation, an arc, a canned cycle, a reference return, a G53 move or a rotary axis while it is
+    /// on, G41/G42 while it is already on, a radius change while it is on.
+    /// </summary>
+    public const string CompensationNotRunnable = "E133";
+
+    /// <summary>The first XY move after G41/G42 is not longer than the cutter radius (rs274ngc refuses the same).</summary>
+    public const string CompensationEntryTooShort = "E134";
+
+    /// <summary>An inside corner under cutter radius compensation: the end of the move before it would have to move back.</summary>
+    public const string CompensationConcaveCorner = "E135";
+
     /// <summary>A code the profile knows but the controller cannot run yet (reported at its first use).</summary>
     public const string NotYetOnController = "W006";
 
@@ -155,6 +171,7 @@ public static class DiagnosticCodes
         NoProgramNumber, NoSequenceNumber, UnusedWord, LowercaseLetter, MissingWord,
         NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
         NotRunnableInJob, TooManyWords, TransformNotRunnable, CycleInInverseTime, RotaryOffset,
+        NoCutterRadius, CompensationNotRunnable, CompensationEntryTooShort, CompensationConcaveCorner,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

@@ -48,6 +48,10 @@ public static class DiagnosticText
         [DiagnosticCodes.TransformNotRunnable] = ("{0} under {1}: {2}", "{1} 下的 {0}：{3}"),
         [DiagnosticCodes.CycleInInverseTime] = ("canned cycle G{0} in inverse time (G93): the cycle's feed moves have no F of their own; program G94 and a feed per minute before the cycle", "反时限进给（G93）下的固定循环 G{0}：循环的进给运动没有自己的 F；请在循环前指定 G94 和每分钟进给"),
         [DiagnosticCodes.RotaryOffset] = ("{0} on rotary axis {1}: offsets on A, B and C are not applied on the controller, so {1} would run at its program value; set the rotary offset at the machine", "旋转轴 {1} 上的 {0}：控制器上不应用 A、B、C 的偏置，{1} 将按程序值运行；请在机床上设定旋转轴偏置"),
+        [DiagnosticCodes.NoCutterRadius] = ("{0} without a cutter radius: {1} is not in profile '{2}''s toolRadii", "{0} 没有刀具半径：{1} 不在机床配置 '{2}' 的 toolRadii 中"),
+        [DiagnosticCodes.CompensationNotRunnable] = ("{0} under cutter radius compensation: {1}", "刀具半径补偿下的 {0}：{2}"),
+        [DiagnosticCodes.CompensationEntryTooShort] = ("cutter radius compensation entry move is not longer than the tool radius ({0} mm)", "刀具半径补偿的引入运动不长于刀具半径（{0} mm）"),
+        [DiagnosticCodes.CompensationConcaveCorner] = ("inside corner under cutter radius compensation: the host compensates outside corners and straight runs only; the end of the move before would have to move back", "刀具半径补偿下的内拐角：主机只补偿外拐角和直线延续；前一运动的终点需要回退"),
         [UnlistedKey] = ("{0} more not listed (at most {1} a line)", "另有 {0} 条未列出（每行最多 {1} 条）"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };

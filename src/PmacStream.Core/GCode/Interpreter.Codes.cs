@@ -99,6 +99,7 @@ public sealed partial class Interpreter
             case 210: (_units, _scale) = (LengthUnits.Millimetres, 1.0); break;
             case 430 or 440: _lengthMode = key / 10; break;
             case 490: _lengthMode = 0; break;
+            case 400 or 410 or 420: _compRequest = key / 10; break;
             case 900: _absolute = true; break;
             case 910: _absolute = false; break;
             case 901: _arcAbsolute = true; break;

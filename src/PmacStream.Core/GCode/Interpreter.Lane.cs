@@ -83,7 +83,7 @@ public sealed partial class Interpreter
     {
         var mode = MotionMode();
         _laneOpen = !_nonModalSet && _absolute && !_recordBlocks && !_measureMoves && _axisLineLetters && !_cycle.Active &&
-            _feedMode == 94 && _scale == 1.0 && _transform == null && !_exactStop && (mode == 1 ? _feed > 0 : mode == 0 && _profile.RapidRate > 0);
+            _feedMode == 94 && _scale == 1.0 && _transform == null && !_exactStop && !_comp.Active && (mode == 1 ? _feed > 0 : mode == 0 && _profile.RapidRate > 0);
     }
 
     // The motion mode of the motion group (0..3 for G00..G03, 4 for the other moves to a point, -1 when none),

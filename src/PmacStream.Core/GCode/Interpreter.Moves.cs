@@ -147,6 +147,11 @@ public sealed partial class Interpreter
     /// <summary>The offsets a data code sets from its words.</summary>
     private void SetData(int key, double? x, double? y, double? z, double? l, double? p, double? r)
     {
+        if (key == 100)
+        {
+            SetRadius(l, p, r);
+        }
+
         switch (key)
         {
             case 920:

@@ -13,8 +13,8 @@ namespace PmacStream.GCode;
 /// G53 moves in machine coordinates, G10/G52/G92 set offsets (<see cref="WorkCoordinates"/>), G43/G44 H apply the tool
 /// length on Z, G51.1/G51/G68 mirror, scale and rotate the programmed positions before the work offset
 /// (<see cref="ProgramTransform"/>). Positions are machine coordinates in millimetres whatever the program's units (G20 values are scaled
-/// by 25.4), so they are what the controller's axes reach. Cutter radius compensation is recorded, not applied to
-/// the path; rotary axes (A/B/C) are accepted and not tracked, so an offset that would move one is refused (E131).
+/// by 25.4), so they are what the controller's axes reach. G41/G42 compensate straight moves in the XY plane
+/// (<see cref="CutterCompensation"/>): positions are the tool's, beside the programmed path; rotary axes (A/B/C) are accepted and not tracked, so an offset that would move one is refused (E131).
 /// </summary>
 public sealed partial class Interpreter
 {
@@ -268,12 +268,15 @@ public sealed partial class Interpreter
         ClearNonModal();
         var codes = new BlockCodes();
         var exactStopOnce = false;
+        var compColumn = 0;
+        (_corner, _compensated) = (null, false);
         for (var gi = 0; anyG && gi < _gCount; gi++)
         {
             if (gCol[gi] != 0)
             {
                 var key = MachineProfile.Key(gIn[gi]);
                 exactStopOnce |= key == 90;
+                compColumn = key is 400 or 410 or 420 ? gCol[gi] : compColumn;
                 var info = _gInfo[key];
                 SetG(gi, gIn[gi]);
                 ApplyG(key, Word('P', col, val));
@@ -310,6 +313,16 @@ public sealed partial class Interpreter
         if (anyG || col['H' - 'A'] != 0)
         {
             UpdateToolLength();
+        }
+
+        if (_compRequest >= 0 || (col['D' - 'A'] != 0 && _comp.Active))
+        {
+            UpdateCompensation(col['D' - 'A'] != 0, diags, line, compColumn != 0 ? compColumn : col['D' - 'A'] != 0 ? col['D' - 'A'] : words[0].Column);
+        }
+        else if (anyG && _comp.Active && _plane != 17)
+        {
+            Add(diags, DiagnosticCodes.CompensationNotRunnable, line, words[0].Column, "G" + _plane.ToString(System.Globalization.CultureInfo.InvariantCulture),
+                "compensation runs in the XY plane (G17) only", "补偿只在 XY 平面（G17）执行");
         }
 
         var hasF = col['F' - 'A'] != 0;
@@ -367,6 +380,7 @@ public sealed partial class Interpreter
         }
         else if (codes.Reference != 0)
         {
+            RefuseUnderCompensation("G" + ModalState.Num(codes.Reference / 10.0), diags, line, words[0].Column);
             (end, kind, length, seconds) = ConvertReference(codes.Reference, start, x, y, z, hasAxes);
         }
         else if (hasAxes && _cycle.Active && !codes.MachineCoordinates)
@@ -376,6 +390,7 @@ public sealed partial class Interpreter
                 Add(diags, DiagnosticCodes.CycleInInverseTime, line, codes.CycleColumn != 0 ? codes.CycleColumn : words[0].Column, CodeText(_cycle.Code / 10.0));
             }
 
+            RefuseUnderCompensation("canned cycle", diags, line, words[0].Column);
             if (_transform != null)
             {
                 (x, y, z, r) = TransformCycleWords(x, y, z, r, diags, line, codes.CycleColumn != 0 ? codes.CycleColumn : words[0].Column);
@@ -385,20 +400,36 @@ public sealed partial class Interpreter
         }
         else if (hasAxes || ((codes.MotionInBlock is 2 or 3) && (i0.HasValue || j0.HasValue || k0.HasValue)))
         {
-            end = codes.MachineCoordinates ? MachineTarget(start, x, y, z) : Target(start, x, y, z);
             var mode = codes.OtherMotion ? 4 : MotionMode();
             var modeCol = codes.MotionInBlock >= 0 ? codes.MotionColumn : words[0].Column;
+            double cornerLength = 0;
+            if (codes.MachineCoordinates)
+            {
+                RefuseUnderCompensation("G53", diags, line, words[0].Column);
+                end = MachineTarget(start, x, y, z);
+            }
+            else if (_comp.Active)
+            {
+                // Incremental words count from the programmed point, not from the tool beside it.
+                end = Target(_comp.Programmed(start), x, y, z);
+                (end, cornerLength) = Compensate(start, end, mode, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);
+            }
+            else
+            {
+                end = Target(start, x, y, z);
+            }
+
             switch (mode)
             {
                 case 0:
                     kind = MotionKind.Rapid;
-                    length = MeasureMoves ? start.DistanceTo(end) : 0;
+                    length = MeasureMoves ? start.DistanceTo(end) + cornerLength : 0;
                     seconds = RapidTime(length);
                     break;
                 case 1:
                 case 4:
                     kind = MotionKind.Linear;
-                    length = MeasureMoves ? start.DistanceTo(end) : 0;
+                    length = MeasureMoves ? start.DistanceTo(end) + cornerLength : 0;
                     seconds = FeedTime(length, hasF, diags, line, modeCol, 1);
                     break;
                 case 2:
@@ -465,7 +496,7 @@ public sealed partial class Interpreter
         // G95: every move (and a lone F) goes with its feed per minute at the spindle speed now in force.
         var perRevolution = _feedMode == 95 && (kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw || col['F' - 'A'] != 0);
         HostBlock = _scale != 1.0 || codes.Host || _exactStopBlock || inverseTime || perRevolution || (_transform != null && kind is not (MotionKind.None or MotionKind.Dwell)) || col['T' - 'A'] != 0 || col['H' - 'A'] != 0 || col['D' - 'A'] != 0 ||
-            kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol));
+            kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol)) || _compensated;
         _pos = end;
         UpdateLane();
         // Filled in place: the record is large and this runs once per block.

@@ -36,6 +36,7 @@ public sealed class MachineProfile
     private readonly Dictionary<int, Point3> _references = new();
     private string? _identity;
     private readonly Dictionary<int, double> _toolLengths = new();
+    private readonly Dictionary<int, double> _toolRadii = new();
 
     internal MachineProfile(ProfileJson.Dto dto, string source)
     {
@@ -55,6 +56,7 @@ public sealed class MachineProfile
         WorkOffsets = dto.WorkOffsets ?? new Dictionary<string, double[]>();
         ReferencePositions = dto.ReferencePositions ?? new Dictionary<string, double[]>();
         ToolLengths = dto.ToolLengths ?? new Dictionary<string, double>();
+        ToolRadii = dto.ToolRadii ?? new Dictionary<string, double>();
         ToolChangePosition = dto.ToolChangePosition;
         if (ToolChangePosition is { Length: not 3 })
         {
@@ -69,6 +71,16 @@ public sealed class MachineProfile
             }
 
             _toolLengths[h] = value;
+        }
+
+        foreach (var (key, value) in ToolRadii)
+        {
+            if (!int.TryParse(key, NumberStyles.None, CultureInfo.InvariantCulture, out var d) || value < 0)
+            {
+                throw Bad(source, $"toolRadii.{key}: expected a cutter radius offset number (D) and a radius of 0 or more");
+            }
+
+            _toolRadii[d] = value;
         }
 
         if (ToolCount < 0)
@@ -108,6 +120,12 @@ public sealed class MachineProfile
 
     /// <summary>Tool length offsets by H number, in millimetres (the machine's tool table; G43 H applies them).</summary>
     public IReadOnlyDictionary<string, double> ToolLengths { get; }
+
+    /// <summary>
+    /// Cutter radii by D number, in millimetres (FANUC's radius offsets; under RS274/NGC the tool table radius by tool
+    /// number). G41/G42 take the radius from here; a D not listed has no radius and is refused at the check.
+    /// </summary>
+    public IReadOnlyDictionary<string, double> ToolRadii { get; }
 
     /// <summary>Where M06's default hook moves the tool to (machine coordinates), null when the machine has none.</summary>
     public double[]? ToolChangePosition { get; }
@@ -288,6 +306,9 @@ public sealed class MachineProfile
 
     /// <summary>Tool length offset <paramref name="h"/> from the profile's tool table (0 when not listed).</summary>
     public double ToolLength(int h) => _toolLengths.TryGetValue(h, out var v) ? v : 0;
+
+    /// <summary>Cutter radius <paramref name="d"/> from the profile's table, null when it is not listed.</summary>
+    public double? ToolRadius(int d) => _toolRadii.TryGetValue(d, out var v) ? v : null;
 
     internal static int Key(double number) => (int)Math.Round(number * 10.0);
 

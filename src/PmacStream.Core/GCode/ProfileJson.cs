@@ -59,6 +59,17 @@ internal static class ProfileJson
                 w.WriteEndObject();
             }
 
+            if (p.ToolRadii.Count > 0)
+            {
+                w.WriteStartObject("toolRadii");
+                foreach (var (key, v) in p.ToolRadii)
+                {
+                    w.WriteNumber(key, v);
+                }
+
+                w.WriteEndObject();
+            }
+
             if (p.ToolChangePosition is { } tc)
             {
                 w.WriteStartArray("toolChangePosition");
@@ -197,6 +208,7 @@ internal static class ProfileJson
                     case "workoffsets": dto.WorkOffsets = ReadPoints(v); break;
                     case "referencepositions": dto.ReferencePositions = ReadPoints(v); break;
                     case "toollengths": dto.ToolLengths = v.EnumerateObject().ToDictionary(o => o.Name, o => o.Value.GetDouble()); break;
+                    case "toolradii": dto.ToolRadii = v.EnumerateObject().ToDictionary(o => o.Name, o => o.Value.GetDouble()); break;
                     case "toolchangeposition": dto.ToolChangePosition = v.EnumerateArray().Select(x => x.GetDouble()).ToArray(); break;
                     case "ggroups": dto.GGroups = ReadGroups(v); break;
                     case "mgroups": dto.MGroups = ReadGroups(v); break;
@@ -316,6 +328,8 @@ internal static class ProfileJson
         public Dictionary<string, double[]>? ReferencePositions { get; set; }
 
         public Dictionary<string, double>? ToolLengths { get; set; }
+
+        public Dictionary<string, double>? ToolRadii { get; set; }
 
         public double[]? ToolChangePosition { get; set; }
 

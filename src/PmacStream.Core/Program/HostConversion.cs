@@ -179,6 +179,9 @@ internal sealed class HostConversion
                     break;
                 case 500 or 501 or 690 or 610 or 90:
                     break;
+                // Cutter radius compensation is in the positions sent (CompensatedMoves).
+                case 410 or 420:
+                    break;
                 case >= 730 and <= 890 when CodeIsCycle(key):
                     break;
                 default:
@@ -218,6 +221,10 @@ internal sealed class HostConversion
         else if (axisData)
         {
             // The axis words were the data settings' values (G10, G52, G92).
+        }
+        else if (_interp.CompensatedMove)
+        {
+            CompensatedMoves.Write(_lines, _interp, _start, feed);
         }
         else if (_interp.Transforming && !machine && (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue)))
         {

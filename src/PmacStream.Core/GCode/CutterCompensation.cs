@@ -1,0 +1,140 @@
+namespace PmacStream.GCode;
+
+/// <summary>
+/// The corner a compensated move goes around first: from the end of the move before it to <see cref="Mid"/>, on a
+/// circle of the cutter radius about the programmed corner <see cref="Centre"/> (a feed move), or straight there (a
+/// rapid). Machine coordinates; the corner stays at the height of the move before it.
+/// </summary>
+/// <param name="Mid">Where the corner ends and the move's own line starts.</param>
+/// <param name="Centre">The programmed corner, the arc's centre.</param>
+/// <param name="Clockwise">The arc's direction: clockwise with the cutter left of the path (G41), else counter-clockwise.</param>
+/// <param name="Arc">True for a feed move's arc, false for a rapid's straight way to <see cref="Mid"/>.</param>
+public readonly record struct CompensationCorner(Point3 Mid, Point3 Centre, bool Clockwise, bool Arc);
+
+/// <summary>Why a move cannot be compensated as programmed.</summary>
+internal enum CompensationFault : byte
+{
+    /// <summary>The move is compensated.</summary>
+    None,
+
+    /// <summary>The first XY move after G41/G42 is not longer than the cutter radius.</summary>
+    EntryTooShort,
+
+    /// <summary>An inside corner: the end of the move before would have to move back (not computed here).</summary>
+    ConcaveCorner,
+}
+
+/// <summary>
+/// Cutter radius compensation of straight moves in the XY plane, computed by the host as RS274/NGC does it: the first
+/// XY move after G41/G42 ends one radius off its programmed end, square to the move; each move after it ends one
+/// radius off its programmed end, square to itself, on the side G41 (left) or G42 (right) names; an outside corner
+/// first goes around the programmed corner on an arc of the radius. An inside corner would move the end of the move
+/// before (which is already sent), so it is refused rather than cut with a gouge. Machine coordinates throughout (work
+/// offsets shift, they do not turn, so the geometry is the same).
+/// </summary>
+internal sealed class CutterCompensation
+{
+    // Corners turning less than this (radians) need no arc; more than this the other way are inside corners (rs274ngc's
+    // TOLERANCE_CONCAVE_CORNER).
+    private const double CornerTolerance = 0.05;
+
+    private double _programX;
+    private double _programY;
+
+    /// <summary>41 (cutter left of the path), 42 (right), 0 when off.</summary>
+    public int Side { get; private set; }
+
+    /// <summary>The cutter radius in force, millimetres.</summary>
+    public double Radius { get; private set; }
+
+    /// <summary>True while compensation is on with a radius above zero.</summary>
+    public bool Active => Side != 0 && Radius > 0;
+
+    /// <summary>True once the entry move was made: the programmed XY position is known apart from the tool's.</summary>
+    public bool Entered { get; private set; }
+
+    /// <summary>Turns compensation on (or off with side 0); the next XY move is the entry move.</summary>
+    public void Set(int side, double radius)
+    {
+        (Side, Radius, Entered) = (side, side == 0 ? 0 : radius, false);
+    }
+
+    /// <summary>The programmed position on the XY plane with <paramref name="tool"/>'s Z: where incremental words count from.</summary>
+    public Point3 Programmed(Point3 tool) => Entered ? new Point3(_programX, _programY, tool.Z) : tool;
+
+    /// <summary>
+    /// The compensated end of a straight move from the tool at <paramref name="tool"/> to the programmed
+    /// <paramref name="target"/>, with the corner before it, if any.
+    /// </summary>
+    public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Line(Point3 tool, Point3 target, bool rapid)
+    {
+        var sign = Side == 41 ? 1.0 : -1.0; // the normal to the left of the move, or to its right
+        if (!Entered)
+        {
+            var (dx, dy) = (target.X - tool.X, target.Y - tool.Y);
+            var distance = Math.Sqrt((dx * dx) + (dy * dy));
+            if (distance <= Radius)
+            {
+                return (target, null, CompensationFault.EntryTooShort);
+            }
+
+            var end = new Point3(target.X - (sign * Radius * dy / distance), target.Y + (sign * Radius * dx / distance), target.Z);
+            Remember(target);
+            return (end, null, CompensationFault.None);
+        }
+
+        if (target.X == _programX && target.Y == _programY)
+        {
+            // No XY motion: the tool stays off the programmed point where it is.
+            return (new Point3(tool.X, tool.Y, target.Z), null, CompensationFault.None);
+        }
+
+        var theta = Math.Atan2(tool.Y - _programY, tool.X - _programX); // from the programmed corner to the tool
+        var alpha = Math.Atan2(target.Y - _programY, target.X - _programX); // the new move's direction
+        double beta;
+        if (Side == 41)
+        {
+            theta += theta < alpha ? 2 * Math.PI : 0;
+            beta = theta - alpha - (Math.PI / 2);
+        }
+        else
+        {
+            alpha += alpha < theta ? 2 * Math.PI : 0;
+            beta = alpha - theta - (Math.PI / 2);
+        }
+
+        if (beta < -CornerTolerance || beta > Math.PI + CornerTolerance)
+        {
+            return (target, null, CompensationFault.ConcaveCorner);
+        }
+
+        var normal = alpha + (sign * Math.PI / 2);
+        var (nx, ny) = (Radius * Math.Cos(normal), Radius * Math.Sin(normal));
+        var lineEnd = new Point3(target.X + nx, target.Y + ny, target.Z);
+        CompensationCorner? corner = beta > CornerTolerance
+            ? new CompensationCorner(new Point3(_programX + nx, _programY + ny, tool.Z), new Point3(_programX, _programY, tool.Z), Side == 41, !rapid)
+            : null;
+        Remember(target);
+        return (lineEnd, corner, CompensationFault.None);
+    }
+
+    /// <summary>The length of a corner's way from <paramref name="tool"/> to its end: along the arc, or straight for a rapid.</summary>
+    public double CornerLength(Point3 tool, CompensationCorner corner)
+    {
+        if (!corner.Arc)
+        {
+            return tool.DistanceTo(corner.Mid);
+        }
+
+        var a0 = Math.Atan2(tool.Y - corner.Centre.Y, tool.X - corner.Centre.X);
+        var a1 = Math.Atan2(corner.Mid.Y - corner.Centre.Y, corner.Mid.X - corner.Centre.X);
+        var sweep = corner.Clockwise ? a0 - a1 : a1 - a0;
+        sweep += sweep < 0 ? 2 * Math.PI : 0;
+        return sweep * Radius;
+    }
+
+    private void Remember(Point3 target)
+    {
+        (_programX, _programY, Entered) = (target.X, target.Y, true);
+    }
+}
