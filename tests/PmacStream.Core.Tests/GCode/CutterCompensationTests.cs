@@ -1,0 +1,135 @@
+using System.Text.Json.Nodes;
+using PmacStream.GCode;
+using PmacStream.Program;
+
+namespace PmacStream.Core.Tests.GCode;
+
+/// <summary>
+/// G41/G42 computed by the host: the interpreter's block ends are the tool's compensated positions, the host sends
+/// exactly those (an outside corner's arc first), and what is not compensated is refused with a named error.
+/// </summary>
+public class CutterCompensationTests
+{
+    private static MachineProfile WithRadii(string name, string radii)
+    {
+        var json = JsonNode.Parse(MachineProfile.Named(name)!.ToJson())!.AsObject();
+        json["toolRadii"] = JsonNode.Parse(radii);
+        return MachineProfile.Parse(json.ToJsonString(), name + "+radii");
+    }
+
+    private static readonly MachineProfile Fanuc = WithRadii("fanuc-mill", """{ "1": 5, "2": 2.5 }""");
+
+    private static List<DecodedBlock> Run(string program, MachineProfile profile)
+    {
+        var interp = new Interpreter(profile);
+        var list = new List<DecodedBlock>();
+        foreach (var line in program.Split('\n'))
+        {
+            if (interp.Step(GCodeReader.LexLine(line, list.Count + 1)) is { } d)
+            {
+                list.Add(d);
+            }
+        }
+
+        return list;
+    }
+
+    private static List<Diagnostic> Check(string program, MachineProfile profile) => new Checker(profile).CheckText(program).Diagnostics.ToList();
+
+    private static void At(DecodedBlock b, double x, double y, double z)
+    {
+        b.End.X.Should().BeApproximately(x, 1e-9, $"X of line {b.Line}");
+        b.End.Y.Should().BeApproximately(y, 1e-9, $"Y of line {b.Line}");
+        b.End.Z.Should().BeApproximately(z, 1e-9, $"Z of line {b.Line}");
+    }
+
+    private const string Outside = "G21 G90 G17 G40 G49 G54\nG00 X0 Y-20. Z5.\nG01 Z-1. F500.\nG41 D1 X0 Y0\nY30.\nX40.\nY0\nG91 X-10. Y-5.\nG90 Z-2.\nG40 X0 Y-20.";
+
+    [Fact]
+    public void G41_ends_every_straight_move_one_radius_left_of_its_programmed_end_and_counts_incremental_words_from_the_programmed_point()
+    {
+        var b = Run(Outside, Fanuc);
+        At(b[3], -5, 0, -1);   // entry: square to the entry move
+        At(b[4], -5, 30, -1);  // straight on: no corner
+        At(b[5], 40, 35, -1);  // around the outside corner (0, 30), then along
+        At(b[6], 45, 0, -1);
+        var n = Math.Sqrt(125);
+        At(b[7], 30 + (5 * 5 / n), -5 - (5 * 10 / n), -1); // from the programmed (40, 0), not the tool's (45, 0)
+        At(b[8], 30 + (5 * 5 / n), -5 - (5 * 10 / n), -2); // no XY motion: the tool stays beside the programmed point
+        At(b[9], 0, -20, -2); // G40: to the programmed point
+        b[5].Length.Should().BeApproximately((Math.PI / 2 * 5) + 40, 1e-9, "the corner's quarter circle and the line");
+        Check(Outside, Fanuc).Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+    }
+
+    [Fact]
+    public void G42_is_the_mirror_image_and_a_rapid_goes_straight_to_the_corners_end()
+    {
+        var b = Run("G21 G90 G17\nG00 X0 Y-20. Z5.\nG01 Z-1. F500.\nG42 D2 X0 Y0\nG00 X-30.\nG01 Y-30.", Fanuc);
+        At(b[3], 2.5, 0, -1);
+        At(b[4], -30, 2.5, -1);
+        At(b[5], -32.5, -30, -1);
+        b[4].Length.Should().BeApproximately(Math.Sqrt((2.5 * 2.5) + (2.5 * 2.5)) + 30, 1e-9, "a rapid's corner is a straight way");
+    }
+
+    [Fact]
+    public void The_host_sends_the_compensated_positions_with_the_outside_corners_arc_about_the_programmed_corner()
+    {
+        var interp = new Interpreter(Fanuc);
+        var host = new HostConversion(interp);
+        var sent = new List<string>();
+        foreach (var line in Outside.Split('\n'))
+        {
+            var block = GCodeReader.LexLine(line, 1);
+            host.Before();
+            interp.StepCore(block, null);
+            sent.AddRange(host.Convert(block) ?? [line]);
+        }
+
+        sent.Should().ContainInOrder("G01 X-5 Y0 Z-1", "G01 X-5 Y30 Z-1", "G02 X0 Y35 I5 J0", "G01 X40 Y35 Z-1", "G02 X45 Y30 I0 J-5", "G01 X45 Y0 Z-1");
+        sent.Should().Contain("G91", "the program's distance mode comes back after an incremental block sent absolute");
+        sent.Should().NotContain(l => l.Contains("G41", StringComparison.Ordinal), "the controller's own compensation never runs");
+    }
+
+    [Fact]
+    public void The_radius_comes_from_G10_L12_and_L13_under_FANUC_and_from_the_spindle_tool_under_RS274NGC()
+    {
+        var b = Run("G21 G90 G17\nG10 L12 P7 R3.\nG10 L13 P7 R-0.5\nG00 X0 Y-20.\nG41 D7 G01 X0 Y0 F100", Fanuc);
+        At(b[^1], -2.5, 0, 0);
+        var linuxcnc = WithRadii("linuxcnc-mill", """{ "4": 1.5 }""");
+        At(Run("G21 G90 G17\nT4 M6\nG0 X0 Y-20\nG41 G1 X0 Y0 F100", linuxcnc)[^1], -1.5, 0, 0);
+        At(Run("G21 G90 G17\nG0 X0 Y-20\nG10 L1 P5 R2\nG42 D5 G1 X0 Y0 F100", linuxcnc)[^1], 2, 0, 0);
+    }
+
+    public static TheoryData<string, string, int, int> Refused => new()
+    {
+        { DiagnosticCodes.NoCutterRadius, "G0 X0 Y-20\nG41 D9 G01 X0 Y0 F100", 2, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG02 X10 Y10 R10", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G18\nG0 X0 Y-20\nG41 D1 G01 X0 Y0 F100", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG18", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG42 D1 X10", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nD2 X10", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG81 X5 Y5 Z-1 R1", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG28 X0", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG53 G00 Z0", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG68 X0 Y0 R30\nG41 D1 G01 X0 Y0 F100", 3, 1 },
+        { DiagnosticCodes.CompensationEntryTooShort, "G0 X0 Y-4\nG41 D1 G01 X0 Y0 F100", 2, 8 },
+        { DiagnosticCodes.CompensationConcaveCorner, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nX-30", 3, 1 },
+    };
+
+    [Theory]
+    [MemberData(nameof(Refused))]
+    public void What_the_host_cannot_compensate_is_refused_with_its_code_at_its_block(string code, string program, int line, int column)
+    {
+        var diags = Check("G21 G90 G17\n" + program, Fanuc);
+        diags.Should().Contain(d => d.Code == code && d.Line == line + 1 && d.Column == column,
+            "{0} expected at {1}:{2}, got: {3}", code, line + 1, column, string.Join(" | ", diags.Select(d => $"{d.Code}@{d.Line}:{d.Column} {d.Message}")));
+    }
+
+    [Fact]
+    public void A_straight_run_and_outside_corners_check_clean_and_G41_is_no_longer_a_code_the_controller_cannot_run()
+    {
+        var (summary, diags) = new Checker(Fanuc).CheckText("O1\nG21 G90 G17\nG0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nY10\nY20\nX10\nG40 X20 Y-20\nM30");
+        diags.Should().BeEmpty();
+        summary.NotYetCodes.Should().BeEmpty();
+    }
+}
