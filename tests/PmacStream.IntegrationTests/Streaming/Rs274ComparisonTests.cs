@@ -75,7 +75,42 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
     /// <summary>linuxcnc-mill with tool lengths (and the zero G28/G30 positions rs274 has without a parameter file).</summary>
     private static MachineProfile Machine() => MachineProfile.Parse(
         MachineProfile.Named("linuxcnc-mill")!.ToJson().Replace("\"referencePositions\": {}",
-            "\"referencePositions\": {}, \"toolLengths\": { \"1\": 50, \"2\": 75.5, \"3\": 42.25 }"), "linuxcnc-mill+tools");
+            "\"referencePositions\": {}, \"toolLengths\": { \"1\": 50, \"2\": 75.5, \"3\": 42.25 }, \"toolRadii\": { \"4\": 5, \"5\": 2.5 }"), "linuxcnc-mill+tools");
+
+    /// <summary>
+    /// G41/G42 on straight moves: entries, straight runs, outside corners (feed arcs and a rapid's straight way), an
+    /// incremental block, a Z-only block, lines at any angle; tools 4 (radius 5) and 5 (radius 2.5) from the tool table.
+    /// </summary>
+    private const string Compensated = """
+        G21 G90 G17 G94 G40 G49 G54
+        G10 L2 P1 X10.5 Y20.25 Z-30
+        T4 M6
+        G43 H1
+        G0 X0 Y-20 Z5
+        G1 Z-1 F500
+        G41 X0 Y0
+        Y30
+        X40
+        Y0
+        G91 X-10 Y-5
+        G90 Z-2
+        X0 Y0
+        G0 Y10
+        G1 X20 Y30
+        G40 X40 Y50
+        G0 Z5
+        T5 M6
+        G0 X60 Y60
+        G1 Z-1 F300
+        G42 X60 Y40
+        X80 Y45
+        X80.5 Y80
+        G0 X70 Y90
+        G1 X20 Y88
+        G40 X0 Y100
+        G0 Z5
+        M2
+        """;
 
     [SkippableFact]
     public void Rs274_passes_through_every_block_end_of_an_rs274ngc_program_using_the_offsets_cycles_and_units()
@@ -91,6 +126,40 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
         var (accepted, why) = Compare(rs274, path, profile, dir);
         accepted.Should().BeTrue(why);
         output.WriteLine(why);
+    }
+
+    [SkippableFact]
+    public void Rs274_passes_through_every_block_end_of_a_program_under_cutter_radius_compensation()
+    {
+        var rs274 = Requires.Rs274();
+        var dir = Directory.CreateTempSubdirectory("pmacstream-rs274-").FullName;
+        try
+        {
+            var path = Path.Combine(dir, "comp.ngc");
+            File.WriteAllText(path, Compensated + "\n");
+            var profile = Machine();
+            new Checker(profile).CheckText(Compensated).Diagnostics.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+            var (accepted, why) = Compare(rs274, path, profile, dir);
+            accepted.Should().BeTrue(why);
+            output.WriteLine(why);
+
+            // The comparison can fail: the same program without compensation does not pass through rs274's moves.
+            var plain = Path.Combine(dir, "plain.ngc");
+            File.WriteAllText(plain, Compensated.Replace("G41 ", string.Empty, StringComparison.Ordinal).Replace("G42 ", string.Empty, StringComparison.Ordinal) + "\n");
+            var wrong = () => Compare(rs274, plain, profile, dir, canonFrom: path);
+            wrong.Should().Throw<Exception>().WithMessage("*rs274 never reaches*");
+
+            // An inside corner: rs274 moves the end of the move before it back; the host refuses it (E135) instead.
+            const string inside = "G21 G90 G17\nT4 M6\nG0 X-20 Y-20 Z5\nG1 Z-1 F500\nG42 X0 Y0\nY30\nX40\nG40 X60 Y60\nM2";
+            var insidePath = Path.Combine(dir, "inside.ngc");
+            File.WriteAllText(insidePath, inside + "\n");
+            new Checker(profile).CheckText(inside).Diagnostics.Should().Contain(d => d.Code == DiagnosticCodes.CompensationConcaveCorner && d.Line == 7);
+            Run(rs274, insidePath, dir).Canon.Should().Contain("STRAIGHT_FEED(5.0000, 25.0000", "rs274 ends the block before the corner where the next move's offset line crosses it");
+        }
+        finally
+        {
+            Directory.Delete(dir, recursive: true);
+        }
     }
 
     [SkippableFact]
@@ -121,32 +190,23 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
         compared.Should().BeGreaterThan(3, "rs274 takes most of the corpus");
     }
 
-    /// <summary>Runs rs274 and matches the interpreter's block ends against its moves; (false, why) when rs274 refuses the program.</summary>
-    private static (bool Accepted, string Why) Compare(string rs274, string path, MachineProfile profile, string dir)
+    /// <summary>
+    /// Runs rs274 and matches the interpreter's block ends against its moves (of <paramref name="canonFrom"/> when given:
+    /// another program's); (false, why) when rs274 refuses the program.
+    /// </summary>
+    private static (bool Accepted, string Why) Compare(string rs274, string path, MachineProfile profile, string dir, string? canonFrom = null)
     {
-        // rs274 without LinuxCNC reads tool table lengths in inches (its stand-alone machine units): written so.
-        var tools = Path.Combine(dir, "tool.tbl");
-        // Tools 1-99 (a program may change to any of them); the profile's lengths where it has them, else 0.
-        File.WriteAllLines(tools, Enumerable.Range(1, 99).Select(t =>
-            $"T{t} P{t} Z{(profile.ToolLength(t) / 25.4).ToString("0.##########", CultureInfo.InvariantCulture)} D6"));
-        var psi = new ProcessStartInfo(rs274, ["-t", tools, "-g", path, "/dev/stdout"]) { RedirectStandardOutput = true, RedirectStandardError = true, RedirectStandardInput = true };
-        using var p = Process.Start(psi)!;
-        p.StandardInput.Close();
-        var stdout = p.StandardOutput.ReadToEndAsync();
-        var stderr = p.StandardError.ReadToEndAsync();
-        if (!p.WaitForExit(60_000))
+        var (exit, canon, err) = Run(rs274, canonFrom ?? path, dir, profile);
+        if (exit is null)
         {
-            p.Kill();
             return (false, "rs274 did not finish in 60 s");
         }
 
-        var canon = stdout.Result;
-        var err = stderr.Result;
         // rs274 reports an interpreter error as a text line (and the block) among its canonical calls, exit code 0.
         var complaint = (err + canon).Split('\n').Select(l => l.Trim()).FirstOrDefault(l => l.Length > 0 && l != "executing" && !CanonLine().IsMatch(l));
-        if (p.ExitCode != 0 || complaint is not null)
+        if (exit != 0 || complaint is not null)
         {
-            return (false, $"rs274 refused it (exit {p.ExitCode}): {complaint}");
+            return (false, $"rs274 refused it (exit {exit}): {complaint}");
         }
 
         var moves = Moves(canon, out var inch);
@@ -177,6 +237,29 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
         }
 
         return (true, $"{ends.Count} block ends, all on rs274's {moves.Count} moves in order");
+    }
+
+    /// <summary>rs274 on <paramref name="path"/> with the profile's tool table: its exit code (null when it did not finish), canonical calls and errors.</summary>
+    private static (int? Exit, string Canon, string Err) Run(string rs274, string path, string dir, MachineProfile? profile = null)
+    {
+        profile ??= Machine();
+        // rs274 without LinuxCNC reads tool table lengths and diameters in inches (its stand-alone machine units): written so.
+        var tools = Path.Combine(dir, "tool.tbl");
+        // Tools 1-99 (a program may change to any of them); the profile's lengths and radii where it has them.
+        File.WriteAllLines(tools, Enumerable.Range(1, 99).Select(t =>
+            $"T{t} P{t} Z{(profile.ToolLength(t) / 25.4).ToString("0.##########", CultureInfo.InvariantCulture)} D{(profile.ToolRadius(t) is { } r ? 2 * r / 25.4 : 6).ToString("0.##########", CultureInfo.InvariantCulture)}"));
+        var psi = new ProcessStartInfo(rs274, ["-t", tools, "-g", path, "/dev/stdout"]) { RedirectStandardOutput = true, RedirectStandardError = true, RedirectStandardInput = true };
+        using var p = Process.Start(psi)!;
+        p.StandardInput.Close();
+        var stdout = p.StandardOutput.ReadToEndAsync();
+        var stderr = p.StandardError.ReadToEndAsync();
+        if (!p.WaitForExit(60_000))
+        {
+            p.Kill();
+            return (null, string.Empty, string.Empty);
+        }
+
+        return (p.ExitCode, stdout.Result, stderr.Result);
     }
 
     private static double Distance(Point3 a, Point3 b) => Math.Max(Math.Abs(a.X - b.X), Math.Max(Math.Abs(a.Y - b.Y), Math.Abs(a.Z - b.Z)));
