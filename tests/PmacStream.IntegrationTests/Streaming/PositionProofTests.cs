@@ -214,6 +214,63 @@ public class PositionProofTests(ITestOutputHelper output)
         }
     }
 
+    /// <summary>G41/G42 on straight moves in G55 with a tool length: outside corners, a rapid corner, incremental and Z-only blocks, inch blocks.</summary>
+    public const string Compensated = """
+        %
+        O2000 (CUTTER RADIUS COMPENSATION)
+        G90 G17 G21 G40 G49 G80
+        G55
+        T2 M06
+        G43 H2
+        G00 X0 Y-20. Z5.
+        G01 Z-1. F500.
+        G41 D1 X0 Y0
+        Y30.
+        X40.
+        Y0
+        G91 X-10. Y-5.
+        G90 Z-2.
+        X0 Y0
+        G00 Y10.
+        G01 X20. Y30.
+        G40 X40. Y50.
+        G00 Z5.
+        X60. Y60.
+        G01 Z-1. F300.
+        G20 G42 D2 X2.3622 Y1.5748
+        X3.1496 Y1.7717
+        G21 X80.5 Y80.
+        G00 X70. Y90.
+        G01 X20. Y88.
+        G40 X0 Y100.
+        G00 Z10.
+        M30
+        %
+        """;
+
+    [Fact]
+    public async Task A_program_under_cutter_radius_compensation_ends_each_block_where_the_interpreter_says()
+    {
+        using var dir = new TestFolder("proof");
+        var path = Path.Combine(dir.Path, "comp.nc");
+        await File.WriteAllTextAsync(path, Compensated);
+        var json = JsonNode.Parse(Machine().ToJson())!.AsObject();
+        json["toolRadii"] = new JsonObject { ["1"] = 5, ["2"] = 2.5 };
+        var profile = MachineProfile.Parse(json.ToJsonString(), "fanuc-mill+radii");
+        var (lines, diags) = new Checker(profile).CheckText(Compensated);
+        diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty("straight moves with outside corners are compensated");
+        lines.NotYetCodes.Should().BeEmpty("G41 and G42 are the host's");
+        var report = await ProveAsync(path, profile, force: false);
+        output.WriteLine($"{report.Lines} moving lines, {report.Moves} moves, largest difference {report.Largest:0.######} mm");
+        report.Moves.Should().BeGreaterThan(report.Lines + 5, "outside corners are an arc (or a rapid) and a line of one block");
+
+        // The proof can fail: the blocks sent as programmed (radius 0) do not end where the compensating interpreter says.
+        json["toolRadii"] = new JsonObject { ["1"] = 0, ["2"] = 0 };
+        var uncompensated = MachineProfile.Parse(json.ToJsonString(), "fanuc-mill+zero");
+        var sentPlain = () => ProveAsync(path, uncompensated, force: false, expectedFrom: profile);
+        (await sentPlain.Should().ThrowAsync<Exception>()).Which.Message.Should().Contain("the interpreter says");
+    }
+
     /// <summary>A program that changes the offsets before its moves: work offset data, G52, G92, tool length, rotation.</summary>
     public const string OffsetsBeforeTheStart = """
         G21 G90 G17 G40 G49 G80
@@ -312,7 +369,7 @@ public class PositionProofTests(ITestOutputHelper output)
     /// <summary>The outcome of one program's proof.</summary>
     public sealed record ProofReport(string Name, int Lines, int Moves, double Largest);
 
-    private static async Task<ProofReport> ProveAsync(string path, MachineProfile profile, bool force, bool tables = true, int? fromLine = null)
+    private static async Task<ProofReport> ProveAsync(string path, MachineProfile profile, bool force, bool tables = true, int? fromLine = null, MachineProfile? expectedFrom = null)
     {
         var name = Path.GetFileName(path);
         var split = Splitter.Split(path, new SplitOptions
@@ -362,7 +419,7 @@ public class PositionProofTests(ITestOutputHelper output)
             .Where(m => !(m.Kind == MoveKind.Dwell && m.Duration == 0)) // DWELL0 of the library's routines: no block of the program
             .Where(m => m.SourceLine >= (fromLine ?? 0)) // a start from a block: its preamble's approach is no block of the program
             .ToList();
-        var expected = Expected(path, profile).Where(e => e.Line >= (fromLine ?? 0)).ToList();
+        var expected = Expected(path, expectedFrom ?? profile).Where(e => e.Line >= (fromLine ?? 0)).ToList();
         var groups = new List<(int Line, ExecutedMove Last)>();
         foreach (var m in executed)
         {
