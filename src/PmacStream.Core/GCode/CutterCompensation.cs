@@ -53,11 +53,17 @@ internal sealed class CutterCompensation
     /// <summary>True once the entry move was made: the programmed XY position is known apart from the tool's.</summary>
     public bool Entered { get; private set; }
 
+    /// <summary>True after a move that could not be compensated: the path is unknown until G40 (the program is refused anyway).</summary>
+    public bool Lost { get; private set; }
+
     /// <summary>Turns compensation on (or off with side 0); the next XY move is the entry move.</summary>
     public void Set(int side, double radius)
     {
-        (Side, Radius, Entered) = (side, side == 0 ? 0 : radius, false);
+        (Side, Radius, Entered, Lost) = (side, side == 0 ? 0 : radius, false, false);
     }
+
+    /// <summary>A move was refused: the moves after it are not judged again (one fault, one report) until G40.</summary>
+    public void Lose() => Lost = true;
 
     /// <summary>The programmed position on the XY plane with <paramref name="tool"/>'s Z: where incremental words count from.</summary>
     public Point3 Programmed(Point3 tool) => Entered ? new Point3(_programX, _programY, tool.Z) : tool;
@@ -75,6 +81,8 @@ internal sealed class CutterCompensation
             var distance = Math.Sqrt((dx * dx) + (dy * dy));
             if (distance <= Radius)
             {
+                // Refused; the moves after it are judged from its programmed end, so one fault is reported once.
+                Remember(target);
                 return (target, null, CompensationFault.EntryTooShort);
             }
 
@@ -103,14 +111,15 @@ internal sealed class CutterCompensation
             beta = alpha - theta - (Math.PI / 2);
         }
 
-        if (beta < -CornerTolerance || beta > Math.PI + CornerTolerance)
-        {
-            return (target, null, CompensationFault.ConcaveCorner);
-        }
-
         var normal = alpha + (sign * Math.PI / 2);
         var (nx, ny) = (Radius * Math.Cos(normal), Radius * Math.Sin(normal));
         var lineEnd = new Point3(target.X + nx, target.Y + ny, target.Z);
+        if (beta < -CornerTolerance || beta > Math.PI + CornerTolerance)
+        {
+            // Refused; the moves after it are judged as if it ended beside its programmed end.
+            Remember(target);
+            return (lineEnd, null, CompensationFault.ConcaveCorner);
+        }
         CompensationCorner? corner = beta > CornerTolerance
             ? new CompensationCorner(new Point3(_programX + nx, _programY + ny, tool.Z), new Point3(_programX, _programY, tool.Z), Side == 41, !rapid)
             : null;

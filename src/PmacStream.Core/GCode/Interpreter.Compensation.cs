@@ -106,6 +106,11 @@ public sealed partial class Interpreter
     /// </summary>
     private (Point3 End, double CornerLength) Compensate(Point3 start, Point3 target, int mode, bool rotary, List<Diagnostic>? diags, int line, int column)
     {
+        if (_comp.Lost)
+        {
+            return (target, 0);
+        }
+
         if (mode is not (0 or 1) || rotary || _plane != 17 || _transform != null)
         {
             var (what, en, zh) = mode is 2 or 3 ? ("G0" + mode.ToString(System.Globalization.CultureInfo.InvariantCulture), "arcs are not compensated by the host yet", "主机尚不补偿圆弧")
@@ -113,6 +118,7 @@ public sealed partial class Interpreter
                 : mode is 0 or 1 ? ("G0" + mode.ToString(System.Globalization.CultureInfo.InvariantCulture), "compensation runs in the XY plane (G17) without mirror, scaling or rotation only", "补偿只在无镜像、缩放、旋转的 XY 平面（G17）执行")
                 : ("move", "only G00 and G01 are compensated", "只补偿 G00 和 G01");
             Add(diags, DiagnosticCodes.CompensationNotRunnable, line, column, what, en, zh);
+            _comp.Lose();
             return (target, 0);
         }
 
@@ -124,7 +130,7 @@ public sealed partial class Interpreter
                 return (target, 0);
             case CompensationFault.ConcaveCorner:
                 Add(diags, DiagnosticCodes.CompensationConcaveCorner, line, column);
-                return (target, 0);
+                return (end, 0);
         }
 
         (_corner, _compensated) = (corner, true);
@@ -134,9 +140,10 @@ public sealed partial class Interpreter
     /// <summary>A move compensation does not take (a cycle, a reference return, G53) while it is on.</summary>
     private void RefuseUnderCompensation(string what, List<Diagnostic>? diags, int line, int column)
     {
-        if (_comp.Active)
+        if (_comp.Active && !_comp.Lost)
         {
             Add(diags, DiagnosticCodes.CompensationNotRunnable, line, column, what, "only G00 and G01 are compensated; G40 first", "只补偿 G00 和 G01：应先 G40");
+            _comp.Lose();
         }
     }
 }

@@ -75,13 +75,17 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.NoMotionMode, "G21\nX1 Y1", 2, 1, "linuxcnc-mill" },
         { DiagnosticCodes.NoMotionMode, "G0 X0\nG81 X1 Y1 Z-1 R1 F10\nG80\nX2", 4, 1, "linuxcnc-mill" },
         { DiagnosticCodes.NotYetOnController, "O1\nT1 M41\nM41", 2, 4 },
-        { DiagnosticCodes.NotYetOnController, "O1\nG00 G41 D1 X1", 2, 5 },
+        { DiagnosticCodes.NotYetOnController, "O1\nG00 G41.2 D1 X1", 2, 5 },
         { DiagnosticCodes.TextAfterTapeEnd, "%\nO1\nG00 X1\n%\nG00 X2\n", 4, 1 },
         { DiagnosticCodes.IllegalCharacter, "G0 X1 /Y2", 1, 7, "linuxcnc-mill" },
         { DiagnosticCodes.TooManyWords, "O1\nG01 F100 " + string.Join(" ", Enumerable.Repeat("X1", 255)), 2, 10 + (3 * 254) },
         { DiagnosticCodes.TransformNotRunnable, "O1\nG51 X0 Y0 I2000 J1000\nG02 X1 Y0 I0.5 F100", 3, 1 },
         { DiagnosticCodes.CycleInInverseTime, "O1\nG93 G81 X1 Y1 Z-1 R1 F2", 2, 5 },
         { DiagnosticCodes.RotaryOffset, "O1\nG10 L2 P2 A90.", 2, 11 },
+        { DiagnosticCodes.NoCutterRadius, "O1\nG00 G41 D1 X1", 2, 5 },
+        { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nG02 X10. Y10. R10.", 5, 1 },
+        { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-4.\nG41 D1 G01 X0 Y0 F100", 4, 8 },
+        { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nX-30.", 5, 1 },
     };
 
     public static TheoryData<string, string> Good => new()
@@ -119,6 +123,10 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.TransformNotRunnable, "O1\nG51 X0 Y0 P2000\nG02 X1 Y0 I0.5 F100\nG50" },
         { DiagnosticCodes.CycleInInverseTime, "O1\nG94 G81 X1 Y1 Z-1 R1 F100\nG80\nG93 G01 X2 F2\nG94" },
         { DiagnosticCodes.RotaryOffset, "O1\nG10 L2 P2 X1 A0\nG52 A0\nG00 A90.\nG52 X0" },
+        { DiagnosticCodes.NoCutterRadius, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nG40 X0 Y-20.\nG41 D0 X0 Y0\nG40" },
+        { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nY10.\nG40 X20. Y-10.\nG02 X30. Y0 R10." },
+        { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100" },
+        { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nY10.\nX10.\nY-10." },
     };
 
     [Theory]

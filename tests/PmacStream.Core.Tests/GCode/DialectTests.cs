@@ -66,7 +66,7 @@ public class DialectTests
         { "rotary A words", "G00 A0\nG01 X1 A90. F500\nA180.\nG93 G01 A270. F20\nG94" },
         { "Haas codes", "M31\nG187 P2 E0.01\nM10\nM11\nM33\nG103 P1\nG187" },
         { "FANUC smoothing and extended offsets", "G05.1 Q1 R5\nG54.1 P3\nG05.1 Q0" },
-        { "tool length and cutter compensation", "G43 H1 Z50.\nG41 D1 G01 X10 F200\nG40 G01 X20\nG49" },
+        { "tool length and cutter compensation", "G43 H1 Z50.\nG10 L12 P1 R3.\nG41 D1 G01 X10 F200\nG40 G01 X20\nG49" },
     };
 
     [Theory]
@@ -80,10 +80,10 @@ public class DialectTests
     [Fact]
     public void Codes_the_controller_cannot_run_yet_are_warned_once_each_at_their_first_use()
     {
-        var (summary, diags) = Check("O1\nT1 M41\nG43 H1 Z10\nT2 M41\nG41 D1 X10 F100\n");
-        diags.Where(d => d.Code == DiagnosticCodes.NotYetOnController).Select(d => (d.Line, d.Message[..3])).Should().Equal(
-            (2, "M41"), (5, "G41"));
-        summary.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M41"] = 2, ["G41"] = 5 });
+        var (summary, diags) = Check("O1\nT1 M41\nG43 H1 Z10\nT2 M41\nG41.2 D1 X10 F100\n");
+        diags.Where(d => d.Code == DiagnosticCodes.NotYetOnController).Select(d => (d.Line, d.Message[..5])).Should().Equal(
+            (2, "M41 ("), (5, "G41.2"));
+        summary.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["M41"] = 2, ["G41.2"] = 5 });
         Check("O1\nG00 X1\nG01 X2 F100\nM30").Summary.NotYetCodes.Should().BeEmpty();
     }
 

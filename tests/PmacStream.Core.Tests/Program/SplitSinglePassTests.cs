@@ -150,9 +150,9 @@ public class SplitSinglePassTests
     [Fact]
     public void Streamed_manifest_is_byte_identical_to_the_serializer_and_loads_back()
     {
-        using var tp = new TempProgram("G01 X1\nG01 X2\nG41 D1 X0\nM41 T2\nG01 X3\n", "零件 \"q\".nc");
+        using var tp = new TempProgram("G01 X1\nG01 X2\nG41.2 D1 X0\nM41 T2\nG01 X3\n", "零件 \"q\".nc");
         var r = tp.Split(new SplitOptions { LinesPerChunk = 1, CheckProfile = MachineProfile.Default, AllowErrors = true });
-        r.Manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["G41"] = 3, ["M41"] = 4 });
+        r.Manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["G41.2"] = 3, ["M41"] = 4 });
         var streamed = File.ReadAllBytes(r.ManifestPath);
         var options = new JsonSerializerOptions
         {
