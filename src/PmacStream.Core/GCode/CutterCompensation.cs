@@ -22,13 +22,22 @@ internal enum CompensationFault : byte
 
     /// <summary>An inside corner: the end of the move before would have to move back (not computed here).</summary>
     ConcaveCorner,
+
+    /// <summary>An arc as the first move after G41/G42 (rs274ngc refuses it too).</summary>
+    StartOnArc,
+
+    /// <summary>The cutter runs inside an arc whose radius is not larger than the cutter's.</summary>
+    ArcTooSmall,
+
+    /// <summary>A full circle: its compensated start and end would be one point only by rounding.</summary>
+    FullCircle,
 }
 
 /// <summary>
-/// Cutter radius compensation of straight moves in the XY plane, computed by the host as RS274/NGC does it: the first
-/// XY move after G41/G42 ends one radius off its programmed end, square to the move; each move after it ends one
-/// radius off its programmed end, square to itself, on the side G41 (left) or G42 (right) names; an outside corner
-/// first goes around the programmed corner on an arc of the radius. An inside corner would move the end of the move
+/// Cutter radius compensation of lines and arcs in the XY plane, computed by the host as RS274/NGC does it: the first
+/// XY move after G41/G42 (a line) ends one radius off its programmed end, square to the move; each move after it ends
+/// one radius off its programmed end, square to itself, on the side G41 (left) or G42 (right) names (an arc keeps its
+/// centre); an outside corner first goes around the programmed corner on an arc of the radius. An inside corner would move the end of the move
 /// before (which is already sent), so it is refused rather than cut with a gouge. Machine coordinates throughout (work
 /// offsets shift, they do not turn, so the geometry is the same).
 /// </summary>
@@ -74,9 +83,9 @@ internal sealed class CutterCompensation
     /// </summary>
     public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Line(Point3 tool, Point3 target, bool rapid)
     {
-        var sign = Side == 41 ? 1.0 : -1.0; // the normal to the left of the move, or to its right
         if (!Entered)
         {
+            var sign = Side == 41 ? 1.0 : -1.0; // the normal to the left of the move, or to its right
             var (dx, dy) = (target.X - tool.X, target.Y - tool.Y);
             var distance = Math.Sqrt((dx * dx) + (dy * dy));
             if (distance <= Radius)
@@ -97,8 +106,66 @@ internal sealed class CutterCompensation
             return (new Point3(tool.X, tool.Y, target.Z), null, CompensationFault.None);
         }
 
-        var theta = Math.Atan2(tool.Y - _programY, tool.X - _programX); // from the programmed corner to the tool
         var alpha = Math.Atan2(target.Y - _programY, target.X - _programX); // the new move's direction
+        var (nx, ny) = Normal(alpha);
+        var lineEnd = new Point3(target.X + nx, target.Y + ny, target.Z);
+        var (corner, concave) = Corner(tool, alpha, rapid);
+        Remember(target);
+        // An inside corner is refused; the moves after it are judged as if it ended beside its programmed end.
+        return (lineEnd, corner, concave ? CompensationFault.ConcaveCorner : CompensationFault.None);
+    }
+
+    /// <summary>
+    /// The compensated end of an arc about the programmed <paramref name="centre"/> from the programmed point to
+    /// <paramref name="target"/>: the same centre, the radius one cutter radius larger (the cutter outside the arc) or
+    /// smaller (inside: G41 with G03, G42 with G02); with the corner before it, if any.
+    /// </summary>
+    public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Arc(Point3 tool, Point3 target, Point3 centre, bool clockwise)
+    {
+        if (!Entered)
+        {
+            return (target, null, CompensationFault.StartOnArc);
+        }
+
+        if (target.X == _programX && target.Y == _programY)
+        {
+            return (target, null, CompensationFault.FullCircle);
+        }
+
+        var arcRadius = Math.Sqrt(((target.X - centre.X) * (target.X - centre.X)) + ((target.Y - centre.Y) * (target.Y - centre.Y)));
+        var inside = (Side == 41) != clockwise;
+        if (inside && arcRadius <= Radius)
+        {
+            Remember(target);
+            return (target, null, CompensationFault.ArcTooSmall);
+        }
+
+        // The arc's direction where it starts: square to the radius, ahead in the arc's sense.
+        var toCentre = Math.Atan2(centre.Y - _programY, centre.X - _programX);
+        var alpha = toCentre + (clockwise ? Math.PI / 2 : -Math.PI / 2);
+        var scale = (arcRadius + (inside ? -Radius : Radius)) / arcRadius;
+        var end = new Point3(centre.X + ((target.X - centre.X) * scale), centre.Y + ((target.Y - centre.Y) * scale), target.Z);
+        var (corner, concave) = Corner(tool, alpha, rapid: false);
+        Remember(target);
+        return (end, corner, concave ? CompensationFault.ConcaveCorner : CompensationFault.None);
+    }
+
+    // One radius square to direction alpha, on the compensation's side.
+    private (double X, double Y) Normal(double alpha)
+    {
+        var normal = alpha + ((Side == 41 ? 1.0 : -1.0) * Math.PI / 2);
+        return (Radius * Math.Cos(normal), Radius * Math.Sin(normal));
+    }
+
+    /// <summary>
+    /// The corner between the move before (the tool is one radius off its programmed end, square to it) and a move
+    /// leaving the programmed point in direction <paramref name="alpha"/>: an arc about the programmed point for an
+    /// outside corner, none when going straight on, and whether it is an inside corner.
+    /// </summary>
+    private (CompensationCorner? Corner, bool Concave) Corner(Point3 tool, double alpha, bool rapid)
+    {
+        var theta = Math.Atan2(tool.Y - _programY, tool.X - _programX); // from the programmed corner to the tool
+        alpha = Math.Atan2(Math.Sin(alpha), Math.Cos(alpha));
         double beta;
         if (Side == 41)
         {
@@ -111,20 +178,18 @@ internal sealed class CutterCompensation
             beta = alpha - theta - (Math.PI / 2);
         }
 
-        var normal = alpha + (sign * Math.PI / 2);
-        var (nx, ny) = (Radius * Math.Cos(normal), Radius * Math.Sin(normal));
-        var lineEnd = new Point3(target.X + nx, target.Y + ny, target.Z);
         if (beta < -CornerTolerance || beta > Math.PI + CornerTolerance)
         {
-            // Refused; the moves after it are judged as if it ended beside its programmed end.
-            Remember(target);
-            return (lineEnd, null, CompensationFault.ConcaveCorner);
+            return (null, true);
         }
-        CompensationCorner? corner = beta > CornerTolerance
-            ? new CompensationCorner(new Point3(_programX + nx, _programY + ny, tool.Z), new Point3(_programX, _programY, tool.Z), Side == 41, !rapid)
-            : null;
-        Remember(target);
-        return (lineEnd, corner, CompensationFault.None);
+
+        if (beta <= CornerTolerance)
+        {
+            return (null, false);
+        }
+
+        var (nx, ny) = Normal(alpha);
+        return (new CompensationCorner(new Point3(_programX + nx, _programY + ny, tool.Z), new Point3(_programX, _programY, tool.Z), Side == 41, !rapid), false);
     }
 
     /// <summary>The length of a corner's way from <paramref name="tool"/> to its end: along the arc, or straight for a rapid.</summary>

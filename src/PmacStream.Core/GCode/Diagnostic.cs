@@ -127,7 +127,7 @@ public static class DiagnosticCodes
 
     /// <summary>
     /// A block cutter radius compensation cannot be computed for: compensation outside the XY plane (G18, G19) or under a
-    /// programmable transformation, an arc, a canned cycle, a reference return, a G53 move or a rotary axis while it is
+    /// programmable transformation, a start on an arc, a full circle, an arc too small for the cutter inside it, a canned cycle, a reference return, a G53 move or a rotary axis while it is
     /// on, G41/G42 while it is already on, a radius change while it is on.
     /// </summary>
     public const string CompensationNotRunnable = "E133";

@@ -113,8 +113,7 @@ public sealed partial class Interpreter
 
         if (mode is not (0 or 1) || rotary || _plane != 17 || _transform != null)
         {
-            var (what, en, zh) = mode is 2 or 3 ? ("G0" + mode.ToString(System.Globalization.CultureInfo.InvariantCulture), "arcs are not compensated by the host yet", "主机尚不补偿圆弧")
-                : rotary ? ("A/B/C", "a rotary axis move is not compensated", "不补偿旋转轴运动")
+            var (what, en, zh) = rotary ? ("A/B/C", "a rotary axis move is not compensated", "不补偿旋转轴运动")
                 : mode is 0 or 1 ? ("G0" + mode.ToString(System.Globalization.CultureInfo.InvariantCulture), "compensation runs in the XY plane (G17) without mirror, scaling or rotation only", "补偿只在无镜像、缩放、旋转的 XY 平面（G17）执行")
                 : ("move", "only G00 and G01 are compensated", "只补偿 G00 和 G01");
             Add(diags, DiagnosticCodes.CompensationNotRunnable, line, column, what, en, zh);
@@ -135,6 +134,57 @@ public sealed partial class Interpreter
 
         (_corner, _compensated) = (corner, true);
         return corner is { } c ? (end, _comp.CornerLength(start, c) + c.Mid.DistanceTo(end) - start.DistanceTo(end)) : (end, 0);
+    }
+
+    /// <summary>
+    /// The compensated end of an arc about the programmed <paramref name="centre"/> and its length (the corner's, then
+    /// the offset arc's), when compensation is on; reports what cannot be compensated.
+    /// </summary>
+    private (Point3 End, double Length) CompensateArc(Point3 start, Point3 target, Point3? centre, bool clockwise, double length, bool rotary, List<Diagnostic>? diags, int line, int column)
+    {
+        var code = clockwise ? "G02" : "G03";
+        if (_comp.Lost || centre is not { } c)
+        {
+            return (target, length);
+        }
+
+        if (rotary || _plane != 17 || _transform != null)
+        {
+            Add(diags, DiagnosticCodes.CompensationNotRunnable, line, column, rotary ? "A/B/C" : code,
+                rotary ? "a rotary axis move is not compensated" : "compensation runs in the XY plane (G17) without mirror, scaling or rotation only",
+                rotary ? "不补偿旋转轴运动" : "补偿只在无镜像、缩放、旋转的 XY 平面（G17）执行");
+            _comp.Lose();
+            return (target, length);
+        }
+
+        var (end, corner, fault) = _comp.Arc(start, target, c, clockwise);
+        if (fault != CompensationFault.None)
+        {
+            var (en, zh) = fault switch
+            {
+                CompensationFault.StartOnArc => ("compensation cannot start on an arc: enter with a straight move", "补偿不能从圆弧开始：请用直线引入"),
+                CompensationFault.ArcTooSmall => ($"the cutter runs inside an arc whose radius is not larger than the cutter radius ({ModalState.Num(_comp.Radius)} mm)", $"刀具在半径不大于刀具半径（{ModalState.Num(_comp.Radius)} mm）的圆弧内侧"),
+                CompensationFault.FullCircle => ("a full circle is not compensated", "不补偿整圆"),
+                _ => (string.Empty, string.Empty),
+            };
+            if (fault == CompensationFault.ConcaveCorner)
+            {
+                Add(diags, DiagnosticCodes.CompensationConcaveCorner, line, column);
+            }
+            else
+            {
+                Add(diags, DiagnosticCodes.CompensationNotRunnable, line, column, code, en, zh);
+                _comp.Lose();
+            }
+
+            return (fault == CompensationFault.ConcaveCorner ? end : target, length);
+        }
+
+        (_corner, _compensated) = (corner, true);
+        var programmedRadius = Math.Sqrt(((target.X - c.X) * (target.X - c.X)) + ((target.Y - c.Y) * (target.Y - c.Y)));
+        var compensatedRadius = Math.Sqrt(((end.X - c.X) * (end.X - c.X)) + ((end.Y - c.Y) * (end.Y - c.Y)));
+        var arc = programmedRadius > 0 ? length * compensatedRadius / programmedRadius : length;
+        return (end, corner is { } k ? _comp.CornerLength(start, k) + arc : arc);
     }
 
     /// <summary>A move compensation does not take (a cycle, a reference return, G53) while it is on.</summary>

@@ -13,7 +13,7 @@ namespace PmacStream.GCode;
 /// G53 moves in machine coordinates, G10/G52/G92 set offsets (<see cref="WorkCoordinates"/>), G43/G44 H apply the tool
 /// length on Z, G51.1/G51/G68 mirror, scale and rotate the programmed positions before the work offset
 /// (<see cref="ProgramTransform"/>). Positions are machine coordinates in millimetres whatever the program's units (G20 values are scaled
-/// by 25.4), so they are what the controller's axes reach. G41/G42 compensate straight moves in the XY plane
+/// by 25.4), so they are what the controller's axes reach. G41/G42 compensate lines and arcs in the XY plane
 /// (<see cref="CutterCompensation"/>): positions are the tool's, beside the programmed path; rotary axes (A/B/C) are accepted and not tracked, so an offset that would move one is refused (E131).
 /// </summary>
 public sealed partial class Interpreter
@@ -412,7 +412,10 @@ public sealed partial class Interpreter
             {
                 // Incremental words count from the programmed point, not from the tool beside it.
                 end = Target(_comp.Programmed(start), x, y, z);
-                (end, cornerLength) = Compensate(start, end, mode, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);
+                if (mode is not (2 or 3))
+                {
+                    (end, cornerLength) = Compensate(start, end, mode, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);
+                }
             }
             else
             {
@@ -443,8 +446,14 @@ public sealed partial class Interpreter
                     }
 
                     kind = cw ? MotionKind.ArcCw : MotionKind.ArcCcw;
-                    (center, length) = ArcGeometry.Solve(cw, _plane, start, end, i0, j0, k0, r, _arcAbsolute && _transform == null, _coords.Active,
+                    // Under compensation the arc is the programmed one (from the programmed point), then offset.
+                    (center, length) = ArcGeometry.Solve(cw, _plane, _comp.Active ? _comp.Programmed(start) : start, end, i0, j0, k0, r, _arcAbsolute && _transform == null, _coords.Active,
                         _profile.ArcTolerance, diags, line, modeCol, col);
+                    if (_comp.Active)
+                    {
+                        (end, length) = CompensateArc(start, end, center, cw, length, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);
+                    }
+
                     (_arcCentre, _arcClockwise) = (center, cw);
                     seconds = FeedTime(length, hasF, diags, line, modeCol, mode);
                     break;

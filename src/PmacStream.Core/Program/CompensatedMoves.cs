@@ -39,7 +39,16 @@ internal static class CompensatedMoves
         }
 
         var end = interp.Position - offset;
-        lines.Add($"{(rapid ? "G00" : "G01")} X{HostConversion.Num(end.X)} Y{HostConversion.Num(end.Y)} Z{HostConversion.Num(end.Z)}{(rapid ? string.Empty : f)}");
+        if (interp.MotionCode is 2 or 3 && interp.LastArc is { Centre: { } c } arc)
+        {
+            // The offset arc about the programmed centre, from where the tool is (after the corner, if any).
+            var v = c - (interp.LastCorner?.Mid ?? start);
+            lines.Add($"{(arc.Clockwise ? "G02" : "G03")} X{HostConversion.Num(end.X)} Y{HostConversion.Num(end.Y)} Z{HostConversion.Num(end.Z)} I{HostConversion.Num(v.X)} J{HostConversion.Num(v.Y)}{f}");
+        }
+        else
+        {
+            lines.Add($"{(rapid ? "G00" : "G01")} X{HostConversion.Num(end.X)} Y{HostConversion.Num(end.Y)} Z{HostConversion.Num(end.Z)}{(rapid ? string.Empty : f)}");
+        }
         if (rapid && f.Length > 0)
         {
             lines.Add(f.TrimStart()); // the block's feed, for the feed moves after it

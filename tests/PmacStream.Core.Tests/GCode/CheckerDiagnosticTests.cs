@@ -83,7 +83,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.CycleInInverseTime, "O1\nG93 G81 X1 Y1 Z-1 R1 F2", 2, 5 },
         { DiagnosticCodes.RotaryOffset, "O1\nG10 L2 P2 A90.", 2, 11 },
         { DiagnosticCodes.NoCutterRadius, "O1\nG00 G41 D1 X1", 2, 5 },
-        { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nG02 X10. Y10. R10.", 5, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G02 X10. Y-10. R10. F100", 4, 8 },
         { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-4.\nG41 D1 G01 X0 Y0 F100", 4, 8 },
         { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nX-30.", 5, 1 },
     };

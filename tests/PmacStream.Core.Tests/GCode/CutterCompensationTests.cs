@@ -91,6 +91,18 @@ public class CutterCompensationTests
     }
 
     [Fact]
+    public void An_arc_keeps_its_centre_and_is_one_radius_larger_outside_and_smaller_inside_after_a_corner_arc_where_it_turns_away()
+    {
+        // G41: a G02 runs with the cutter outside (radius 15), a G03 inside (radius 5).
+        var b = Run("G21 G90 G17\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nG02 X20. Y0 I10. J0\nG03 X40. Y0 I10. J0\nG01 X40. Y20.", Fanuc);
+        At(b[3], 25, 0, 0);  // tangent on from the entry: no corner; end 15 from the centre (10, 0)
+        b[3].Center.Should().Be(new Point3(10, 0, 0));
+        b[3].Length.Should().BeApproximately(Math.PI * 15, 1e-9);
+        At(b[4], 35, 0, 0);  // tangent on again, the cutter inside the G03: radius 5 about (30, 0)
+        At(b[5], 35, 20, 0);
+    }
+
+    [Fact]
     public void The_radius_comes_from_G10_L12_and_L13_under_FANUC_and_from_the_spindle_tool_under_RS274NGC()
     {
         var b = Run("G21 G90 G17\nG10 L12 P7 R3.\nG10 L13 P7 R-0.5\nG00 X0 Y-20.\nG41 D7 G01 X0 Y0 F100", Fanuc);
@@ -103,7 +115,10 @@ public class CutterCompensationTests
     public static TheoryData<string, string, int, int> Refused => new()
     {
         { DiagnosticCodes.NoCutterRadius, "G0 X0 Y-20\nG41 D9 G01 X0 Y0 F100", 2, 1 },
-        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG02 X10 Y10 R10", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G02 X10 Y-10 R10 F100", 2, 8 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG03 X-4 Y4 R4", 3, 1 },
+        { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG02 I10 J0", 3, 1 },
+        { DiagnosticCodes.CompensationConcaveCorner, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG03 X-10 Y-10 I0 J-10", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G18\nG0 X0 Y-20\nG41 D1 G01 X0 Y0 F100", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG18", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG42 D1 X10", 3, 1 },

@@ -214,7 +214,7 @@ public class PositionProofTests(ITestOutputHelper output)
         }
     }
 
-    /// <summary>G41/G42 on straight moves in G55 with a tool length: outside corners, a rapid corner, incremental and Z-only blocks, inch blocks.</summary>
+    /// <summary>G41/G42 in G55 with a tool length: outside corners, a rapid corner, incremental and Z-only blocks, inch blocks, arcs outside and inside (I/J and R).</summary>
     public const string Compensated = """
         %
         O2000 (CUTTER RADIUS COMPENSATION)
@@ -243,6 +243,22 @@ public class PositionProofTests(ITestOutputHelper output)
         G00 X70. Y90.
         G01 X20. Y88.
         G40 X0 Y100.
+        G00 Z5.
+        X0 Y-20.
+        G01 Z-1. F400.
+        G41 D1 X0 Y0
+        Y20.
+        G02 X20. Y40. I20. J0
+        G01 X40.
+        G02 X50. Y30. I0 J-10.
+        G01 Y0
+        G02 X40. Y-10. R10.
+        G01 X20.
+        G03 X10. Y-20. I0 J-10.
+        G01 Y-40.
+        G02 X0 Y-30. I0 J10.
+        G01 Y-10.
+        G40 X-20. Y-10.
         G00 Z10.
         M30
         %

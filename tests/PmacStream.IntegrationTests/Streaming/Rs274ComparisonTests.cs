@@ -78,8 +78,9 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
             "\"referencePositions\": {}, \"toolLengths\": { \"1\": 50, \"2\": 75.5, \"3\": 42.25 }, \"toolRadii\": { \"4\": 5, \"5\": 2.5 }"), "linuxcnc-mill+tools");
 
     /// <summary>
-    /// G41/G42 on straight moves: entries, straight runs, outside corners (feed arcs and a rapid's straight way), an
-    /// incremental block, a Z-only block, lines at any angle; tools 4 (radius 5) and 5 (radius 2.5) from the tool table.
+    /// G41/G42: entries, straight runs, outside corners (feed arcs and a rapid's straight way), an incremental block, a
+    /// Z-only block, lines at any angle, arcs with the cutter outside (G41 G02) and inside (G41 G03), tangent or after a
+    /// corner; tools 4 (radius 5) and 5 (radius 2.5) from the tool table.
     /// </summary>
     private const string Compensated = """
         G21 G90 G17 G94 G40 G49 G54
@@ -108,6 +109,23 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
         G0 X70 Y90
         G1 X20 Y88
         G40 X0 Y100
+        G0 Z5
+        T4 M6
+        G0 X0 Y-20 Z5
+        G1 Z-1 F400
+        G41 X0 Y0
+        Y20
+        G2 X20 Y40 I20 J0
+        G1 X40
+        G2 X50 Y30 I0 J-10
+        G1 Y0
+        G2 X40 Y-10 I-10 J0
+        G1 X20
+        G3 X10 Y-20 I0 J-10
+        G1 Y-40
+        G2 X0 Y-30 I0 J10
+        G1 Y-10
+        G40 X-20 Y-10
         G0 Z5
         M2
         """;
