@@ -197,7 +197,8 @@ public sealed record ModalState
 
         if (RadiusCompensation is { } gh)
         {
-            lines.Add(gh is 41 or 42 ? $"G{Num(gh)} D{CutterComp}" : $"G{Num(gh)}");
+            // The controller never runs G41/G42: the host sends compensated positions, so it gets G40 (no PMAC CC).
+            lines.Add(forController && gh is 41 or 42 ? "G40" : gh is 41 or 42 ? $"G{Num(gh)} D{CutterComp}" : $"G{Num(gh)}");
         }
 
         lines.Add(SpindleSpeed > 0 ? $"S{Num(SpindleSpeed)} M0{Spindle}" : $"M0{Spindle}");

@@ -141,6 +141,14 @@ public class CutterCompensationTests
     }
 
     [Fact]
+    public void A_start_from_a_block_under_compensation_sends_G40_to_the_controller_whose_positions_are_compensated_already()
+    {
+        var state = Run("G21 G90 G17\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100", Fanuc)[^1].Modal;
+        state.ToPreamble(null, forController: true).Should().Contain("G40").And.NotContain(l => l.Contains("G41", StringComparison.Ordinal));
+        state.ToPreamble(null, forController: false).Should().Contain("G41 D1", "a program preamble keeps the program's code");
+    }
+
+    [Fact]
     public void A_straight_run_and_outside_corners_check_clean_and_G41_is_no_longer_a_code_the_controller_cannot_run()
     {
         var (summary, diags) = new Checker(Fanuc).CheckText("O1\nG21 G90 G17\nG0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nY10\nY20\nX10\nG40 X20 Y-20\nM30");

@@ -270,9 +270,7 @@ public class PositionProofTests(ITestOutputHelper output)
         using var dir = new TestFolder("proof");
         var path = Path.Combine(dir.Path, "comp.nc");
         await File.WriteAllTextAsync(path, Compensated);
-        var json = JsonNode.Parse(Machine().ToJson())!.AsObject();
-        json["toolRadii"] = new JsonObject { ["1"] = 5, ["2"] = 2.5 };
-        var profile = MachineProfile.Parse(json.ToJsonString(), "fanuc-mill+radii");
+        var (json, profile) = WithRadii();
         var (lines, diags) = new Checker(profile).CheckText(Compensated);
         diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty("straight moves with outside corners are compensated");
         lines.NotYetCodes.Should().BeEmpty("G41 and G42 are the host's");
@@ -285,6 +283,26 @@ public class PositionProofTests(ITestOutputHelper output)
         var uncompensated = MachineProfile.Parse(json.ToJsonString(), "fanuc-mill+zero");
         var sentPlain = () => ProveAsync(path, uncompensated, force: false, expectedFrom: profile);
         (await sentPlain.Should().ThrowAsync<Exception>()).Which.Message.Should().Contain("the interpreter says");
+    }
+
+    [Theory]
+    [InlineData(13)]
+    [InlineData(16)]
+    [InlineData(35)]
+    public async Task A_start_from_a_block_under_cutter_radius_compensation_ends_each_block_where_the_interpreter_says(int line)
+    {
+        using var dir = new TestFolder("proof");
+        var path = Path.Combine(dir.Path, "comp.nc");
+        await File.WriteAllTextAsync(path, Compensated);
+        var report = await ProveAsync(path, WithRadii().Profile, force: false, fromLine: line);
+        report.Lines.Should().BeGreaterThan(5, "the blocks from the start on ran");
+    }
+
+    private static (JsonObject Json, MachineProfile Profile) WithRadii()
+    {
+        var json = JsonNode.Parse(Machine().ToJson())!.AsObject();
+        json["toolRadii"] = new JsonObject { ["1"] = 5, ["2"] = 2.5 };
+        return (json, MachineProfile.Parse(json.ToJsonString(), "fanuc-mill+radii"));
     }
 
     /// <summary>A program that changes the offsets before its moves: work offset data, G52, G92, tool length, rotation.</summary>
