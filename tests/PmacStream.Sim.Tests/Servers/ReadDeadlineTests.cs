@@ -19,7 +19,7 @@ public sealed class ReadDeadlineTests
     {
         await using var server = new PmacTcpServer(new ScriptedController().OpenPort, new PmacTcpServerOptions
         {
-            EndPoint = new IPEndPoint(IPAddress.Loopback, 0), PacketTimeout = TimeSpan.FromMilliseconds(300), IdleTimeout = TimeSpan.FromSeconds(60),
+            EndPoint = new IPEndPoint(IPAddress.Loopback, 0), PacketTimeout = TimeSpan.FromSeconds(1), IdleTimeout = TimeSpan.FromSeconds(60),
         });
         server.Start();
         using var w = new TcpWire(server.Port);
@@ -30,7 +30,8 @@ public sealed class ReadDeadlineTests
                 w.GetResponse("VER").Should().Equal(A("1.947\r\x06"));
             }
 
-            // A packet whose data comes a little after its header: within the packet timeout, served.
+            // A packet whose data comes a little after its header: well within the packet timeout (a loaded CI machine
+            // can delay the sender's continuation by hundreds of milliseconds), served.
             var data = A("VER");
             var packet = TcpWire.Packet(VrPmac.Download, VrPmac.GetResponse, 0, (ushort)data.Length, data);
             w.Send(packet[..VrPmac.HeaderSize]);
@@ -38,8 +39,8 @@ public sealed class ReadDeadlineTests
             w.Send(packet[VrPmac.HeaderSize..]);
             w.ReceiveReply().Should().Equal(A("1.947\r\x06"));
 
-            // Then a pause of three packet timeouts: the connection is idle, not inside a packet.
-            await Task.Delay(900);
+            // Then a pause of one and a half packet timeouts: the connection is idle, not inside a packet.
+            await Task.Delay(1500);
             w.GetResponse("VER").Should().Equal(A("1.947\r\x06"), $"round {round}: the pause after a packet is not a broken packet");
         }
 
@@ -49,7 +50,7 @@ public sealed class ReadDeadlineTests
         // A header whose data never comes: closed once the packet timeout has passed.
         var half = TcpWire.Packet(VrPmac.Download, VrPmac.GetResponse, 0, 3, A("VER"));
         w.Send(half[..VrPmac.HeaderSize]);
-        await Task.Delay(1500);
+        await Task.Delay(2500);
         w.IsClosedByServer().Should().BeTrue();
         server.MalformedPackets.Should().Be(1);
     }
