@@ -479,68 +479,18 @@ internal sealed class HostConversion
         {
             case 2 when p is 0 && _profile.ExternalWorkOffset:
                 // FANUC's external work offset: index 0 of the library's table, which its displacement adds to every offset.
-                var e = coords.External;
-                yield return $"G10 L2 P0 X{Num(e.X)} Y{Num(e.Y)} Z{Num(e.Z)}";
+                yield return ControllerState.ExternalOffset(coords.External);
                 break;
             case 2 or 20:
                 var extended = l == 20 && _profile.ExtendedWorkOffsets;
                 var n = (int)(p ?? 0);
                 var key = extended ? 5410 + n : n == 0 ? coords.Selected : n <= 6 ? 530 + (n * 10) : 590 + (n - 6);
-                var o = coords.OffsetOf(key);
-                yield return $"G10 L2 P{WorkOffsetIndex(key).ToString(CultureInfo.InvariantCulture)} X{Num(o.X)} Y{Num(o.Y)} Z{Num(o.Z)}";
+                yield return ControllerState.WorkOffset(key, coords.OffsetOf(key));
                 break;
             case 1 or 10 or 11 when p is { } t:
-                var h = (int)t;
-                yield return $"G10 L1 P{h.ToString(CultureInfo.InvariantCulture)} Z{Num(coords.LengthOf(h))}";
+                yield return ControllerState.ToolLength((int)t, coords.LengthOf((int)t));
                 break;
         }
-    }
-
-    /// <summary>
-    /// What the controller must hold to go on at the interpreter's state, as blocks the library runs: the power-on
-    /// state, then the table values the program's G10 changed (work offsets, FANUC's external offset, tool lengths) and
-    /// the G52 and G92 shifts (Before, sent before the modal preamble), and the selection of a work
-    /// offset the modal preamble cannot name (G54.1 P, G59.1-G59.3; Selection, sent after it). A start
-    /// from a block skips the blocks that set them, and the controller may hold another job's.
-    /// </summary>
-    public static (IReadOnlyList<string> Before, string? Selection) ControllerState(Interpreter interp)
-    {
-        var coords = interp.Coordinates;
-        var lines = new List<string> { PowerOnState };
-        if (interp.Profile.ExternalWorkOffset && coords.External is { } e && e != default)
-        {
-            lines.Add($"G10 L2 P0 X{Num(e.X)} Y{Num(e.Y)} Z{Num(e.Z)}");
-        }
-
-        foreach (var key in coords.ChangedOffsets)
-        {
-            var o = coords.OffsetOf(key);
-            lines.Add($"G10 L2 P{WorkOffsetIndex(key).ToString(CultureInfo.InvariantCulture)} X{Num(o.X)} Y{Num(o.Y)} Z{Num(o.Z)}");
-        }
-
-        foreach (var h in coords.ChangedTools)
-        {
-            lines.Add($"G10 L1 P{h.ToString(CultureInfo.InvariantCulture)} Z{Num(coords.LengthOf(h))}");
-        }
-
-        if (coords.Local is { } l && l != default)
-        {
-            lines.Add($"G52 X{Num(l.X)} Y{Num(l.Y)} Z{Num(l.Z)}");
-        }
-
-        if (coords.Shift is { } g && g != default)
-        {
-            lines.Add($"G92 X{Num(g.X)} Y{Num(g.Y)} Z{Num(g.Z)}");
-        }
-
-        var selected = coords.Selected;
-        var selection = selected switch
-        {
-            >= 5410 => "G54.1 P" + (selected - 5410).ToString(CultureInfo.InvariantCulture),
-            591 or 592 or 593 => "G59." + (selected - 590).ToString(CultureInfo.InvariantCulture),
-            _ => null,
-        };
-        return (lines, selection);
     }
 
     /// <summary>The library's work offset table index: 1-6 G54-G59, 7-9 G59.1-G59.3, 10 and up the extended ones (G54.1 P1 = 10).</summary>

@@ -109,7 +109,7 @@ public static class StartFromLine
             var activeOffset = interp.ActiveOffset;
             // What the controller must hold (tables, shifts) as the blocks before this one left it: taken before the
             // block changes it, for the blocks from the requested line on only (the start is the first that moves).
-            var controller = block.LineNumber >= line ? HostConversion.ControllerState(interp) : default;
+            var controller = block.LineNumber >= line ? ControllerState.Of(interp) : default;
             var decoded = interp.Step(block);
             var moved = decoded is not null && decoded.Motion != MotionKind.None;
             if (block.LineNumber >= line && moved)
