@@ -1,6 +1,6 @@
 using PmacStream.Jobs;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 

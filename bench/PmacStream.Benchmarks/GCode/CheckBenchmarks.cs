@@ -1,7 +1,7 @@
 using BenchmarkDotNet.Attributes;
 using PmacStream.Benchmarks.Generators;
 using PmacStream.GCode;
-using PmacStream.Program.Store;
+using PmacStream.Preparation.Store;
 
 namespace PmacStream.Benchmarks.GCode;
 

@@ -6,7 +6,7 @@ using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Preview;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Benchmarks.Hmi;
 

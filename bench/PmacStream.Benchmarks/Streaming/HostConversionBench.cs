@@ -2,7 +2,7 @@ using System.Diagnostics;
 using System.Globalization;
 using System.Text;
 using PmacStream.GCode;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Benchmarks.Streaming;
 

@@ -2,7 +2,7 @@ using System.Diagnostics;
 using System.Globalization;
 using System.Text;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 
@@ -89,7 +89,7 @@ public static class StreamBench
         var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(dir, "chunks") });
         Console.WriteLine($"program: {lines} blocks, split into {split.Manifest.Chunks.Count} chunks in {sw.Elapsed.TotalSeconds:0.0} s");
         sw.Restart();
-        var times = StartFromLine.MoveTimes(src);
+        var times = MoveTimeTable.FromProgram(src);
         Console.WriteLine($"move times from the interpreter: {times?.Count} blocks, {times?.TotalSeconds:0.0} s of motion, built in {sw.Elapsed.TotalSeconds:0.0} s");
         Console.WriteLine("strategy  | underruns | host CPU s | % of a core | machine s | round trips | wall s");
         foreach (var kind in kinds)
@@ -170,7 +170,7 @@ public static class StreamBench
         if (File.Exists(source))
         {
             var build = Stopwatch.StartNew();
-            times = StartFromLine.MoveTimes(source);
+            times = MoveTimeTable.FromProgram(source);
             Console.WriteLine($"move times: {times.BlockCount} blocks in {times.SampleCount} samples, {times.TotalSeconds / 3600:0.0} h of motion, built in {build.Elapsed.TotalSeconds:0.0} s");
         }
 

@@ -1,6 +1,6 @@
 using System.Diagnostics;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 
@@ -28,7 +28,7 @@ public static class TickBench
         var src = Path.Combine(dir, "bench.nc");
         StreamBench.WriteProgram(src, lines, blockMs);
         var split = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(dir, "chunks") });
-        var times = StartFromLine.MoveTimes(src);
+        var times = MoveTimeTable.FromProgram(src);
         Console.WriteLine($"program: {lines} blocks of {blockMs} ms, {split.Manifest.Chunks.Count} chunks; ticks every 50 ms of machine time");
         Console.WriteLine("strategy  | ticks  | M0/tick | status/tick | PR/tick | feed/tick | other/tick | checkpoints/tick (durable) | bytes/tick | host us/tick | host us/block | executed");
         foreach (var kind in kinds)

@@ -2,7 +2,7 @@ using System.CommandLine;
 using System.Text;
 using System.Text.Json;
 using PmacStream.GCode;
-using PmacStream.Program.Store;
+using PmacStream.Preparation.Store;
 
 namespace PmacStream.Cli.Commands;
 

@@ -1,6 +1,7 @@
 using System.Globalization;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 
@@ -10,7 +11,7 @@ namespace PmacStream.Cli.Commands;
 internal static class JobConsole
 {
     /// <summary>With <c>--force</c>: says which codes of the program the controller will skip (a forced run does not hide them).</summary>
-    public static void WarnForced(Program.ChunkManifest manifest, GCode.MachineProfile profile, bool forced)
+    public static void WarnForced(Preparation.ChunkManifest manifest, GCode.MachineProfile profile, bool forced)
     {
         if (forced && manifest.NotYetCodes is { Count: > 0 } codes)
         {

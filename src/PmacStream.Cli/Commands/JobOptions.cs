@@ -126,7 +126,7 @@ internal sealed class JobOptions
     /// Enter on a terminal; when input is not a terminal, a program that stops (its manifest's stop codes, M01 only
     /// with optional stop on) is refused here rather than left waiting for an Enter that cannot come.
     /// </summary>
-    public bool ContinueAtStops(ParseResult parse, Program.ChunkManifest manifest, GCode.MachineProfile profile)
+    public bool ContinueAtStops(ParseResult parse, Preparation.ChunkManifest manifest, GCode.MachineProfile profile)
     {
         switch (parse.GetValue(_stops)?.Trim().ToLowerInvariant())
         {

@@ -1,7 +1,7 @@
 using System.CommandLine;
 using System.Text;
 using PmacStream.GCode;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Cli.Commands;
 
@@ -67,7 +67,7 @@ internal static class ProfilesCommand
             .Append("library (`pmacstream prog1000 --profile NAME`), \"host\" (the host converts it before sending: units, cycles, ")
             .Append("reference returns...), or \"not yet\" (the checker warns W006 at its first use and a ")
             .Append("job gate refuses the program). The profile format and the sources of these facts are in ")
-            .Append("`src/PmacStream.Core/GCode/README.md`; the library's variables and the Turbo PMAC facts it relies on in ")
+            .Append("`src/PmacStream.GCode/README.md`; the library's variables and the Turbo PMAC facts it relies on in ")
             .Append("`docs/pmac-library.md`.\n\n");
         foreach (var name in MachineProfile.BuiltInNames)
         {

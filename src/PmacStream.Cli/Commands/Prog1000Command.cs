@@ -1,6 +1,6 @@
 using System.CommandLine;
 using System.Text;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Cli.Commands;
 

@@ -1,7 +1,7 @@
 using System.CommandLine;
 using PmacStream.GCode;
 using PmacStream.Jobs;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Cli.Commands;
 

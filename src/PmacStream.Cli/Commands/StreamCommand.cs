@@ -1,5 +1,6 @@
 using System.CommandLine;
 using PmacStream.Jobs;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;

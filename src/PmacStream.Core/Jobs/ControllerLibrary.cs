@@ -2,7 +2,7 @@ using System.Globalization;
 using System.Text;
 using PmacStream.GCode;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using Serilog;
 
 namespace PmacStream.Jobs;

@@ -1,5 +1,6 @@
 using System.Globalization;
 using PmacStream.Pmac;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 using Serilog;
 

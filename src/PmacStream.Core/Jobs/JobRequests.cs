@@ -1,4 +1,5 @@
 using PmacStream.GCode;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Jobs;

@@ -2,7 +2,7 @@ using System.Text;
 using System.Text.Json;
 using PmacStream.GCode;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 using Serilog;
 

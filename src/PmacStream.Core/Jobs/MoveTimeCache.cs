@@ -24,7 +24,7 @@ internal sealed class MoveTimeCache
             }
         }
 
-        var table = StartFromLine.MoveTimes(full, profile: profile);
+        var table = MoveTimeTable.FromProgram(full, profile: profile);
         lock (_tables)
         {
             _tables[full] = (info.Length, info.LastWriteTimeUtc, table);

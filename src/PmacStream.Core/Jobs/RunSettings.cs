@@ -1,6 +1,6 @@
 using System.Globalization;
 using PmacStream.GCode;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Jobs;
@@ -8,39 +8,40 @@ namespace PmacStream.Jobs;
 /// <summary>
 /// How a job is cut and run, the same for every face: the command line binds its options to it, the HMI its
 /// controls, a JSON settings file (<see cref="RunSettingsFile"/>) overrides the defaults, and the job record keeps
-/// the settings a job started with. The defaults live here and nowhere else.
+/// the settings a job started with. It starts from the defaults of the layers that use each value
+/// (<see cref="PreparationDefaults"/>, <see cref="StreamingDefaults"/>).
 /// </summary>
 public sealed record RunSettings
 {
     /// <summary>Source blocks per chunk: 1000-line chunk files.</summary>
-    public const int DefaultLinesPerChunk = 1000;
+    public const int DefaultLinesPerChunk = PreparationDefaults.BlocksPerChunk;
 
     /// <summary>Rotary buffer words (<c>&amp;1 DEFINE ROT</c>): room for the executing chunk's rest and the next whole chunk.</summary>
-    public const int DefaultBufferWords = 16_000;
+    public const int DefaultBufferWords = StreamingDefaults.BufferWords;
 
     /// <summary>Words one chunk may take: 6400 words x 8 bytes is a ~50 KB chunk file, what one motion program buffer holds.</summary>
-    public const int DefaultChunkWords = 6400;
+    public const int DefaultChunkWords = PreparationDefaults.ChunkWords;
 
     /// <summary>The download window opens at line 600 of a 1000-line chunk.</summary>
-    public const double DefaultWindowStart = 0.6;
+    public const double DefaultWindowStart = StreamingDefaults.WindowStart;
 
     /// <summary>The download window closes at line 700 of a 1000-line chunk.</summary>
-    public const double DefaultWindowEnd = 0.7;
+    public const double DefaultWindowEnd = StreamingDefaults.WindowEnd;
 
     /// <summary>The M-variable the synchronous tracking assignment writes (<c>M0==line</c>).</summary>
-    public const string DefaultTrackVariable = SyncAssignment.DefaultVariable;
+    public const string DefaultTrackVariable = PreparationDefaults.TrackVariable;
 
     /// <summary>The live feed variable moves read (<c>F(P500)</c>).</summary>
-    public const string DefaultFeedVariable = "P500";
+    public const string DefaultFeedVariable = PreparationDefaults.FeedVariable;
 
     /// <summary>The optional-stop switch the library's <c>M01</c> routine reads (1: stop there, 0: go on).</summary>
-    public const string DefaultOptionalStopVariable = "P502";
+    public const string DefaultOptionalStopVariable = PreparationDefaults.OptionalStopVariable;
 
     /// <summary>Words the session keeps free in the rotary buffer against the splitter's estimate.</summary>
-    public const int BufferMarginWords = 64;
+    public const int BufferMarginWords = StreamingDefaults.BufferMarginWords;
 
     /// <summary>The timer period (timer1's interval).</summary>
-    public static readonly TimeSpan DefaultTickPeriod = TimeSpan.FromMilliseconds(50);
+    public static readonly TimeSpan DefaultTickPeriod = StreamingDefaults.TickPeriod;
 
     /// <summary>Every setting at its default.</summary>
     public static RunSettings Default { get; } = new();

@@ -1,7 +1,7 @@
 using System.Text;
 using System.Text.Json;
 using PmacStream.GCode;
-using PmacStream.Streaming;
+using PmacStream.Preparation;
 
 namespace PmacStream.Jobs;
 

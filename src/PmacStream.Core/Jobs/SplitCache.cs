@@ -1,5 +1,5 @@
 using System.Text.Json;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Jobs;

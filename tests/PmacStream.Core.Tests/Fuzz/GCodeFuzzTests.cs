@@ -1,7 +1,7 @@
 using System.Text;
-using PmacStream.Core.Tests.Program;
+using PmacStream.Core.Tests.Preparation;
 using PmacStream.GCode;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using Xunit.Abstractions;
 
 namespace PmacStream.Core.Tests.Fuzz;

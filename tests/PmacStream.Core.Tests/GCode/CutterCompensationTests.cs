@@ -1,6 +1,6 @@
 using System.Text.Json.Nodes;
 using PmacStream.GCode;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Core.Tests.GCode;
 

@@ -1,7 +1,7 @@
 using System.Text;
 using PmacStream.GCode;
 using PmacStream.Preview;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Core.Tests.GCode;
 

@@ -4,7 +4,7 @@ using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Preview;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Hmi;

@@ -1,7 +1,7 @@
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 

@@ -1,8 +1,8 @@
 using System.Text;
-using PmacStream.Core.Tests.Program;
+using PmacStream.Core.Tests.Preparation;
 using PmacStream.GCode;
 using PmacStream.Jobs;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Core.Tests.Jobs;
 

@@ -1,6 +1,6 @@
 using System.Text;
 using PmacStream.Jobs;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Jobs;

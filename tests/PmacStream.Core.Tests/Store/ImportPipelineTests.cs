@@ -1,6 +1,6 @@
 using Microsoft.Data.Sqlite;
 using PmacStream.GCode;
-using PmacStream.Program.Store;
+using PmacStream.Preparation.Store;
 
 namespace PmacStream.Core.Tests.Store;
 

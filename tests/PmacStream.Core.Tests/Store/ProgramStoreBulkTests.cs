@@ -1,5 +1,5 @@
 using PmacStream.GCode;
-using PmacStream.Program.Store;
+using PmacStream.Preparation.Store;
 
 namespace PmacStream.Core.Tests.Store;
 

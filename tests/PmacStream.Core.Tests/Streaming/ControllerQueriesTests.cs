@@ -1,5 +1,5 @@
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Streaming;

@@ -1,4 +1,4 @@
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Streaming;

@@ -1,6 +1,7 @@
-using PmacStream.Jobs;
 using Microsoft.Data.Sqlite;
 using PmacStream.GCode;
+using PmacStream.Jobs;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Streaming;
@@ -125,7 +126,7 @@ public class StartFromLineTests
     public void Move_times_cover_every_motion_block()
     {
         var src = RepoRoot.DemoProgram;
-        var t = StartFromLine.MoveTimes(src)!;
+        var t = MoveTimeTable.FromProgram(src)!;
         t.Count.Should().BeGreaterThan(3000);
         t.TotalSeconds.Should().BeGreaterThan(60);
         t.SecondsBetween(0, int.MaxValue).Should().BeApproximately(t.TotalSeconds, 1e-6);

@@ -1,7 +1,6 @@
 using System.Text.Json.Nodes;
 using PmacStream.GCode;
-using PmacStream.Program;
-using PmacStream.Streaming;
+using PmacStream.Preparation;
 
 namespace PmacStream.Core.Tests.Streaming;
 

@@ -1,7 +1,7 @@
 using System.Security.Cryptography;
 using System.Text;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Streaming;

@@ -5,7 +5,7 @@ using System.Text.Json;
 using PmacStream.Cli;
 using PmacStream.Cli.Commands;
 using PmacStream.GCode;
-using PmacStream.Program.Store;
+using PmacStream.Preparation.Store;
 
 namespace PmacStream.IntegrationTests.Check;
 

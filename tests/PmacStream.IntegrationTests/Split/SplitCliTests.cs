@@ -1,6 +1,6 @@
 using System.Diagnostics;
 using System.Text;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.IntegrationTests.Split;
 

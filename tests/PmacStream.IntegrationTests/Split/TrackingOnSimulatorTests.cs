@@ -1,6 +1,6 @@
 using PmacStream.GCode;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 
 namespace PmacStream.IntegrationTests.Split;

@@ -7,7 +7,7 @@ using PmacStream.GCode;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
 using PmacStream.Streaming;

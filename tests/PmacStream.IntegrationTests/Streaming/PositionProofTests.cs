@@ -3,7 +3,7 @@ using System.Text.Json.Nodes;
 using PmacStream.GCode;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
 using PmacStream.Streaming;

@@ -106,7 +106,7 @@ public sealed class ProgramStopTests : IDisposable
     [Fact]
     public async Task With_paper_placement_the_probe_names_the_stop_block_the_lagging_variable_does_not()
     {
-        using var rig = new SimRig(Program(), 40, new StreamingOptions { BufferWords = 20_000 }, PmacStream.Program.TrackingPlacement.Paper);
+        using var rig = new SimRig(Program(), 40, new StreamingOptions { BufferWords = 20_000 }, PmacStream.Preparation.TrackingPlacement.Paper);
         await rig.Session.StartAsync();
         (await RunUntilStoppedAsync(rig)).Should().BeTrue();
         rig.Session.Status.Stop.Should().Be(new ProgramStop(64, "M00"));

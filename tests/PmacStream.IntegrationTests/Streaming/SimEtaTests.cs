@@ -23,7 +23,7 @@ public class SimEtaTests(ITestOutputHelper output)
     {
         const double speed = 60;
         using var rig = new SimRig(RepoRoot.DemoProgram, 1000, new StreamingOptions { BufferWords = 20_000 });
-        var times = StartFromLine.MoveTimes(RepoRoot.DemoProgram)!;
+        var times = MoveTimeTable.FromProgram(RepoRoot.DemoProgram)!;
         rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, moveTimes: times, time: new AcceleratedWallTime(rig.Sim, speed));
         await rig.Session.StartAsync();
         var samples = new List<(double Wall, double Percent, double Eta, double Old)>();

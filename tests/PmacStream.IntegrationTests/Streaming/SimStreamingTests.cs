@@ -1,4 +1,4 @@
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 

@@ -1,7 +1,7 @@
 using System.Globalization;
 using System.Text;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 using Xunit.Abstractions;

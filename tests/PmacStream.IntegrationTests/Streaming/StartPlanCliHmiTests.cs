@@ -1,7 +1,6 @@
 using PmacStream.Hmi;
 using PmacStream.Jobs;
-using PmacStream.Program;
-using PmacStream.Streaming;
+using PmacStream.Preparation;
 
 namespace PmacStream.IntegrationTests.Streaming;
 

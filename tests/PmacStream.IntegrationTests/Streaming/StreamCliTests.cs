@@ -3,7 +3,7 @@ using System.Globalization;
 using System.Net;
 using System.Text;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
 using PmacStream.Streaming;

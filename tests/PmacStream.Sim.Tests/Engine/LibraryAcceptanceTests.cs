@@ -1,5 +1,5 @@
 using PmacStream.GCode;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Sim.Tests.Engine;
 

@@ -1,6 +1,6 @@
 using System.Globalization;
 using PmacStream.GCode;
-using PmacStream.Program;
+using PmacStream.Preparation;
 
 namespace PmacStream.Sim.Tests.Engine;
 

@@ -1,0 +1,62 @@
+using PmacStream.GCode;
+
+namespace PmacStream.Preparation;
+
+/// <summary>
+/// A move under cutter radius compensation as the controller runs it: the interpreter's compensated positions in work
+/// coordinates (absolute, whatever the distance mode), the outside corner first (an arc about the programmed corner,
+/// or for a rapid a straight way to the arc's end), then the line. The PMAC's own compensation never runs: the host
+/// sends where the tool goes, so the controller, the preview and the position proof hold the same positions.
+/// </summary>
+internal static class CompensatedMoves
+{
+    /// <summary>Appends the move's lines; <paramref name="start"/> is the machine position before the block.</summary>
+    public static void Write(List<string> lines, Interpreter interp, Point3 start, double? feed)
+    {
+        var incremental = !interp.AbsoluteMode;
+        if (incremental)
+        {
+            lines.Add("G90");
+        }
+
+        var offset = interp.ActiveOffset;
+        var rapid = interp.MotionCode == 0;
+        var f = feed is { } fv ? " F" + HostConversion.Num(fv) : string.Empty;
+        if (interp.LastCorner is { } corner)
+        {
+            var mid = corner.Mid - offset;
+            if (corner.Arc)
+            {
+                // The PMAC's centre vector is incremental from the arc's start (its default INC(R)).
+                var centre = corner.Centre - start;
+                lines.Add($"{(corner.Clockwise ? "G02" : "G03")} X{HostConversion.Num(mid.X)} Y{HostConversion.Num(mid.Y)} I{HostConversion.Num(centre.X)} J{HostConversion.Num(centre.Y)}{f}");
+                f = string.Empty;
+            }
+            else
+            {
+                lines.Add($"G00 X{HostConversion.Num(mid.X)} Y{HostConversion.Num(mid.Y)}");
+            }
+        }
+
+        var end = interp.Position - offset;
+        if (interp.MotionCode is 2 or 3 && interp.LastArc is { Centre: { } c } arc)
+        {
+            // The offset arc about the programmed centre, from where the tool is (after the corner, if any).
+            var v = c - (interp.LastCorner?.Mid ?? start);
+            lines.Add($"{(arc.Clockwise ? "G02" : "G03")} X{HostConversion.Num(end.X)} Y{HostConversion.Num(end.Y)} Z{HostConversion.Num(end.Z)} I{HostConversion.Num(v.X)} J{HostConversion.Num(v.Y)}{f}");
+        }
+        else
+        {
+            lines.Add($"{(rapid ? "G00" : "G01")} X{HostConversion.Num(end.X)} Y{HostConversion.Num(end.Y)} Z{HostConversion.Num(end.Z)}{(rapid ? string.Empty : f)}");
+        }
+        if (rapid && f.Length > 0)
+        {
+            lines.Add(f.TrimStart()); // the block's feed, for the feed moves after it
+        }
+
+        if (incremental)
+        {
+            lines.Add("G91");
+        }
+    }
+}

@@ -1,0 +1,359 @@
+using PmacStream.GCode;
+
+namespace PmacStream.Preparation;
+
+/// <content>The reading side of a split: the reader and checker lanes, host conversions, the line batches handed to the writer.</content>
+public static partial class Splitter
+{
+    /// <content>The reading side of a split: the reader and checker lanes, host conversions, the line batches handed to the writer.</content>
+    private sealed partial class SplitRun
+    {
+        /// <summary>The reading thread: lexes (and checks) the source, hands lines over; returns the bytes read.</summary>
+        private long Produce()
+        {
+            try
+            {
+                _batch = TakeFree();
+                long size;
+                using (var stream = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan))
+                using (var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16))
+                {
+                    var check = _check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
+                    // The host's conversions (units, cycles, data blocks...) need the interpreter's state: the checker's, or
+                    // without a check (--force) one of their own. Without a profile the program goes as it is written.
+                    var own = _own = check == null && _o.CheckProfile != null ? new Interpreter(_o.CheckProfile) { MeasureMoves = false, RecordBlocks = false } : null;
+                    if ((check?.Interpreter ?? own) is { } interpreter)
+                    {
+                        // The blocks block delete leaves out never run: positions the host computes (G92, cycles, G28,
+                        // transformed moves) must not count them either.
+                        interpreter.BlockDeleteEnabled = _o.BlockDelete;
+                    }
+
+                    var host = _host = check != null ? new HostConversion(check.Interpreter) : own != null ? new HostConversion(own) : null;
+                    // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
+                    // The lane takes G0/G1 lines without looking them up: only when the profile runs both on the controller.
+                    var lane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile);
+                    while (true)
+                    {
+                        // The lane first, straight on the read buffer: it finds the line's end itself.
+                        // In a mode the checker's lane does not take (G91, arcs, no feed yet), no line is scanned for it.
+                        var laneNow = lane && (check?.AxisLaneOpen ?? own?.AxisLaneOpen ?? true);
+                        var peeked = false;
+                        if (laneNow && reader.PeekBuffer(out var buffer, out var position, out var end))
+                        {
+                            peeked = true;
+                            var batch = _batch!;
+                            var length = AxisLine.TryParseNext(buffer, position, end, batch.Text, batch.TextLength, out var axes);
+                            if (length >= 0 && TakeAxisLine(reader.LineNumber + 1, axes, reader.Position))
+                            {
+                                _bufferLaneLines++;
+                                reader.TakeLine(length);
+                                continue;
+                            }
+                        }
+
+                        if (!reader.ReadRaw(out var data, out var start, out var rawLength))
+                        {
+                            break;
+                        }
+
+                        var number = reader.LineNumber;
+                        if ((number & 0x3FFF) == 0)
+                        {
+                            _stop.ThrowIfCancellationRequested();
+                        }
+
+                        // The lane's other entry, for lines the buffer scan could not see whole (across two reads). A line
+                        // it saw whole was already refused, by the scan or by the checker: no second try.
+                        var tryLane = laneNow && !(peeked && reader.LineWasInBuffer);
+                        var at = tryLane ? _batch!.AxisTextRoom(rawLength) : 0; // first: it may grow the text
+                        if (tryLane && AxisLine.TryParse(data, start, rawLength, _batch!.Text, at, out var rawAxes) &&
+                            TakeAxisLine(number, rawAxes, reader.Position))
+                        {
+                            continue;
+                        }
+
+                        var block = reader.LexRaw();
+                        host?.Before();
+                        if (check != null)
+                        {
+                            if (number == 1 && reader.StartsWithUtf16Bom)
+                            {
+                                check.Utf16(_source, reader.Position, TimeSpan.Zero);
+                                break;
+                            }
+
+                            check.Line(block);
+                            _unused.Clear();
+                            foreach (var d in check.LineDiagnostics)
+                            {
+                                if (d.Code == DiagnosticCodes.UnusedWord)
+                                {
+                                    _unused.Add(d.Column);
+                                }
+                            }
+                        }
+                        else
+                        {
+                            own?.StepCore(block, null);
+                        }
+
+                        Take(block, host?.Convert(block));
+                    }
+
+                    if (check != null && reader.TextAfterTapeEnd)
+                    {
+                        check.TextAfterTapeEnd(reader.TapeEndLine);
+                    }
+
+                    if (check?.Finish(_source, reader.Position, TimeSpan.Zero, reader.LineNumber) is { UnlistedErrors: > 0 } checkedAll)
+                    {
+                        // Errors past the per-line listing limit were counted, not listed: the refusal counts them all.
+                        _checkErrorCount += Math.Min(int.MaxValue - _checkErrorCount, checkedAll.UnlistedErrors);
+                    }
+                    size = reader.Position;
+                }
+
+                _batch!.EndPosition = size;
+                _full!.Add(_batch);
+                _batch = null;
+                return size;
+            }
+            finally
+            {
+                _full!.Complete();
+            }
+        }
+
+        /// <summary>
+        /// An <see cref="AxisLine"/> written at the end of the batch's text: checked (false: the checker wants the
+        /// full path), then kept (unless the split is refused).
+        /// </summary>
+        private bool TakeAxisLine(int number, in AxisLine axes, long position)
+        {
+            var batch = _batch!;
+            if (_check != null ? !_check.TryAxisLine(number, axes, batch.Text, batch.TextLength) :
+                _own != null && !_own.TryStepAxisLine(axes, batch.Text, batch.TextLength))
+            {
+                return false;
+            }
+
+            if ((number & 0x3FFF) == 0)
+            {
+                _stop.ThrowIfCancellationRequested();
+            }
+
+            _laneLines++;
+            if (_refusing)
+            {
+                // The line is not kept, so its text is overwritten next: read the values it left there now.
+                _check?.ReleaseText(batch.Text);
+                _own?.ReleaseText(batch.Text);
+                return true;
+            }
+
+            batch.AddAxisLine(number, axes.TextLength, axes.Words);
+            if (batch.IsFull)
+            {
+                Hand(position);
+            }
+
+            return true;
+        }
+
+        /// <summary>Hands the full batch over and takes an empty one.</summary>
+        private void Hand(long endPosition)
+        {
+            // The splitting thread reuses the batch's text once done with it: axis values still left there are read now.
+            var batch = _batch!;
+            _check?.ReleaseText(batch.Text);
+            _own?.ReleaseText(batch.Text);
+            batch.EndPosition = endPosition;
+            _full!.Add(batch);
+            _batch = TakeFree();
+        }
+
+        private LineBatch TakeFree() =>
+            _free!.TryTake(out var batch) ? batch : throw new InvalidOperationException("batch pool closed");
+
+        private void OnCheckDiagnostic(Diagnostic d)
+        {
+            if (d.Severity == Severity.Error)
+            {
+                _checkErrorCount++;
+                _refusing = !_o.AllowErrors;
+                if (_checkErrors.Count < _o.MaxReportedErrors)
+                {
+                    _checkErrors.Add(d);
+                }
+            }
+        }
+
+        private static bool LaneCodesRun(MachineProfile? profile) =>
+            profile == null || (profile.Find('G', 0)?.Controller != ControllerSupport.NotYet && profile.Find('G', 1)?.Controller != ControllerSupport.NotYet);
+
+        /// <summary>One lexed line on the reading thread; <paramref name="converted"/>: the blocks the host sends instead (null: the line as it is).</summary>
+        private void Take(GBlock b, IReadOnlyList<string>? converted)
+        {
+            if (b.DiagnosticList.Count > 0)
+            {
+                Collect(b);
+            }
+
+            if (_notYet != null)
+            {
+                NoteNotYet(b);
+            }
+
+            // Nothing for the controller in tape marks, skipped blocks and lines without words (Emit drops them too).
+            if (_refusing || b.IsTapeMark || (b.BlockDelete && _o.BlockDelete) || b.WordList.Count == 0)
+            {
+                return;
+            }
+
+            var first = false;
+            if (_host != null && !_started && converted is not { Count: 0 } && !OnlyNumbers(b))
+            {
+                // The library's state starts as the interpreter's does (power-on codes), whatever the last job left.
+                _started = first = true;
+                _batch!.Add(GCodeReader.LexLine(HostConversion.PowerOnState, b.LineNumber));
+            }
+
+            if (converted != null)
+            {
+                // One source block, several controller blocks: all carry its line, and they stay in one chunk.
+                for (var i = 0; i < converted.Count; i++)
+                {
+                    if (_host!.TryWordsOf(i, out var words))
+                    {
+                        _batch!.Add(converted[i], words, b.LineNumber, continues: first || i > 0);
+                    }
+                    else
+                    {
+                        _batch!.Add(GCodeReader.LexLine(converted[i], b.LineNumber, _hostLine ??= new GBlock()), continues: first || i > 0);
+                    }
+                }
+            }
+            else
+            {
+                // With block delete on, the part of a block after a '/' inside it is skipped (FANUC's optional block skip).
+                _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue, _unused, continues: first);
+            }
+
+            if (_batch!.IsFull)
+            {
+                Hand(b.ByteOffset + b.Length);
+            }
+        }
+
+        /// <summary>A line of only O and N words (a program number, a label): nothing for the controller.</summary>
+        private static bool OnlyNumbers(GBlock b)
+        {
+            foreach (var w in b.WordList)
+            {
+                if (w.Letter is not ('O' or 'N'))
+                {
+                    return false;
+                }
+            }
+
+            return true;
+        }
+
+        /// <summary>Records the codes of a line that the controller cannot run yet (the manifest lists them for the job gate).</summary>
+        private void NoteNotYet(GBlock b)
+        {
+            var profile = _o.CheckProfile!;
+            foreach (var w in b.WordList)
+            {
+                if (w.Letter is 'G' or 'M' && profile.Find(w.Letter, w.Value) is { Controller: ControllerSupport.NotYet } def)
+                {
+                    _notYet!.TryAdd(def.Code, b.LineNumber);
+                }
+            }
+        }
+
+        /// <summary>The splitting thread's work on one batch.</summary>
+        private void Consume(LineBatch batch)
+        {
+            var text = batch.Text;
+            var lines = batch.Lines;
+            var n = 0;
+            while (n < lines.Length)
+            {
+                ref readonly var line = ref lines[n];
+                if ((n & 0x3FF) == 0x3FF)
+                {
+                    _ct.ThrowIfCancellationRequested();
+                }
+
+                if (line.IsAxisLine)
+                {
+                    EmitAxisLine(text.AsSpan(line.TextStart, line.TextLength), line.WordCount, line.LineNumber);
+                    n++;
+                }
+                else if (n + 1 < lines.Length && lines[n + 1].Continues)
+                {
+                    // A host block of several lines: emitted together (they stay in one chunk).
+                    n = EmitGroup(batch, n);
+                }
+                else
+                {
+                    Emit(text.AsSpan(line.TextStart, line.TextLength), batch.WordsOf(line), line.LineNumber);
+                    n++;
+                }
+            }
+
+            _position = batch.EndPosition;
+        }
+
+        private void Finish()
+        {
+            if (Checking && !_o.AllowErrors && _checkErrorCount > 0)
+            {
+                throw new SplitException(
+                    $"{_source}: {_checkErrorCount} error(s); not split (force splits anyway)", _checkErrors, _checkErrorCount)
+                {
+                    FromChecker = true,
+                };
+            }
+
+            // Also when checking: lines stopped flowing at the first lexical error, so never publish what came before.
+            if (_errorCount > 0 && !_o.AllowErrors)
+            {
+                throw new SplitException(
+                    $"{_source}: {_errorCount} error(s); not split (force splits anyway, dropping what is not G-code)",
+                    _errors, _errorCount);
+            }
+
+            if (_chunkBlocks == 0)
+            {
+                throw new SplitException($"{_source}: no program blocks to split", [], 1);
+            }
+
+            Flush(last: true);
+        }
+
+        private void Collect(GBlock b)
+        {
+            _errorCount += b.UnlistedErrors;
+            _warnings += b.UnlistedWarnings;
+            foreach (var d in b.DiagnosticList)
+            {
+                if (d.Severity == Severity.Error)
+                {
+                    _errorCount++;
+                    _refusing = !_o.AllowErrors;
+                    if (_errors.Count < _o.MaxReportedErrors)
+                    {
+                        _errors.Add(d);
+                    }
+                }
+                else
+                {
+                    _warnings++;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,373 @@
+using System.Text;
+using PmacStream.GCode;
+using Serilog;
+
+namespace PmacStream.Preparation;
+
+/// <summary>
+/// Cuts a G-code program into rotary-buffer chunk files a Turbo PMAC accepts, streaming the
+/// source (memory does not grow with its size). Each chunk is <c>CLOSE</c>, <c>OPEN ROT</c>, one line per source
+/// block (plus a <c>P500=</c> line where the program sets F), and <c>CLOSE</c>; the last one carries the program
+/// tail. Lines are ASCII with CR LF ends. Output goes to a temporary folder renamed into place at the end, so a
+/// failure leaves no half-written set.
+/// </summary>
+public static partial class Splitter
+{
+    /// <summary>Chunk files' extension.</summary>
+    public const string ChunkExtension = ".pmc";
+
+    /// <summary>First lines of every chunk: close whatever buffer is open, open the rotary buffer.</summary>
+    public static readonly string Header = "CLOSE\r\nOPEN ROT\r\n";
+
+    /// <summary>Last line of every chunk, so online commands (M0 reads, P500 writes) never land in an open buffer.</summary>
+    public static readonly string Footer = "CLOSE\r\n";
+
+    private static readonly ILogger Logger = Log.ForContext(typeof(Splitter));
+
+    /// <summary>The default output folder: <c>&lt;source dir&gt;/&lt;name&gt;_chunks</c>.</summary>
+    public static string DefaultOutDir(string sourcePath)
+    {
+        var full = Path.GetFullPath(sourcePath);
+        return Path.Combine(Path.GetDirectoryName(full)!, Path.GetFileNameWithoutExtension(full) + "_chunks");
+    }
+
+    /// <summary>Splits asynchronously on the thread pool (see <see cref="Split"/>).</summary>
+    public static Task<SplitResult> SplitAsync(string sourcePath, SplitOptions? options = null,
+        IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default) =>
+        Task.Run(() => Split(sourcePath, options, progress, cancellationToken), cancellationToken);
+
+    /// <summary>
+    /// Splits <paramref name="sourcePath"/> into chunk files plus <c>manifest.json</c>.
+    /// </summary>
+    /// <exception cref="SplitException">The program has errors (and <see cref="SplitOptions.AllowErrors"/> is off),
+    /// a block cannot fit one chunk, or it holds no blocks. Nothing is written.</exception>
+    /// <exception cref="IOException">The source cannot be read or the output folder cannot be written.</exception>
+    /// <exception cref="ArgumentException">An option is invalid.</exception>
+    /// <exception cref="OperationCanceledException">Cancelled; nothing is written.</exception>
+    public static SplitResult Split(string sourcePath, SplitOptions? options = null,
+        IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default)
+    {
+        options ??= new SplitOptions();
+        options.Validate();
+        var source = Path.GetFullPath(sourcePath);
+        if (!File.Exists(source))
+        {
+            throw new FileNotFoundException($"{sourcePath}: no such file", sourcePath);
+        }
+
+        var outDir = Path.GetFullPath(options.OutDir ?? DefaultOutDir(source));
+        EnsureReplaceable(outDir);
+        using var work = SplitWorkFolder.Create(outDir);
+        var temp = work.Path;
+        Logger.Information("Splitting {Source} into {OutDir} ({Lines} blocks, {Words} words, {Bytes} bytes per chunk)",
+            source, outDir, options.LinesPerChunk, options.RotWords, options.MaxChunkBytes);
+        try
+        {
+            var run = new SplitRun(source, temp, options, progress, cancellationToken);
+            var (manifest, warnings) = run.Execute();
+            manifest.Save(Path.Combine(temp, ChunkManifest.FileName));
+            Publish(temp, outDir);
+            Logger.Information("Split {Source}: {Chunks} chunks, {Blocks} blocks ({Motion} motion)",
+                source, manifest.Chunks.Count, manifest.TotalBlocks, manifest.TotalMotionBlocks);
+            return new SplitResult(manifest, outDir, warnings) { LaneLines = run.LaneLines, BufferLaneLines = run.BufferLaneLines, NotYetCodes = run.NotYetCodes };
+        }
+        catch
+        {
+            TryDelete(temp);
+            throw;
+        }
+    }
+
+    /// <summary>An existing output folder is replaced only when it is empty or holds a previous split.</summary>
+    private static void EnsureReplaceable(string outDir)
+    {
+        if (File.Exists(outDir))
+        {
+            throw new IOException($"{outDir}: exists and is a file, not a folder");
+        }
+
+        if (!Directory.Exists(outDir))
+        {
+            return;
+        }
+
+        foreach (var f in Directory.EnumerateFileSystemEntries(outDir))
+        {
+            var name = Path.GetFileName(f);
+            if (!(name == ChunkManifest.FileName || name.EndsWith(ChunkExtension, StringComparison.OrdinalIgnoreCase) || IsDownloadReport(f)) || Directory.Exists(f))
+            {
+                throw new IOException($"{outDir}: folder exists and holds other files ({name}); choose another --out");
+            }
+        }
+    }
+
+    /// <summary>The <c>.log</c> and <c>.map</c> a PComm-style download writes beside a chunk file are part of the split.</summary>
+    private static bool IsDownloadReport(string path) =>
+        (path.EndsWith(".log", StringComparison.OrdinalIgnoreCase) || path.EndsWith(".map", StringComparison.OrdinalIgnoreCase))
+        && File.Exists(Path.ChangeExtension(path, ChunkExtension));
+
+    private static void Publish(string temp, string outDir)
+    {
+        if (!Directory.Exists(outDir))
+        {
+            Directory.Move(temp, outDir);
+            return;
+        }
+
+        // Swap: old set aside, new in place, old deleted; on failure the old set comes back.
+        var old = temp + ".old";
+        Directory.Move(outDir, old);
+        try
+        {
+            Directory.Move(temp, outDir);
+        }
+        catch
+        {
+            Directory.Move(old, outDir);
+            throw;
+        }
+
+        TryDelete(old);
+    }
+
+    private static void TryDelete(string folder)
+    {
+        try
+        {
+            if (Directory.Exists(folder))
+            {
+                Directory.Delete(folder, recursive: true);
+            }
+        }
+        catch (IOException e)
+        {
+            Logger.Warning(e, "Could not delete {Folder}", folder);
+        }
+        catch (UnauthorizedAccessException e)
+        {
+            Logger.Warning(e, "Could not delete {Folder}", folder);
+        }
+    }
+
+    /// <summary>
+    /// One split in progress. Two threads share the work: the reading thread lexes the source (and runs the
+    /// checker on the same blocks when <see cref="SplitOptions.CheckProfile"/> is set) and hands batches of lines
+    /// over a bounded queue, in order, to the calling thread, which builds the chunks; a third writes and hashes
+    /// the chunk files (<see cref="ChunkFileWriter"/>) and a fourth hashes the source. Most CAM lines are plain
+    /// axis moves in the mode in force: those take the <see cref="AxisLine"/> lane (lexed in one scan of the read
+    /// buffer, checked by <see cref="CheckRun.TryAxisLine"/>, handed over as their emitted text); every other line
+    /// takes the general lexer, checker and emitter, with the same results (AxisLaneTests compare the two).
+    /// </summary>
+    private sealed partial class SplitRun
+    {
+        private const int QueueDepth = 2;
+
+        private static readonly byte[] HeaderBytes = Encoding.ASCII.GetBytes(Header);
+        private static readonly byte[] FooterBytes = Encoding.ASCII.GetBytes(Footer);
+        private static readonly byte[] DwellZero = Encoding.ASCII.GetBytes("DWELL0");
+
+        private readonly string _source;
+        private readonly string _folder;
+        private readonly string _name;
+        private readonly SplitOptions _o;
+        private readonly IProgress<SplitProgress>? _progress;
+        private readonly CancellationToken _ct;
+        private readonly byte[] _feedVar;
+        private readonly byte[] _tail;
+        private readonly int _tailWords;
+        private readonly ByteLine _block = new(256); // the block set aside while its chunk is closed (once per chunk)
+        private readonly AsciiCounter _trackDigits = new();
+        private readonly byte[] _trackPrefix;     // "M0=="
+        private readonly ulong _trackPrefixWord;
+        private readonly byte[] _feedSuffix;      // " F(P500)"
+        private readonly ulong _feedSuffixWord;
+        private readonly ByteLine _chunk;
+        private readonly ChunkTable _chunks;
+        private long _totalBytes;
+        // Options read for every block, held in fields.
+        private readonly int _linesPerChunk;
+        private readonly long _maxChunkBytes;
+        private readonly int _rotWords;
+        private readonly int _wordsPerBlock;
+        private readonly int _limitReserve;   // tail and footer bytes every chunk keeps room for
+        private readonly bool _exactTracking;
+        private readonly bool _paperFeed;
+        private readonly bool _toolChangeMoves; // M06's hook moves to the profile's tool change position
+        private long _position;
+        private ChunkFileWriter? _writer;
+
+        // Reading thread only (read by the splitting thread after it finished).
+        private readonly List<Diagnostic> _errors = [];
+        private readonly List<Diagnostic> _checkErrors = [];
+        private int _errorCount;
+        private int _checkErrorCount;
+        private int _warnings;
+        // Errors were found and the split will be refused: stop handing lines over, keep reading to list them.
+        private bool _refusing;
+        private LineBatch? _batch;
+        private CheckRun? _check;
+        private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
+        private readonly ProgramStopCodes _stops;
+        private readonly Dictionary<string, int> _stopCodes = new(StringComparer.Ordinal); // stop codes used, first line
+        private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
+        private HostConversion? _host;
+        private GBlock? _hostLine; // the host's converted lines are lexed into this one block (the batch copies them)
+        private bool _started;              // the power-on call went before the first block
+        private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
+        private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
+        private int _laneLines;        // lines the AxisLine lane took ...
+        private int _bufferLaneLines;  // ... of them, straight from the read buffer
+        private HandOff<LineBatch>? _full;
+        private HandOff<LineBatch>? _free;
+        private CancellationToken _stop;
+
+        // Current chunk (splitting thread).
+        private int _chunkBlocks;
+        private int _chunkMotion;
+        private int _chunkWords;
+        private int _chunkFirst;
+        private int _chunkLast;
+        private int _totalBlocks;
+        private int _totalMotion;
+        private int _lastBlockStart;
+        private bool _lastBlockEndsProgram;
+
+        public SplitRun(string source, string folder, SplitOptions options, IProgress<SplitProgress>? progress, CancellationToken ct)
+        {
+            _source = source;
+            _folder = folder;
+            _name = Path.GetFileNameWithoutExtension(source);
+            _chunks = new ChunkTable(_name);
+            _o = options;
+            _progress = progress;
+            _ct = ct;
+            _feedVar = Encoding.ASCII.GetBytes(options.FeedVariable);
+            var sync = SyncAssignment.Of(options);
+            _trackPrefix = sync.PrefixBytes();
+            _trackPrefixWord = Word8(_trackPrefix);
+            _feedSuffix = Encoding.ASCII.GetBytes($" F({options.FeedVariable})");
+            _feedSuffixWord = Word8(_feedSuffix);
+            var tail = new StringBuilder();
+            foreach (var line in options.ProgramTail.Split('\n'))
+            {
+                var t = line.Trim();
+                if (t.Length > 0)
+                {
+                    tail.Append(t).Append("\r\n");
+                    _tailWords += Math.Max(1, t.Split(' ', StringSplitOptions.RemoveEmptyEntries).Length);
+                }
+            }
+
+            _tail = Encoding.ASCII.GetBytes(tail.ToString());
+            _linesPerChunk = options.LinesPerChunk;
+            _maxChunkBytes = options.MaxChunkBytes;
+            _rotWords = options.RotWords;
+            _wordsPerBlock = options.WordsPerBlock;
+            _limitReserve = _tail.Length + FooterBytes.Length;
+            _exactTracking = sync.Placement == TrackingPlacement.Exact;
+            _paperFeed = options.Feed == FeedMode.Paper;
+            _toolChangeMoves = options.CheckProfile?.ToolChangePosition != null;
+            _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
+            _chunk.Append(HeaderBytes);
+            _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null;
+            _stops = ProgramStopCodes.Of(options.CheckProfile ?? MachineProfile.Default);
+        }
+
+        /// <summary>The codes the program uses that the controller cannot run yet, with their first line (null without a profile).</summary>
+        public IReadOnlyDictionary<string, int>? NotYetCodes => _notYet;
+
+        /// <summary>Lines the <see cref="AxisLine"/> lane took (read after <see cref="Execute"/>).</summary>
+        public int LaneLines => _laneLines;
+
+        /// <summary>Of <see cref="LaneLines"/>, those scanned straight in the read buffer.</summary>
+        public int BufferLaneLines => _bufferLaneLines;
+
+        /// <summary>
+        /// The checker runs in this pass whenever there is a profile: it decides refusal (unless forced) and, forced or
+        /// not, which words the controller must not get (W003: a word the block does not use is not ignored by a PMAC).
+        /// </summary>
+        private bool Checking => _o.CheckProfile != null;
+
+        public (ChunkManifest Manifest, int Warnings) Execute()
+        {
+            long size;
+            _totalBytes = new FileInfo(_source).Length;
+            // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
+            var sourceHash = Task.Run(() => (Sha: FileHash.Sha256Hex(_source, out var hashed), Size: hashed), _ct);
+            using var stop = CancellationTokenSource.CreateLinkedTokenSource(_ct);
+            using var full = new HandOff<LineBatch>(QueueDepth, stop.Token);
+            using var free = new HandOff<LineBatch>(QueueDepth + 2, stop.Token);
+            for (var i = 0; i < QueueDepth + 2; i++)
+            {
+                free.Add(new LineBatch());
+            }
+
+            _full = full;
+            _free = free;
+            _stop = stop.Token;
+            using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct, (int)Math.Min(_o.MaxChunkBytes + 256, 1 << 20)))
+            {
+                _writer = writer;
+                var reading = Task.Factory.StartNew(Produce, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
+                try
+                {
+                    // Batches arrive in source order (one producer, one FIFO queue), so chunks keep the source order.
+                    while (full.TryTake(out var batch))
+                    {
+                        Consume(batch);
+                        batch.Clear();
+                        free.Add(batch);
+                    }
+
+                    size = reading.GetAwaiter().GetResult(); // rethrows what stopped the reading thread
+                }
+                catch
+                {
+                    stop.Cancel();
+                    try
+                    {
+                        reading.Wait(CancellationToken.None);
+                    }
+                    catch (AggregateException)
+                    {
+                        // The splitting thread's own failure is the one reported.
+                    }
+
+                    throw;
+                }
+
+                Finish();
+                writer.Complete();
+            }
+
+            var (sha, hashedSize) = sourceHash.GetAwaiter().GetResult();
+            if (hashedSize != size)
+            {
+                throw new IOException($"{_source}: changed while it was being split ({size} bytes read, {hashedSize} hashed)");
+            }
+
+            var manifest = new ChunkManifest(_source, size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
+                _o.Tracking, _o.Feed, _o.FeedVariable, _chunks)
+            {
+                LinesPerChunk = _o.LinesPerChunk,
+                RotWords = _o.RotWords,
+                WordsPerBlock = _o.WordsPerBlock,
+                MaxChunkBytes = _o.MaxChunkBytes,
+                ProgramTail = _o.ProgramTail,
+                KeepN = _o.KeepN,
+                BlockDelete = _o.BlockDelete,
+                CheckedProfile = _o.CheckedProfile,
+                NotYetCodes = _notYet,
+                StopCodes = _stopCodes,
+            };
+            return (manifest, _warnings);
+        }
+    }
+}
+
+/// <summary>Codes of the splitter's own findings (the G-code checker owns the E1xx/E2xx codes).</summary>
+public static class SplitDiagnosticCodes
+{
+    /// <summary>A single block larger than a whole chunk's budget.</summary>
+    public const string BlockTooBig = "S001";
+}

@@ -1,0 +1,123 @@
+using System.Collections.Concurrent;
+using PmacStream.GCode;
+
+namespace PmacStream.Preparation.Store;
+
+/// <summary>
+/// Check-and-store in two stages on two threads: a worker reads, checks and interprets the program into batches of
+/// decoded blocks; the calling thread (which owns the SQLite connection) binds and inserts them. SQLite's insert is
+/// the larger stage, so the reader and interpreter run for free beside it on a second core. A bounded queue keeps
+/// memory flat whatever the program size. Either side failing stops the other; the first failure is rethrown and
+/// the caller's transaction rolls back.
+/// </summary>
+internal static class ImportPipeline
+{
+    /// <summary>Blocks per batch handed between the threads.</summary>
+    internal const int BatchSize = 1024;
+
+    /// <summary>Full batches that may wait for the inserting thread.</summary>
+    internal const int QueueDepth = 4;
+
+    /// <summary>Runs the check on a worker and stores every block and diagnostic through <paramref name="writer"/>.</summary>
+    public static CheckSummary Run(Stream source, string file, MachineProfile profile, ProgramWriter writer, Action<Diagnostic>? onDiagnostic,
+        CancellationToken cancellationToken)
+    {
+        using var stop = CancellationTokenSource.CreateLinkedTokenSource(cancellationToken);
+        using var full = new BlockingCollection<Batch>(QueueDepth);
+        using var free = new BlockingCollection<Batch>();
+        for (var i = 0; i < QueueDepth + 2; i++)
+        {
+            free.Add(new Batch());
+        }
+
+        var producer = Task.Factory.StartNew(
+            () =>
+            {
+                try
+                {
+                    var batch = free.Take(stop.Token);
+                    var summary = new Checker(profile).Check(source, file, d =>
+                    {
+                        batch.Diagnostics.Add(d);
+                        onDiagnostic?.Invoke(d);
+                    }, interp =>
+                    {
+                        batch.Add(in interp.Last, interp.State);
+                        if (batch.Count == BatchSize)
+                        {
+                            full.Add(batch, stop.Token);
+                            batch = free.Take(stop.Token);
+                        }
+                    }, stop.Token);
+                    full.Add(batch, stop.Token);
+                    return summary;
+                }
+                finally
+                {
+                    full.CompleteAdding();
+                }
+            },
+            CancellationToken.None,
+            TaskCreationOptions.LongRunning,
+            TaskScheduler.Default);
+
+        try
+        {
+            foreach (var batch in full.GetConsumingEnumerable())
+            {
+                for (var i = 0; i < batch.Count; i++)
+                {
+                    writer.Add(in batch.Blocks[i], batch.Modals[i]!);
+                }
+
+                foreach (var d in batch.Diagnostics)
+                {
+                    writer.Add(d);
+                }
+
+                batch.Clear();
+                free.Add(batch);
+            }
+        }
+        catch
+        {
+            // The store failed: stop the reader (it may be waiting for room in the queue), then report the store's error.
+            stop.Cancel();
+            try
+            {
+                producer.Wait();
+            }
+            catch (AggregateException)
+            {
+            }
+
+            throw;
+        }
+
+        // The reader's own failure (I/O, cancellation, a throwing callback) surfaces here, unwrapped.
+        return producer.GetAwaiter().GetResult();
+    }
+
+    /// <summary>Decoded blocks (interpreter fields plus the shared, immutable modal state) and diagnostics.</summary>
+    internal sealed class Batch
+    {
+        public readonly Interpreter.LastBlock[] Blocks = new Interpreter.LastBlock[BatchSize];
+        public readonly ModalState?[] Modals = new ModalState?[BatchSize];
+        public readonly List<Diagnostic> Diagnostics = [];
+
+        public int Count { get; private set; }
+
+        public void Add(in Interpreter.LastBlock block, ModalState modal)
+        {
+            Blocks[Count] = block;
+            Modals[Count] = modal;
+            Count++;
+        }
+
+        public void Clear()
+        {
+            Count = 0;
+            Diagnostics.Clear();
+        }
+    }
+}

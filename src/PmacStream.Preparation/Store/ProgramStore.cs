@@ -1,0 +1,432 @@
+using System.Globalization;
+using System.Security.Cryptography;
+using Microsoft.Data.Sqlite;
+using PmacStream.GCode;
+using Serilog;
+
+namespace PmacStream.Preparation.Store;
+
+/// <summary>A program as stored: where it came from and how its check went.</summary>
+/// <param name="Id">Row id.</param>
+/// <param name="Path">Source file path as given.</param>
+/// <param name="Size">File size in bytes.</param>
+/// <param name="Sha256">SHA-256 of the file, lower-case hex.</param>
+/// <param name="Lines">Source lines.</param>
+/// <param name="Blocks">Stored blocks.</param>
+/// <param name="Errors">Error diagnostics.</param>
+/// <param name="Warnings">Warning diagnostics.</param>
+/// <param name="EstimatedSeconds">Estimated run time at programmed feeds.</param>
+/// <param name="Profile">Machine profile name used for the check.</param>
+/// <param name="Created">When it was stored (UTC).</param>
+public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256, int Lines, long Blocks, int Errors, int Warnings,
+    double EstimatedSeconds, string Profile, DateTimeOffset Created)
+{
+    /// <summary>The check summary as <c>N errors, M warnings, B blocks</c>.</summary>
+    public string CheckSummary => $"{Errors} errors, {Warnings} warnings, {Blocks} blocks";
+}
+
+/// <summary>
+/// The relational program store (SQLite): a <c>programs</c> table, a <c>blocks</c> table with one row per
+/// interpreted block (<c>Lines, GA..GI, MA..MC, X, Y, Z, I, J, K, R, F, S, T, H, P</c> plus D, the absolute start/end
+/// positions, arc centre, motion kind, length, time and the modal T/H/D/S/F) and a <c>diagnostics</c> table. The first
+/// nine G and three M modal groups of the profile fill GA..GI and MA..MC; a profile's further groups go to
+/// <c>group_states</c> as JSON (<c>{"G":[94,null,98],"M":[6]}</c>), once per distinct state, which a block names in
+/// <c>group_state</c>; the group names go to <c>programs.groups</c>, so a
+/// state reads back equal to the interpreter's whatever the profile. Single
+/// block, selected blocks and continuous execution (and the preview) read from here. Inserts go through one prepared
+/// statement inside one transaction per program, so an interrupted import leaves nothing behind.
+/// </summary>
+public sealed class ProgramStore : IDisposable
+{
+    private static readonly ILogger Logger = Log.ForContext<ProgramStore>();
+
+    internal const string BlockColumns =
+        "key, program_id, Lines, byte_offset, N, block_delete, GA, GB, GC, GD, GE, GF, GG, GH, GI, MA, MB, MC, " +
+        "X, Y, Z, I, J, K, R, F, S, T, H, D, P, motion, start_x, start_y, start_z, end_x, end_y, end_z, " +
+        "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f, group_state";
+
+    private const string Schema = """
+        CREATE TABLE IF NOT EXISTS programs (
+            id INTEGER PRIMARY KEY,
+            path TEXT NOT NULL,
+            size INTEGER NOT NULL,
+            sha256 TEXT NOT NULL,
+            lines INTEGER NOT NULL,
+            blocks INTEGER NOT NULL,
+            errors INTEGER NOT NULL,
+            warnings INTEGER NOT NULL,
+            estimated_seconds REAL NOT NULL,
+            profile TEXT NOT NULL,
+            check_summary TEXT NOT NULL,
+            created TEXT NOT NULL,
+            groups TEXT);
+        CREATE INDEX IF NOT EXISTS programs_sha ON programs(sha256);
+        CREATE TABLE IF NOT EXISTS blocks (
+            key INTEGER PRIMARY KEY, program_id INTEGER NOT NULL, Lines INTEGER NOT NULL, byte_offset INTEGER NOT NULL,
+            N REAL, block_delete INTEGER NOT NULL,
+            GA REAL, GB REAL, GC REAL, GD REAL, GE REAL, GF REAL, GG REAL, GH REAL, GI REAL, MA REAL, MB REAL, MC REAL,
+            X REAL, Y REAL, Z REAL, I REAL, J REAL, K REAL, R REAL, F REAL, S REAL, T REAL, H REAL, D REAL, P REAL,
+            motion INTEGER NOT NULL, start_x REAL, start_y REAL, start_z REAL, end_x REAL, end_y REAL, end_z REAL,
+            center_x REAL, center_y REAL, center_z REAL, length REAL, duration REAL,
+            modal_t INTEGER, modal_h INTEGER, modal_d INTEGER, modal_s REAL, modal_f REAL, group_state INTEGER);
+        CREATE TABLE IF NOT EXISTS group_states (
+            program_id INTEGER NOT NULL, id INTEGER NOT NULL, more TEXT NOT NULL, PRIMARY KEY (program_id, id)) WITHOUT ROWID;
+        CREATE TABLE IF NOT EXISTS diagnostics (
+            program_id INTEGER NOT NULL, severity TEXT NOT NULL, code TEXT NOT NULL, line INTEGER NOT NULL,
+            col INTEGER NOT NULL, message TEXT NOT NULL);
+        CREATE INDEX IF NOT EXISTS diagnostics_program ON diagnostics(program_id, line);
+        """;
+
+    private readonly SqliteConnection _connection;
+
+    private ProgramStore(SqliteConnection connection) => _connection = connection;
+
+    /// <summary>The database file.</summary>
+    public string Path { get; private init; } = string.Empty;
+
+    /// <summary>Opens (creating when needed) a store file.</summary>
+    public static ProgramStore Open(string path) =>
+        // WAL keeps readers (HMI, preview) going while a program is imported; NORMAL sync is safe with WAL.
+        OpenWith(path, "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA temp_store=MEMORY;");
+
+    /// <summary>
+    /// Checks a file and stores it as the first program of a database file that does not exist yet: the fast path of
+    /// <c>check --db NEW.db</c>. The database is built beside <paramref name="dbPath"/> under a temporary name with
+    /// no write-ahead log (every page is written once instead of to the WAL and again at the checkpoint) and renamed
+    /// into place only when complete, so a failure or cancellation leaves no file behind. The result is an ordinary
+    /// store in WAL mode. Throws <see cref="IOException"/> when <paramref name="dbPath"/> exists.
+    /// </summary>
+    public static (long ProgramId, CheckSummary Summary) ImportToNewFile(string dbPath, string file, MachineProfile profile,
+        Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
+    {
+        if (File.Exists(dbPath))
+        {
+            throw new IOException($"{dbPath}: already exists");
+        }
+
+        var full = System.IO.Path.GetFullPath(dbPath);
+        var temp = System.IO.Path.Combine(System.IO.Path.GetDirectoryName(full)!,
+            $".{System.IO.Path.GetFileName(full)}.{Environment.ProcessId}.{Guid.NewGuid():N}.importing");
+        try
+        {
+            (long, CheckSummary) result;
+            // The rollback journal stays in memory: pages appended by the import are never journaled (a rollback
+            // just forgets them), and nobody else can see the temporary file. One exclusive lock for the whole run.
+            using (var store = OpenWith(temp, $"PRAGMA page_size={BulkPageSize}; PRAGMA journal_mode=MEMORY; PRAGMA synchronous=OFF; " +
+                                              $"PRAGMA locking_mode=EXCLUSIVE; PRAGMA temp_store=MEMORY; PRAGMA cache_size=-{BulkCacheKiB};"))
+            {
+                result = store.Import(file, profile, onDiagnostic, cancellationToken);
+                using var cmd = store._connection.CreateCommand();
+                // Back to the store's normal mode for the readers that open it later; nothing to checkpoint yet.
+                cmd.CommandText = "PRAGMA locking_mode=NORMAL; PRAGMA journal_mode=WAL;";
+                using var results = cmd.ExecuteReader();
+                while (results.NextResult())
+                {
+                }
+            }
+
+            File.Move(temp, full, overwrite: false);
+            return result;
+        }
+        finally
+        {
+            foreach (var f in new[] { temp, temp + "-journal", temp + "-wal", temp + "-shm" })
+            {
+                if (File.Exists(f))
+                {
+                    File.Delete(f);
+                }
+            }
+        }
+    }
+
+    /// <summary>Page size of a database built by <see cref="ImportToNewFile"/> (fewer, fuller pages for long tables).</summary>
+    internal const int BulkPageSize = 16384;
+
+    /// <summary>Page cache of the bulk import, KiB (bounded: peak memory of check --db must stay small).</summary>
+    internal const int BulkCacheKiB = 4096;
+
+    private static ProgramStore OpenWith(string path, string pragmas)
+    {
+        var cs = new SqliteConnectionStringBuilder { DataSource = path, Mode = SqliteOpenMode.ReadWriteCreate, Pooling = false }.ToString();
+        var connection = new SqliteConnection(cs);
+        try
+        {
+            connection.Open();
+            using var cmd = connection.CreateCommand();
+            cmd.CommandText = pragmas + Schema;
+
+            // Every statement's result is stepped: after a PRAGMA that returns a row, ExecuteNonQuery runs the rest
+            // while disposing its reader and drops their errors, so a full disk surfaced later as "no such table".
+            using var results = cmd.ExecuteReader();
+            while (results.NextResult())
+            {
+            }
+
+            AddMissingColumns(connection);
+        }
+        catch
+        {
+            connection.Dispose();
+            throw;
+        }
+
+        return new ProgramStore(connection) { Path = path };
+    }
+
+    /// <summary>A store written before profiles had any number of modal groups gets the columns that hold the others.</summary>
+    private static void AddMissingColumns(SqliteConnection connection)
+    {
+        foreach (var (table, column) in new[] { ("programs", "groups"), ("blocks", "group_state") })
+        {
+            using var cmd = connection.CreateCommand();
+            cmd.CommandText = $"SELECT COUNT(*) FROM pragma_table_info('{table}') WHERE name = '{column}'";
+            if ((long)cmd.ExecuteScalar()! == 0)
+            {
+                cmd.CommandText = $"ALTER TABLE {table} ADD COLUMN {column} {(column == "groups" ? "TEXT" : "INTEGER")}";
+                cmd.ExecuteNonQuery();
+            }
+        }
+    }
+
+    /// <summary>
+    /// Starts storing a program. Add blocks and diagnostics to the writer, then <see cref="ProgramWriter.Complete"/>;
+    /// disposing it without completing rolls everything back. Without the profile's groups the nine G and three M
+    /// groups of paper-24g7m are assumed.
+    /// </summary>
+    public ProgramWriter BeginProgram(string sourcePath, long size, string profile) => new(_connection, sourcePath, size, profile, null);
+
+    /// <summary>Starts storing a program checked against <paramref name="profile"/> (its modal groups are recorded).</summary>
+    public ProgramWriter BeginProgram(string sourcePath, long size, MachineProfile profile) =>
+        new(_connection, sourcePath, size, profile.Name, StoredGroups.Describe(profile));
+
+    /// <summary>
+    /// Checks a file and stores every block and diagnostic in one pass (hashing as it reads). Returns the program id
+    /// and the summary; <paramref name="onDiagnostic"/> sees each diagnostic as it is found, in line order, on a
+    /// worker thread: reading and interpreting run on one thread while SQLite stores the blocks on the calling one.
+    /// </summary>
+    public (long ProgramId, CheckSummary Summary) Import(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
+    {
+        using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
+        using var hashing = new HashingReadStream(fs);
+        using var writer = BeginProgram(file, fs.Length, profile);
+        var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken);
+        writer.Complete(summary, hashing.HashHex());
+        Logger.Information("Stored {File} as program {Id}: {Summary} in {Ms} ms", file, writer.ProgramId, summary.ToString(), (int)summary.Elapsed.TotalMilliseconds);
+        return (writer.ProgramId, summary);
+    }
+
+    /// <summary>All stored programs, newest first.</summary>
+    public IReadOnlyList<ProgramInfo> ListPrograms()
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created FROM programs ORDER BY id DESC";
+        return ReadPrograms(cmd);
+    }
+
+    /// <summary>A stored program by id, or null.</summary>
+    public ProgramInfo? GetProgram(long id)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created FROM programs WHERE id = $id";
+        cmd.Parameters.AddWithValue("$id", id);
+        return ReadPrograms(cmd).FirstOrDefault();
+    }
+
+    /// <summary>The newest stored program with this SHA-256 (so an unchanged file need not be imported again), or null.</summary>
+    public ProgramInfo? FindBySha256(string sha256)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created FROM programs WHERE sha256 = $s ORDER BY id DESC LIMIT 1";
+        cmd.Parameters.AddWithValue("$s", sha256.ToLowerInvariant());
+        return ReadPrograms(cmd).FirstOrDefault();
+    }
+
+    /// <summary>The block at a source line (single-block execution, start from line), or null when that line holds no block.</summary>
+    public DecodedBlock? GetBlockAtLine(long programId, int line)
+    {
+        var groups = GroupsOf(programId);
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key = $k";
+        cmd.Parameters.AddWithValue("$k", Key(programId, line));
+        using var r = cmd.ExecuteReader();
+        return r.Read() ? ReadBlock(r, groups) : null;
+    }
+
+    /// <summary>The first block at or after a source line (where execution starts when a chosen line is empty), or null.</summary>
+    public DecodedBlock? GetBlockAtOrAfterLine(long programId, int line)
+    {
+        var groups = GroupsOf(programId);
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key >= $a AND key <= $b ORDER BY key LIMIT 1";
+        cmd.Parameters.AddWithValue("$a", Key(programId, Math.Max(0, line)));
+        cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
+        using var r = cmd.ExecuteReader();
+        return r.Read() ? ReadBlock(r, groups) : null;
+    }
+
+    /// <summary>The blocks whose source lines lie in [<paramref name="fromLine"/>, <paramref name="toLine"/>] (selected-block execution).</summary>
+    public IReadOnlyList<DecodedBlock> GetRange(long programId, int fromLine, int toLine) => ReadBlocks(programId, fromLine, toLine).ToList();
+
+    /// <summary>
+    /// An ordered cursor over the blocks from a source line on (continuous execution, preview). Streams rows; keep
+    /// the enumeration short-lived or on its own store instance, since it holds a read statement open.
+    /// </summary>
+    public IEnumerable<DecodedBlock> ReadBlocks(long programId, int fromLine = 1, int toLine = int.MaxValue)
+    {
+        var groups = GroupsOf(programId);
+        using var cmd = _connection.CreateCommand();
+        // The row key is (program, line), so a range of lines is a range of keys: no index, no sort.
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key BETWEEN $a AND $b ORDER BY key";
+        cmd.Parameters.AddWithValue("$a", Key(programId, Math.Max(0, fromLine)));
+        cmd.Parameters.AddWithValue("$b", Key(programId, Math.Max(0, toLine)));
+        using var r = cmd.ExecuteReader();
+        while (r.Read())
+        {
+            yield return ReadBlock(r, groups);
+        }
+    }
+
+    /// <summary>The modal groups a program was stored with (paper-24g7m's nine and three for a program stored without them).</summary>
+    public StoredGroups GroupsOf(long programId)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT groups FROM programs WHERE id = $id";
+        cmd.Parameters.AddWithValue("$id", programId);
+        var names = cmd.ExecuteScalar() as string;
+        cmd.CommandText = "SELECT id, more FROM group_states WHERE program_id = $id";
+        var states = new Dictionary<long, string>();
+        using (var r = cmd.ExecuteReader())
+        {
+            while (r.Read())
+            {
+                states[r.GetInt64(0)] = r.GetString(1);
+            }
+        }
+
+        return StoredGroups.Parse(names, states);
+    }
+
+    /// <summary>The stored diagnostics of a program in line order.</summary>
+    public IReadOnlyList<Diagnostic> GetDiagnostics(long programId)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT severity, code, line, col, message FROM diagnostics WHERE program_id = $p ORDER BY line, rowid";
+        cmd.Parameters.AddWithValue("$p", programId);
+        using var r = cmd.ExecuteReader();
+        var list = new List<Diagnostic>();
+        while (r.Read())
+        {
+            list.Add(new Diagnostic(r.GetString(0) == "error" ? Severity.Error : Severity.Warning, r.GetString(1), r.GetInt32(2), r.GetInt32(3), r.GetString(4)));
+        }
+
+        return list;
+    }
+
+    /// <summary>Deletes a program with its blocks and diagnostics.</summary>
+    public void DeleteProgram(long programId)
+    {
+        using var tx = _connection.BeginTransaction();
+        using var cmd = _connection.CreateCommand();
+        cmd.Transaction = tx;
+        cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; " +
+                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
+        cmd.Parameters.AddWithValue("$p", programId);
+        cmd.Parameters.AddWithValue("$a", Key(programId, 0));
+        cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
+        cmd.ExecuteNonQuery();
+        tx.Commit();
+    }
+
+    /// <inheritdoc />
+    public void Dispose() => _connection.Dispose();
+
+    /// <summary>Row key of a block: program id in the high 32 bits, source line in the low ones (one block per line).</summary>
+    internal static long Key(long programId, int line) => (programId << 32) | (uint)line;
+
+    private static List<ProgramInfo> ReadPrograms(SqliteCommand cmd)
+    {
+        using var r = cmd.ExecuteReader();
+        var list = new List<ProgramInfo>();
+        while (r.Read())
+        {
+            list.Add(new ProgramInfo(r.GetInt64(0), r.GetString(1), r.GetInt64(2), r.GetString(3), r.GetInt32(4), r.GetInt64(5),
+                r.GetInt32(6), r.GetInt32(7), r.GetDouble(8), r.GetString(9),
+                DateTimeOffset.Parse(r.GetString(10), CultureInfo.InvariantCulture, DateTimeStyles.AssumeUniversal)));
+        }
+
+        return list;
+    }
+
+    private static DecodedBlock ReadBlock(SqliteDataReader r, StoredGroups groups)
+    {
+        double? D(int i) => r.IsDBNull(i) ? null : r.GetDouble(i);
+        var (g, m) = groups.Values(i => D(6 + i), i => D(15 + i), r.IsDBNull(48) ? null : r.GetInt64(48));
+        var modal = new ModalState
+        {
+            G = g,
+            M = m,
+            Tool = r.GetInt32(43), LengthOffset = r.GetInt32(44), CutterComp = r.GetInt32(45), SpindleSpeed = r.GetDouble(46), Feed = D(47),
+        };
+        return new DecodedBlock
+        {
+            Line = r.GetInt32(2),
+            ByteOffset = r.GetInt64(3),
+            N = D(4),
+            BlockDelete = r.GetInt32(5) != 0,
+            Modal = modal,
+            X = D(18), Y = D(19), Z = D(20), I = D(21), J = D(22), K = D(23), R = D(24), F = D(25), S = D(26), T = D(27), H = D(28), D = D(29), P = D(30),
+            Motion = (MotionKind)r.GetInt32(31),
+            Start = new Point3(r.GetDouble(32), r.GetDouble(33), r.GetDouble(34)),
+            End = new Point3(r.GetDouble(35), r.GetDouble(36), r.GetDouble(37)),
+            Center = r.IsDBNull(38) ? null : new Point3(r.GetDouble(38), r.GetDouble(39), r.GetDouble(40)),
+            Length = r.GetDouble(41),
+            DurationSeconds = r.GetDouble(42),
+        };
+    }
+}
+
+/// <summary>Read-through stream that hashes what passes (SHA-256 of the file while checking it, without a second read).</summary>
+internal sealed class HashingReadStream(Stream inner) : Stream
+{
+    private readonly IncrementalHash _hash = IncrementalHash.CreateHash(HashAlgorithmName.SHA256);
+
+    public override bool CanRead => true;
+
+    public override bool CanSeek => false;
+
+    public override bool CanWrite => false;
+
+    public override long Length => inner.Length;
+
+    public override long Position { get => inner.Position; set => throw new NotSupportedException(); }
+
+    public string HashHex() => Convert.ToHexStringLower(_hash.GetHashAndReset());
+
+    public override int Read(byte[] buffer, int offset, int count)
+    {
+        var n = inner.Read(buffer, offset, count);
+        _hash.AppendData(buffer, offset, n);
+        return n;
+    }
+
+    public override void Flush()
+    {
+    }
+
+    public override long Seek(long offset, SeekOrigin origin) => throw new NotSupportedException();
+
+    public override void SetLength(long value) => throw new NotSupportedException();
+
+    public override void Write(byte[] buffer, int offset, int count) => throw new NotSupportedException();
+
+    protected override void Dispose(bool disposing)
+    {
+        if (disposing)
+        {
+            _hash.Dispose();
+        }
+
+        base.Dispose(disposing);
+    }
+}

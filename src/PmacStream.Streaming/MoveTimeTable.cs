@@ -1,0 +1,207 @@
+using PmacStream.GCode;
+
+namespace PmacStream.Streaming;
+
+/// <summary>
+/// Move times by tracked source line as prefix sums: O(log n) for any span, 16 bytes a sample. Every block is a
+/// sample up to <see cref="DefaultMaxSamples"/> blocks; beyond that only every k-th block is kept (k doubles as the
+/// program grows) and spans inside a sampling interval are interpolated by line number, so a gigabyte program still
+/// gets an ETA from the interpreter's times in a few megabytes.
+/// </summary>
+public sealed class MoveTimeTable : IMoveTimes
+{
+    /// <summary>
+    /// Move times of every motion block of a source, from the interpreter (seconds at programmed feed), for the ETA
+    /// and the adaptive lead. Memory stays bounded for any size: past <paramref name="maxSamples"/> blocks the table
+    /// keeps every k-th block and interpolates between (see the class).
+    /// </summary>
+    public static MoveTimeTable FromProgram(string sourcePath, int maxSamples = DefaultMaxSamples, MachineProfile? profile = null)
+    {
+        return new MoveTimeTable(Moves(sourcePath, profile ?? MachineProfile.Default), maxSamples);
+
+        static IEnumerable<(int, double, double)> Moves(string path, MachineProfile profile)
+        {
+            var interp = new Interpreter(profile);
+            using var reader = GCodeReader.Open(path);
+            while (reader.Read())
+            {
+                // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.
+                if (interp.StepCore(reader.Current, null) && interp.Last.Motion != MotionKind.None)
+                {
+                    yield return (interp.Last.Line, interp.Last.DurationSeconds, interp.State.Feed ?? double.NaN);
+                }
+            }
+        }
+    }
+
+    /// <summary>Samples kept before the table starts thinning (2 MB of samples).</summary>
+    public const int DefaultMaxSamples = 131_072;
+
+    private readonly int[] _lines;
+    private readonly double[] _prefix;
+    private readonly float[]? _feeds;
+    private readonly int _stride;
+
+    /// <summary>Builds the table from (source line, seconds) pairs in source order.</summary>
+    public MoveTimeTable(IEnumerable<(int Line, double Seconds)> moves)
+        : this(moves.Select(m => (m.Line, m.Seconds, double.NaN)), withFeeds: false, DefaultMaxSamples)
+    {
+    }
+
+    /// <summary>Builds the table from (source line, seconds, programmed feed) in source order; the feeds give the live-feed ratio.</summary>
+    public MoveTimeTable(IEnumerable<(int Line, double Seconds, double Feed)> moves)
+        : this(moves, withFeeds: true, DefaultMaxSamples)
+    {
+    }
+
+    /// <summary>As above, keeping at most <paramref name="maxSamples"/> samples (at least 2).</summary>
+    public MoveTimeTable(IEnumerable<(int Line, double Seconds, double Feed)> moves, int maxSamples)
+        : this(moves, withFeeds: true, maxSamples)
+    {
+    }
+
+    private MoveTimeTable(IEnumerable<(int Line, double Seconds, double Feed)> moves, bool withFeeds, int maxSamples)
+    {
+        ArgumentOutOfRangeException.ThrowIfLessThan(maxSamples, 2);
+        var lines = new List<int>();
+        var prefix = new List<double> { 0 };
+        var feeds = withFeeds ? new List<float>() : null;
+        var sum = 0.0;
+        var stride = 1;
+        var blocks = 0;
+        int curLine = int.MinValue;
+        var curFeed = float.NaN;
+
+        void Close()
+        {
+            // The block just finished becomes a sample when it is the stride-th one; thinning keeps every other
+            // sample, which keeps exactly the blocks on the doubled stride.
+            blocks++;
+            if (blocks % stride != 0)
+            {
+                return;
+            }
+
+            lines.Add(curLine);
+            prefix.Add(sum);
+            feeds?.Add(curFeed);
+            if (lines.Count > maxSamples)
+            {
+                Thin(lines, prefix, feeds);
+                stride *= 2;
+            }
+        }
+
+        foreach (var (line, seconds, feed) in moves)
+        {
+            if (curLine != int.MinValue && line <= curLine)
+            {
+                // Several moves of one block (or out of order): fold into the current block.
+                sum += Math.Max(0, seconds);
+                continue;
+            }
+
+            if (curLine != int.MinValue)
+            {
+                Close();
+            }
+
+            curLine = line;
+            curFeed = (float)feed;
+            sum += Math.Max(0, seconds);
+        }
+
+        if (curLine != int.MinValue)
+        {
+            Close();
+            if (lines.Count == 0 || lines[^1] != curLine)
+            {
+                // The last block always ends the table, whatever the stride, so the total is exact.
+                lines.Add(curLine);
+                prefix.Add(sum);
+                feeds?.Add(curFeed);
+            }
+        }
+
+        BlockCount = blocks;
+        _stride = stride;
+        _lines = lines.ToArray();
+        _prefix = prefix.ToArray();
+        _feeds = feeds?.ToArray();
+    }
+
+    /// <inheritdoc />
+    public double? ProgrammedFeedAt(int line)
+    {
+        if (_feeds is null || _lines.Length == 0)
+        {
+            return null;
+        }
+
+        var i = Array.BinarySearch(_lines, line);
+        if (i < 0)
+        {
+            i = Math.Max(0, ~i - 1);
+        }
+
+        var f = _feeds[i];
+        return float.IsFinite(f) && f > 0 ? f : null;
+    }
+
+    /// <summary>Total seconds of all blocks.</summary>
+    public double TotalSeconds => _prefix[^1];
+
+    /// <summary>Number of blocks with a time.</summary>
+    public int Count => BlockCount;
+
+    /// <summary>Number of blocks with a time.</summary>
+    public int BlockCount { get; }
+
+    /// <summary>Samples kept (equals <see cref="BlockCount"/> until the program outgrows the sample budget).</summary>
+    public int SampleCount => _lines.Length;
+
+    /// <inheritdoc />
+    public double SecondsBetween(int afterLine, int throughLine) =>
+        throughLine <= afterLine ? 0 : Through(throughLine) - Through(afterLine);
+
+    /// <summary>Seconds of the blocks up to and including <paramref name="line"/> (interpolated inside a sampling interval).</summary>
+    public double Through(int line)
+    {
+        var i = Array.BinarySearch(_lines, line);
+        if (i >= 0)
+        {
+            return _prefix[i + 1];
+        }
+
+        var next = ~i;
+        if (_stride == 1 || next >= _lines.Length)
+        {
+            // Every block is a sample (or the line lies past the last): no motion between the sample before and it.
+            return _prefix[next];
+        }
+
+        var loLine = next == 0 ? 0 : _lines[next - 1];
+        var lo = _prefix[next];
+        var hi = _prefix[next + 1];
+        return lo + ((hi - lo) * (line - loLine) / Math.Max(1, _lines[next] - loLine));
+    }
+
+    private static void Thin(List<int> lines, List<double> prefix, List<float>? feeds)
+    {
+        // Keep samples 1, 3, 5, ... (0-based): the later block of each pair. prefix[0] is the origin and stays.
+        var n = lines.Count / 2;
+        for (var k = 0; k < n; k++)
+        {
+            lines[k] = lines[(2 * k) + 1];
+            prefix[k + 1] = prefix[(2 * k) + 2];
+            if (feeds is not null)
+            {
+                feeds[k] = feeds[(2 * k) + 1];
+            }
+        }
+
+        lines.RemoveRange(n, lines.Count - n);
+        prefix.RemoveRange(n + 1, prefix.Count - n - 1);
+        feeds?.RemoveRange(n, feeds.Count - n);
+    }
+}

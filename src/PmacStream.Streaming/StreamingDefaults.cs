@@ -1,0 +1,23 @@
+namespace PmacStream.Streaming;
+
+/// <summary>
+/// The defaults of how a session feeds the rotary buffer. They live with the layer that uses them; the job service's
+/// <c>RunSettings</c> starts from them.
+/// </summary>
+public static class StreamingDefaults
+{
+    /// <summary>Rotary buffer words (<c>&amp;1 DEFINE ROT</c>): room for the executing chunk's rest and the next whole chunk.</summary>
+    public const int BufferWords = 16_000;
+
+    /// <summary>The download window opens at line 600 of a 1000-line chunk.</summary>
+    public const double WindowStart = 0.6;
+
+    /// <summary>The download window closes at line 700 of a 1000-line chunk.</summary>
+    public const double WindowEnd = 0.7;
+
+    /// <summary>Words the session keeps free in the rotary buffer against the splitter's estimate.</summary>
+    public const int BufferMarginWords = 64;
+
+    /// <summary>The timer period (timer1's interval).</summary>
+    public static readonly TimeSpan TickPeriod = TimeSpan.FromMilliseconds(50);
+}
