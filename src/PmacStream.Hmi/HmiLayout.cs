@@ -66,10 +66,10 @@ public static class HmiLayout
     public static readonly LayoutBox CheckButton = new(12, 54, 90, 28);
     /// <summary>Split button.</summary>
     public static readonly LayoutBox SplitButton = new(108, 54, 90, 28);
-    /// <summary>Lines per chunk label.</summary>
-    public static readonly LayoutBox LinesPerChunkLabel = new(206, 60, 100, 20);
-    /// <summary>Lines per chunk box.</summary>
-    public static readonly LayoutBox LinesPerChunkBox = new(310, 56, 96, 23);
+    /// <summary>Blocks per chunk label.</summary>
+    public static readonly LayoutBox BlocksPerChunkLabel = new(206, 60, 100, 20);
+    /// <summary>Blocks per chunk box.</summary>
+    public static readonly LayoutBox BlocksPerChunkBox = new(310, 56, 96, 23);
     /// <summary>Strategy label.</summary>
     public static readonly LayoutBox StrategyLabel = new(12, 92, 90, 20);
     /// <summary>Strategy combo.</summary>

@@ -55,8 +55,8 @@ public enum TextId
     Check,
     /// <summary>Split button.</summary>
     Split,
-    /// <summary>Lines per chunk label.</summary>
-    LinesPerChunk,
+    /// <summary>Blocks per chunk label.</summary>
+    BlocksPerChunk,
     /// <summary>Strategy label.</summary>
     Strategy,
     /// <summary>Diagnostics list header.</summary>
@@ -204,7 +204,7 @@ public static class HmiText
         [TextId.Open] = ("Open…", "打开…"),
         [TextId.Check] = ("Check", "检查"),
         [TextId.Split] = ("Split", "拆分"),
-        [TextId.LinesPerChunk] = ("Lines per file", "每文件行数"),
+        [TextId.BlocksPerChunk] = ("Blocks per chunk", "每块程序段数"),
         [TextId.Strategy] = ("Strategy", "下载策略"),
         [TextId.Diagnostics] = ("Diagnostics", "诊断信息"),
         [TextId.ChunkFiles] = ("Chunk files (ListBox1)", "拆分文件 (ListBox1)"),

@@ -111,7 +111,7 @@ public interface IMainView
     event EventHandler<int>? DiagnosticActivated;
 
     /// <summary>Blocks per chunk file (numeric box); the presenter shows the run settings' value first.</summary>
-    int LinesPerChunk { get; set; }
+    int BlocksPerChunk { get; set; }
 
     /// <summary>
     /// The download window of the chunk strategy: start and end as fractions of the executing chunk (lines 600-700

@@ -92,7 +92,7 @@ public sealed class MainPresenter : IAsyncDisposable
         view.ProgramStopBanner = string.Empty;
         view.ConnectionState = T(TextId.StateDisconnected);
         view.FeedOverride = _feedOverride;
-        view.LinesPerChunk = _settings.LinesPerChunk;
+        view.BlocksPerChunk = _settings.BlocksPerChunk;
         view.DownloadWindow = (_settings.WindowStart, _settings.WindowEnd);
         view.ProgramLineCount = 0;
         view.ChunkLineCount = 0;
@@ -106,7 +106,7 @@ public sealed class MainPresenter : IAsyncDisposable
     /// <summary>The running or last job's status.</summary>
     public HmiJobStatus? JobStatus => _lastStatus;
 
-    /// <summary>The run settings the next job starts with (lines per chunk and window as the controls last set them).</summary>
+    /// <summary>The run settings the next job starts with (blocks per chunk and window as the controls last set them).</summary>
     public RunSettings Settings => _settings;
 
     /// <summary>The timer period the form ticks with (<see cref="TickAsync"/>).</summary>
@@ -283,7 +283,8 @@ public sealed class MainPresenter : IAsyncDisposable
     private async Task SplitAsync()
     {
         var program = _program ?? throw new InvalidOperationException("Open a program first.");
-        _settings = _settings with { LinesPerChunk = Math.Max(1, _view.LinesPerChunk) };
+        // The job service checks the shape (one place: ChunkShape.Validate); the box only offers 1 and more.
+        _settings = _settings with { BlocksPerChunk = _view.BlocksPerChunk };
 
         // The job service's gate: the program is checked under the machine profile whether or not Check ran.
         var split = await _gate.SplitAsync(program.Path, _settings, _language, _life.Token).ConfigureAwait(true);

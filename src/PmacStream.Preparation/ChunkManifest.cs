@@ -63,26 +63,34 @@ public sealed record ChunkManifest(
     /// <summary>The file name the splitter writes beside the chunks.</summary>
     public const string FileName = "manifest.json";
 
-    /// <summary>Most source blocks the splitter allowed per chunk (0 when unknown).</summary>
-    public int LinesPerChunk { get; init; }
+    /// <summary>
+    /// What shaped the chunks' bytes, whole (its tail named); the split cache reuses the split only for an equal shape.
+    /// Null in a manifest of an older version, which kept the shape in the flat fields below: such a split is read and
+    /// streamed, but split again rather than reused.
+    /// </summary>
+    public ChunkShape? Shape { get; init; }
 
-    /// <summary>The rotary buffer size in words the chunks were sized for (0 when unknown).</summary>
-    public int RotWords { get; init; }
+    /// <summary>Most source blocks per chunk (0 when unknown); written as <c>linesPerChunk</c> for readers of older manifests.</summary>
+    [JsonPropertyName("linesPerChunk")]
+    public int BlocksPerChunk => Shape?.BlocksPerChunk ?? 0;
 
-    /// <summary>The explicit words-per-block estimate used (0 when unknown).</summary>
-    public int WordsPerBlock { get; init; }
+    /// <summary>The words a chunk was allowed (<see cref="ChunkShape.ChunkWords"/>; 0 when unknown), for readers of older manifests.</summary>
+    public int RotWords => Shape?.ChunkWords ?? 0;
 
-    /// <summary>Byte budget of one chunk file (0 when unknown).</summary>
-    public long MaxChunkBytes { get; init; }
+    /// <summary>The explicit words-per-block estimate used (0 when unknown), for readers of older manifests.</summary>
+    public int WordsPerBlock => Shape?.WordsPerBlock ?? 0;
 
-    /// <summary>Lines appended to the last chunk after the last source block (null when unknown).</summary>
-    public string? ProgramTail { get; init; }
+    /// <summary>Byte budget of one chunk file (0 when unknown), for readers of older manifests.</summary>
+    public long MaxChunkBytes => Shape?.MaxChunkBytes ?? 0;
 
-    /// <summary>True when N numbers were kept in the chunks.</summary>
-    public bool KeepN { get; init; }
+    /// <summary>Lines appended to the last chunk after the last source block (null when unknown), for readers of older manifests.</summary>
+    public string? ProgramTail => Shape?.ProgramTail;
 
-    /// <summary>True when block delete was on (<c>/</c> blocks left out); manifests of older versions read as on.</summary>
-    public bool BlockDelete { get; init; } = true;
+    /// <summary>True when N numbers were kept in the chunks, for readers of older manifests.</summary>
+    public bool KeepN => Shape?.KeepN ?? false;
+
+    /// <summary>True when block delete was on (<c>/</c> blocks left out; true when unknown), for readers of older manifests.</summary>
+    public bool BlockDelete => Shape?.BlockDelete ?? true;
 
     /// <summary>
     /// The machine profile the program was checked against while it was split, as <see cref="SplitOptions.CheckedProfile"/>
@@ -149,7 +157,18 @@ public sealed record ChunkManifest(
         }
 
         w.WriteEndArray();
-        w.WriteNumber("linesPerChunk", LinesPerChunk);
+        if (Shape == null)
+        {
+            w.WriteNull("shape");
+        }
+        else
+        {
+            // The shape's own (generated) serializer, so that its fields are written and read by one definition.
+            w.WritePropertyName("shape");
+            JsonSerializer.Serialize(w, Shape, ChunkManifestJsonContext.Default.ChunkShape);
+        }
+
+        w.WriteNumber("linesPerChunk", BlocksPerChunk);
         w.WriteNumber("rotWords", RotWords);
         w.WriteNumber("wordsPerBlock", WordsPerBlock);
         w.WriteNumber("maxChunkBytes", MaxChunkBytes);
@@ -251,6 +270,7 @@ public sealed record ChunkManifest(
     PropertyNamingPolicy = JsonKnownNamingPolicy.CamelCase,
     Converters = [typeof(CamelCaseEnumConverter<TrackingPlacement>), typeof(CamelCaseEnumConverter<FeedMode>)])]
 [JsonSerializable(typeof(ChunkManifest))]
+[JsonSerializable(typeof(ChunkShape))]
 internal sealed partial class ChunkManifestJsonContext : JsonSerializerContext;
 
 /// <summary>An enum written as its camel-case name (the generic converter is the AOT-safe one).</summary>

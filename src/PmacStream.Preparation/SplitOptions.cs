@@ -3,54 +3,56 @@ using PmacStream.GCode;
 namespace PmacStream.Preparation;
 
 /// <summary>
-/// How <see cref="Splitter"/> cuts a program into rotary-buffer chunks. Defaults: 1000 blocks and ~50 KB per chunk,
-/// <c>F(P500)</c> feeds, the <c>M0==line</c> synchronous assignment before each move's words (M0 names the move
-/// that executes).
+/// How <see cref="Splitter"/> cuts a program into rotary-buffer chunks: the <see cref="Shape"/> of the chunks (defaults:
+/// 1000 blocks and ~50 KB per chunk, <c>F(P500)</c> feeds, the <c>M0==line</c> synchronous assignment before each
+/// move's words), where they go, and how the program is checked on the way.
 /// </summary>
 public sealed record SplitOptions
 {
-    /// <summary>At most this many source blocks per chunk.</summary>
-    public int LinesPerChunk { get; init; } = PreparationDefaults.BlocksPerChunk;
-
-    /// <summary>The <c>DEFINE ROT</c> size in controller words a chunk must fit in (6400 x 8 bytes = ~50 KB).</summary>
-    public int RotWords { get; init; } = PreparationDefaults.ChunkWords;
+    /// <summary>What shapes the chunks' bytes; the properties below up to <see cref="BlockDelete"/> are views on it.</summary>
+    public ChunkShape Shape { get; init; } = ChunkShape.Default;
 
     /// <summary>
-    /// Explicit words-per-block estimate: every emitted block is charged at least this many rotary-buffer words
-    /// (more when it carries more values: each letter value, assignment or <c>F(...)</c> counts one word).
-    /// pmac-facts: a 4-axis move line takes about 4-6 words.
+    /// <see cref="Shape"/> as the chunks are written: its tail named (the shape's own, else the checking profile's,
+    /// else the default profile's). The manifest keeps it and the split cache compares it.
     /// </summary>
-    public int WordsPerBlock { get; init; } = 6;
+    public ChunkShape ResolvedShape => Shape.WithTailOf(CheckProfile ?? MachineProfile.Default);
 
-    /// <summary>Text bytes allowed per rotary word; the chunk file byte budget is <see cref="RotWords"/> x this.</summary>
-    public int BytesPerWord { get; init; } = 8;
+    /// <summary>At most this many source blocks per chunk (<see cref="ChunkShape.BlocksPerChunk"/>).</summary>
+    public int BlocksPerChunk { get => Shape.BlocksPerChunk; init => Shape = Shape with { BlocksPerChunk = value }; }
+
+    /// <summary>The rotary-buffer words a chunk must fit in (<see cref="ChunkShape.ChunkWords"/>; <c>--rot-words</c>).</summary>
+    public int RotWords { get => Shape.ChunkWords; init => Shape = Shape with { ChunkWords = value }; }
+
+    /// <summary>Words charged at least per emitted block (<see cref="ChunkShape.WordsPerBlock"/>).</summary>
+    public int WordsPerBlock { get => Shape.WordsPerBlock; init => Shape = Shape with { WordsPerBlock = value }; }
+
+    /// <summary>Text bytes allowed per rotary word (<see cref="ChunkShape.BytesPerWord"/>).</summary>
+    public int BytesPerWord { get => Shape.BytesPerWord; init => Shape = Shape with { BytesPerWord = value }; }
 
     /// <summary>Byte budget of a chunk file (header, blocks, tail and <c>CLOSE</c> included).</summary>
-    public long MaxChunkBytes => (long)RotWords * BytesPerWord;
+    public long MaxChunkBytes => Shape.MaxChunkBytes;
 
     /// <summary>The M-variable that receives the executing source line (<c>M0==line</c>).</summary>
-    public string TrackVariable { get; init; } = PreparationDefaults.TrackVariable;
+    public string TrackVariable { get => Shape.TrackVariable; init => Shape = Shape with { TrackVariable = value }; }
 
     /// <summary>Where the tracking assignment goes (exact: before the move; paper: after it).</summary>
-    public TrackingPlacement Tracking { get; init; } = TrackingPlacement.Exact;
+    public TrackingPlacement Tracking { get => Shape.Tracking; init => Shape = Shape with { Tracking = value }; }
 
     /// <summary>Paper: <c>F(P500)</c> on moves and programmed F carried into P500; override: F words kept.</summary>
-    public FeedMode Feed { get; init; } = FeedMode.Paper;
+    public FeedMode Feed { get => Shape.Feed; init => Shape = Shape with { Feed = value }; }
 
     /// <summary>The variable the feed expression reads (<c>F(P500)</c>).</summary>
-    public string FeedVariable { get; init; } = PreparationDefaults.FeedVariable;
+    public string FeedVariable { get => Shape.FeedVariable; init => Shape = Shape with { FeedVariable = value }; }
 
     /// <summary>Keep <c>N</c> numbers (a PMAC reads them as labels, so they are dropped by default).</summary>
-    public bool KeepN { get; init; }
+    public bool KeepN { get => Shape.KeepN; init => Shape = Shape with { KeepN = value }; }
 
     /// <summary>Block delete switch on: <c>/</c> blocks are skipped. Off: they run (emitted without the slash).</summary>
-    public bool BlockDelete { get; init; } = true;
+    public bool BlockDelete { get => Shape.BlockDelete; init => Shape = Shape with { BlockDelete = value }; }
 
-    /// <summary>
-    /// Lines appended after the last source block of the last chunk (one line per <c>\n</c>). Default <c>M05</c>;
-    /// some machines want <c>M03 M05</c> (a machine profile setting, not a constant).
-    /// </summary>
-    public string ProgramTail { get; init; } = "M05";
+    /// <summary>Lines appended after the last source block of the last chunk: <see cref="ResolvedShape"/>'s tail.</summary>
+    public string ProgramTail { get => ResolvedShape.ProgramTail!; init => Shape = Shape with { ProgramTail = value }; }
 
     /// <summary>Output folder; null means <c>&lt;source dir&gt;/&lt;name&gt;_chunks</c> beside the source.</summary>
     public string? OutDir { get; init; }
@@ -85,37 +87,8 @@ public sealed record SplitOptions
     /// </summary>
     internal bool AxisLane { get; init; } = true;
 
-    /// <summary>Throws <see cref="ArgumentException"/> naming the first bad setting.</summary>
-    public void Validate()
-    {
-        if (LinesPerChunk < 1)
-        {
-            throw new ArgumentException($"lines per chunk must be at least 1 (got {LinesPerChunk})");
-        }
-
-        if (RotWords < 1 || WordsPerBlock < 1 || BytesPerWord < 1)
-        {
-            throw new ArgumentException($"rot words, words per block and bytes per word must be positive (got {RotWords}, {WordsPerBlock}, {BytesPerWord})");
-        }
-
-        if (!IsVariable(TrackVariable) || !TrackVariable.StartsWith('M'))
-        {
-            throw new ArgumentException($"track variable must be an M-variable such as M0 (got '{TrackVariable}')");
-        }
-
-        if (!IsVariable(FeedVariable))
-        {
-            throw new ArgumentException($"feed variable must be a P, Q or M variable such as P500 (got '{FeedVariable}')");
-        }
-
-        foreach (var c in ProgramTail)
-        {
-            if (c > 127 || (c < 32 && c != '\n' && c != '\r' && c != '\t'))
-            {
-                throw new ArgumentException($"program tail must be plain ASCII (got '{ProgramTail}')");
-            }
-        }
-    }
+    /// <summary>Throws <see cref="ArgumentException"/> naming the first bad setting (the shape's rules are <see cref="ChunkShape.Validate"/>).</summary>
+    public void Validate() => Shape.Validate();
 
     /// <summary>A machine profile's name and digest (see <see cref="CheckedProfile"/>).</summary>
     public static string ProfileIdentity(MachineProfile profile)
@@ -123,8 +96,4 @@ public sealed record SplitOptions
         ArgumentNullException.ThrowIfNull(profile);
         return profile.Identity;
     }
-
-    /// <summary>P, Q or M followed by 1-4 digits (no Regex: it would load an assembly for one check).</summary>
-    private static bool IsVariable(string name) =>
-        name.Length is >= 2 and <= 5 && name[0] is 'P' or 'Q' or 'M' && name.AsSpan(1).IndexOfAnyExceptInRange('0', '9') < 0;
 }

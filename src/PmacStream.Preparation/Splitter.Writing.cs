@@ -343,7 +343,7 @@ public static partial class Splitter
         {
             var reserve = _limitReserve;
             if (_chunkBlocks > 0 &&
-                (_chunkBlocks >= _linesPerChunk ||
+                (_chunkBlocks >= _blocksPerChunk ||
                  _chunk.Length + bytes + reserve > _maxChunkBytes ||
                  _chunkWords + words + _tailWords > _rotWords))
             {

@@ -60,7 +60,7 @@ public static partial class Splitter
         using var work = SplitWorkFolder.Create(outDir);
         var temp = work.Path;
         Logger.Information("Splitting {Source} into {OutDir} ({Lines} blocks, {Words} words, {Bytes} bytes per chunk)",
-            source, outDir, options.LinesPerChunk, options.RotWords, options.MaxChunkBytes);
+            source, outDir, options.BlocksPerChunk, options.RotWords, options.MaxChunkBytes);
         try
         {
             var run = new SplitRun(source, temp, options, progress, cancellationToken);
@@ -185,7 +185,7 @@ public static partial class Splitter
         private readonly ChunkTable _chunks;
         private long _totalBytes;
         // Options read for every block, held in fields.
-        private readonly int _linesPerChunk;
+        private readonly int _blocksPerChunk;
         private readonly long _maxChunkBytes;
         private readonly int _rotWords;
         private readonly int _wordsPerBlock;
@@ -259,7 +259,7 @@ public static partial class Splitter
             }
 
             _tail = Encoding.ASCII.GetBytes(tail.ToString());
-            _linesPerChunk = options.LinesPerChunk;
+            _blocksPerChunk = options.BlocksPerChunk;
             _maxChunkBytes = options.MaxChunkBytes;
             _rotWords = options.RotWords;
             _wordsPerBlock = options.WordsPerBlock;
@@ -349,13 +349,7 @@ public static partial class Splitter
             var manifest = new ChunkManifest(_source, size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
                 _o.Tracking, _o.Feed, _o.FeedVariable, _chunks)
             {
-                LinesPerChunk = _o.LinesPerChunk,
-                RotWords = _o.RotWords,
-                WordsPerBlock = _o.WordsPerBlock,
-                MaxChunkBytes = _o.MaxChunkBytes,
-                ProgramTail = _o.ProgramTail,
-                KeepN = _o.KeepN,
-                BlockDelete = _o.BlockDelete,
+                Shape = _o.ResolvedShape,
                 CheckedProfile = _o.CheckedProfile,
                 NotYetCodes = _notYet,
                 StopCodes = _stopCodes,

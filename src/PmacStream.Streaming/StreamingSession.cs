@@ -5,7 +5,7 @@ namespace PmacStream.Streaming;
 
 /// <summary>
 /// One job streaming a split program into a coordinate system's rotary buffer. The host calls <see cref="TickAsync"/>
-/// (or <see cref="Tick"/>) from its timer, every <see cref="StreamingOptions.TickPeriod"/> (the HMI's
+/// from its timer, every <see cref="StreamingOptions.TickPeriod"/> (the HMI's
 /// <c>timer1_Tick</c>); each tick reads the tracking variable (M0), lets the strategy send what it wants, and writes a
 /// checkpoint when it changed. Operator commands (hold, resume, abort, feed, step) are sent between ticks, never while a buffer is open.
 /// Whatever fails, no block is skipped, repeated or reordered: on an <c>ERRnnn</c> or a lost link the session stops
@@ -339,9 +339,6 @@ public sealed partial class StreamingSession
 
         PublishStatus();
     }
-
-    /// <summary>Timer tick, blocking (for a WinForms timer's <c>Tick</c> handler that cannot await).</summary>
-    public void Tick() => TickAsync().GetAwaiter().GetResult();
 
     /// <summary>
     /// One timer tick: read M0, follow the chunk, let the strategy send, detect the end, write the checkpoint.

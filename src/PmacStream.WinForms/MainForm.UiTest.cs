@@ -21,7 +21,7 @@ internal sealed partial class MainForm
     [
         (nameof(cboDevice), cboDevice), (nameof(btnConnect), btnConnect), (nameof(btnDisconnect), btnDisconnect),
         (nameof(lblConnectionState), lblConnectionState), (nameof(btnOpen), btnOpen), (nameof(lblPath), lblPath),
-        (nameof(btnCheck), btnCheck), (nameof(btnSplit), btnSplit), (nameof(numLinesPerChunk), numLinesPerChunk),
+        (nameof(btnCheck), btnCheck), (nameof(btnSplit), btnSplit), (nameof(numBlocksPerChunk), numBlocksPerChunk),
         (nameof(cboStrategy), cboStrategy), (nameof(cboLanguage), cboLanguage), (nameof(numFeed), numFeed),
         (nameof(lblFeedUnit), lblFeedUnit), (nameof(grpFeed), grpFeed), (nameof(lblFeed), lblFeed),
         (nameof(numWindowStart), numWindowStart), (nameof(numWindowEnd), numWindowEnd), (nameof(lblWindow), lblWindow),

@@ -107,10 +107,10 @@ internal sealed partial class MainForm
         }
     }
 
-    public int LinesPerChunk
+    public int BlocksPerChunk
     {
-        get => (int)numLinesPerChunk.Value;
-        set => numLinesPerChunk.Value = Math.Clamp(value, numLinesPerChunk.Minimum, numLinesPerChunk.Maximum);
+        get => (int)numBlocksPerChunk.Value;
+        set => numBlocksPerChunk.Value = Math.Clamp(value, numBlocksPerChunk.Minimum, numBlocksPerChunk.Maximum);
     }
 
     IReadOnlyList<string> IMainView.Strategies
@@ -304,7 +304,7 @@ internal sealed partial class MainForm
             btnOpen.Enabled = value.Open;
             btnCheck.Enabled = value.Check;
             btnSplit.Enabled = value.Split;
-            numLinesPerChunk.Enabled = value.Split;
+            numBlocksPerChunk.Enabled = value.Split;
             btnExecute.Enabled = value.Execute;
             cboStrategy.Enabled = value.Execute;
             btnHold.Enabled = value.Hold;

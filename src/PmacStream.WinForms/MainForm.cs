@@ -36,8 +36,8 @@ internal sealed partial class MainForm : Form, IMainView
     private readonly Label lblPath = new() { AutoEllipsis = true };
     private readonly Button btnCheck = new();
     private readonly Button btnSplit = new();
-    private readonly Label lblLinesPerChunk = new();
-    private readonly NumericUpDown numLinesPerChunk = new() { Minimum = 1, Maximum = 100000, Value = RunSettings.DefaultLinesPerChunk };
+    private readonly Label lblBlocksPerChunk = new();
+    private readonly NumericUpDown numBlocksPerChunk = new() { Minimum = 1, Maximum = 100000, Value = RunSettings.DefaultBlocksPerChunk };
     private readonly Label lblStrategy = new();
     private readonly ComboBox cboStrategy = new() { DropDownStyle = ComboBoxStyle.DropDownList };
     private readonly Label lblWindow = new();
@@ -148,8 +148,8 @@ internal sealed partial class MainForm : Form, IMainView
         Place(lblPath, HmiLayout.PathLabel, grpProgram);
         Place(btnCheck, HmiLayout.CheckButton, grpProgram);
         Place(btnSplit, HmiLayout.SplitButton, grpProgram);
-        Place(lblLinesPerChunk, HmiLayout.LinesPerChunkLabel, grpProgram);
-        Place(numLinesPerChunk, HmiLayout.LinesPerChunkBox, grpProgram);
+        Place(lblBlocksPerChunk, HmiLayout.BlocksPerChunkLabel, grpProgram);
+        Place(numBlocksPerChunk, HmiLayout.BlocksPerChunkBox, grpProgram);
         Place(lblStrategy, HmiLayout.StrategyLabel, grpProgram);
         Place(cboStrategy, HmiLayout.StrategyCombo, grpProgram);
         Place(lblWindow, HmiLayout.WindowLabel, grpProgram);
@@ -485,7 +485,7 @@ internal sealed partial class MainForm : Form, IMainView
         btnOpen.Text = t[TextId.Open];
         btnCheck.Text = t[TextId.Check];
         btnSplit.Text = t[TextId.Split];
-        lblLinesPerChunk.Text = t[TextId.LinesPerChunk];
+        lblBlocksPerChunk.Text = t[TextId.BlocksPerChunk];
         lblStrategy.Text = t[TextId.Strategy];
         lblWindow.Text = t[TextId.WindowControl];
         lblLanguage.Text = t[TextId.Language];

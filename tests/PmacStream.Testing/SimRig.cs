@@ -24,7 +24,7 @@ public sealed class SimRig : IDisposable
     public SimRig(string source, int linesPerChunk, StreamingOptions options, TrackingPlacement placement = TrackingPlacement.Exact, SimOptions? simOptions = null)
     {
         _folder = new TestFolder("rig");
-        var split = Splitter.Split(source, new SplitOptions { LinesPerChunk = linesPerChunk, OutDir = Path.Combine(Folder, "chunks"), Tracking = placement });
+        var split = Splitter.Split(source, new SplitOptions { BlocksPerChunk = linesPerChunk, OutDir = Path.Combine(Folder, "chunks"), Tracking = placement });
         Program = ChunkedProgram.Open(split.ManifestPath);
         _expanded = Program.ExpandedBlocks(); // read now: a test may change a chunk later
         Sim = new PmacSimulator(simOptions);

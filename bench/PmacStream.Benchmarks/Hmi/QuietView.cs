@@ -18,7 +18,7 @@ internal sealed class QuietView : IMainView
     public string ConnectionState { set { } }
     public string ProgramPath { set { } }
     public IReadOnlyList<string> Diagnostics { set { } }
-    public int LinesPerChunk { get; set; }
+    public int BlocksPerChunk { get; set; }
     public (double Start, double End) DownloadWindow { get; set; }
     public IReadOnlyList<string> Strategies { set { } }
     public string SelectedStrategy => "chunk";

@@ -30,7 +30,7 @@ internal static class DemoCommand
                 var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { OutDir = Path.Combine(temp, "chunks") }, null, ct).ConfigureAwait(false);
                 var program = prepared.Program;
                 await using var controller = await service.ConnectAsync(ConnectionSpec.Simulator, prepared.Profile, ct).ConfigureAwait(false);
-                Console.WriteLine($"demo: {Path.GetFileName(source)} split into {program.TotalChunks} chunks of up to {settings.LinesPerChunk} lines ({program.Manifest.TotalMotionBlocks} motion blocks); simulator at {speed}");
+                Console.WriteLine($"demo: {Path.GetFileName(source)} split into {program.TotalChunks} chunks of up to {settings.BlocksPerChunk} blocks ({program.Manifest.TotalMotionBlocks} motion blocks); simulator at {speed}");
                 await using var job = await service.CreateJobAsync(controller, new JobRequest(program, StrategyKind.Chunk) { Settings = settings, Record = false }, ct)
                     .ConfigureAwait(false);
                 job.EventRaised += (_, e) =>

@@ -33,7 +33,6 @@ internal sealed class JobOptions
     private readonly Option<bool> _yes = new("--yes", "-y") { Description = "Confirm a start from a line / restart without asking." };
     private readonly Option<string?> _jobDb = new("--job-db") { Description = "Job database (SQLite) for crash-safe resume; default $PMACSTREAM_JOB_DB or ~/.pmacstream/jobs.db." };
     private readonly Option<string?> _settings = new("--settings") { Description = "Run settings file (JSON); default $PMACSTREAM_SETTINGS or ~/.pmacstream/settings.json when it exists." };
-    private readonly Option<int?> _lines = new("--lines") { Description = $"Source lines per chunk when splitting (default {D.LinesPerChunk})." };
     private readonly Option<int?> _bufferWords = new("--buffer-words") { Description = $"Rotary buffer size in words (default {D.BufferWords}; the simulator's is defined to this)." };
     private readonly Option<int?> _tickMs = new("--tick-ms") { Description = $"Timer period of the streaming tick, milliseconds (default {D.TickPeriod.TotalMilliseconds:0})." };
     private readonly Option<string?> _window = new("--window") { Description = $"Download window of the chunk strategy, as fractions of a chunk (default {D.Window}: lines 600-700 of a 1000-line chunk) or percent (60-70%)." };
@@ -63,6 +62,7 @@ internal sealed class JobOptions
 
     private readonly Option<double?> _clearance = new("--clearance") { Description = $"Added to the highest Z so far with --safe-z-mode highest (default {D.Clearance})." };
     private readonly Option<string> _simSpeed;
+    private ChunkShapeOptions? _shape;
 
     private JobOptions(JobFace face)
     {
@@ -79,17 +79,14 @@ internal sealed class JobOptions
             options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop, o._loadLibrary]);
         }
 
-        if (face == JobFace.Stream)
-        {
-            options.Add(o._lines);
-        }
-
         options.AddRange([o._settings, o._simSpeed, o._bufferWords, o._tickMs, o._window]);
         foreach (var option in options)
         {
             cmd.Options.Add(option);
         }
 
+        // Only stream splits: resume keeps its split as it was made, the demo uses the defaults.
+        o._shape = face == JobFace.Stream ? ChunkShapeOptions.AddTo(cmd) : null;
         return o;
     }
 
@@ -210,10 +207,7 @@ internal sealed class JobOptions
     public RunSettings Settings(ParseResult parse, RunSettings? recorded = null)
     {
         var s = parse.GetValue(_settings) is { } file ? RunSettingsFile.Load(file) : recorded ?? RunSettingsFile.Load();
-        if (parse.GetValue(_lines) is { } lines)
-        {
-            s = s with { LinesPerChunk = lines >= 1 ? lines : throw new CliException("--lines must be 1 or more") };
-        }
+        s = _shape is null ? s : s with { Shape = _shape.Apply(parse, s.Shape) };
 
         if (parse.GetValue(_bufferWords) is { } words)
         {

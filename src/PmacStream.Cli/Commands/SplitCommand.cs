@@ -14,58 +14,26 @@ internal static class SplitCommand
     {
         var file = new Argument<string>("file") { Description = "The G-code program to split." };
         var outDir = new Option<string?>("--out") { Description = "Output folder (default: <name>_chunks beside the source). Replaced only if it holds a previous split." };
-        var lines = new Option<int>("--lines") { Description = "Most source blocks per chunk.", DefaultValueFactory = _ => RunSettings.DefaultLinesPerChunk };
-        var rotWords = new Option<int>("--rot-words") { Description = "DEFINE ROT size in words a chunk must fit (byte budget = words x --bytes-per-word).", DefaultValueFactory = _ => RunSettings.DefaultChunkWords };
-        var wordsPerBlock = new Option<int>("--words-per-block") { Description = "Words charged at least per block (estimate).", DefaultValueFactory = _ => 6 };
-        var bytesPerWord = new Option<int>("--bytes-per-word") { Description = "Text bytes allowed per rotary word.", DefaultValueFactory = _ => 8 };
-        var trackVar = new Option<string>("--track-var") { Description = "M-variable receiving the executing source line.", DefaultValueFactory = _ => RunSettings.DefaultTrackVariable };
-        var tracking = new Option<string>("--tracking") { Description = "exact: M0==line before the move (M0 = executing line); paper: after it, as the paper does.", DefaultValueFactory = _ => "exact" };
-        tracking.AcceptOnlyFromAmong("exact", "paper");
-        var feed = new Option<string>("--feed") { Description = "paper: F(P500) on moves, programmed F carried into P500; override: keep F words.", DefaultValueFactory = _ => "paper" };
-        feed.AcceptOnlyFromAmong("paper", "override");
-        var feedVar = new Option<string>("--feed-var") { Description = "Variable the feed expression reads.", DefaultValueFactory = _ => RunSettings.DefaultFeedVariable };
-        var tail = new Option<string?>("--tail") { Description = "Program tail appended to the last chunk (default: the profile's, M05; the paper's machine: \"M03 M05\")." };
+        var settings = new Option<string?>("--settings") { Description = "Run settings file (JSON) whose chunk shape the split takes (blocksPerChunk, chunkWords, ...), as stream does; default $PMACSTREAM_SETTINGS or ~/.pmacstream/settings.json when it exists. The options below override it." };
         var profile = CliProfiles.Option();
-        var keepN = new Option<bool>("--keep-n") { Description = "Keep N numbers (a PMAC reads them as labels)." };
-        var noBlockDelete = new Option<bool>("--no-block-delete") { Description = "Block delete off: emit / blocks instead of skipping them." };
         var force = new Option<bool>("--force") { Description = "Split even if the check finds errors: they are listed, text that is not G-code is dropped, and every other word is written as it is (a code or letter the profile does not know included: the controller may refuse or misread it)." };
 
         var cmd = new Command("split", "Split a program into rotary-buffer chunk files with line tracking.");
         cmd.Arguments.Add(file);
-        foreach (var o in new Option[] { outDir, lines, rotWords, wordsPerBlock, bytesPerWord, trackVar, tracking, feed, feedVar, tail, profile, keepN, noBlockDelete, force })
+        foreach (var o in new Option[] { outDir, settings, profile, force })
         {
             cmd.Options.Add(o);
         }
+
+        var shape = ChunkShapeOptions.AddTo(cmd);
 
         cmd.SetAction(async (parse, ct) =>
         {
             var path = parse.GetValue(file)!;
             var machine = CliProfiles.Load(parse.GetValue(profile));
-            var options = new SplitOptions
-            {
-                OutDir = parse.GetValue(outDir),
-                LinesPerChunk = parse.GetValue(lines),
-                RotWords = parse.GetValue(rotWords),
-                WordsPerBlock = parse.GetValue(wordsPerBlock),
-                BytesPerWord = parse.GetValue(bytesPerWord),
-                TrackVariable = parse.GetValue(trackVar)!.ToUpperInvariant(),
-                Tracking = parse.GetValue(tracking) == "paper" ? TrackingPlacement.Paper : TrackingPlacement.Exact,
-                Feed = parse.GetValue(feed) == "override" ? FeedMode.Override : FeedMode.Paper,
-                FeedVariable = parse.GetValue(feedVar)!.ToUpperInvariant(),
-                ProgramTail = parse.GetValue(tail) ?? machine.ProgramTail,
-                KeepN = parse.GetValue(keepN),
-                BlockDelete = !parse.GetValue(noBlockDelete),
-                AllowErrors = parse.GetValue(force),
-            };
-            try
-            {
-                options.Validate();
-            }
-            catch (ArgumentException e)
-            {
-                throw new CliException(e.Message, CliGlobals.UsageOrIo);
-            }
-
+            // The same way as stream: the settings file's shape (or the defaults), then the options given here.
+            var run = RunSettingsFile.Load(parse.GetValue(settings));
+            var options = (run with { Shape = shape.Apply(parse, run.Shape) }).ToSplitOptions(machine, parse.GetValue(outDir), parse.GetValue(force));
             CliGlobals.RequireFile(path, "a G-code file");
 
             // Without --force the checker runs in the splitter's own pass (one read of the program): any error

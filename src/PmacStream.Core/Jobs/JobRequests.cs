@@ -6,7 +6,7 @@ namespace PmacStream.Jobs;
 
 /// <summary>What to prepare: a program, the run settings to cut it with and the machine profile to check it against.</summary>
 /// <param name="SourcePath">The G-code program.</param>
-/// <param name="Settings">Lines per chunk, chunk words, tracking and feed variables.</param>
+/// <param name="Settings">The chunk shape (blocks per chunk, chunk words, tracking and feed variables ...) and the run settings.</param>
 public sealed record PrepareRequest(string SourcePath, RunSettings Settings)
 {
     /// <summary>The machine profile the program is checked against (and whose tail ends the last chunk).</summary>

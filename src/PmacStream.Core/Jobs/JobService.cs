@@ -201,7 +201,7 @@ public sealed class JobService
                 with { OptionalStop = request.OptionalStop, CompletedJobLine = completed };
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, request.Library, ScopeOf(options, program, completed), cancellationToken).ConfigureAwait(false);
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
-                request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings),
+                request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings, withShape: false),
                 (request.Profile.Source, request.Profile.Identity));
             var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
             return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id);
@@ -339,7 +339,7 @@ public sealed class JobService
 
         var restart = cp is { LastExecutedLine: > 0 } ? cp.LastExecutedLine : record.FromLine;
         var chunk = cp?.CurrentChunk ?? (restart is { } r ? program.PositionOfBlock(r)?.Chunk : null) ?? 1;
-        return new ResumableJob(record, program, restart, chunk, RecordedSettings(record));
+        return new ResumableJob(record, program, restart, chunk, RecordedSettings(record, program.Manifest));
     }
 
     /// <summary>
@@ -529,7 +529,12 @@ public sealed class JobService
         };
     }
 
-    private static RunSettings? RecordedSettings(JobRecord record)
+    /// <summary>
+    /// The settings a job started with: its record's, with the chunk shape of its split (the record keeps the shape
+    /// once, in the manifest it names; a record of an older version carries it in its settings too, and a manifest of
+    /// an older version has none, so then the record's applies).
+    /// </summary>
+    private static RunSettings? RecordedSettings(JobRecord record, ChunkManifest manifest)
     {
         if (record.Settings is not { Length: > 0 } json)
         {
@@ -538,7 +543,8 @@ public sealed class JobService
 
         try
         {
-            return RunSettingsFile.Read(RunSettings.Default, Encoding.UTF8.GetBytes(json), $"job {record.Id}");
+            var recorded = RunSettingsFile.Read(RunSettings.Default, Encoding.UTF8.GetBytes(json), $"job {record.Id}");
+            return manifest.Shape is { } shape ? recorded with { Shape = shape } : recorded;
         }
         catch (RunSettingsException e)
         {

@@ -13,8 +13,8 @@ namespace PmacStream.Jobs;
 /// </summary>
 public sealed record RunSettings
 {
-    /// <summary>Source blocks per chunk: 1000-line chunk files.</summary>
-    public const int DefaultLinesPerChunk = PreparationDefaults.BlocksPerChunk;
+    /// <summary>Source blocks per chunk: 1000-block chunk files.</summary>
+    public const int DefaultBlocksPerChunk = PreparationDefaults.BlocksPerChunk;
 
     /// <summary>Rotary buffer words (<c>&amp;1 DEFINE ROT</c>): room for the executing chunk's rest and the next whole chunk.</summary>
     public const int DefaultBufferWords = StreamingDefaults.BufferWords;
@@ -46,14 +46,20 @@ public sealed record RunSettings
     /// <summary>Every setting at its default.</summary>
     public static RunSettings Default { get; } = new();
 
-    /// <summary>Most source blocks per chunk file.</summary>
-    public int LinesPerChunk { get; init; } = DefaultLinesPerChunk;
+    /// <summary>
+    /// What shapes the chunks' bytes when a program is split (<see cref="ChunkShape"/>: validated there, kept whole in
+    /// the manifest); its tail, left open, is the machine profile's. The four properties below are views on it.
+    /// </summary>
+    public ChunkShape Shape { get; init; } = ChunkShape.Default;
+
+    /// <summary>Most source blocks per chunk file (<see cref="ChunkShape.BlocksPerChunk"/>).</summary>
+    public int BlocksPerChunk { get => Shape.BlocksPerChunk; init => Shape = Shape with { BlocksPerChunk = value }; }
 
     /// <summary>Rotary buffer size in words; the built-in simulator's buffer is defined to it.</summary>
     public int BufferWords { get; init; } = DefaultBufferWords;
 
-    /// <summary>Estimated words one chunk may take (the splitter's budget; bytes = words x 8).</summary>
-    public int ChunkWords { get; init; } = DefaultChunkWords;
+    /// <summary>Estimated words one chunk may take (<see cref="ChunkShape.ChunkWords"/>: the splitter's budget; bytes = words x 8).</summary>
+    public int ChunkWords { get => Shape.ChunkWords; init => Shape = Shape with { ChunkWords = value }; }
 
     /// <summary>Start of the download window, as a fraction of the executing chunk.</summary>
     public double WindowStart { get; init; } = DefaultWindowStart;
@@ -61,11 +67,11 @@ public sealed record RunSettings
     /// <summary>End of the download window, as a fraction of the executing chunk.</summary>
     public double WindowEnd { get; init; } = DefaultWindowEnd;
 
-    /// <summary>Tracking variable written by each move's synchronous assignment.</summary>
-    public string TrackVariable { get; init; } = DefaultTrackVariable;
+    /// <summary>Tracking variable written by each move's synchronous assignment (<see cref="ChunkShape.TrackVariable"/>).</summary>
+    public string TrackVariable { get => Shape.TrackVariable; init => Shape = Shape with { TrackVariable = value }; }
 
-    /// <summary>Feed variable of <c>F(...)</c> on moves.</summary>
-    public string FeedVariable { get; init; } = DefaultFeedVariable;
+    /// <summary>Feed variable of <c>F(...)</c> on moves (<see cref="ChunkShape.FeedVariable"/>).</summary>
+    public string FeedVariable { get => Shape.FeedVariable; init => Shape = Shape with { FeedVariable = value }; }
 
     /// <summary>Timer period of the streaming tick.</summary>
     public TimeSpan TickPeriod { get; init; } = DefaultTickPeriod;
@@ -105,14 +111,11 @@ public sealed record RunSettings
     /// <summary>Throws <see cref="ArgumentException"/> naming the first setting that cannot work.</summary>
     public void Validate()
     {
-        if (LinesPerChunk < 1)
+        // The shape's own rules first: chunk words positive, the variables' forms.
+        Shape.Validate();
+        if (BufferWords < 1)
         {
-            throw new ArgumentException($"lines per chunk must be at least 1 (got {LinesPerChunk})");
-        }
-
-        if (ChunkWords < 1 || BufferWords < 1)
-        {
-            throw new ArgumentException($"buffer words and chunk words must be positive (got {BufferWords}, {ChunkWords})");
+            throw new ArgumentException($"buffer words must be positive (got {BufferWords})");
         }
 
         if (ChunkWords > BufferWords - BufferMarginWords)
@@ -134,25 +137,18 @@ public sealed record RunSettings
         {
             throw new ArgumentException($"safe Z must be a number and clearance 0 or more (got {SafeZ}, {Clearance})");
         }
-
-        // The variables' rules are the splitter's.
-        ToSplitOptions(MachineProfile.Default, outDir: null, force: true).Validate();
     }
 
     /// <summary>
-    /// The split these settings make: the chunk budgets and variables from here, the tail from the machine profile,
-    /// checked against that profile in the same pass unless <paramref name="force"/>.
+    /// The split these settings make: their <see cref="Shape"/> (the tail, when it leaves it open, the machine
+    /// profile's), checked against that profile in the same pass unless <paramref name="force"/>.
     /// </summary>
     public SplitOptions ToSplitOptions(MachineProfile profile, string? outDir, bool force)
     {
         ArgumentNullException.ThrowIfNull(profile);
         return new SplitOptions
         {
-            LinesPerChunk = LinesPerChunk,
-            RotWords = ChunkWords,
-            TrackVariable = TrackVariable.Trim().ToUpperInvariant(),
-            FeedVariable = FeedVariable.Trim().ToUpperInvariant(),
-            ProgramTail = profile.ProgramTail,
+            Shape = Shape.WithTailOf(profile),
             OutDir = outDir,
             CheckProfile = profile,
             AllowErrors = force,

@@ -2,6 +2,7 @@ using System.Text;
 using System.Text.Json;
 using PmacStream.GCode;
 using PmacStream.Preparation;
+using Serilog;
 
 namespace PmacStream.Jobs;
 
@@ -10,9 +11,13 @@ namespace PmacStream.Jobs;
 /// exists) and the copy a job record keeps. A flat object; every property is optional and overrides the settings it
 /// is read over:
 /// <code>
-/// { "linesPerChunk": 1000, "bufferWords": 16000, "chunkWords": 6400, "windowStart": 0.6, "windowEnd": 0.7,
-///   "trackVariable": "M0", "feedVariable": "P500", "tickMs": 50, "safeZMode": "fixed", "safeZ": 10, "clearance": 5 }
+/// { "bufferWords": 16000, "windowStart": 0.6, "windowEnd": 0.7, "tickMs": 50, "safeZMode": "fixed", "safeZ": 10, "clearance": 5,
+///   "blocksPerChunk": 1000, "chunkWords": 6400, "trackVariable": "M0", "feedVariable": "P500", "tracking": "exact", ... }
 /// </code>
+/// The chunk shape's properties (<see cref="ChunkShape.JsonNames"/>: <c>blocksPerChunk</c>, <c>chunkWords</c>,
+/// <c>wordsPerBlock</c>, <c>bytesPerWord</c>, <c>trackVariable</c>, <c>tracking</c>, <c>feed</c>, <c>feedVariable</c>,
+/// <c>programTail</c>, <c>keepN</c>, <c>blockDelete</c>) are read by the shape's own JSON names, so a new one needs
+/// nothing here; <c>linesPerChunk</c>, the old name of <c>blocksPerChunk</c>, is still read, with a warning.
 /// Read by hand with the reader's positions, so a bad file is reported as <c>FILE:LINE:COL: error R00n: message</c>.
 /// </summary>
 public static class RunSettingsFile
@@ -25,6 +30,15 @@ public static class RunSettingsFile
 
     /// <summary>A value of the wrong type or out of range, or settings that cannot work together.</summary>
     public const string BadValueCode = "R003";
+
+    /// <summary>A warning: a property under its old name (still read).</summary>
+    public const string OldNameCode = "R004";
+
+    /// <summary>The old name of <c>blocksPerChunk</c> (it always counted blocks, not text lines).</summary>
+    public const string OldBlocksPerChunkName = "linesPerChunk";
+
+    /// <summary>The properties of the settings themselves; the rest are the chunk shape's.</summary>
+    private static readonly string[] RunNames = ["bufferWords", "windowStart", "windowEnd", "tickMs", "safeZMode", "safeZ", "clearance"];
 
     /// <summary>The settings file both faces read when none is named: <c>$PMACSTREAM_SETTINGS</c>, else <c>~/.pmacstream/settings.json</c>.</summary>
     public static string DefaultPath =>
@@ -43,7 +57,7 @@ public static class RunSettingsFile
         if (path is null)
         {
             var fallback = DefaultPath;
-            return File.Exists(fallback) ? Read(RunSettings.Default, File.ReadAllBytes(fallback), fallback) : RunSettings.Default;
+            return File.Exists(fallback) ? Read(RunSettings.Default, File.ReadAllBytes(fallback), fallback, Warn) : RunSettings.Default;
         }
 
         if (!File.Exists(path))
@@ -51,12 +65,17 @@ public static class RunSettingsFile
             throw new FileNotFoundException($"{path}: no such settings file", path);
         }
 
-        return Read(RunSettings.Default, File.ReadAllBytes(path), path);
+        return Read(RunSettings.Default, File.ReadAllBytes(path), path, Warn);
     }
 
-    /// <summary>Reads <paramref name="json"/> over <paramref name="baseSettings"/>; <paramref name="source"/> names it in errors.</summary>
+    private static void Warn(string message) => Log.Warning("{Message:l}", message);
+
+    /// <summary>
+    /// Reads <paramref name="json"/> over <paramref name="baseSettings"/>; <paramref name="source"/> names it in errors,
+    /// <paramref name="warn"/> hears of old names (as <c>FILE:LINE:COL: warning R004: message</c>).
+    /// </summary>
     /// <exception cref="RunSettingsException">Not valid, with the position of the fault.</exception>
-    public static RunSettings Read(RunSettings baseSettings, ReadOnlySpan<byte> json, string source)
+    public static RunSettings Read(RunSettings baseSettings, ReadOnlySpan<byte> json, string source, Action<string>? warn = null)
     {
         ArgumentNullException.ThrowIfNull(baseSettings);
         var s = baseSettings;
@@ -75,14 +94,42 @@ public static class RunSettingsFile
                 var at = reader.TokenStartIndex;
                 reader.Read();
                 var valueAt = reader.TokenStartIndex;
+                if (name == OldBlocksPerChunkName)
+                {
+                    warn?.Invoke(At(source, bytes, at, Severity.Warning, OldNameCode, $"'{OldBlocksPerChunkName}' is now 'blocksPerChunk' (it counts blocks, not text lines); the old name still works"));
+                    name = "blocksPerChunk";
+                }
+
+                if (!RunNames.Contains(name))
+                {
+                    // A property of the chunk shape, read by the shape's own JSON names and checked by its own rules.
+                    var value = JsonElement.ParseValue(ref reader);
+                    try
+                    {
+                        var shape = s.Shape.WithJson(name, value) ?? throw Fault(source, bytes, at, UnknownCode,
+                            $"unknown setting '{name}' (known: {string.Join(", ", RunNames.Concat(ChunkShape.JsonNames))})");
+                        shape.Validate();
+                        s = s with { Shape = shape };
+                    }
+                    catch (JsonException)
+                    {
+                        throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: expected {ChunkShape.ExpectedJson(name)}, got {value.ValueKind.ToString().ToLowerInvariant()}");
+                    }
+                    catch (ArgumentException e)
+                    {
+                        throw Fault(source, bytes, valueAt, BadValueCode, e.Message);
+                    }
+
+                    continue;
+                }
+
                 try
                 {
-                    s = Apply(s, name, ref reader) ?? throw Fault(source, bytes, at, UnknownCode,
-                        $"unknown setting '{name}' (known: linesPerChunk, bufferWords, chunkWords, windowStart, windowEnd, trackVariable, feedVariable, tickMs, safeZMode, safeZ, clearance)");
+                    s = Apply(s, name, ref reader);
                 }
                 catch (InvalidOperationException)
                 {
-                    var expected = name is "trackVariable" or "feedVariable" or "safeZMode" ? "a string" : "a number";
+                    var expected = name is "safeZMode" ? "a string" : "a number";
                     throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: expected {expected}, got {reader.TokenType.ToString().ToLowerInvariant()}");
                 }
                 catch (Exception e) when (e is FormatException or ArgumentException)
@@ -91,6 +138,7 @@ public static class RunSettingsFile
                 }
             }
         }
+
         catch (JsonException e)
         {
             var d = new Diagnostic(Severity.Error, MalformedCode, (int)(e.LineNumber ?? 0) + 1, (int)(e.BytePositionInLine ?? 0) + 1, "not valid JSON: " + FirstSentence(e.Message));
@@ -109,25 +157,29 @@ public static class RunSettingsFile
         return s;
     }
 
-    /// <summary>The settings as the JSON <see cref="Read"/> takes (every property written).</summary>
-    public static string ToJson(RunSettings settings)
+    /// <summary>
+    /// The settings as the JSON <see cref="Read"/> takes: every property, the chunk shape's too unless
+    /// <paramref name="withShape"/> is off (a job record: its shape is its split's, kept once, in the manifest).
+    /// </summary>
+    public static string ToJson(RunSettings settings, bool withShape = true)
     {
         ArgumentNullException.ThrowIfNull(settings);
         using var ms = new MemoryStream();
         using (var w = new Utf8JsonWriter(ms))
         {
             w.WriteStartObject();
-            w.WriteNumber("linesPerChunk", settings.LinesPerChunk);
             w.WriteNumber("bufferWords", settings.BufferWords);
-            w.WriteNumber("chunkWords", settings.ChunkWords);
             w.WriteNumber("windowStart", settings.WindowStart);
             w.WriteNumber("windowEnd", settings.WindowEnd);
-            w.WriteString("trackVariable", settings.TrackVariable);
-            w.WriteString("feedVariable", settings.FeedVariable);
             w.WriteNumber("tickMs", settings.TickPeriod.TotalMilliseconds);
             w.WriteString("safeZMode", settings.SafeZMode == SafeZMode.Fixed ? "fixed" : "highest");
             w.WriteNumber("safeZ", settings.SafeZ);
             w.WriteNumber("clearance", settings.Clearance);
+            if (withShape)
+            {
+                settings.Shape.WriteProperties(w);
+            }
+
             w.WriteEndObject();
         }
 
@@ -142,20 +194,16 @@ public static class RunSettingsFile
         var other => throw new FormatException($"expected fixed or highest, got '{other}'"),
     };
 
-    private static RunSettings? Apply(RunSettings s, string name, ref Utf8JsonReader r) => name switch
+    private static RunSettings Apply(RunSettings s, string name, ref Utf8JsonReader r) => name switch
     {
-        "linesPerChunk" => s with { LinesPerChunk = Positive(r.GetInt32()) },
         "bufferWords" => s with { BufferWords = Positive(r.GetInt32()) },
-        "chunkWords" => s with { ChunkWords = Positive(r.GetInt32()) },
         "windowStart" => s with { WindowStart = Fraction(r.GetDouble()) },
         "windowEnd" => s with { WindowEnd = Fraction(r.GetDouble()) },
-        "trackVariable" => s with { TrackVariable = r.GetString() ?? throw new FormatException("expected a variable name such as M0") },
-        "feedVariable" => s with { FeedVariable = r.GetString() ?? throw new FormatException("expected a variable name such as P500") },
         "tickMs" => s with { TickPeriod = TimeSpan.FromMilliseconds(Positive(r.GetDouble())) },
         "safeZMode" => s with { SafeZMode = ParseSafeZMode(r.GetString() ?? string.Empty) },
         "safeZ" => s with { SafeZ = r.GetDouble() },
         "clearance" => s with { Clearance = r.GetDouble() >= 0 ? r.GetDouble() : throw new ArgumentException("must be 0 or more") },
-        _ => null,
+        _ => throw new InvalidOperationException($"{name} is not a run setting"),
     };
 
     private static int Positive(int v) => v >= 1 ? v : throw new ArgumentException($"must be 1 or more (got {v})");
@@ -164,7 +212,13 @@ public static class RunSettingsFile
 
     private static double Fraction(double v) => v is >= 0 and <= 1 ? v : throw new ArgumentException($"must be a fraction of a chunk, 0 to 1 (got {v})");
 
-    private static RunSettingsException Fault(string source, ReadOnlySpan<byte> json, long offset, string code, string message)
+    private static RunSettingsException Fault(string source, ReadOnlySpan<byte> json, long offset, string code, string message) =>
+        new(source, Position(json, offset, Severity.Error, code, message));
+
+    private static string At(string source, ReadOnlySpan<byte> json, long offset, Severity severity, string code, string message) =>
+        Position(json, offset, severity, code, message).Format(source);
+
+    private static Diagnostic Position(ReadOnlySpan<byte> json, long offset, Severity severity, string code, string message)
     {
         // Line and column of a byte offset (columns count bytes, as the checker's do).
         int line = 1, column = 1;
@@ -181,7 +235,7 @@ public static class RunSettingsFile
             }
         }
 
-        return new RunSettingsException(source, new Diagnostic(Severity.Error, code, line, column, message));
+        return new Diagnostic(severity, code, line, column, message);
     }
 
     private static string FirstSentence(string message)

@@ -6,8 +6,7 @@ namespace PmacStream.Jobs;
 
 /// <summary>
 /// Reuses an earlier split only when it is the split these options would write now: the same source bytes
-/// (SHA-256), every option that changes chunk bytes (lines per chunk, word and byte budgets, tracking and feed
-/// variables and placement, tail, N numbers, block delete), the same check (profile name and digest; a forced split
+/// (SHA-256), the same <see cref="ChunkShape"/> (every option that changes chunk bytes, compared as one record), the same check (profile name and digest; a forced split
 /// only when forcing again), and every chunk file still there. Anything else splits again.
 /// </summary>
 public static class SplitCache
@@ -43,24 +42,16 @@ public static class SplitCache
         return ChunkedProgram.FromManifest(manifest, Path.GetFullPath(outDir));
     }
 
-    /// <summary>True when <paramref name="manifest"/> was written with the chunk-shaping options of <paramref name="options"/>.</summary>
+    /// <summary>
+    /// True when <paramref name="manifest"/> was written with the chunk shape of <paramref name="options"/> (the whole
+    /// record, <c>==</c>) and checked as they ask. A manifest of an older version has no shape: never the same.
+    /// </summary>
     public static bool SameOptions(ChunkManifest manifest, SplitOptions options)
     {
         ArgumentNullException.ThrowIfNull(manifest);
         ArgumentNullException.ThrowIfNull(options);
         // Forcing takes a checked split of the same bytes too: it is the same split.
         var checkedAsAsked = options.CheckedProfile is not { } profile || manifest.CheckedProfile == profile;
-        return checkedAsAsked
-            && manifest.LinesPerChunk == options.LinesPerChunk
-            && manifest.RotWords == options.RotWords
-            && manifest.WordsPerBlock == options.WordsPerBlock
-            && manifest.MaxChunkBytes == options.MaxChunkBytes
-            && string.Equals(manifest.TrackVariable, options.TrackVariable, StringComparison.OrdinalIgnoreCase)
-            && manifest.Tracking == options.Tracking
-            && manifest.Feed == options.Feed
-            && string.Equals(manifest.FeedVariable, options.FeedVariable, StringComparison.OrdinalIgnoreCase)
-            && manifest.ProgramTail == options.ProgramTail
-            && manifest.KeepN == options.KeepN
-            && manifest.BlockDelete == options.BlockDelete;
+        return checkedAsAsked && manifest.Shape == options.ResolvedShape;
     }
 }

@@ -64,7 +64,7 @@ public sealed class GCodeFuzzTests(ITestOutputHelper output)
                 CheckProfile = MachineProfile.Default,
                 Tracking = random.Next(2) == 0 ? TrackingPlacement.Exact : TrackingPlacement.Paper,
                 Feed = random.Next(2) == 0 ? FeedMode.Paper : FeedMode.Override,
-                LinesPerChunk = random.Next(5, 300),
+                BlocksPerChunk = random.Next(5, 300),
             };
             var errors = new Checker(MachineProfile.Default).Check(new MemoryStream(text), "fuzz", _ => { }).Errors;
             var outcome = await FinishesAsync(() => SplitOnce(text, options, what), text, what);

@@ -18,7 +18,7 @@ internal sealed class FakeView : IMainView
     public string ConnectionState { get; set; } = string.Empty;
     public string ProgramPath { get; set; } = string.Empty;
     public IReadOnlyList<string> Diagnostics { get; set; } = [];
-    public int LinesPerChunk { get; set; }
+    public int BlocksPerChunk { get; set; }
     public (double Start, double End) DownloadWindow { get; set; }
     public IReadOnlyList<string> Strategies { get; set; } = [];
     public string SelectedStrategy { get; set; } = "chunk";
@@ -189,7 +189,7 @@ internal sealed class FakeBackend : IHmiBackend
         return Task.FromResult(HmiCheckResult.FromList(diags, blocks));
     }
 
-    /// <summary>Refuses a program with a "BAD" line (the service's gate), else writes chunk files of <see cref="RunSettings.LinesPerChunk"/> lines.</summary>
+    /// <summary>Refuses a program with a "BAD" line (the service's gate), else writes chunk files of <see cref="RunSettings.BlocksPerChunk"/> lines.</summary>
     public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {
         Prepared.Add(settings);
@@ -200,7 +200,7 @@ internal sealed class FakeBackend : IHmiBackend
             throw new ProgramRefusedException(sourcePath, check.Diagnostics, check.Errors, $"{check.Errors} error(s)");
         }
 
-        return Split(sourcePath, settings.LinesPerChunk);
+        return Split(sourcePath, settings.BlocksPerChunk);
     }
 
     public HmiSplitResult Split(string sourcePath, int linesPerChunk)

@@ -186,7 +186,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         var (p, v) = NewHmi();
         await Do(p, () => v.ChooseFile(stops));
         await Do(p, v.ClickConnect);
-        v.LinesPerChunk = 40;
+        v.BlocksPerChunk = 40;
         await Do(p, v.ClickSplit);
         await Do(p, v.ClickExecute);
         v.Errors.Should().BeEmpty();

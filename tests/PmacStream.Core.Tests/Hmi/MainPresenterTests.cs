@@ -53,7 +53,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     {
         await Do(() => _view.ChooseFile(Program(lines)));
         await Do(_view.ClickConnect);
-        _view.LinesPerChunk = linesPerChunk;
+        _view.BlocksPerChunk = linesPerChunk;
         await Do(_view.ClickSplit);
         _view.Errors.Should().BeEmpty();
     }
@@ -200,24 +200,24 @@ public sealed class MainPresenterTests : IAsyncLifetime
     {
         await _p.DisposeAsync();
         var view = new FakeView();
-        var settings = RunSettings.Default with { LinesPerChunk = 40, WindowStart = 0.5, WindowEnd = 0.8, TickPeriod = TimeSpan.FromMilliseconds(25) };
+        var settings = RunSettings.Default with { BlocksPerChunk = 40, WindowStart = 0.5, WindowEnd = 0.8, TickPeriod = TimeSpan.FromMilliseconds(25) };
         _p = new MainPresenter(view, _backend, _sink, Logger(), settings);
-        view.LinesPerChunk.Should().Be(40);
+        view.BlocksPerChunk.Should().Be(40);
         view.DownloadWindow.Should().Be((0.5, 0.8));
         _p.TickPeriod.Should().Be(TimeSpan.FromMilliseconds(25), "the form's timer ticks with the settings' period");
 
         await Do(() => view.ChooseFile(Program(100)));
         await Do(view.ClickConnect);
-        view.LinesPerChunk = 25;
+        view.BlocksPerChunk = 25;
         await Do(view.ClickSplit);
-        _backend.Prepared.Single().LinesPerChunk.Should().Be(25);
+        _backend.Prepared.Single().BlocksPerChunk.Should().Be(25);
         view.ChunkFiles.Should().HaveCount(4);
 
         await Do(() => view.SetWindow(0.65, 0.75));
         view.Errors.Should().BeEmpty();
         await Do(view.ClickExecute);
         var started = _backend.Started.Single().Settings;
-        (started.WindowStart, started.WindowEnd, started.LinesPerChunk, started.TickPeriod).Should().Be((0.65, 0.75, 25, TimeSpan.FromMilliseconds(25)));
+        (started.WindowStart, started.WindowEnd, started.BlocksPerChunk, started.TickPeriod).Should().Be((0.65, 0.75, 25, TimeSpan.FromMilliseconds(25)));
         view.Log.Should().Contain(l => l.Contains("Download window set to 0.65-0.75"));
     }
 
@@ -527,7 +527,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
         // A square spiral: every line a feed move of its own, so the executed part grows line by line.
         await Do(() => _view.ChooseFile(Program(100, i => i == 1 ? "G21 G90 G01 X0 Y0 F500" : $"G01 X{(i % 2 == 0 ? i : -i)} Y{(i % 4 < 2 ? i : -i)}")));
         await Do(_view.ClickConnect);
-        _view.LinesPerChunk = 30;
+        _view.BlocksPerChunk = 30;
         await Do(_view.ClickSplit);
         for (var i = 0; i < 200 && !_p.ToolpathReady; i++)
         {

@@ -46,10 +46,10 @@ public sealed class PrepareTests : IDisposable
         first.Reused.Should().BeFalse();
         first.Program.Manifest.Chunks.Should().HaveCount(3);
 
-        var second = await Prepare(_clean, RunSettings.Default with { LinesPerChunk = 500 });
+        var second = await Prepare(_clean, RunSettings.Default with { BlocksPerChunk = 500 });
         second.Reused.Should().BeFalse("the cached split was made with 1000 lines per chunk");
         second.Program.Manifest.Chunks.Should().OnlyContain(c => c.BlockCount <= 500).And.HaveCount(6);
-        ChunkManifest.Load(Path.Combine(second.Program.Folder, ChunkManifest.FileName)).LinesPerChunk.Should().Be(500, "the split on disk is the new one");
+        ChunkManifest.Load(Path.Combine(second.Program.Folder, ChunkManifest.FileName)).BlocksPerChunk.Should().Be(500, "the split on disk is the new one");
     }
 
     [Fact]

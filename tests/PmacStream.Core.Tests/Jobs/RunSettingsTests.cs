@@ -22,9 +22,9 @@ public class RunSettingsTests
         var d = RunSettings.Default;
         var split = new SplitOptions();
         var session = new StreamingOptions();
-        (d.LinesPerChunk, d.ChunkWords, d.TrackVariable, d.FeedVariable).Should().Be((split.LinesPerChunk, split.RotWords, split.TrackVariable, split.FeedVariable));
+        (d.BlocksPerChunk, d.ChunkWords, d.TrackVariable, d.FeedVariable).Should().Be((split.BlocksPerChunk, split.RotWords, split.TrackVariable, split.FeedVariable));
         (d.BufferWords, d.WindowStart, d.WindowEnd, d.TickPeriod).Should().Be((session.BufferWords, session.WindowStart, session.WindowEnd, session.TickPeriod));
-        (d.LinesPerChunk, d.BufferWords, d.WindowStart, d.WindowEnd).Should().Be((1000, 16_000, 0.6, 0.7), "the paper's 1000-line chunks and lines 600-700");
+        (d.BlocksPerChunk, d.BufferWords, d.WindowStart, d.WindowEnd).Should().Be((1000, 16_000, 0.6, 0.7), "the paper's 1000-line chunks and lines 600-700");
         d.Validate();
     }
 
@@ -44,7 +44,7 @@ public class RunSettingsTests
             // comments are allowed
             { "linesPerChunk": 500, "windowStart": 0.55, "windowEnd": 0.75, "tickMs": 20, "safeZMode": "highest", }
             """);
-        s.Should().Be(RunSettings.Default with { LinesPerChunk = 500, WindowStart = 0.55, WindowEnd = 0.75, TickPeriod = TimeSpan.FromMilliseconds(20), SafeZMode = SafeZMode.HighestSoFar });
+        s.Should().Be(RunSettings.Default with { BlocksPerChunk = 500, WindowStart = 0.55, WindowEnd = 0.75, TickPeriod = TimeSpan.FromMilliseconds(20), SafeZMode = SafeZMode.HighestSoFar });
 
         var all = RunSettings.Default with { BufferWords = 30_000, ChunkWords = 9000, TrackVariable = "M7", FeedVariable = "Q20", SafeZ = 25, Clearance = 2.5 };
         Read(RunSettingsFile.ToJson(all)).Should().Be(all);
@@ -59,10 +59,48 @@ public class RunSettingsTests
     [InlineData("{ \"linesPerChunk\": 500", "settings.json:1:")]
     [InlineData("{ \"windowStart\": 0.8, \"windowEnd\": 0.7 }", "settings.json:1:1: error R003: download window 0.8-0.7")]
     [InlineData("{ \"chunkWords\": 20000 }", "settings.json:1:1: error R003: a chunk of 20000 words does not fit a rotary buffer of 16000 words")]
-    [InlineData("{ \"trackVariable\": \"P5\" }", "settings.json:1:1: error R003: track variable must be an M-variable")]
+    [InlineData("{ \"trackVariable\": \"P5\" }", "settings.json:1:20: error R003: track variable must be an M-variable")]
+    [InlineData("{ \"blocksPerChunk\": 0 }", "settings.json:1:21: error R003: blocks per chunk must be at least 1")]
+    [InlineData("{ \"tracking\": 3 }", "settings.json:1:15: error R003: tracking: expected \"exact\" or \"paper\", got number")]
     public void A_bad_settings_file_is_reported_with_file_line_column_and_code(string json, string expected)
     {
         Error(json).Should().StartWith(expected);
+    }
+
+    [Fact]
+    public void The_old_name_linesPerChunk_still_works_with_a_warning_and_blocksPerChunk_without()
+    {
+        var warnings = new List<string>();
+        RunSettingsFile.Read(RunSettings.Default, Encoding.UTF8.GetBytes("{\n  \"linesPerChunk\": 400\n}"), "s.json", warnings.Add)
+            .BlocksPerChunk.Should().Be(400);
+        warnings.Should().ContainSingle().Which.Should().StartWith("s.json:2:3: warning R004: 'linesPerChunk' is now 'blocksPerChunk'");
+
+        warnings.Clear();
+        RunSettingsFile.Read(RunSettings.Default, Encoding.UTF8.GetBytes("{ \"blocksPerChunk\": 400 }"), "s.json", warnings.Add)
+            .BlocksPerChunk.Should().Be(400);
+        warnings.Should().BeEmpty();
+    }
+
+    [Fact]
+    public void Every_property_of_the_chunk_shape_is_a_setting_by_its_own_json_name()
+    {
+        var s = Read("""{ "tracking": "paper", "feed": "override", "wordsPerBlock": 5, "bytesPerWord": 7, "programTail": "M03 M05", "keepN": true, "blockDelete": false, "trackVariable": "m9" }""");
+        s.Shape.Should().Be(ChunkShape.Default with
+        {
+            Tracking = TrackingPlacement.Paper, Feed = FeedMode.Override, WordsPerBlock = 5, BytesPerWord = 7, ProgramTail = "M03 M05", KeepN = true, BlockDelete = false, TrackVariable = "M9",
+        });
+        Read(RunSettingsFile.ToJson(s)).Should().Be(s, "the file writes the whole shape and reads it back");
+        Error("{ \"lines\": 1 }").Should().Contain("known: bufferWords").And.Contain("blocksPerChunk").And.Contain("programTail");
+    }
+
+    [Fact]
+    public void A_job_record_keeps_the_settings_without_the_shape_which_its_manifest_keeps()
+    {
+        var s = RunSettings.Default with { BlocksPerChunk = 300, WindowStart = 0.5 };
+        var record = RunSettingsFile.ToJson(s, withShape: false);
+        record.Should().NotContain("blocksPerChunk").And.NotContain("trackVariable").And.Contain("windowStart");
+        Read(record).Should().Be(s with { Shape = ChunkShape.Default });
+        Read("""{ "linesPerChunk": 300, "chunkWords": 5000, "windowStart": 0.5 }""").Should().Be(s with { ChunkWords = 5000 }, "a record of an older version, with the shape in its settings, still reads");
     }
 
     [Fact]

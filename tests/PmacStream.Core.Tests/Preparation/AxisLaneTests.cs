@@ -270,7 +270,7 @@ public class AxisLaneTests
                 AllowErrors = !check,
                 Tracking = tracking,
                 Feed = feed,
-                LinesPerChunk = rng.Next(5, 200),
+                BlocksPerChunk = rng.Next(5, 200),
             };
             SameSplit(text, options, $"seed {seed} round {round}");
         }
@@ -285,7 +285,7 @@ public class AxisLaneTests
         {
             var bytes = File.ReadAllBytes(file);
             SameSplit(bytes, new SplitOptions { CheckProfile = MachineProfile.Default }, file);
-            SameSplit(bytes, new SplitOptions { AllowErrors = true, LinesPerChunk = 333 }, file);
+            SameSplit(bytes, new SplitOptions { AllowErrors = true, BlocksPerChunk = 333 }, file);
         }
     }
 

@@ -20,7 +20,7 @@ public class SplitSinglePassTests
         var text = "O1\n" + Moves(2, 4000) + "N4002 G05 X2\n" + Moves(4003, 3000) + "N7003 G00 X1 Q5\nM30\n";
         using var tp = new TempProgram(text);
         var written = 0;
-        var act = () => tp.Split(new SplitOptions { CheckProfile = MachineProfile.Paper, LinesPerChunk = 100, AfterChunkWritten = _ => written++ });
+        var act = () => tp.Split(new SplitOptions { CheckProfile = MachineProfile.Paper, BlocksPerChunk = 100, AfterChunkWritten = _ => written++ });
         var e = act.Should().Throw<SplitException>().Which;
         e.FromChecker.Should().BeTrue();
         e.ErrorCount.Should().Be(2);
@@ -30,7 +30,7 @@ public class SplitSinglePassTests
         written.Should().BeGreaterThan(0, "chunks before the first error were written to the hidden folder, then deleted");
         Directory.GetFileSystemEntries(tp.Folder).Should().Equal(tp.SourcePath);
 
-        var plain = tp.Split(new SplitOptions { LinesPerChunk = 100 });
+        var plain = tp.Split(new SplitOptions { BlocksPerChunk = 100 });
         plain.Manifest.TotalBlocks.Should().Be(7003, "without the checker only lexical errors refuse");
     }
 
@@ -60,9 +60,9 @@ public class SplitSinglePassTests
         var demo = RepoRoot.DemoProgram;
         using var a = new TempProgram(File.ReadAllBytes(demo), "demo.nc");
         using var b = new TempProgram(File.ReadAllBytes(demo), "demo.nc");
-        var checkedRun = a.Split(new SplitOptions { CheckProfile = MachineProfile.Default, LinesPerChunk = 97 });
+        var checkedRun = a.Split(new SplitOptions { CheckProfile = MachineProfile.Default, BlocksPerChunk = 97 });
         // Forced, the checker does not run, but the host's conversions do (with their own interpreter).
-        var plainRun = b.Split(new SplitOptions { CheckProfile = MachineProfile.Default, AllowErrors = true, LinesPerChunk = 97 });
+        var plainRun = b.Split(new SplitOptions { CheckProfile = MachineProfile.Default, AllowErrors = true, BlocksPerChunk = 97 });
         checkedRun.Manifest.Chunks.Select(c => (c.FileName, c.Sha256, c.FirstSourceLine, c.LastSourceLine))
             .Should().Equal(plainRun.Manifest.Chunks.Select(c => (c.FileName, c.Sha256, c.FirstSourceLine, c.LastSourceLine)));
         checkedRun.Manifest.Chunks.Should().HaveCountGreaterThan(10);
@@ -79,7 +79,7 @@ public class SplitSinglePassTests
         }
 
         using var tp = new TempProgram(sb.ToString());
-        var o = new SplitOptions { ProgramTail = "", LinesPerChunk = 333 };
+        var o = new SplitOptions { ProgramTail = "", BlocksPerChunk = 333 };
         var r = tp.Split(o);
         var body = ChunkText.Body(r, o);
         body.Should().Equal(Enumerable.Range(1, 9000).Select(i => $"M0=={i} G01 X{i} F(P500)"));
@@ -151,7 +151,7 @@ public class SplitSinglePassTests
     public void Streamed_manifest_is_byte_identical_to_the_serializer_and_loads_back()
     {
         using var tp = new TempProgram("G01 X1\nG01 X2\nG41.2 D1 X0\nM41 T2\nG01 X3\n", "零件 \"q\".nc");
-        var r = tp.Split(new SplitOptions { LinesPerChunk = 1, CheckProfile = MachineProfile.Default, AllowErrors = true });
+        var r = tp.Split(new SplitOptions { BlocksPerChunk = 1, CheckProfile = MachineProfile.Default, AllowErrors = true });
         r.Manifest.NotYetCodes.Should().Equal(new Dictionary<string, int> { ["G41.2"] = 3, ["M41"] = 4 });
         var streamed = File.ReadAllBytes(r.ManifestPath);
         var options = new JsonSerializerOptions

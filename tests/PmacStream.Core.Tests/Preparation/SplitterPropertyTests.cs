@@ -197,7 +197,7 @@ public class SplitterPropertyTests
 
             var options = new SplitOptions
             {
-                LinesPerChunk = rnd.Next(1, 120),
+                BlocksPerChunk = rnd.Next(1, 120),
                 RotWords = rnd.Next(40, 900),
                 WordsPerBlock = rnd.Next(1, 8),
                 BytesPerWord = rnd.Next(6, 12),
@@ -236,7 +236,7 @@ public class SplitterPropertyTests
             fileBytes.Length.Should().BeLessThanOrEqualTo((int)o.MaxChunkBytes, because);
             fileBytes.Should().OnlyContain(b => b < 128 && (b >= 32 || b == '\r' || b == '\n'), because);
             ChunkText.Sha(path).Should().Be(c.Sha256);
-            c.BlockCount.Should().BeInRange(1, o.LinesPerChunk, because);
+            c.BlockCount.Should().BeInRange(1, o.BlocksPerChunk, because);
             c.EstimatedWords.Should().BeLessThanOrEqualTo(o.RotWords, because);
             var mine = expected.Skip(blockIndex).Take(c.BlockCount).ToList();
             c.FirstSourceLine.Should().Be(mine[0].Line, because);

@@ -18,7 +18,7 @@ public class SplitterTests
     public void Chunk_starts_with_close_open_rot_and_ends_with_close()
     {
         using var tp = new TempProgram("G01 X1\nG01 X2\nG01 X3\n");
-        var r = tp.Split(new SplitOptions { LinesPerChunk = 2, ProgramTail = "M05" });
+        var r = tp.Split(new SplitOptions { BlocksPerChunk = 2, ProgramTail = "M05" });
         r.Manifest.Chunks.Should().HaveCount(2);
         File.ReadAllText(r.ChunkPaths.First()).Should().Be("CLOSE\r\nOPEN ROT\r\nM0==1 G01 X1 F(P500)\r\nM0==2 G01 X2 F(P500)\r\nCLOSE\r\n");
         File.ReadAllText(r.ChunkPaths.Last()).Should().Be("CLOSE\r\nOPEN ROT\r\nM0==3 G01 X3 F(P500)\r\nM05\r\nCLOSE\r\n");
@@ -196,7 +196,7 @@ public class SplitterTests
     {
         var src = string.Concat(Enumerable.Range(1, 50).Select(i => $"G01 X{i}\n"));
         using var tp = new TempProgram(src);
-        var act = () => tp.Split(new SplitOptions { LinesPerChunk = 5, AfterChunkWritten = i => { if (i == 3) { throw new IOException("disk full (injected)"); } } });
+        var act = () => tp.Split(new SplitOptions { BlocksPerChunk = 5, AfterChunkWritten = i => { if (i == 3) { throw new IOException("disk full (injected)"); } } });
         act.Should().Throw<IOException>().WithMessage("*injected*");
         Directory.GetFileSystemEntries(tp.Folder).Should().Equal(tp.SourcePath);
     }
@@ -207,7 +207,7 @@ public class SplitterTests
         var src = string.Concat(Enumerable.Range(1, 50).Select(i => $"G01 X{i}\n"));
         using var tp = new TempProgram(src);
         using var cts = new CancellationTokenSource();
-        var act = () => Splitter.Split(tp.SourcePath, new SplitOptions { OutDir = tp.OutDir, LinesPerChunk = 5, AfterChunkWritten = i => { if (i == 2) { cts.Cancel(); } } },
+        var act = () => Splitter.Split(tp.SourcePath, new SplitOptions { OutDir = tp.OutDir, BlocksPerChunk = 5, AfterChunkWritten = i => { if (i == 2) { cts.Cancel(); } } },
             null, cts.Token);
         act.Should().Throw<OperationCanceledException>();
         Directory.GetFileSystemEntries(tp.Folder).Should().Equal(tp.SourcePath);
@@ -217,15 +217,15 @@ public class SplitterTests
     public void Failed_resplit_keeps_the_previous_set_and_a_good_one_replaces_it()
     {
         using var tp = new TempProgram("G01 X1\nG01 X2\nG01 X3\n");
-        var first = tp.Split(new SplitOptions { LinesPerChunk = 1 });
+        var first = tp.Split(new SplitOptions { BlocksPerChunk = 1 });
         first.Manifest.Chunks.Should().HaveCount(3);
 
-        var act = () => tp.Split(new SplitOptions { LinesPerChunk = 1, AfterChunkWritten = _ => throw new IOException("injected") });
+        var act = () => tp.Split(new SplitOptions { BlocksPerChunk = 1, AfterChunkWritten = _ => throw new IOException("injected") });
         act.Should().Throw<IOException>();
         ChunkManifest.Load(first.ManifestPath).Chunks.Should().HaveCount(3);
         Directory.GetFiles(tp.OutDir).Should().HaveCount(4);
 
-        var second = tp.Split(new SplitOptions { LinesPerChunk = 2 });
+        var second = tp.Split(new SplitOptions { BlocksPerChunk = 2 });
         second.Manifest.Chunks.Should().HaveCount(2);
         Directory.GetFiles(tp.OutDir).Should().HaveCount(3, "the old chunk files are gone");
         Directory.GetFileSystemEntries(tp.Folder).Should().BeEquivalentTo([tp.SourcePath, tp.OutDir]);
@@ -266,7 +266,7 @@ public class SplitterTests
     [InlineData("M0", "X500", 0)]
     public void Invalid_options_are_rejected(string track, string feed, int lines)
     {
-        var o = new SplitOptions { TrackVariable = track, FeedVariable = feed, LinesPerChunk = lines };
+        var o = new SplitOptions { TrackVariable = track, FeedVariable = feed, BlocksPerChunk = lines };
         o.Invoking(x => x.Validate()).Should().Throw<ArgumentException>();
     }
 

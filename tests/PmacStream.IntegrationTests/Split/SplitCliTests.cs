@@ -107,6 +107,35 @@ public sealed class SplitCliTests : IDisposable
     }
 
     [Fact]
+    public void Split_takes_the_chunk_shape_of_a_settings_file_as_stream_does_and_options_override_it()
+    {
+        var src = Write("part.nc", "G21 G90 G17\n" + string.Concat(Enumerable.Range(1, 25).Select(i => $"G01 X{i}. Y{i}. F500.\n")) + "M30\n");
+        var settings = Write("settings.json", """{ "blocksPerChunk": 10, "tracking": "paper", "programTail": "M03 M05", "windowStart": 0.5 }""");
+        var outDir = Path.Combine(_temp.Path, "chunks");
+        var (code, _, stderr) = Run("split", src, "--out", outDir, "--settings", settings);
+        code.Should().Be(0, stderr);
+        stderr.Should().BeEmpty();
+        var manifest = ChunkManifest.Load(Path.Combine(outDir, "manifest.json"));
+        manifest.Shape.Should().Be(ChunkShape.Default with { BlocksPerChunk = 10, Tracking = TrackingPlacement.Paper, ProgramTail = "M03 M05" });
+        manifest.Chunks.Select(c => c.BlockCount).Should().Equal(10, 10, 7);
+        File.ReadAllText(Path.Combine(outDir, "part_0003.pmc")).Should().EndWith("M03 M05\r\nM30\r\nCLOSE\r\n");
+
+        // An option given on the command line wins over the file; the old name --lines still works, with a warning.
+        (code, _, stderr) = Run("split", src, "--out", outDir, "--settings", settings, "--lines", "20");
+        code.Should().Be(0, stderr);
+        stderr.Should().Contain("warning: --lines is now --blocks-per-chunk");
+        manifest = ChunkManifest.Load(Path.Combine(outDir, "manifest.json"));
+        (manifest.Shape!.BlocksPerChunk, manifest.Shape.Tracking).Should().Be((20, TrackingPlacement.Paper));
+        manifest.Chunks.Select(c => c.BlockCount).Should().Equal(20, 7);
+
+        // A bad shape in the file is reported where it is, as stream reports it.
+        var bad = Write("bad.json", "{\n  \"blocksPerChunk\": 0\n}");
+        (code, _, stderr) = Run("split", src, "--out", outDir, "--settings", bad, "--blocks-per-chunk", "5");
+        code.Should().Be(2);
+        stderr.Should().StartWith($"{bad}:2:21: error R003: blocks per chunk must be at least 1");
+    }
+
+    [Fact]
     public void Split_usage_and_io_errors_exit_2()
     {
         Run("split", Path.Combine(_temp.Path, "missing.nc")).Code.Should().Be(2);

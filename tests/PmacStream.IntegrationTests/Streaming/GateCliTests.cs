@@ -99,7 +99,7 @@ public sealed class GateCliTests : IDisposable
         var db = Path.Combine(_temp.Path, "jobs.db");
         using (var jobs = JobStore.Open(db))
         {
-            var split = Splitter.Split(src, new SplitOptions { OutDir = Splitter.DefaultOutDir(src), LinesPerChunk = 100, CheckProfile = profile });
+            var split = Splitter.Split(src, new SplitOptions { OutDir = Splitter.DefaultOutDir(src), BlocksPerChunk = 100, CheckProfile = profile });
             var id = jobs.CreateJob(src, split.Manifest.SourceSha256, split.ManifestPath, StrategyKind.Chunk, "sim", null, profile: (profile.Source, profile.Identity));
             jobs.SaveCheckpoint(id, new Checkpoint(150, 2, new StreamPosition(3, 0), true, 2, SessionState.Running, DateTimeOffset.UtcNow), durable: true);
         }

@@ -60,7 +60,7 @@ public sealed class JobWorkflowTests : IDisposable
 
         code.Should().Be(0, stderr + stdout);
         var manifest = ChunkManifest.Load(manifestPath);
-        manifest.LinesPerChunk.Should().Be(500);
+        manifest.BlocksPerChunk.Should().Be(500);
         manifest.Chunks.Should().OnlyContain(c => c.BlockCount <= 500).And.HaveCountGreaterThanOrEqualTo(5);
         stdout.Should().Contain($"{manifest.Chunks.Count} chunks").And.MatchRegex(@"executed 2401 of 2401 blocks");
         using var jobs = JobStore.Open(Db);
@@ -173,7 +173,7 @@ public sealed class JobWorkflowTests : IDisposable
     public void A_bad_settings_file_is_reported_with_its_position_and_exit_2()
     {
         var settings = Path.Combine(_folder, "settings.json");
-        File.WriteAllText(settings, "{\n  \"linesPerChunk\": 500,\n  \"window\": \"0.6-0.7\"\n}\n");
+        File.WriteAllText(settings, "{\n  \"blocksPerChunk\": 500,\n  \"window\": \"0.6-0.7\"\n}\n");
         var (code, _, stderr) = CliProcess.Run("stream", Program(10), "--sim", "--settings", settings, "--job-db", Db);
         code.Should().Be(2);
         stderr.Should().StartWith($"{settings}:3:3: error R002: unknown setting 'window'");
@@ -240,7 +240,7 @@ public sealed class JobWorkflowTests : IDisposable
         // Moves only: the chunk file itself goes to Download (no annotated copy), so its PComm log lands beside it.
         var src = Path.Combine(_folder, "moves.nc");
         File.WriteAllText(src, string.Concat(Enumerable.Range(1, 40).Select(i => $"G01 X{i} Y{i % 3} F900\n")));
-        var split = Splitter.Split(src, new SplitOptions { LinesPerChunk = 20 });
+        var split = Splitter.Split(src, new SplitOptions { BlocksPerChunk = 20 });
         using var sim = new PmacSimulator();
         await using var connection = new InProcessConnection(sim.OpenPort("test"), "sim");
         await connection.DownloadAsync(SimRig.Library);

@@ -408,7 +408,7 @@ public class PositionProofTests(ITestOutputHelper output)
         var name = Path.GetFileName(path);
         var split = Splitter.Split(path, new SplitOptions
         {
-            CheckProfile = profile, AllowErrors = force, LinesPerChunk = 300, OutDir = path + (tables ? "_chunks" : "_chunks_bare"),
+            CheckProfile = profile, AllowErrors = force, BlocksPerChunk = 300, OutDir = path + (tables ? "_chunks" : "_chunks_bare"),
         });
         var program = ChunkedProgram.Open(split.ManifestPath);
         await using var host = new SimHost(new SimHostOptions

@@ -121,7 +121,7 @@ public class SimFaultHarnessTests(ITestOutputHelper output)
 
         Directory.CreateDirectory(folder);
         var src = Source(folder, 120 + r.Next(200), r);
-        var split = Splitter.Split(src, new SplitOptions { LinesPerChunk = 25 + r.Next(100), OutDir = Path.Combine(folder, "chunks") });
+        var split = Splitter.Split(src, new SplitOptions { BlocksPerChunk = 25 + r.Next(100), OutDir = Path.Combine(folder, "chunks") });
         var program = ChunkedProgram.Open(split.ManifestPath);
 
         // Every fourth run starts from a line, behind the restore preamble: that must be exact under faults too.

@@ -211,7 +211,7 @@ public class StartKillTests(ITestOutputHelper output)
             sb.Append("M09\nM30\n");
             _source = Path.Combine(_folder, "p.nc");
             File.WriteAllText(_source, sb.ToString());
-            var split = Splitter.Split(_source, new SplitOptions { LinesPerChunk = 20, OutDir = Path.Combine(_folder, "chunks") });
+            var split = Splitter.Split(_source, new SplitOptions { BlocksPerChunk = 20, OutDir = Path.Combine(_folder, "chunks") });
             _program = ChunkedProgram.Open(split.ManifestPath);
             if (fromLine)
             {

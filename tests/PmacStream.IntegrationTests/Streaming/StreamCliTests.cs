@@ -158,7 +158,7 @@ public sealed class StreamCliTests : IDisposable
         long id;
         using (var jobs = JobStore.Open(db))
         {
-            var split = Splitter.Split(src, new SplitOptions { OutDir = Splitter.DefaultOutDir(src), LinesPerChunk = 100 });
+            var split = Splitter.Split(src, new SplitOptions { OutDir = Splitter.DefaultOutDir(src), BlocksPerChunk = 100 });
             id = jobs.CreateJob(src, split.Manifest.SourceSha256, split.ManifestPath, StrategyKind.Chunk, "sim", null);
             jobs.SaveCheckpoint(id, new Checkpoint(250, 3, new StreamPosition(4, 0), true, 3, SessionState.Running, DateTimeOffset.UtcNow), durable: true);
         }
