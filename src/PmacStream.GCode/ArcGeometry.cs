@@ -1,10 +1,13 @@
 namespace PmacStream.GCode;
 
 /// <summary>
-/// The circle of a G02/G03 block: its centre from R or from I/J/K (incremental from the start, or absolute with
-/// G90.1), the check that the end lies on it, and its length (the helical part included).
+/// The one arc geometry: the circle of a G02/G03 block (its centre from R or from I/J/K, incremental from the start or
+/// absolute with G90.1, the check that the end lies on it, its length with the helical part), and the arc's sweep and
+/// points for whoever draws or samples it (the preview). Planes are numbered as their G code; each is a right-handed
+/// pair (a, b) with the third axis as its normal: G17 (X, Y) about +Z, G18 (Z, X) about +Y, G19 (Y, Z) about +X, and
+/// G03 turns positively about the normal.
 /// </summary>
-internal static class ArcGeometry
+public static class ArcGeometry
 {
     /// <summary>
     /// Solves an arc in <paramref name="plane"/> (17, 18 or 19). With <paramref name="absoluteCentre"/> the centre words
@@ -12,7 +15,7 @@ internal static class ArcGeometry
     /// E113 (no centre) and E115 (end not on the circle) into <paramref name="diags"/>; the centre is null when the
     /// circle cannot be placed (the length is then the chord).
     /// </summary>
-    public static (Point3? Center, double Length) Solve(bool cw, int plane, Point3 start, Point3 end, double? i, double? j, double? k, double? r,
+    internal static (Point3? Center, double Length) Solve(bool cw, int plane, Point3 start, Point3 end, double? i, double? j, double? k, double? r,
         bool absoluteCentre, Point3 offset, double tolerance, List<Diagnostic>? diags, int line, int column, Span<int> col)
     {
         // Map the plane to (first, second, linear) axes; G18 is ZX so that G02/G03 keep the right-hand rule.
@@ -82,6 +85,79 @@ internal static class ArcGeometry
             _ => new Point3(c1, c2, start.Z),
         };
         return (centre, len);
+    }
+
+    /// <summary>The point's coordinates on the first and second axes of <paramref name="plane"/> (17, 18 or 19).</summary>
+    public static (double A, double B) InPlane(Point3 p, int plane) => plane switch
+    {
+        18 => (p.Z, p.X),
+        19 => (p.Y, p.Z),
+        _ => (p.X, p.Y),
+    };
+
+    /// <summary>The point's coordinate along the normal of <paramref name="plane"/> (the helix axis).</summary>
+    public static double Normal(Point3 p, int plane) => plane switch
+    {
+        18 => p.Y,
+        19 => p.X,
+        _ => p.Z,
+    };
+
+    /// <summary>The point of plane coordinates <paramref name="a"/>, <paramref name="b"/> and normal coordinate <paramref name="normal"/>.</summary>
+    public static Point3 FromPlane(double a, double b, double normal, int plane) => plane switch
+    {
+        18 => new Point3(b, normal, a),
+        19 => new Point3(normal, a, b),
+        _ => new Point3(a, b, normal),
+    };
+
+    /// <summary>
+    /// Start angle, signed sweep (negative for G02, <paramref name="ccw"/> false) and start and end radius of an arc
+    /// about <paramref name="center"/>. Equal start and end points mean a full turn.
+    /// </summary>
+    public static (double StartAngle, double Sweep, double StartRadius, double EndRadius) Describe(Point3 start, Point3 end, Point3 center, int plane, bool ccw)
+    {
+        var (sa, sb) = InPlane(start, plane);
+        var (ea, eb) = InPlane(end, plane);
+        var (ca, cb) = InPlane(center, plane);
+        var a0 = Math.Atan2(sb - cb, sa - ca);
+        var a1 = Math.Atan2(eb - cb, ea - ca);
+        var rs = Math.Sqrt(((sa - ca) * (sa - ca)) + ((sb - cb) * (sb - cb)));
+        var re = Math.Sqrt(((ea - ca) * (ea - ca)) + ((eb - cb) * (eb - cb)));
+        var sweep = a1 - a0;
+        // Points closer than this on the circle count as the same point: a full circle.
+        const double eps = 1e-9;
+        if (ccw)
+        {
+            while (sweep <= eps)
+            {
+                sweep += 2 * Math.PI;
+            }
+        }
+        else
+        {
+            while (sweep >= -eps)
+            {
+                sweep -= 2 * Math.PI;
+            }
+        }
+
+        return (a0, sweep, rs, re);
+    }
+
+    /// <summary>
+    /// The point at fraction <paramref name="t"/> (0..1) along an arc described by <see cref="Describe"/>: angle and
+    /// radius vary linearly (so a slightly inconsistent end radius becomes a smooth spiral), and so does the normal
+    /// axis (a helix).
+    /// </summary>
+    public static Point3 PointAt(Point3 start, Point3 end, Point3 center, int plane, double startAngle, double sweep, double startRadius, double endRadius, double t)
+    {
+        var (ca, cb) = InPlane(center, plane);
+        var angle = startAngle + (sweep * t);
+        var radius = startRadius + ((endRadius - startRadius) * t);
+        var n0 = Normal(start, plane);
+        var n1 = Normal(end, plane);
+        return FromPlane(ca + (radius * Math.Cos(angle)), cb + (radius * Math.Sin(angle)), n0 + ((n1 - n0) * t), plane);
     }
 
     private static int Min(int a, int b) => a == 0 ? b : b == 0 ? a : Math.Min(a, b);

@@ -37,7 +37,11 @@ public enum LengthUnits
     Inches,
 }
 
-/// <summary>A point in machine (work-offset-applied) coordinates, program units. Doubles, not <c>Vector3</c>: 4 decimals on metre-sized parts need more than float.</summary>
+/// <summary>
+/// A point in machine (work-offset-applied) coordinates: the one point type of the interpreter, preparation and the
+/// preview. Program units where the interpreter keeps it, millimetres in the preview's paths (<see cref="InMillimetres"/>).
+/// Doubles, not <c>Vector3</c>: 4 decimals on metre-sized parts need more than float.
+/// </summary>
 /// <param name="X">X coordinate.</param>
 /// <param name="Y">Y coordinate.</param>
 /// <param name="Z">Z coordinate.</param>
@@ -59,6 +63,13 @@ public readonly record struct Point3(double X, double Y, double Z)
 
     /// <summary>Component-wise sum.</summary>
     public static Point3 operator +(Point3 a, Point3 b) => new(a.X + b.X, a.Y + b.Y, a.Z + b.Z);
+
+    /// <summary>Linear interpolation between two points.</summary>
+    public static Point3 Lerp(Point3 a, Point3 b, double t) =>
+        new(a.X + ((b.X - a.X) * t), a.Y + ((b.Y - a.Y) * t), a.Z + ((b.Z - a.Z) * t));
+
+    /// <summary>This point, in program <paramref name="units"/>, in millimetres (an inch program's times 25.4).</summary>
+    public Point3 InMillimetres(LengthUnits units) => units == LengthUnits.Inches ? new(X * 25.4, Y * 25.4, Z * 25.4) : this;
 }
 
 /// <summary>

@@ -1,4 +1,5 @@
 using System.Globalization;
+using PmacStream.GCode;
 using PmacStream.Pmac;
 
 namespace PmacStream.Preview;
@@ -10,7 +11,7 @@ namespace PmacStream.Preview;
 /// <param name="EndSeconds">Virtual time the move ended.</param>
 /// <param name="End">Where the move ended (mm, machine coordinates).</param>
 /// <param name="Kind">Move kind as the simulator names it (rapid, linear, circle, dwell ...).</param>
-public readonly record struct ExecutedLogRow(long Sequence, long Line, double StartSeconds, double EndSeconds, Point3D End, string Kind)
+public readonly record struct ExecutedLogRow(long Sequence, long Line, double StartSeconds, double EndSeconds, Point3 End, string Kind)
 {
     /// <summary>A, B, C at the end (degrees; 0 in a log written before the rotary columns).</summary>
     public (double A, double B, double C) Rotary { get; init; }
@@ -84,7 +85,7 @@ public static class ExecutedLogReader
 
         var row = new ExecutedLogRow(
             Int(text, parts, 0, name, lineNo, 0), Int(text, parts, 1, name, lineNo, long.MinValue), Num(text, parts, 2, name, lineNo), Num(text, parts, 3, name, lineNo),
-            new Point3D(Num(text, parts, 4, name, lineNo), Num(text, parts, 5, name, lineNo), Num(text, parts, 6, name, lineNo)),
+            new Point3(Num(text, parts, 4, name, lineNo), Num(text, parts, 5, name, lineNo), Num(text, parts, 6, name, lineNo)),
             span[parts[columns.Length - 1]].Trim().ToString());
         return rotary ? row with { Rotary = (Num(text, parts, 7, name, lineNo), Num(text, parts, 8, name, lineNo), Num(text, parts, 9, name, lineNo)) } : row;
     }

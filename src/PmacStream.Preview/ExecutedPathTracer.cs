@@ -1,4 +1,5 @@
 using System.Diagnostics;
+using PmacStream.GCode;
 using SkiaSharp;
 
 namespace PmacStream.Preview;
@@ -31,7 +32,7 @@ internal sealed class ExecutedPathTracer : IDisposable
     }
 
     /// <summary>Where the tool stands after the last move drawn (or passed over), null before the first.</summary>
-    public Point3D? Position { get; private set; }
+    public Point3? Position { get; private set; }
 
     /// <summary>Moves drawn so far.</summary>
     public long Drawn { get; private set; }

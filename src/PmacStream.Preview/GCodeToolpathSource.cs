@@ -241,5 +241,5 @@ public sealed class DecodedBlockAdapter
         return 4 * holes.Count;
     }
 
-    private static Point3D Mm(Point3 p, double f) => new(p.X * f, p.Y * f, p.Z * f);
+    private static Point3 Mm(Point3 p, double f) => new(p.X * f, p.Y * f, p.Z * f);
 }

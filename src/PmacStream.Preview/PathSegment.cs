@@ -1,25 +1,6 @@
+using PmacStream.GCode;
+
 namespace PmacStream.Preview;
-
-/// <summary>A point in machine space, always in millimetres (inch programs are converted when decoded).</summary>
-/// <param name="X">X in mm.</param>
-/// <param name="Y">Y in mm.</param>
-/// <param name="Z">Z in mm.</param>
-public readonly record struct Point3D(double X, double Y, double Z)
-{
-    /// <summary>The origin.</summary>
-    public static Point3D Zero => default;
-
-    /// <summary>
-    /// A position from the interpreter or controller (program units) in millimetres, e.g. for
-    /// <see cref="PreviewPicture.WithMarker"/>.
-    /// </summary>
-    public static Point3D FromProgram(PmacStream.GCode.Point3 p, PmacStream.GCode.LengthUnits units) =>
-        units == PmacStream.GCode.LengthUnits.Inches ? new(p.X * 25.4, p.Y * 25.4, p.Z * 25.4) : new(p.X, p.Y, p.Z);
-
-    /// <summary>Linear interpolation between two points.</summary>
-    public static Point3D Lerp(Point3D a, Point3D b, double t) =>
-        new(a.X + ((b.X - a.X) * t), a.Y + ((b.Y - a.Y) * t), a.Z + ((b.Z - a.Z) * t));
-}
 
 /// <summary>How a segment moves the tool.</summary>
 public enum PathMotion
@@ -62,9 +43,9 @@ public enum ArcPlane
 /// <param name="SourceLine">1-based source line of the block, for matching with the executed-move log.</param>
 public readonly record struct PathSegment(
     PathMotion Motion,
-    Point3D Start,
-    Point3D End,
-    Point3D Center = default,
+    Point3 Start,
+    Point3 End,
+    Point3 Center = default,
     ArcPlane Plane = ArcPlane.XY,
     long SourceLine = 0)
 {
@@ -72,10 +53,10 @@ public readonly record struct PathSegment(
     public bool IsArc => Motion is PathMotion.ArcCw or PathMotion.ArcCcw;
 
     /// <summary>A straight move.</summary>
-    public static PathSegment Line(Point3D start, Point3D end, bool rapid = false, long sourceLine = 0) =>
+    public static PathSegment Line(Point3 start, Point3 end, bool rapid = false, long sourceLine = 0) =>
         new(rapid ? PathMotion.Rapid : PathMotion.Linear, start, end, default, ArcPlane.XY, sourceLine);
 
     /// <summary>An arc or helix in <paramref name="plane"/>.</summary>
-    public static PathSegment Arc(Point3D start, Point3D end, Point3D center, ArcPlane plane, bool clockwise, long sourceLine = 0) =>
+    public static PathSegment Arc(Point3 start, Point3 end, Point3 center, ArcPlane plane, bool clockwise, long sourceLine = 0) =>
         new(clockwise ? PathMotion.ArcCw : PathMotion.ArcCcw, start, end, center, plane, sourceLine);
 }

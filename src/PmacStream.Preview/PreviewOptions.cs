@@ -1,4 +1,5 @@
 using System.Globalization;
+using PmacStream.GCode;
 using SkiaSharp;
 
 namespace PmacStream.Preview;
@@ -106,7 +107,7 @@ public sealed class PreviewRefusedException : Exception
 /// <param name="Rapids">G00 moves.</param>
 /// <param name="Lines">G01 moves.</param>
 /// <param name="Arcs">G02/G03 moves.</param>
-public readonly record struct PreviewExtents(Point3D Min, Point3D Max, long Rapids, long Lines, long Arcs)
+public readonly record struct PreviewExtents(Point3 Min, Point3 Max, long Rapids, long Lines, long Arcs)
 {
     /// <summary>Moves of every kind.</summary>
     public long Moves => Rapids + Lines + Arcs;

@@ -39,7 +39,7 @@ public sealed class PreviewPicture : IDisposable
     public IReadOnlyList<string> Warnings { get; }
 
     /// <summary>A copy of the picture with a cross-hair marker at <paramref name="position"/> (e.g. the executing position); the caller disposes it.</summary>
-    public SKBitmap WithMarker(Point3D position)
+    public SKBitmap WithMarker(Point3 position)
     {
         var copy = Image.Copy();
         DrawMarker(copy, position);
@@ -47,7 +47,7 @@ public sealed class PreviewPicture : IDisposable
     }
 
     /// <summary>Draws the marker on <paramref name="target"/> (same size as <see cref="Image"/>).</summary>
-    public void DrawMarker(SKBitmap target, Point3D position)
+    public void DrawMarker(SKBitmap target, Point3 position)
     {
         var (x, y) = Projection.ToPixel(position);
         var c = PathPen.ToCanvas(x, y);
@@ -65,7 +65,7 @@ public sealed class PreviewPicture : IDisposable
     public byte[] ToPng() => Encode(Image);
 
     /// <summary>The picture with a marker at <paramref name="position"/>, as PNG bytes.</summary>
-    public byte[] ToPng(Point3D position)
+    public byte[] ToPng(Point3 position)
     {
         using var marked = WithMarker(position);
         return Encode(marked);

@@ -1,4 +1,5 @@
 using System.Globalization;
+using PmacStream.GCode;
 using Serilog;
 using SkiaSharp;
 
@@ -103,10 +104,10 @@ public static class PreviewRenderer
         if (!logBox.IsEmpty)
         {
             // Executed moves off the program's path must be in the picture too.
-            min = extents.IsEmpty ? new Point3D(logBox.MinX, logBox.MinY, logBox.MinZ)
-                : new Point3D(Math.Min(min.X, logBox.MinX), Math.Min(min.Y, logBox.MinY), Math.Min(min.Z, logBox.MinZ));
-            max = extents.IsEmpty ? new Point3D(logBox.MaxX, logBox.MaxY, logBox.MaxZ)
-                : new Point3D(Math.Max(max.X, logBox.MaxX), Math.Max(max.Y, logBox.MaxY), Math.Max(max.Z, logBox.MaxZ));
+            min = extents.IsEmpty ? new Point3(logBox.MinX, logBox.MinY, logBox.MinZ)
+                : new Point3(Math.Min(min.X, logBox.MinX), Math.Min(min.Y, logBox.MinY), Math.Min(min.Z, logBox.MinZ));
+            max = extents.IsEmpty ? new Point3(logBox.MaxX, logBox.MaxY, logBox.MaxZ)
+                : new Point3(Math.Max(max.X, logBox.MaxX), Math.Max(max.Y, logBox.MaxY), Math.Max(max.Z, logBox.MaxZ));
         }
 
         var palette = options.Palette;
@@ -219,7 +220,7 @@ public static class PreviewRenderer
             if (s.IsArc)
             {
                 arcs++;
-                ArcGeometry.Extend(s, ref box);
+                box.AddArc(s);
                 arcLines?.Add(s.SourceLine);
             }
             else
@@ -245,7 +246,7 @@ public static class PreviewRenderer
 
         return box.IsEmpty
             ? new PreviewExtents(default, default, 0, 0, 0)
-            : new PreviewExtents(new Point3D(box.MinX, box.MinY, box.MinZ), new Point3D(box.MaxX, box.MaxY, box.MaxZ), rapids, lines, arcs);
+            : new PreviewExtents(new Point3(box.MinX, box.MinY, box.MinZ), new Point3(box.MaxX, box.MaxY, box.MaxZ), rapids, lines, arcs);
     }
 
     private static void DrawExecuted(PathPen pen, ViewProjection projection, string path, ExecutionCounts counts, LineSet arcLines, PreviewOptions options, CancellationToken cancellationToken)
@@ -318,7 +319,8 @@ public static class PreviewRenderer
             return;
         }
 
-        var (a0, sweep, rs, re) = ArcGeometry.Describe(s);
+        var plane = (int)s.Plane;
+        var (a0, sweep, rs, re) = ArcGeometry.Describe(s.Start, s.End, s.Center, plane, s.Motion == PathMotion.ArcCcw);
         var rpx = Math.Max(rs, re) * projection.Scale;
         // Chord error (sagitta) of a step of angle d at radius r: r(1 - cos(d/2)). Keep it under 0.25 px.
         var step = rpx > 0.5 ? 2 * Math.Acos(Math.Max(-1, 1 - (0.25 / rpx))) : Math.PI / 4;
@@ -328,7 +330,7 @@ public static class PreviewRenderer
         for (var i = 1; i <= n; i++)
         {
             // t = 1 lands on the programmed end (the radius is interpolated to the end radius).
-            var p = projection.ToPixel(ArcGeometry.PointAt(s, a0, sweep, rs, re, (double)i / n));
+            var p = projection.ToPixel(ArcGeometry.PointAt(s.Start, s.End, s.Center, plane, a0, sweep, rs, re, (double)i / n));
             pen.LineTo(p.X, p.Y);
         }
     }

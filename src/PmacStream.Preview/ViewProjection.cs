@@ -1,3 +1,5 @@
+using PmacStream.GCode;
+
 namespace PmacStream.Preview;
 
 /// <summary>
@@ -14,13 +16,13 @@ public sealed class ViewProjection
     private readonly double _cy;
 
     /// <summary>Fits the box <paramref name="min"/>..<paramref name="max"/> into the plot rectangle.</summary>
-    public ViewProjection(PreviewView view, Point3D min, Point3D max, int left, int top, int width, int height)
+    public ViewProjection(PreviewView view, Point3 min, Point3 max, int left, int top, int width, int height)
     {
         View = view;
         double u0 = double.PositiveInfinity, u1 = double.NegativeInfinity, v0 = double.PositiveInfinity, v1 = double.NegativeInfinity;
         for (var corner = 0; corner < 8; corner++)
         {
-            var p = new Point3D((corner & 1) == 0 ? min.X : max.X, (corner & 2) == 0 ? min.Y : max.Y, (corner & 4) == 0 ? min.Z : max.Z);
+            var p = new Point3((corner & 1) == 0 ? min.X : max.X, (corner & 2) == 0 ? min.Y : max.Y, (corner & 4) == 0 ? min.Z : max.Z);
             var (u, v) = Project(view, p);
             u0 = Math.Min(u0, u);
             u1 = Math.Max(u1, u);
@@ -51,7 +53,7 @@ public sealed class ViewProjection
     public double Scale { get; }
 
     /// <summary>The view's horizontal and vertical coordinate of a point (mm, vertical up).</summary>
-    public static (double U, double V) Project(PreviewView view, Point3D p) => view switch
+    public static (double U, double V) Project(PreviewView view, Point3 p) => view switch
     {
         PreviewView.XY => (p.X, p.Y),
         PreviewView.XZ => (p.X, p.Z),
@@ -60,7 +62,7 @@ public sealed class ViewProjection
     };
 
     /// <summary>The pixel position (sub-pixel; whole numbers are pixel centres) of a point.</summary>
-    public (double X, double Y) ToPixel(Point3D p)
+    public (double X, double Y) ToPixel(Point3 p)
     {
         var (u, v) = Project(View, p);
         return (_cx + ((u - _uMid) * Scale), _cy - ((v - _vMid) * Scale));

@@ -162,7 +162,7 @@ public class SplitSinglePassTests
         };
         var records = r.Manifest with { Chunks = r.Manifest.Chunks.ToList() };
         streamed.Should().Equal(JsonSerializer.SerializeToUtf8Bytes(records, options));
-        var withNullTail = records with { ProgramTail = null, Feed = FeedMode.Override, Tracking = TrackingPlacement.Paper };
+        var withNullTail = records with { Shape = null, Feed = FeedMode.Override, Tracking = TrackingPlacement.Paper };
         using var ms = new MemoryStream();
         withNullTail.WriteTo(ms);
         ms.ToArray().Should().Equal(JsonSerializer.SerializeToUtf8Bytes(withNullTail, options));

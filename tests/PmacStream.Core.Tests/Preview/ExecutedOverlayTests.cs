@@ -40,7 +40,7 @@ public sealed class ExecutedOverlayTests : IDisposable
 
         // The band lies under the program line: 2 pixels beside each edge's middle is executed green,
         // while the edge itself stays in the feed colour on top.
-        var (mx, my) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
+        var (mx, my) = pic.Projection.ToPixel(new Point3(20, 0, 0));
         Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my), Palette.Feed, Palette.Executed).Should().BeTrue("the edge is drawn over the band");
         Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) - 2, Palette.Executed).Should().BeTrue("the band is wider than the line");
         Is(pic.Image, (int)Math.Round(mx), (int)Math.Round(my) + 2, Palette.Executed).Should().BeTrue();
@@ -60,14 +60,14 @@ public sealed class ExecutedOverlayTests : IDisposable
         report.Repeated.Should().Equal(new LineRun(5, 5, 2));
 
         // The never-executed right edge is drawn in the missing colour.
-        var (rx, ry) = pic.Projection.ToPixel(new Point3D(40, 20, 0));
+        var (rx, ry) = pic.Projection.ToPixel(new Point3(40, 20, 0));
         Is(pic.Image, (int)Math.Round(rx), (int)Math.Round(ry), Palette.Missing).Should().BeTrue();
         // Having skipped line 4, the machine went straight from (40, 0) to (0, 40) for line 5: that executed
         // move, of a line run twice, is a repeated-colour band across the square where the program has nothing.
-        var (tx, ty) = pic.Projection.ToPixel(new Point3D(20, 20, 0));
+        var (tx, ty) = pic.Projection.ToPixel(new Point3(20, 20, 0));
         Is(pic.Image, (int)Math.Round(tx), (int)Math.Round(ty), Palette.Repeated).Should().BeTrue();
         // The bottom edge ran once.
-        var (bx, by) = pic.Projection.ToPixel(new Point3D(20, 0, 0));
+        var (bx, by) = pic.Projection.ToPixel(new Point3(20, 0, 0));
         Is(pic.Image, (int)Math.Round(bx), (int)Math.Round(by) + 2, Palette.Executed).Should().BeTrue();
     }
 
@@ -78,7 +78,7 @@ public sealed class ExecutedOverlayTests : IDisposable
         var log = WriteLog((2, 20, 0), (3, -20, 0));
         using var pic = RenderGCode("G21 G90 G17\nG0 X20 Y0 Z0\nG3 X-20 Y0 I-20 J0 F100\n", PreviewView.XY, 300, 300, log: log);
         var proj = pic.Projection;
-        var (cx, cy) = proj.ToPixel(new Point3D(0, 0, 0));
+        var (cx, cy) = proj.ToPixel(new Point3(0, 0, 0));
         var rpx = 20 * proj.Scale;
         foreach (var deg in new[] { 30, 60, 90, 120, 150 })
         {
@@ -118,7 +118,7 @@ public sealed class ExecutedOverlayTests : IDisposable
     {
         var log = WriteLog((3, 40, 0), (4, 200, 200));
         using var pic = RenderGCode(Square, PreviewView.XY, 300, 300, log: log);
-        var (x, y) = pic.Projection.ToPixel(new Point3D(200, 200, 0));
+        var (x, y) = pic.Projection.ToPixel(new Point3(200, 200, 0));
         x.Should().BeInRange(0, 299);
         y.Should().BeInRange(0, 299);
         Near(pic.Image, x, y, Palette.Executed, 2).Should().BeTrue();
@@ -146,9 +146,9 @@ public sealed class ExecutedOverlayTests : IDisposable
     public void Log_rows_parse_with_invariant_numbers()
     {
         var row = ExecutedLogReader.ParseRow("12,345,1.5,2.25,-1.5e1,2,3.125,circle", "log", 2, rotary: false);
-        row.Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle"));
+        row.Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3(-15, 2, 3.125), "circle"));
         ExecutedLogReader.ParseRow("12,345,1.5,2.25,-1.5e1,2,3.125,90,-45.5,0.25,circle", "log", 2)
-            .Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3D(-15, 2, 3.125), "circle") { Rotary = (90, -45.5, 0.25) });
+            .Should().Be(new ExecutedLogRow(12, 345, 1.5, 2.25, new Point3(-15, 2, 3.125), "circle") { Rotary = (90, -45.5, 0.25) });
     }
 
     [Fact]
@@ -262,7 +262,7 @@ public class ToolpathSourceTests
     public void Positioning_from_an_unknown_place_is_not_drawn()
     {
         var segs = Segments("G21 G90\nG0 Z10\nG0 X5 Y5\nG1 Z0 F100\n", out _);
-        segs.Should().ContainSingle().Which.Should().Be(PathSegment.Line(new Point3D(5, 5, 10), new Point3D(5, 5, 0), false, 4));
+        segs.Should().ContainSingle().Which.Should().Be(PathSegment.Line(new Point3(5, 5, 10), new Point3(5, 5, 0), false, 4));
     }
 
     [Fact]
@@ -282,7 +282,7 @@ public class ToolpathSourceTests
         var segs = Segments("G21 G90 G18\nG0 X10 Y1 Z0\nG2 X-10 Z0 I-10 K0 F100\nG19 G3 Y-19 Z0 J-10 K0\n", out var source);
         source.IssueCount.Should().Be(0);
         segs.Should().HaveCount(2);
-        segs[0].Should().Be(PathSegment.Arc(new Point3D(10, 1, 0), new Point3D(-10, 1, 0), new Point3D(0, 1, 0), ArcPlane.ZX, true, 3));
+        segs[0].Should().Be(PathSegment.Arc(new Point3(10, 1, 0), new Point3(-10, 1, 0), new Point3(0, 1, 0), ArcPlane.ZX, true, 3));
         segs[1].Plane.Should().Be(ArcPlane.YZ);
         segs[1].Motion.Should().Be(PathMotion.ArcCcw);
         segs[1].Center.Y.Should().Be(-9);

@@ -28,8 +28,8 @@ public sealed class MotionOnlyPreviewTests : IDisposable
         var segments = Read(Source("G21 G90 G17\nG10 L2 P2 X0 Y-101.6 Z0\nG55\nG00 X10 Y10 Z5\nG01 Z-1 F100\nG01 X20\nM30\n"));
 
         segments.Should().HaveCount(2, "the G10 line sets an offset and the first G00 only says where the tool is");
-        segments[0].Should().Be(PathSegment.Line(new Point3D(10, -91.6, 5), new Point3D(10, -91.6, -1), rapid: false, sourceLine: 5));
-        segments[1].End.Should().Be(new Point3D(20, -91.6, -1), "G55 is 101.6 mm down in Y");
+        segments[0].Should().Be(PathSegment.Line(new Point3(10, -91.6, 5), new Point3(10, -91.6, -1), rapid: false, sourceLine: 5));
+        segments[1].End.Should().Be(new Point3(20, -91.6, -1), "G55 is 101.6 mm down in Y");
         segments.Should().NotContain(s => s.SourceLine == 2, "a data block draws nothing");
     }
 
@@ -40,9 +40,9 @@ public sealed class MotionOnlyPreviewTests : IDisposable
         var segments = Read(Source("G21 G90\nG00 X0 Y0 Z0\nG01 X20 F100\nG92 X0 Y0\nG01 X5\nG92.1\nG52 Y100\nG01 X0 Y0\nG52 Y0\nM30\n"));
 
         segments.Select(s => (s.SourceLine, s.End)).Should().Equal(
-            (3L, new Point3D(20, 0, 0)),
-            (5L, new Point3D(25, 0, 0)),
-            (8L, new Point3D(0, 100, 0)));
+            (3L, new Point3(20, 0, 0)),
+            (5L, new Point3(25, 0, 0)),
+            (8L, new Point3(0, 100, 0)));
     }
 
     [Fact]
@@ -53,11 +53,11 @@ public sealed class MotionOnlyPreviewTests : IDisposable
         var holes = segments.Where(s => s.SourceLine is 3 or 4).ToList();
         holes.Should().HaveCount(8, "two holes, four strokes each");
         holes.Where(s => s.Motion == PathMotion.Linear).Select(s => (s.Start, s.End)).Should().Equal(
-            (new Point3D(10, 10, 2), new Point3D(10, 10, -5)),
-            (new Point3D(20, 10, 2), new Point3D(20, 10, -5)));
+            (new Point3(10, 10, 2), new Point3(10, 10, -5)),
+            (new Point3(20, 10, 2), new Point3(20, 10, -5)));
         holes.Should().OnlyContain(s => s.Motion == PathMotion.Linear || s.Motion == PathMotion.Rapid);
-        holes[^1].End.Should().Be(new Point3D(20, 10, 2), "G99 returns to the R level");
-        holes[0].Start.Should().Be(new Point3D(0, 0, 10), "from where the tool was, at its height");
+        holes[^1].End.Should().Be(new Point3(20, 10, 2), "G99 returns to the R level");
+        holes[0].Start.Should().Be(new Point3(0, 0, 10), "from where the tool was, at its height");
     }
 
     [Fact]

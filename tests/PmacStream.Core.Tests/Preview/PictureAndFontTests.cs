@@ -1,8 +1,9 @@
 using System.Globalization;
+using PmacStream.GCode;
 using PmacStream.Preview;
 using SkiaSharp;
-using Xunit.Abstractions;
 using static PmacStream.Core.Tests.Preview.PreviewTestKit;
+using Xunit.Abstractions;
 
 namespace PmacStream.Core.Tests.Preview;
 
@@ -64,7 +65,7 @@ public class PictureAndFontTests(ITestOutputHelper output)
         using var en = PreviewRenderer.Render(new GCodeToolpathSource(path), new PreviewOptions { Width = 600, Height = 450 });
         using var zh = PreviewRenderer.Render(new GCodeToolpathSource(path), new PreviewOptions { Width = 600, Height = 450, Culture = CultureInfo.GetCultureInfo("zh-CN") });
         using var font = new LegendFont(20);
-        var (_, bottom) = en.Projection.ToPixel(new Point3D(0, -5, 0));
+        var (_, bottom) = en.Projection.ToPixel(new Point3(0, -5, 0));
         var legendRows = Enumerable.Range((int)bottom + 2, 450 - (int)bottom - 2);
         var differing = legendRows.Sum(y => Enumerable.Range(0, 600).Count(x => en.Image.GetPixel(x, y) != zh.Image.GetPixel(x, y)));
         var plotSame = Enumerable.Range(0, (int)bottom).All(y => Enumerable.Range(0, 600).All(x => en.Image.GetPixel(x, y) == zh.Image.GetPixel(x, y)));
@@ -87,10 +88,10 @@ public class PictureAndFontTests(ITestOutputHelper output)
     [Fact]
     public void Program_positions_in_inches_become_millimetres()
     {
-        Point3D.FromProgram(new PmacStream.GCode.Point3(1, -2, 0.5), PmacStream.GCode.LengthUnits.Inches)
-            .Should().Be(new Point3D(25.4, -50.8, 12.7));
-        Point3D.FromProgram(new PmacStream.GCode.Point3(1, -2, 0.5), PmacStream.GCode.LengthUnits.Millimetres)
-            .Should().Be(new Point3D(1, -2, 0.5));
+        new Point3(1, -2, 0.5).InMillimetres(LengthUnits.Inches)
+            .Should().Be(new Point3(25.4, -50.8, 12.7));
+        new Point3(1, -2, 0.5).InMillimetres(LengthUnits.Millimetres)
+            .Should().Be(new Point3(1, -2, 0.5));
     }
 
     private static string LegendTextAll() => LegendText.AllChinese();

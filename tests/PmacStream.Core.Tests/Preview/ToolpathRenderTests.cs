@@ -16,14 +16,14 @@ public class ToolpathRenderTests
         using var pic = RenderGCode("G21 G17 G90\nG0 X0 Y0 Z0\nG1 X50 F100\nY50\nX0\nY0\n", PreviewView.XY, 300, 300);
         var img = pic.Image;
         var proj = pic.Projection;
-        var (x0, y0) = proj.ToPixel(new Point3D(0, 0, 0));
-        var (x1, y1) = proj.ToPixel(new Point3D(50, 50, 0));
+        var (x0, y0) = proj.ToPixel(new Point3(0, 0, 0));
+        var (x1, y1) = proj.ToPixel(new Point3(50, 50, 0));
         (x1 - x0).Should().BeApproximately(50 * proj.Scale, 1e-9);
         y1.Should().BeLessThan(y0, "Y points up in the XY view");
 
         for (var t = 0.0; t <= 1.0; t += 0.05)
         {
-            foreach (var p in new[] { new Point3D(50 * t, 0, 0), new Point3D(50, 50 * t, 0), new Point3D(50 * t, 50, 0), new Point3D(0, 50 * t, 0) })
+            foreach (var p in new[] { new Point3(50 * t, 0, 0), new Point3(50, 50 * t, 0), new Point3(50 * t, 50, 0), new Point3(0, 50 * t, 0) })
             {
                 var (px, py) = proj.ToPixel(p);
                 Is(img, (int)Math.Round(px), (int)Math.Round(py), Feed).Should().BeTrue($"the edge point {p} is drawn");
@@ -36,8 +36,8 @@ public class ToolpathRenderTests
         feedPixels.Should().OnlyContain(p => Math.Abs(p.X - x0) < 0.6 || Math.Abs(p.X - x1) < 0.6 || Math.Abs(p.Y - y0) < 0.6 || Math.Abs(p.Y - y1) < 0.6);
         feedPixels.Should().OnlyContain(p => p.X >= x0 - 0.6 && p.X <= x1 + 0.6 && p.Y >= y1 - 0.6 && p.Y <= y0 + 0.6);
         PixelsOf(img, Rapid).Should().BeEmpty("the only rapid starts from an unknown position and is not drawn");
-        pic.Extents.Min.Should().Be(new Point3D(0, 0, 0));
-        pic.Extents.Max.Should().Be(new Point3D(50, 50, 0));
+        pic.Extents.Min.Should().Be(new Point3(0, 0, 0));
+        pic.Extents.Max.Should().Be(new Point3(50, 50, 0));
         pic.Extents.Lines.Should().Be(4);
     }
 
@@ -61,9 +61,9 @@ public class ToolpathRenderTests
         var proj = pic.Projection;
         var centreWorld = view switch
         {
-            PreviewView.XY => new Point3D(cu, cv, 7),
-            PreviewView.XZ => new Point3D(cu, 7, cv),
-            _ => new Point3D(7, cu, cv),
+            PreviewView.XY => new Point3(cu, cv, 7),
+            PreviewView.XZ => new Point3(cu, 7, cv),
+            _ => new Point3(7, cu, cv),
         };
         var (cx, cy) = proj.ToPixel(centreWorld);
         var rpx = radius * proj.Scale;
@@ -87,33 +87,33 @@ public class ToolpathRenderTests
         pic.Extents.Arcs.Should().Be(1);
     }
 
-    public static TheoryData<string, PreviewView, string, Point3D, Point3D> HalfCircles => new()
+    public static TheoryData<string, PreviewView, string, Point3, Point3> HalfCircles => new()
     {
         // A half turn from +r to -r on the plane's first axis must pass the side its direction says.
         // G17 (X, Y) about +Z: G3 from X+ goes through Y+, G2 through Y-.
-        { "G17 G3", PreviewView.XY, "G17\nG0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F100\n", new Point3D(0, 10, 0), new Point3D(0, -10, 0) },
-        { "G17 G2", PreviewView.XY, "G17\nG0 X10 Y0 Z0\nG2 X-10 Y0 I-10 J0 F100\n", new Point3D(0, -10, 0), new Point3D(0, 10, 0) },
+        { "G17 G3", PreviewView.XY, "G17\nG0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F100\n", new Point3(0, 10, 0), new Point3(0, -10, 0) },
+        { "G17 G2", PreviewView.XY, "G17\nG0 X10 Y0 Z0\nG2 X-10 Y0 I-10 J0 F100\n", new Point3(0, -10, 0), new Point3(0, 10, 0) },
         // G18 (Z, X) about +Y: G3 from X+ turns toward Z-.
-        { "G18 G3", PreviewView.XZ, "G18\nG0 X10 Y0 Z0\nG3 X-10 Z0 I-10 K0 F100\n", new Point3D(0, 0, -10), new Point3D(0, 0, 10) },
-        { "G18 G2", PreviewView.XZ, "G18\nG0 X10 Y0 Z0\nG2 X-10 Z0 I-10 K0 F100\n", new Point3D(0, 0, 10), new Point3D(0, 0, -10) },
+        { "G18 G3", PreviewView.XZ, "G18\nG0 X10 Y0 Z0\nG3 X-10 Z0 I-10 K0 F100\n", new Point3(0, 0, -10), new Point3(0, 0, 10) },
+        { "G18 G2", PreviewView.XZ, "G18\nG0 X10 Y0 Z0\nG2 X-10 Z0 I-10 K0 F100\n", new Point3(0, 0, 10), new Point3(0, 0, -10) },
         // G19 (Y, Z) about +X: G3 from Y+ turns toward Z+.
-        { "G19 G3", PreviewView.YZ, "G19\nG0 X0 Y10 Z0\nG3 Y-10 Z0 J-10 K0 F100\n", new Point3D(0, 0, 10), new Point3D(0, 0, -10) },
-        { "G19 G2", PreviewView.YZ, "G19\nG0 X0 Y10 Z0\nG2 Y-10 Z0 J-10 K0 F100\n", new Point3D(0, 0, -10), new Point3D(0, 0, 10) },
+        { "G19 G3", PreviewView.YZ, "G19\nG0 X0 Y10 Z0\nG3 Y-10 Z0 J-10 K0 F100\n", new Point3(0, 0, 10), new Point3(0, 0, -10) },
+        { "G19 G2", PreviewView.YZ, "G19\nG0 X0 Y10 Z0\nG2 Y-10 Z0 J-10 K0 F100\n", new Point3(0, 0, -10), new Point3(0, 0, 10) },
     };
 
     [Theory]
     [MemberData(nameof(HalfCircles))]
-    public void Half_circle_turns_the_way_its_plane_and_direction_say(string name, PreviewView view, string program, Point3D through, Point3D notThrough)
+    public void Half_circle_turns_the_way_its_plane_and_direction_say(string name, PreviewView view, string program, Point3 through, Point3 notThrough)
     {
         using var pic = RenderGCode("G21 G90\n" + program, view, 300, 300);
         var (tx, ty) = pic.Projection.ToPixel(through);
         var (nx, ny) = pic.Projection.ToPixel(notThrough);
         Near(pic.Image, tx, ty, Feed).Should().BeTrue($"{name} passes {through}");
         Near(pic.Image, nx, ny, Feed, 3).Should().BeFalse($"{name} does not pass {notThrough}");
-        var ends = view == PreviewView.YZ ? new[] { new Point3D(0, 10, 0), new Point3D(0, -10, 0) } : new[] { new Point3D(10, 0, 0), new Point3D(-10, 0, 0) };
+        var ends = view == PreviewView.YZ ? new[] { new Point3(0, 10, 0), new Point3(0, -10, 0) } : new[] { new Point3(10, 0, 0), new Point3(-10, 0, 0) };
         var all = ends.Append(through).ToList();
-        pic.Extents.Min.Should().Be(new Point3D(all.Min(p => p.X), all.Min(p => p.Y), all.Min(p => p.Z)), $"{name}: the extents include the arc's extreme, not just its ends");
-        pic.Extents.Max.Should().Be(new Point3D(all.Max(p => p.X), all.Max(p => p.Y), all.Max(p => p.Z)), name);
+        pic.Extents.Min.Should().Be(new Point3(all.Min(p => p.X), all.Min(p => p.Y), all.Min(p => p.Z)), $"{name}: the extents include the arc's extreme, not just its ends");
+        pic.Extents.Max.Should().Be(new Point3(all.Max(p => p.X), all.Max(p => p.Y), all.Max(p => p.Z)), name);
     }
 
     [Theory]
@@ -129,7 +129,7 @@ public class ToolpathRenderTests
         {
             var t = i / 4000.0;
             var a = 4 * Math.PI * t;
-            reference.Add(pic.Projection.ToPixel(new Point3D(15 * Math.Cos(a), 15 * Math.Sin(a), -8 * t)));
+            reference.Add(pic.Projection.ToPixel(new Point3(15 * Math.Cos(a), 15 * Math.Sin(a), -8 * t)));
         }
 
         var pixels = PixelsOf(pic.Image, Feed);
@@ -154,9 +154,9 @@ public class ToolpathRenderTests
         using var pic = RenderGCode("G21 G90 G17\nG0 X0 Y0 Z0\nG0 X100\nG0 Y20\nG1 X0 F500\n", PreviewView.XY, 400, 300);
         Rapid.Should().NotBe(Feed);
         var proj = pic.Projection;
-        var (ax, ay) = proj.ToPixel(new Point3D(0, 0, 0));
-        var (bx, _) = proj.ToPixel(new Point3D(100, 0, 0));
-        var (_, fy) = proj.ToPixel(new Point3D(0, 20, 0));
+        var (ax, ay) = proj.ToPixel(new Point3(0, 0, 0));
+        var (bx, _) = proj.ToPixel(new Point3(100, 0, 0));
+        var (_, fy) = proj.ToPixel(new Point3(0, 20, 0));
         // Columns inside the ends (the round caps and the corner joins blur the first and last pixels).
         var columns = Enumerable.Range((int)Math.Round(ax) + 2, (int)Math.Round(bx - ax) - 3).ToList();
         var rapidRow = columns.Select(x => ColumnCoverage(pic.Image, x, ay, Rapid)).ToList();
@@ -186,7 +186,7 @@ public class ToolpathRenderTests
         using var shortArc = RenderGCode("G21 G90 G17\nG0 X0 Y0 Z0\nG2 X10 Y10 R10 F100\n", PreviewView.XY, 300, 300);
         shortArc.Extents.Min.X.Should().BeApproximately(0, 1e-9);
         shortArc.Extents.Max.Y.Should().BeApproximately(10, 1e-9);
-        var (mx, my) = shortArc.Projection.ToPixel(new Point3D(10 - (10 / Math.Sqrt(2)), 10 / Math.Sqrt(2), 0));
+        var (mx, my) = shortArc.Projection.ToPixel(new Point3(10 - (10 / Math.Sqrt(2)), 10 / Math.Sqrt(2), 0));
         Near(shortArc.Image, mx, my, Feed).Should().BeTrue("the short G2 arc bulges up-left around (10, 0)");
 
         using var longArc = RenderGCode("G21 G90 G17\nG0 X0 Y0 Z0\nG2 X10 Y10 R-10 F100\n", PreviewView.XY, 300, 300);
@@ -194,7 +194,7 @@ public class ToolpathRenderTests
         longArc.Extents.Min.X.Should().BeApproximately(-10, 1e-9);
         longArc.Extents.Max.Y.Should().BeApproximately(20, 1e-9);
         longArc.Extents.Min.Y.Should().BeApproximately(0, 1e-9);
-        var (lx, ly) = longArc.Projection.ToPixel(new Point3D(-10, 10, 0));
+        var (lx, ly) = longArc.Projection.ToPixel(new Point3(-10, 10, 0));
         Near(longArc.Image, lx, ly, Feed).Should().BeTrue();
     }
 
@@ -213,7 +213,7 @@ public class ToolpathRenderTests
         pic.Extents.Arcs.Should().Be(224);
         pic.Units.Should().Be(LengthUnits.Millimetres);
         PixelsOf(pic.Image, Palette.Text).Count.Should().BeGreaterThan(200, "the legend is written");
-        var (_, bottom) = pic.Projection.ToPixel(new Point3D(0, -5, 0));
+        var (_, bottom) = pic.Projection.ToPixel(new Point3(0, -5, 0));
         PixelsOf(pic.Image, Palette.Text).Should().OnlyContain(p => p.Y > bottom, "the legend sits below the drawing");
     }
 
@@ -231,16 +231,16 @@ public class ToolpathRenderTests
     {
         using var pic = RenderGCode("G21 G90 G17\nG0 X0 Y0 Z0\nG1 X50 Y50 F100\n", PreviewView.XY, 200, 200);
         var before = pic.Image.Bytes;
-        using var marked = pic.WithMarker(new Point3D(25, 25, 0));
+        using var marked = pic.WithMarker(new Point3(25, 25, 0));
         pic.Image.Bytes.Should().Equal(before, "the rendered picture stays clean for the next marker");
-        var (mx, my) = pic.Projection.ToPixel(new Point3D(25, 25, 0));
+        var (mx, my) = pic.Projection.ToPixel(new Point3(25, 25, 0));
         var markerPixels = PixelsOf(marked, Palette.Marker);
         markerPixels.Should().NotBeEmpty();
         markerPixels.Average(p => p.X).Should().BeApproximately(mx, 1.5);
         markerPixels.Average(p => p.Y).Should().BeApproximately(my, 1.5);
         markerPixels.Should().OnlyContain(p => Math.Abs(p.X - mx) <= 15 && Math.Abs(p.Y - my) <= 15);
 
-        using var decoded = SKBitmap.Decode(pic.ToPng(new Point3D(25, 25, 0)));
+        using var decoded = SKBitmap.Decode(pic.ToPng(new Point3(25, 25, 0)));
         decoded.Width.Should().Be(200);
         decoded.Pixels.Should().Equal(marked.Pixels, "the PNG holds exactly the marked picture");
     }
@@ -274,10 +274,10 @@ public class ToolpathRenderTests
         {
             Passes++;
             var rng = new Random(7);
-            var p = new Point3D(0, 0, 0);
+            var p = new Point3(0, 0, 0);
             for (var i = 0; i < Count; i++)
             {
-                var q = new Point3D(rng.NextDouble() * 100, rng.NextDouble() * 100, rng.NextDouble());
+                var q = new Point3(rng.NextDouble() * 100, rng.NextDouble() * 100, rng.NextDouble());
                 PassFraction = (double)i / Count;
                 yield return PathSegment.Line(p, q, false, i + 1);
                 p = q;
