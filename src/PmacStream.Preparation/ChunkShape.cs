@@ -79,7 +79,7 @@ public sealed record ChunkShape
     public bool BlockDelete { get; init; } = true;
 
     /// <summary>The JSON names of the properties (<c>blocksPerChunk</c>, <c>chunkWords</c>, ...), as the manifest and settings files spell them.</summary>
-    public static IReadOnlyList<string> JsonNames { get; } = [.. JsonInfo.Properties.Select(p => p.Name)];
+    public static IReadOnlyList<string> JsonNames { get; } = [.. JsonSerializer.SerializeToNode(Default, JsonInfo)!.AsObject().Select(p => p.Key)];
 
     private static JsonTypeInfo<ChunkShape> JsonInfo => ChunkManifestJsonContext.Default.ChunkShape;
 
@@ -111,6 +111,11 @@ public sealed record ChunkShape
         if (!IsVariable(FeedVariable))
         {
             throw new ArgumentException($"feed variable must be a P, Q or M variable such as P500 (got '{FeedVariable}')");
+        }
+
+        if (!Enum.IsDefined(Tracking) || !Enum.IsDefined(Feed))
+        {
+            throw new ArgumentException($"tracking must be exact or paper and feed paper or override (got {(int)Tracking}, {(int)Feed})");
         }
 
         foreach (var c in ProgramTail ?? string.Empty)

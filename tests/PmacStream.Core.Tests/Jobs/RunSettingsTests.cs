@@ -61,7 +61,8 @@ public class RunSettingsTests
     [InlineData("{ \"chunkWords\": 20000 }", "settings.json:1:1: error R003: a chunk of 20000 words does not fit a rotary buffer of 16000 words")]
     [InlineData("{ \"trackVariable\": \"P5\" }", "settings.json:1:20: error R003: track variable must be an M-variable")]
     [InlineData("{ \"blocksPerChunk\": 0 }", "settings.json:1:21: error R003: blocks per chunk must be at least 1")]
-    [InlineData("{ \"tracking\": 3 }", "settings.json:1:15: error R003: tracking: expected \"exact\" or \"paper\", got number")]
+    [InlineData("{ \"tracking\": \"sideways\" }", "settings.json:1:15: error R003: tracking: expected \"exact\" or \"paper\", got string")]
+    [InlineData("{ \"feed\": 7 }", "settings.json:1:11: error R003: tracking must be exact or paper and feed paper or override")]
     public void A_bad_settings_file_is_reported_with_file_line_column_and_code(string json, string expected)
     {
         Error(json).Should().StartWith(expected);
