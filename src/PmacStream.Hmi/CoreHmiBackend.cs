@@ -100,12 +100,23 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
         var resumable = job.Record as ResumableJob ?? throw new ArgumentException("not a job recorded in the job store", nameof(job));
         var ran = JobService.ProfileOf(resumable.Record, profile.Source); // the job's own profile, or a clear refusal
         int? proposed = null;
-        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, p =>
+        var request = new ResumeRequest(resumable, resumable.Settings ?? settings, p =>
             {
                 proposed = p.Line;
                 return Task.FromResult(p.Line == resumable.RestartLine);
-            }, feedOverride, ran, cancellationToken, optionalStop: optionalStop)
-            .ConfigureAwait(false);
+            })
+        {
+            FeedOverride = feedOverride,
+            Profile = ran,
+            OptionalStop = optionalStop,
+        };
+        var result = await Service.ResumeAsync(controller, request, cancellationToken).ConfigureAwait(false);
+        if (result.Kind == ResumeKind.Refused)
+        {
+            // The screen shows the refusal as it shows every job step refused.
+            throw new JobException(result.Reason ?? $"cannot resume job {job.JobId}");
+        }
+
         var resumed = result.Job ?? throw new InvalidOperationException(
             $"the controller stopped the job at line {proposed}, not at line {job.ResumeLine} of the job record: nothing was sent. Select line {proposed} and start from it to see its preamble first.");
         return result.Kind == ResumeKind.Restart
