@@ -138,7 +138,7 @@ public enum ResumeKind
 /// <param name="Reason">Why the controller could not continue (restarts), why the resume was refused, else null.</param>
 public sealed record ResumeResult(ResumeKind Kind, Job? Job, string? Reason = null)
 {
-    /// <summary>Where a start from a line would begin once the controller stopped (its M0), for a refused resume; null when it names none.</summary>
+    /// <summary>The line a restart was proposed at (declined), or where a start from a line would begin once the controller stopped (refused); null when none is named.</summary>
     public int? RestartLine { get; init; }
 }
 

@@ -27,7 +27,7 @@ public sealed record JobServiceOptions
 /// facade, the library), plan a start from a line, start and run a job, find and resume an interrupted one.
 /// See <c>Jobs/README.md</c>.
 /// </summary>
-public sealed class JobService
+public sealed partial class JobService
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<JobService>();
     private readonly JobServiceOptions _options;
@@ -397,7 +397,7 @@ public sealed class JobService
             {
                 Log.Information("Restart of job {Job} declined", record.Id);
                 store.Dispose();
-                return new ResumeResult(ResumeKind.Declined, null, outcome.Reason);
+                return new ResumeResult(ResumeKind.Declined, null, outcome.Reason) { RestartLine = outcome.RestartLine };
             }
 
             return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id), outcome.Reason);
