@@ -1,4 +1,4 @@
-using PmacStream.Streaming;
+using PmacStream.Jobs;
 
 namespace PmacStream.Hmi;
 
@@ -12,8 +12,8 @@ namespace PmacStream.Hmi;
 internal sealed class ChunkLinesPane : IDisposable
 {
     private readonly IMainView _view;
-    private HmiSplitResult? _split;
-    private ChunkedProgram? _program;
+    private readonly IHmiBackend _backend;
+    private SplitView? _split;
     private ProgramLineSource? _lines;
     private int _shown = -1;
     private int[] _trackedLines = [];
@@ -21,8 +21,12 @@ internal sealed class ChunkLinesPane : IDisposable
     private int _executingRow;
     private bool _following = true;
 
-    /// <summary>The pane on <paramref name="view"/>.</summary>
-    public ChunkLinesPane(IMainView view) => _view = view;
+    /// <summary>The pane on <paramref name="view"/>; <paramref name="backend"/> says which rows carry the tracked lines.</summary>
+    public ChunkLinesPane(IMainView view, IHmiBackend backend)
+    {
+        _view = view;
+        _backend = backend;
+    }
 
     /// <summary>The chunk shown (0-based), -1 for none.</summary>
     public int Shown => _shown;
@@ -31,10 +35,9 @@ internal sealed class ChunkLinesPane : IDisposable
     public bool Following => _following;
 
     /// <summary>The split whose chunks are listed (null: none); shows no chunk.</summary>
-    public void SetProgram(HmiSplitResult? split)
+    public void SetProgram(SplitView? split)
     {
         _split = split;
-        _program = split is null ? null : ChunkedProgram.FromManifest(split.Manifest, split.Directory);
         Show(-1);
         _following = true;
     }
@@ -59,7 +62,7 @@ internal sealed class ChunkLinesPane : IDisposable
     public void Follow(int executingChunk, int executingLine)
     {
         var index = executingChunk - 1;
-        if (_split is null || index < 0 || index >= _split.Manifest.Chunks.Count)
+        if (_split is null || index < 0 || index >= _split.Chunks.Count)
         {
             return;
         }
@@ -98,13 +101,13 @@ internal sealed class ChunkLinesPane : IDisposable
         _trackedLines = [];
         _fileLines = [];
         ShowExecutingRow(0);
-        if (_split is not { } split || _program is not { } program || index < 0 || index >= split.Manifest.Chunks.Count)
+        if (_split is not { } split || index < 0 || index >= split.Chunks.Count)
         {
             _view.ChunkLineCount = 0;
             return;
         }
 
-        var chunk = split.Manifest.Chunks[index];
+        var chunk = split.Chunks[index];
         _shown = index;
         try
         {
@@ -115,9 +118,9 @@ internal sealed class ChunkLinesPane : IDisposable
             _view.ChunkLineCount = lines.IndexedLines;
 
             // Which file row carries each block's M0==line, read as the session reads the chunk.
-            var markers = program.Body(index + 1).Where(l => l.TrackedLine > 0).ToList();
-            _trackedLines = markers.Select(l => l.TrackedLine).ToArray();
-            _fileLines = markers.Select(l => l.FileLine).ToArray();
+            var rows = _backend.ReadChunkRows(split, index + 1);
+            _trackedLines = [.. rows.TrackedLines];
+            _fileLines = [.. rows.FileLines];
         }
         catch (Exception e) when (e is IOException or UnauthorizedAccessException or AggregateException or InvalidDataException)
         {

@@ -1,4 +1,3 @@
-using PmacStream.Jobs;
 using Serilog;
 
 namespace PmacStream.Hmi;
@@ -6,8 +5,8 @@ namespace PmacStream.Hmi;
 /// <summary>The connection panel's logic: the controller link the jobs run on, and the state text beside it.</summary>
 internal sealed class ConnectionPanel(IMainView view, IHmiBackend backend, ILogger log) : IAsyncDisposable
 {
-    /// <summary>The open link, null when not connected.</summary>
-    public ControllerLink? Link { get; private set; }
+    /// <summary>The open link's description, null when not connected (the backend holds the link).</summary>
+    public string? Link { get; private set; }
 
     /// <summary>True while a connection is being made.</summary>
     public bool Connecting { get; private set; }
@@ -26,7 +25,7 @@ internal sealed class ConnectionPanel(IMainView view, IHmiBackend backend, ILogg
         try
         {
             Link = await backend.ConnectAsync(settings, profile, cancellationToken).ConfigureAwait(true);
-            log.Information("Connected to {Device:l}", Link.Description);
+            log.Information("Connected to {Device:l}", Link);
         }
         finally
         {
@@ -46,8 +45,8 @@ internal sealed class ConnectionPanel(IMainView view, IHmiBackend backend, ILogg
         if (Link is { } c)
         {
             Link = null;
-            await c.DisposeAsync().ConfigureAwait(true);
-            log.Information("Disconnected from {Device:l}", c.Description);
+            await backend.DisconnectAsync().ConfigureAwait(true);
+            log.Information("Disconnected from {Device:l}", c);
         }
 
         ShowState(language);
@@ -55,16 +54,16 @@ internal sealed class ConnectionPanel(IMainView view, IHmiBackend backend, ILogg
 
     /// <summary>Shows the state in <paramref name="language"/>.</summary>
     public void ShowState(HmiLanguage language) =>
-        view.ConnectionState = Link is null ? HmiText.Get(TextId.StateDisconnected, language) : HmiText.Format(TextId.StateConnected, language, Link.Description);
+        view.ConnectionState = Link is null ? HmiText.Get(TextId.StateDisconnected, language) : HmiText.Format(TextId.StateConnected, language, Link);
 
     /// <inheritdoc />
     /// <remarks>No view calls: the window may already be gone.</remarks>
     public async ValueTask DisposeAsync()
     {
-        if (Link is { } c)
+        if (Link is not null)
         {
             Link = null;
-            await c.DisposeAsync().ConfigureAwait(false);
+            await backend.DisconnectAsync().ConfigureAwait(false);
         }
     }
 }

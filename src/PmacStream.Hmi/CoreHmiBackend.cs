@@ -1,7 +1,6 @@
 using PmacStream.GCode;
 using PmacStream.Jobs;
 using PmacStream.Preview;
-using PmacStream.Streaming;
 
 namespace PmacStream.Hmi;
 
@@ -9,12 +8,15 @@ namespace PmacStream.Hmi;
 /// The real <see cref="IHmiBackend"/>: an adapter over the <see cref="JobService"/> the command line calls too, so a
 /// job started here runs with the same gate, split, buffer, window and preamble as <c>pmacstream stream</c>, is
 /// recorded in the same job store and can be resumed by <c>pmacstream resume</c> (and the other way round). The
-/// machine profile comes with each call: the operator chooses it on the screen.
+/// machine profile comes with each call: the operator chooses it on the screen. It holds the controller link the
+/// operator opened; splits and jobs pass through as the service's views.
 /// </summary>
-public sealed class CoreHmiBackend(JobService service) : IHmiBackend
+public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisposable
 {
     /// <summary>Diagnostics listed at most (the counts stay exact; a screen of 10,000 rows is already plenty).</summary>
     public const int MaxListedDiagnostics = 10_000;
+
+    private ControllerLink? _link;
 
     /// <summary>The service every call goes to.</summary>
     public JobService Service { get; } = service;
@@ -23,19 +25,39 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
     public IReadOnlyList<string> Strategies => JobService.Strategies;
 
     /// <inheritdoc />
-    public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
-        Service.ConnectAsync(settings.ToSpec(), profile, cancellationToken);
+    public async Task<string> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(settings);
+        if (_link is { } open)
+        {
+            return open.Description;
+        }
+
+        _link = await Service.ConnectAsync(settings.ToSpec(), profile, cancellationToken).ConfigureAwait(false);
+        return _link.Description;
+    }
 
     /// <inheritdoc />
-    public async Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default)
+    public async Task DisconnectAsync()
     {
-        ArgumentNullException.ThrowIfNull(controller);
+        if (_link is { } link)
+        {
+            _link = null;
+            await link.DisposeAsync().ConfigureAwait(false);
+        }
+    }
 
+    /// <inheritdoc />
+    public ValueTask DisposeAsync() => new(DisconnectAsync());
+
+    /// <inheritdoc />
+    public async Task LoadLibraryAsync(MachineProfile profile, CancellationToken cancellationToken = default)
+    {
         // The built-in simulator gets the profile's library and tables (only while idle). Whether a real controller
         // runs that library is the job service's check at Execute and resume, the same as the command line's.
-        if (controller.IsSimulator)
+        if (_link is { IsSimulator: true } link)
         {
-            await Service.LoadLibraryAsync(controller, profile, cancellationToken).ConfigureAwait(false);
+            await Service.LoadLibraryAsync(link, profile, cancellationToken).ConfigureAwait(false);
         }
     }
 
@@ -50,42 +72,35 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
         }, cancellationToken);
 
     /// <inheritdoc />
-    public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
-    {
-        var prepared = await Service.PrepareAsync(new PrepareRequest(sourcePath, settings) { Profile = profile, MaxListedErrors = MaxListedDiagnostics }, null, cancellationToken)
-            .ConfigureAwait(false);
-        return new HmiSplitResult(prepared.Program.Manifest, prepared.Program.Folder);
-    }
+    public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
+        Service.PrepareViewAsync(new PrepareRequest(sourcePath, settings) { Profile = profile, MaxListedErrors = MaxListedDiagnostics }, cancellationToken);
 
     /// <inheritdoc />
-    public async Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
-        (await Task.Run(() => Service.PlanStart(Program(program), line, settings, profile, cancellationToken), cancellationToken).ConfigureAwait(false)).GCode;
+    public Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
+        Task.Run(() => Service.PreambleOf(program, line, settings, profile, cancellationToken), cancellationToken);
 
     /// <inheritdoc />
-    public async Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default)
+    public ChunkRows ReadChunkRows(SplitView program, int chunk) => Service.RowsOf(program, chunk);
+
+    /// <inheritdoc />
+    public async Task<IHmiJob> StartAsync(HmiJobRequest request, CancellationToken cancellationToken = default)
     {
-        var program = Program(request.Program);
-        var plan = request.FromLine is { } from
-            ? await Task.Run(() => Service.PlanStart(program, from, request.Settings, request.Profile, cancellationToken), cancellationToken).ConfigureAwait(false)
-            : null;
-        var job = await Service.CreateJobAsync(controller, new JobRequest(program, Strategy(request.Strategy))
+        ArgumentNullException.ThrowIfNull(request);
+        var job = await Service.StartJobAsync(Link, new SplitJobRequest(request.Program, request.Strategy)
         {
+            FromLine = request.FromLine,
             Settings = request.Settings,
-            Plan = plan,
             SingleBlock = request.SingleBlock,
             FeedOverride = request.FeedOverride,
             Profile = request.Profile,
             OptionalStop = request.OptionalStop,
         }, cancellationToken).ConfigureAwait(false);
-        return await StartedAsync(job, cancellationToken).ConfigureAwait(false);
+        return new SessionJob(job);
     }
 
     /// <inheritdoc />
-    public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
-        Task.Run(() => Service.FindInterrupted(sourcePath) is { } r
-            ? new HmiInterruptedJob(r.Record.Id, new HmiSplitResult(r.Program.Manifest, r.Program.Folder), r.ResumeLine, r.Chunk,
-                r.Record.Strategy.ToString().ToLowerInvariant(), r.Record.Checkpoint?.TimeUtc ?? r.Record.Created, r)
-            : null, cancellationToken);
+    public Task<InterruptedJobView?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
+        Task.Run(() => Service.FindInterruptedView(sourcePath), cancellationToken);
 
     /// <inheritdoc />
     /// <remarks>
@@ -93,46 +108,43 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
     /// there goes ahead; a restart at another line (the controller stopped elsewhere) is refused with what to do, since
     /// its preamble was not shown.
     /// </remarks>
-    public async Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
+    public async Task<IHmiJob> ResumeInterruptedAsync(InterruptedJobView job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
         CancellationToken cancellationToken = default)
     {
-        ArgumentNullException.ThrowIfNull(profile);
-        var resumable = job.Record as ResumableJob ?? throw new ArgumentException("not a job recorded in the job store", nameof(job));
-        var ran = JobService.ProfileOf(resumable.Record, profile.Source); // the job's own profile, or a clear refusal
-        int? proposed = null;
-        var result = await Service.ResumeAsync(controller, resumable, resumable.Settings ?? settings, p =>
-            {
-                proposed = p.Line;
-                return Task.FromResult(p.Line == resumable.RestartLine);
-            }, feedOverride, ran, cancellationToken, optionalStop: optionalStop)
-            .ConfigureAwait(false);
-        var resumed = result.Job ?? throw new InvalidOperationException(
-            $"the controller stopped the job at line {proposed}, not at line {job.ResumeLine} of the job record: nothing was sent. Select line {proposed} and start from it to see its preamble first.");
-        return result.Kind == ResumeKind.Restart
-            ? await StartedAsync(resumed, cancellationToken).ConfigureAwait(false)
-            : new SessionJob(resumed);
+        ArgumentNullException.ThrowIfNull(job);
+        var result = await Service.ResumeViewAsync(Link, job, settings, profile, feedOverride, optionalStop, cancellationToken).ConfigureAwait(false);
+        switch (result.Kind)
+        {
+            case ResumeKind.Refused:
+                // The screen shows the refusal as it shows every job step refused.
+                throw new JobException(result.Reason ?? $"cannot resume job {job.JobId}");
+            case ResumeKind.Declined:
+                throw new InvalidOperationException(
+                    $"the controller stopped the job at line {result.RestartLine}, not at line {job.ResumeLine} of the job record: nothing was sent. Select line {result.RestartLine} and start from it to see its preamble first.");
+        }
+
+        var resumed = result.Job!;
+        if (result.Kind != ResumeKind.Restart)
+        {
+            return new SessionJob(resumed);
+        }
+
+        try
+        {
+            await resumed.StartAsync(cancellationToken).ConfigureAwait(false);
+            return new SessionJob(resumed);
+        }
+        catch
+        {
+            await resumed.DisposeAsync().ConfigureAwait(false);
+            throw;
+        }
     }
 
     /// <inheritdoc />
     public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile) => new GCodeToolpathSource(sourcePath, profile);
 
-    private static ChunkedProgram Program(HmiSplitResult split) => ChunkedProgram.FromManifest(split.Manifest, split.Directory);
-
-    private static StrategyKind Strategy(string name) => string.IsNullOrWhiteSpace(name) ? StrategyKind.Chunk : StreamingStrategies.Parse(name);
-
-    private static async Task<IHmiJob> StartedAsync(Job job, CancellationToken cancellationToken)
-    {
-        try
-        {
-            await job.StartAsync(cancellationToken).ConfigureAwait(false);
-            return new SessionJob(job);
-        }
-        catch
-        {
-            await job.DisposeAsync().ConfigureAwait(false);
-            throw;
-        }
-    }
+    private ControllerLink Link => _link ?? throw new InvalidOperationException("Connect to a controller first.");
 
     /// <summary>A job as the presenter drives it.</summary>
     private sealed class SessionJob(Job job) : IHmiJob
@@ -141,19 +153,19 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
         {
             get
             {
-                var s = job.Status;
+                var s = job.View;
                 var state = s.State switch
                 {
-                    SessionState.Running => HmiJobState.Running,
-                    SessionState.Held => HmiJobState.Held,
-                    SessionState.Completed => HmiJobState.Completed,
-                    SessionState.Aborted => HmiJobState.Aborted,
-                    SessionState.Faulted => HmiJobState.Failed,
-                    SessionState.Stopped => HmiJobState.Stopped,
+                    JobState.Running => HmiJobState.Running,
+                    JobState.Held => HmiJobState.Held,
+                    JobState.Completed => HmiJobState.Completed,
+                    JobState.Aborted => HmiJobState.Aborted,
+                    JobState.Faulted => HmiJobState.Failed,
+                    JobState.Stopped => HmiJobState.Stopped,
                     _ => HmiJobState.Idle,
                 };
-                return new HmiJobStatus(state, s.CurrentChunk, s.CurrentLine, s.Percent, s.Feed, job.ProgrammedFeed, s.Elapsed, s.Eta,
-                    string.IsNullOrEmpty(s.Message) ? null : s.Message, s.Stop, job.Session.OptionalStop);
+                return new HmiJobStatus(state, s.CurrentChunk, s.CurrentLine, s.Percent, s.FeedOverride, s.ProgrammedFeed, s.Elapsed, s.Eta,
+                    string.IsNullOrEmpty(s.Message) ? null : s.Message, s.Stop, s.OptionalStop);
             }
         }
 

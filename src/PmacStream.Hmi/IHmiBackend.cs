@@ -2,7 +2,6 @@ using PmacStream.GCode;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Preview;
-using PmacStream.Preparation;
 
 namespace PmacStream.Hmi;
 
@@ -67,15 +66,6 @@ public sealed record HmiCheckResult(IReadOnlyList<Diagnostic> Diagnostics, long 
         new(diagnostics, blocks, diagnostics.Count(d => d.Severity == Severity.Error), diagnostics.Count(d => d.Severity == Severity.Warning));
 }
 
-/// <summary>A split program: its manifest and the folder holding the manifest and chunk files.</summary>
-/// <param name="Manifest">The splitter's manifest.</param>
-/// <param name="Directory">Folder of the manifest and chunk files.</param>
-public sealed record HmiSplitResult(ChunkManifest Manifest, string Directory)
-{
-    /// <summary>Full path of a chunk file.</summary>
-    public string ChunkPath(ChunkInfo chunk) => System.IO.Path.Combine(Directory, chunk.FileName);
-}
-
 /// <summary>Where a job stands.</summary>
 public enum HmiJobState
 {
@@ -123,7 +113,7 @@ public sealed record HmiJobStatus(
     TimeSpan Elapsed,
     TimeSpan? Eta,
     string? Message = null,
-    Streaming.ProgramStop? Stop = null,
+    JobStop? Stop = null,
     bool OptionalStop = true)
 {
     /// <summary>True once the job will not move again.</summary>
@@ -137,7 +127,7 @@ public sealed record HmiJobStatus(
 /// <param name="SingleBlock">One block per start.</param>
 /// <param name="FeedOverride">The feed override (percent) set before the start.</param>
 /// <param name="Settings">Buffer words, download window, tick period and safe Z of the job.</param>
-public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int? FromLine, bool SingleBlock, double FeedOverride, RunSettings Settings)
+public sealed record HmiJobRequest(SplitView Program, string Strategy, int? FromLine, bool SingleBlock, double FeedOverride, RunSettings Settings)
 {
     /// <summary>The machine profile the program was checked and split under (start plans and move times use it; the job record keeps it).</summary>
     public MachineProfile Profile { get; init; } = MachineProfile.Default;
@@ -145,16 +135,6 @@ public sealed record HmiJobRequest(HmiSplitResult Program, string Strategy, int?
     /// <summary>Optional stop on: the controller stops at M01.</summary>
     public bool OptionalStop { get; init; } = true;
 }
-
-/// <summary>A job that stopped before its end, as the job store recorded it.</summary>
-/// <param name="JobId">Job record id.</param>
-/// <param name="Program">The split program the job ran.</param>
-/// <param name="ResumeLine">First source line not known to have executed.</param>
-/// <param name="Chunk">Chunk holding that line.</param>
-/// <param name="Strategy">Strategy the job used.</param>
-/// <param name="CheckpointTime">When the checkpoint was written.</param>
-/// <param name="Record">The backend's own record of the job (opaque to the presenter).</param>
-public sealed record HmiInterruptedJob(long JobId, HmiSplitResult Program, int ResumeLine, int Chunk, string Strategy, DateTimeOffset CheckpointTime, object? Record = null);
 
 /// <summary>
 /// A running job as the presenter drives it: <see cref="TickAsync"/> from the form's <c>timer1_Tick</c> does the
@@ -198,15 +178,21 @@ public interface IHmiBackend
     /// <summary>Strategy names for the selector, the default first.</summary>
     IReadOnlyList<string> Strategies { get; }
 
-    /// <summary>Opens a controller link (the profile's library is downloaded to the built-in simulator).</summary>
-    Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
+    /// <summary>
+    /// Opens the controller link the jobs of this backend run on (the profile's library is downloaded to the built-in
+    /// simulator); returns its description. The backend holds the link until <see cref="DisconnectAsync"/>.
+    /// </summary>
+    Task<string> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
+
+    /// <summary>Closes the controller link, when one is open.</summary>
+    Task DisconnectAsync();
 
     /// <summary>
     /// Another profile was chosen: downloads its PROG 1000/1001 library and tables to the built-in simulator (a
     /// <see cref="Jobs.JobException"/> when it runs a program). Whether another controller runs that library is checked
     /// by the job service when a job starts or resumes.
     /// </summary>
-    Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default);
+    Task LoadLibraryAsync(MachineProfile profile, CancellationToken cancellationToken = default);
 
     /// <summary>Checks a program under a profile (every diagnostic, in the language asked).</summary>
     Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default);
@@ -216,23 +202,26 @@ public interface IHmiBackend
     /// gate. A program with errors, or with codes the controller cannot run yet, is refused with
     /// <see cref="ProgramRefusedException"/> listing them, whether or not a check ran first.
     /// </summary>
-    Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
+    Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
 
     /// <summary>The G-code preamble that restores the machine state before starting at a source line (what is shown and sent).</summary>
-    Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
+    Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
+
+    /// <summary>Which rows of chunk <paramref name="chunk"/> (1-based) of a split carry a block's tracked line (<c>M0==line</c>).</summary>
+    ChunkRows ReadChunkRows(SplitView program, int chunk);
 
     /// <summary>Prepares the controller, downloads the first chunk and starts execution (<c>&amp;1R</c>).</summary>
-    Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default);
+    Task<IHmiJob> StartAsync(HmiJobRequest request, CancellationToken cancellationToken = default);
 
     /// <summary>The newest unfinished job recorded for a program, or null.</summary>
-    Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default);
+    Task<InterruptedJobView?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default);
 
     /// <summary>
     /// Continues an interrupted job from its checkpoint, without losing or repeating a block, with the operator's feed
     /// override (percent) and optional stop in force, under the profile it ran under (another <paramref name="profile"/>
     /// is refused with a <see cref="JobException"/>).
     /// </summary>
-    Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
+    Task<IHmiJob> ResumeInterruptedAsync(InterruptedJobView job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
         CancellationToken cancellationToken = default);
 
     /// <summary>The program's moves as a machine profile interprets them, for the toolpath pane (read anew on each pass).</summary>

@@ -30,7 +30,7 @@ public sealed class MainPresenter : IAsyncDisposable
     private readonly ChunkLinesPane _chunkLines;
     private readonly ToolpathPane _toolpath;
     private readonly ProgramGatePanel _gate;
-    private HmiSplitResult? _split;
+    private SplitView? _split;
     private IHmiJob? _job;
     private HmiJobStatus? _lastStatus;
     private int _shownExecutingLine;
@@ -59,7 +59,7 @@ public sealed class MainPresenter : IAsyncDisposable
         _language = view.Language;
         _ops = new ViewOperations(_life.Token, OperationsChanged, OperationFailed);
         _connection = new ConnectionPanel(view, backend, _log);
-        _chunkLines = new ChunkLinesPane(view);
+        _chunkLines = new ChunkLinesPane(view, backend);
         _toolpath = new ToolpathPane(view, backend, _log) { Language = _language };
         _gate = new ProgramGatePanel(view, backend, _log);
 
@@ -290,7 +290,7 @@ public sealed class MainPresenter : IAsyncDisposable
         var split = await _gate.SplitAsync(program.Path, _settings, _language, _life.Token).ConfigureAwait(true);
         SetSplit(split);
         _log.Information("Split {Path:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
-            program.Path, split.Manifest.Chunks.Count, split.Manifest.TotalBlocks, split.Directory);
+            program.Path, split.Chunks.Count, split.TotalBlocks, split.Folder);
     }
 
     /// <summary>Another machine profile: the check and the split were the old one's; the toolpath is drawn under the new one, the simulator gets its library.</summary>
@@ -307,9 +307,9 @@ public sealed class MainPresenter : IAsyncDisposable
             _toolpath.Open(p.Path, _gate.Profile);
         }
 
-        if (_connection.Link is { } link)
+        if (_connection.Link is not null)
         {
-            await _backend.LoadLibraryAsync(link, _gate.Profile, _life.Token).ConfigureAwait(true);
+            await _backend.LoadLibraryAsync(_gate.Profile, _life.Token).ConfigureAwait(true);
         }
     }
 
@@ -343,7 +343,7 @@ public sealed class MainPresenter : IAsyncDisposable
         return Task.CompletedTask;
     }
 
-    private void SetSplit(HmiSplitResult split)
+    private void SetSplit(SplitView split)
     {
         _split = split;
         _chunkLines.SetProgram(split);
@@ -361,15 +361,15 @@ public sealed class MainPresenter : IAsyncDisposable
     {
         _view.ChunkFiles = _split is null
             ? []
-            : _split.Manifest.Chunks.Select(c => F(TextId.ChunkRow, c.FileName, c.FirstSourceLine, c.LastSourceLine, c.BlockCount)).ToList();
+            : _split.Chunks.Select(c => F(TextId.ChunkRow, c.FileName, c.FirstSourceLine, c.LastSourceLine, c.BlockCount)).ToList();
     }
 
     private void SelectChunk(int index)
     {
         _chunkLines.Select(index, _job is null ? 0 : _lastStatus?.CurrentChunk ?? 0);
-        if (_split is { } split && index >= 0 && index < split.Manifest.Chunks.Count)
+        if (_split is { } split && index >= 0 && index < split.Chunks.Count)
         {
-            _view.FocusedLine = split.Manifest.Chunks[index].FirstSourceLine;
+            _view.FocusedLine = split.Chunks[index].FirstSourceLine;
         }
 
         if (_lastStatus is { } s)
@@ -403,7 +403,7 @@ public sealed class MainPresenter : IAsyncDisposable
     {
         var split = RequireReady();
         var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings) { Profile = _gate.Profile, OptionalStop = _optionalStop };
-        var job = await _backend.StartAsync(_connection.Link!, request, _life.Token).ConfigureAwait(true);
+        var job = await _backend.StartAsync(request, _life.Token).ConfigureAwait(true);
         BeginJob(job, request.Strategy, fromLine ?? 1);
         _log.Information("Job started{From:l} with strategy {Strategy:l}, feed override {Override} %",
             fromLine is null ? string.Empty : $" from line {fromLine}", request.Strategy, _feedOverride);
@@ -417,7 +417,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
 
         var program = _program ?? throw new InvalidOperationException("Open a program first.");
-        var connection = _connection.Link ?? throw new InvalidOperationException("Connect to a controller first.");
+        _ = _connection.Link ?? throw new InvalidOperationException("Connect to a controller first.");
         var interrupted = await _backend.FindInterruptedAsync(program.Path, _life.Token).ConfigureAwait(true)
             ?? throw new InvalidOperationException(T(TextId.NoInterruptedJob));
         var preamble = await _backend.BuildPreambleAsync(interrupted.Program, interrupted.ResumeLine, _settings, _gate.Profile, _life.Token).ConfigureAwait(true);
@@ -428,17 +428,17 @@ public sealed class MainPresenter : IAsyncDisposable
             return;
         }
 
-        if (_split is null || _split.Directory != interrupted.Program.Directory)
+        if (_split is null || _split.Folder != interrupted.Program.Folder)
         {
             SetSplit(interrupted.Program);
         }
 
-        var job = await _backend.ResumeInterruptedAsync(connection, interrupted, _feedOverride, _settings, _gate.Profile, _optionalStop, _life.Token).ConfigureAwait(true);
+        var job = await _backend.ResumeInterruptedAsync(interrupted, _feedOverride, _settings, _gate.Profile, _optionalStop, _life.Token).ConfigureAwait(true);
         BeginJob(job, interrupted.Strategy, interrupted.ResumeLine);
         _log.Information("Job {Job} resumed at line {Line} (chunk {Chunk})", interrupted.JobId, interrupted.ResumeLine, interrupted.Chunk);
     }
 
-    private HmiSplitResult RequireReady()
+    private SplitView RequireReady()
     {
         if (_job is not null)
         {
@@ -576,7 +576,7 @@ public sealed class MainPresenter : IAsyncDisposable
     {
         var active = _job is not null;
         _view.Status = StatusStrip.Show(
-            new StatusFacts(_lastStatus, active, _split?.Manifest, _program, _feedOverride, active ? _jobSettings : _settings, active ? _jobStrategy : _view.SelectedStrategy),
+            new StatusFacts(_lastStatus, active, _split, _program, _feedOverride, active ? _jobSettings : _settings, active ? _jobStrategy : _view.SelectedStrategy),
             _language);
     }
 

@@ -1,19 +1,18 @@
 using System.Globalization;
 using PmacStream.Jobs;
-using PmacStream.Preparation;
 
 namespace PmacStream.Hmi;
 
 /// <summary>What the status panel is made from: the job's last status and what the screen knows besides.</summary>
 /// <param name="Job">The running or last job's status, null before the first job.</param>
 /// <param name="JobActive">True while the job runs or is held.</param>
-/// <param name="Manifest">The split's manifest, null before a split.</param>
+/// <param name="Split">The split, null before one.</param>
 /// <param name="Program">The open program's line index, null before one is opened.</param>
 /// <param name="FeedOverride">The operator's feed override setting, percent.</param>
 /// <param name="Settings">The running job's settings (its download window), else the settings the next job starts with.</param>
 /// <param name="Strategy">The running job's strategy, else the selected one.</param>
 internal sealed record StatusFacts(
-    HmiJobStatus? Job, bool JobActive, ChunkManifest? Manifest, ProgramLineSource? Program, double FeedOverride, RunSettings Settings, string Strategy);
+    HmiJobStatus? Job, bool JobActive, SplitView? Split, ProgramLineSource? Program, double FeedOverride, RunSettings Settings, string Strategy);
 
 /// <summary>
 /// The status panel's texts (state, files, lines, current file and line, progress, feed override, feed, download
@@ -25,7 +24,7 @@ internal static class StatusStrip
     public static StatusDisplay Show(StatusFacts f, HmiLanguage language)
     {
         var s = f.Job;
-        var manifest = f.Manifest;
+        var manifest = f.Split;
         string programLines;
         if (f.Program is not { } program)
         {
@@ -82,7 +81,7 @@ internal static class StatusStrip
         job is { State: HmiJobState.Stopped, Stop: { } stop } ? StopText(TextId.ProgramStopBanner, stop, language) : string.Empty;
 
     /// <summary>"Program stop (M00) at line n" (<paramref name="id"/>: the state, or the banner), the code left out when the stop names none.</summary>
-    public static string StopText(TextId id, Streaming.ProgramStop stop, HmiLanguage language)
+    public static string StopText(TextId id, JobStop stop, HmiLanguage language)
     {
         var text = HmiText.Format(id, language, stop.Code ?? string.Empty, stop.Line.ToString("N0", CultureInfo.InvariantCulture));
         return stop.Code is null ? text.Replace(" ()", string.Empty, StringComparison.Ordinal) : text;
@@ -98,7 +97,7 @@ internal static class StatusStrip
             return HmiText.Format(TextId.WindowNotUsed, language, start, end, f.Strategy);
         }
 
-        if (f.JobActive && f.Job is { CurrentChunk: >= 1 } s && f.Manifest is { } m && s.CurrentChunk < m.Chunks.Count)
+        if (f.JobActive && f.Job is { CurrentChunk: >= 1 } s && f.Split is { } m && s.CurrentChunk < m.Chunks.Count)
         {
             // As the chunk strategy measures it: M0 at fraction (line - first + 1) / lines of the chunk.
             var chunk = m.Chunks[s.CurrentChunk - 1];

@@ -82,27 +82,9 @@ internal static class JobConsole
             }
         };
 
-        if (start)
+        if (start && await StartAsync(job, ct).ConfigureAwait(false) is { } failed)
         {
-            try
-            {
-                await job.StartAsync(ct).ConfigureAwait(false);
-            }
-            catch (InvalidOperationException e)
-            {
-                throw new CliException(e.Message, CliGlobals.Failed);
-            }
-            catch (OperationCanceledException) when (ct.IsCancellationRequested)
-            {
-                Console.Error.WriteLine($"pmacstream: interrupted while starting the job; {Resumable(job)}");
-                return CliGlobals.Failed;
-            }
-            catch (Exception e) when (e is PmacLinkException or PmacErrorException)
-            {
-                Console.Error.WriteLine($"pmacstream: {job.Status.Message}");
-                Console.Error.WriteLine(job.Id is { } id ? $"resume with: pmacstream resume --job {id}" : string.Empty);
-                return CliGlobals.Failed;
-            }
+            return failed;
         }
 
         var outcome = await CliProgress.RunAsync(title, report => job.RunAsync(s => report(s.Percent / 100.0, Describe(s)), ct)).ConfigureAwait(false);
@@ -132,6 +114,31 @@ internal static class JobConsole
 
         Console.WriteLine($"executed {status.ExecutedBlocks} of {program.Manifest.TotalMotionBlocks} blocks, {status.Underruns} underruns (from M0 and PR)");
         return status.ExecutedBlocks == program.Manifest.TotalMotionBlocks || countFrom is not null ? CliGlobals.Ok : CliGlobals.Failed;
+    }
+
+    /// <summary>Starts the job; null when it runs, else the exit code of a start that was interrupted or lost the link (said on stderr).</summary>
+    private static async Task<int?> StartAsync(Job job, CancellationToken ct)
+    {
+        try
+        {
+            await job.StartAsync(ct).ConfigureAwait(false);
+            return null;
+        }
+        catch (InvalidOperationException e)
+        {
+            throw new CliException(e.Message, CliGlobals.Failed);
+        }
+        catch (OperationCanceledException) when (ct.IsCancellationRequested)
+        {
+            Console.Error.WriteLine($"pmacstream: interrupted while starting the job; {Resumable(job)}");
+            return CliGlobals.Failed;
+        }
+        catch (Exception e) when (e is PmacLinkException or PmacErrorException)
+        {
+            Console.Error.WriteLine($"pmacstream: {job.Status.Message}");
+            Console.Error.WriteLine(job.Id is { } id ? $"resume with: pmacstream resume --job {id}" : string.Empty);
+            return CliGlobals.Failed;
+        }
     }
 
     private static void ReadEnters(Job job)

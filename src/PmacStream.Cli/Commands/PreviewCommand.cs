@@ -5,6 +5,17 @@ using PmacStream.Preview;
 
 namespace PmacStream.Cli.Commands;
 
+/// <summary>The options of <c>pmacstream preview</c>, bound.</summary>
+/// <param name="File">The G-code program.</param>
+/// <param name="Png">The PNG file written.</param>
+/// <param name="Size">WIDTHxHEIGHT.</param>
+/// <param name="View">xy, xz, yz or iso.</param>
+/// <param name="Executed">The simulator's executed-move log, or null.</param>
+/// <param name="Lang">Legend language, null: the UI culture.</param>
+/// <param name="Profile">Machine profile name or file, null: the default.</param>
+/// <param name="Force">Draw a program with errors.</param>
+internal sealed record PreviewArgs(string File, string Png, string Size, string View, string? Executed, string? Lang, string? Profile, bool Force);
+
 /// <summary>
 /// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN] [--profile NAME|FILE] [--force]`:
 /// draws the toolpath (two streaming passes, bounded memory) and, with a simulator executed-move log, overlays what
@@ -38,22 +49,25 @@ internal static class PreviewCommand
         cmd.Options.Add(lang);
         cmd.Options.Add(profile);
         cmd.Options.Add(force);
-        cmd.SetAction((parse, ct) => RunAsync(parse, file, png, size, view, executed, lang, profile, force, ct));
+        cmd.SetAction((parse, ct) => RunAsync(
+            new PreviewArgs(parse.GetValue(file)!, parse.GetValue(png)!, parse.GetValue(size)!, parse.GetValue(view)!, parse.GetValue(executed), parse.GetValue(lang), parse.GetValue(profile),
+                parse.GetValue(force)),
+            CliConsole.Standard,
+            ct));
         return cmd;
     }
 
-    private static async Task<int> RunAsync(
-        ParseResult parse, Argument<string> file, Option<string> png, Option<string> size, Option<string> view, Option<string?> executed, Option<string?> lang,
-        Option<string?> profile, Option<bool> force, CancellationToken ct)
+    /// <summary>Draws the preview of <paramref name="args"/>; returns the exit code.</summary>
+    /// <exception cref="CliException">Usage and I/O errors, a log that cannot be read, no drawing library.</exception>
+    internal static async Task<int> RunAsync(PreviewArgs args, CliConsole console, CancellationToken ct)
     {
-        var machine = CliProfiles.Load(parse.GetValue(profile));
-        var path = parse.GetValue(file)!;
-        var output = parse.GetValue(png)!;
-        var (width, height) = ParseSize(parse.GetValue(size)!);
-        var log = parse.GetValue(executed);
-        var culture = parse.GetValue(lang) is { } l ? CliGlobals.ParseLanguage(l) : CultureInfo.CurrentUICulture;
+        var machine = CliProfiles.Load(args.Profile);
+        var path = args.File;
+        var output = args.Png;
+        var (width, height) = ParseSize(args.Size);
+        var culture = args.Lang is { } l ? CliGlobals.ParseLanguage(l) : CultureInfo.CurrentUICulture;
         CliGlobals.RequireFile(path, "a G-code file");
-        if (log is not null)
+        if (args.Executed is { } log)
         {
             CliGlobals.RequireFile(log, "an executed-move log (--executed)");
         }
@@ -65,28 +79,51 @@ internal static class PreviewCommand
         }
 
         var source = new GCodeToolpathSource(path, machine);
-        PreviewPicture picture;
+        var options = new PreviewOptions { Width = width, Height = height, View = ParseView(args.View), Culture = culture, DrawIf = args.Force ? null : () => source.IssueCount == 0 };
+        if (await RenderAsync(source, options, args, machine, console, ct).ConfigureAwait(false) is not { } picture)
+        {
+            return CliGlobals.Failed;
+        }
+
+        using var drawn = picture;
+        var x = picture.Extents;
+        if (x.IsEmpty)
+        {
+            // An empty picture is no preview: nothing is written, and the caller learns it from the exit code.
+            foreach (var issue in source.Issues.Take(MaxListed))
+            {
+                console.Error.WriteLine(issue.Format(path));
+            }
+
+            console.Error.WriteLine($"{path}: error: no moves to draw ({(source.IssueCount > 0 ? "none could be interpreted" : "an empty program")}); {output} not written");
+            return CliGlobals.Failed;
+        }
+
+        drawn.WritePng(output);
+        foreach (var warning in drawn.Warnings)
+        {
+            console.Error.WriteLine($"{output}: warning: {warning}");
+        }
+
+        return Report(args, source, picture, width, height, console);
+    }
+
+    /// <summary>Renders the picture, or refuses a program with errors (listed; null returned).</summary>
+    private static async Task<PreviewPicture?> RenderAsync(GCodeToolpathSource source, PreviewOptions options, PreviewArgs args, MachineProfile machine, CliConsole console, CancellationToken ct)
+    {
         try
         {
-            picture = await CliProgress.RunAsync("preview", report => Task.Run(
-                () => PreviewRenderer.Render(
-                    source,
-                    new PreviewOptions
-                    {
-                        Width = width, Height = height, View = ParseView(parse.GetValue(view)!), Culture = culture, Progress = (f, s) => report(f, s),
-                        DrawIf = parse.GetValue(force) ? null : () => source.IssueCount == 0,
-                    },
-                    log,
-                    ct),
+            return await CliProgress.RunAsync("preview", report => Task.Run(
+                () => PreviewRenderer.Render(source, options with { Progress = (f, s) => report(f, s) }, args.Executed, ct),
                 ct)).ConfigureAwait(false);
         }
         catch (PreviewRefusedException)
         {
             // The gate every command keeps: a program with errors is not drawn as if it were whole (refused after
             // the measuring pass, before the picture takes its memory).
-            Refusals.Print(Console.Error, "pmacstream preview", "preview", Refusals.Shown(path), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
-                $"{Refusals.Shown(path)}: {source.IssueCount} error(s) under profile '{machine.Name}'; {output} not written");
-            return CliGlobals.Failed;
+            Refusals.Print(console.Error, "pmacstream preview", "preview", Refusals.Shown(args.File), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
+                $"{Refusals.Shown(args.File)}: {source.IssueCount} error(s) under profile '{machine.Name}'; {args.Png} not written");
+            return null;
         }
         catch (InvalidDataException e)
         {
@@ -97,77 +134,61 @@ internal static class PreviewCommand
             throw new CliException(
                 $"cannot draw: the native drawing library did not load ({missing}). The preview needs libSkiaSharp, which ships with pmacstream, and fontconfig (Debian/Ubuntu: apt-get install libfontconfig1)");
         }
+    }
 
-        using var drawn = picture;
-        var exit = CliGlobals.Ok;
+    /// <summary>What was drawn, what was left out, and what the executed log shows; the exit code.</summary>
+    private static int Report(PreviewArgs args, GCodeToolpathSource source, PreviewPicture picture, int width, int height, CliConsole console)
+    {
         var ci = CultureInfo.InvariantCulture;
         var x = picture.Extents;
-        if (x.IsEmpty)
-        {
-            // An empty picture is no preview: nothing is written, and the caller learns it from the exit code.
-            foreach (var issue in source.Issues.Take(MaxListed))
-            {
-                Console.Error.WriteLine(issue.Format(path));
-            }
-
-            Console.Error.WriteLine($"{path}: error: no moves to draw ({(source.IssueCount > 0 ? "none could be interpreted" : "an empty program")}); {output} not written");
-            return CliGlobals.Failed;
-        }
-
-        drawn.WritePng(output);
-        foreach (var warning in drawn.Warnings)
-        {
-            Console.Error.WriteLine($"{output}: warning: {warning}");
-        }
-
-        Console.Out.WriteLine($"wrote {output} ({width}x{height}, view {parse.GetValue(view)}): {x.Moves.ToString(ci)} moves ({x.Lines.ToString(ci)} linear, {x.Arcs.ToString(ci)} arc, {x.Rapids.ToString(ci)} rapid)");
-        Console.Out.WriteLine(string.Create(ci, $"extents (mm): X {x.Min.X:0.###} .. {x.Max.X:0.###}, Y {x.Min.Y:0.###} .. {x.Max.Y:0.###}, Z {x.Min.Z:0.###} .. {x.Max.Z:0.###}; program units {(picture.Units == LengthUnits.Inches ? "inch" : "mm")}"));
+        var o = console.Out;
+        o.WriteLine($"wrote {args.Png} ({width}x{height}, view {args.View}): {x.Moves.ToString(ci)} moves ({x.Lines.ToString(ci)} linear, {x.Arcs.ToString(ci)} arc, {x.Rapids.ToString(ci)} rapid)");
+        o.WriteLine(string.Create(ci, $"extents (mm): X {x.Min.X:0.###} .. {x.Max.X:0.###}, Y {x.Min.Y:0.###} .. {x.Max.Y:0.###}, Z {x.Min.Z:0.###} .. {x.Max.Z:0.###}; program units {(picture.Units == LengthUnits.Inches ? "inch" : "mm")}"));
         if (source.RotaryAxes.Length > 0)
         {
-            Console.Out.WriteLine($"rotary axes {string.Join(' ', source.RotaryAxes.ToCharArray())}: not drawn (the picture shows X, Y and Z; the legend says so)");
+            o.WriteLine($"rotary axes {string.Join(' ', source.RotaryAxes.ToCharArray())}: not drawn (the picture shows X, Y and Z; the legend says so)");
         }
 
         if (source.IssueCount > 0)
         {
             // Forced: drawn, and what was left out is said.
-            Refusals.Print(Console.Error, "pmacstream preview", string.Empty, Refusals.Shown(path), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
+            Refusals.Print(console.Error, "pmacstream preview", string.Empty, Refusals.Shown(args.File), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
                 $"--force: {source.IssueCount} error(s) listed above; the blocks that cannot be read are not drawn");
         }
 
-        if (picture.Execution is { } report)
+        if (picture.Execution is not { } report)
         {
-            Console.Out.WriteLine($"executed log {log}: {report.LogRows.ToString(ci)} moves");
-            if (report.IsExact)
-            {
-                Console.Out.WriteLine("every drawn move was executed exactly once");
-            }
-            else
-            {
-                exit = CliGlobals.Failed;
-                Describe("never executed", report.MissingLines, report.Missing, r => string.Empty);
-                Describe("executed more than once", report.RepeatedLines, report.Repeated, r => r.Times == 255 ? " (255+ times)" : $" ({r.Times} times)");
-            }
+            return CliGlobals.Ok;
         }
 
-        return exit;
+        o.WriteLine($"executed log {args.Executed}: {report.LogRows.ToString(ci)} moves");
+        if (report.IsExact)
+        {
+            o.WriteLine("every drawn move was executed exactly once");
+            return CliGlobals.Ok;
+        }
+
+        Describe(o, "never executed", report.MissingLines, report.Missing, r => string.Empty);
+        Describe(o, "executed more than once", report.RepeatedLines, report.Repeated, r => r.Times == 255 ? " (255+ times)" : $" ({r.Times} times)");
+        return CliGlobals.Failed;
     }
 
-    private static void Describe(string what, long lines, IReadOnlyList<LineRun> runs, Func<LineRun, string> suffix)
+    private static void Describe(TextWriter o, string what, long lines, IReadOnlyList<LineRun> runs, Func<LineRun, string> suffix)
     {
         if (lines == 0)
         {
             return;
         }
 
-        Console.Out.WriteLine($"{what}: {lines.ToString(CultureInfo.InvariantCulture)} lines");
+        o.WriteLine($"{what}: {lines.ToString(CultureInfo.InvariantCulture)} lines");
         foreach (var run in runs.Take(MaxListed))
         {
-            Console.Out.WriteLine($"  {run}{suffix(run)}");
+            o.WriteLine($"  {run}{suffix(run)}");
         }
 
         if (runs.Count > MaxListed)
         {
-            Console.Out.WriteLine($"  ... ({runs.Count - MaxListed}{(runs.Count >= ExecutionReport.MaxRuns ? "+" : string.Empty)} more runs)");
+            o.WriteLine($"  ... ({runs.Count - MaxListed}{(runs.Count >= ExecutionReport.MaxRuns ? "+" : string.Empty)} more runs)");
         }
     }
 

@@ -1,6 +1,5 @@
 using System.CommandLine;
 using PmacStream.Jobs;
-using PmacStream.Streaming;
 
 namespace PmacStream.Cli.Commands;
 
@@ -41,16 +40,12 @@ internal static class ResumeCommand
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 
-            ResumeResult result;
-            try
+            var result = await ResumeOrRestartAsync(service, controller, resumable, settings, options, parse, machine, forced, ct).ConfigureAwait(false);
+            if (result.Kind == ResumeKind.Refused)
             {
-                result = await ResumeOrRestartAsync(service, controller, resumable, settings, options, parse, machine, forced, ct).ConfigureAwait(false);
-            }
-            catch (JobException e) when (e.InnerException is ResumeRefusedException refused)
-            {
-                // Both positions and the choices are in the message; name the command that starts again from a line.
-                var line = refused.RestartLine is { } l ? l.ToString(System.Globalization.CultureInfo.InvariantCulture) : "LINE";
-                throw new CliException($"{e.Message}{Environment.NewLine}to start again from a line: pmacstream stream {record.ProgramPath} --from-line {line}", CliGlobals.Failed);
+                // Both positions and the choices are in the reason; name the command that starts again from a line.
+                var line = result.RestartLine is { } l ? l.ToString(System.Globalization.CultureInfo.InvariantCulture) : "LINE";
+                throw new CliException($"{result.Reason}{Environment.NewLine}to start again from a line: pmacstream stream {record.ProgramPath} --from-line {line}", CliGlobals.Failed);
             }
 
             if (result.Job is not { } job)
@@ -85,7 +80,7 @@ internal static class ResumeCommand
     /// <summary>The service's resume; a restart is shown with its preamble and asked for (<c>--yes</c> answers).</summary>
     private static Task<ResumeResult> ResumeOrRestartAsync(JobService service, ControllerLink controller, ResumableJob resumable, RunSettings settings, JobOptions options,
         ParseResult parse, GCode.MachineProfile machine, bool forced, CancellationToken ct) =>
-        service.ResumeAsync(controller, resumable, settings, proposal =>
+        service.ResumeAsync(controller, new ResumeRequest(resumable, settings, proposal =>
             {
                 if (proposal.Reason is { } reason)
                 {
@@ -99,5 +94,12 @@ internal static class ResumeCommand
 
                 Console.WriteLine($"restarting at the block of line {proposal.Line} (re-runs the block that was executing from its start)");
                 return Task.FromResult(JobConsole.Confirm(plan, options.Yes(parse)));
-            }, options.FeedOverride(parse), machine, ct, forced, options.OptionalStop(parse), options.Library(parse, forced));
+            })
+        {
+            FeedOverride = options.FeedOverride(parse),
+            Profile = machine,
+            Force = forced,
+            OptionalStop = options.OptionalStop(parse),
+            Library = options.Library(parse, forced),
+        }, ct);
 }

@@ -10,6 +10,18 @@ using PmacStream.Sim.Servers;
 
 namespace PmacStream.Cli.Commands;
 
+/// <summary>The options of <c>pmacstream sim</c>, bound.</summary>
+/// <param name="Tcp">HOST:PORT, PORT or <c>none</c>.</param>
+/// <param name="Serial">The tty or pty served besides, or null.</param>
+/// <param name="Baud">Baud rate of the serial line.</param>
+/// <param name="Speed">Virtual clock: realtime, Nx or instant.</param>
+/// <param name="RotWords">Rotary buffer words at power-on, null: the simulator's.</param>
+/// <param name="ExecutedLog">The executed-move log's file, or null.</param>
+/// <param name="IdleTimeout">Seconds without a packet before an Ethernet connection closes (0: never).</param>
+/// <param name="MaxClients">Ethernet connections served at once.</param>
+/// <param name="Library">The library loaded at start: a profile, a library file or <c>none</c>.</param>
+internal sealed record SimArgs(string Tcp, string? Serial, int Baud, string Speed, int? RotWords, string? ExecutedLog, double IdleTimeout, int MaxClients, string Library);
+
 /// <summary>`pmacstream sim`: the simulated Turbo PMAC served over Ethernet (VR_PMAC) and/or a serial line.</summary>
 internal static class SimCommand
 {
@@ -36,127 +48,144 @@ internal static class SimCommand
             cmd.Options.Add(o);
         }
 
-        cmd.SetAction(async (parse, ct) =>
-        {
-            // The executed-move log is streamed to its file (or not kept): memory does not grow with the program.
-            var options = new SimOptions { RetainExecutedMoves = false };
-            try
-            {
-                options.Speed = SimSpeed.Parse(parse.GetValue(speed)!);
-            }
-            catch (FormatException e)
-            {
-                throw new CliException(e.Message);
-            }
-
-            if (parse.GetValue(rotWords) is { } words)
-            {
-                options.DefaultRotWords = words >= 0 ? words : throw new CliException("--rot-words must be 0 or more");
-            }
-
-            var tcpSpec = parse.GetValue(tcp)!;
-            var serialPath = parse.GetValue(serial);
-            var endPoint = tcpSpec.Equals("none", StringComparison.OrdinalIgnoreCase) ? null : ParseEndPoint(tcpSpec);
-            if (endPoint is null && serialPath is null)
-            {
-                throw new CliException("nothing to serve: give --tcp HOST:PORT and/or --serial PATH");
-            }
-
-            var idle = parse.GetValue(idleTimeout);
-            var slots = parse.GetValue(maxClients);
-            if (!(idle >= 0) || slots < 1)
-            {
-                throw new CliException("--idle-timeout must be 0 or more seconds and --max-clients 1 or more");
-            }
-
-            await using var host = new SimHost(new SimHostOptions
-            {
-                Simulator = options,
-                TcpEndPoint = endPoint,
-                SerialPath = serialPath,
-                Serial = new SerialSettings(parse.GetValue(baud)),
-                ExecutedLogPath = parse.GetValue(executedLog),
-                TcpServer = new PmacTcpServerOptions
-                {
-                    IdleTimeout = idle == 0 ? Timeout.InfiniteTimeSpan : TimeSpan.FromSeconds(idle),
-                    MaxClients = slots,
-                },
-            });
-            var libraryLines = LibraryLines(parse.GetValue(library)!);
-            if (libraryLines.Count > 0)
-            {
-                await new InProcessConnection(host.Simulator.OpenPort("library"), "library").DownloadAsync(libraryLines, ct).ConfigureAwait(false);
-            }
-
-            if (endPoint is not null && SimHost.IsExposed(endPoint))
-            {
-                Console.Error.WriteLine($"pmacstream sim: warning: {endPoint} is reachable from other machines and a PMAC port has no authentication: anyone who can connect can run motion programs. Serve 127.0.0.1 unless the network is isolated.");
-            }
-
-            // SIGTERM and Ctrl-C end the wait below; the host then stops and moves the executed-move log into place.
-            // The command line cancels the token too, but only once this action has returned its task, which is after
-            // "listening" is printed: a script that signals as soon as it reads that line would find no handler yet.
-            // Both handlers run; this one may come after the token is gone.
-            using var stop = CancellationTokenSource.CreateLinkedTokenSource(ct);
-            void OnSignal(PosixSignalContext c)
-            {
-                c.Cancel = true;
-                try
-                {
-                    stop.Cancel();
-                }
-                catch (ObjectDisposedException)
-                {
-                    // Already stopped by the other handler and disposed: nothing left to do.
-                }
-            }
-
-            using var sigterm = PosixSignalRegistration.Create(PosixSignal.SIGTERM, OnSignal);
-            using var sigint = PosixSignalRegistration.Create(PosixSignal.SIGINT, OnSignal);
-            try
-            {
-                try
-                {
-                    host.Start();
-                }
-                catch (System.Net.Sockets.SocketException e)
-                {
-                    throw new CliException($"cannot listen on {endPoint}: {e.Message}");
-                }
-                catch (Exception e) when (e is IOException or UnauthorizedAccessException)
-                {
-                    throw new CliException(e.Message);
-                }
-
-                if (host.TcpEndPoint is { } bound)
-                {
-                    Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: listening on tcp {bound} (port {bound.Port}), speed {options.Speed}"));
-                }
-
-                if (serialPath is not null)
-                {
-                    Console.Out.WriteLine($"pmacstream sim: serving serial {serialPath}, speed {options.Speed}");
-                }
-
-                Console.Out.Flush();
-                try
-                {
-                    await Task.Delay(Timeout.Infinite, stop.Token).ConfigureAwait(false);
-                }
-                catch (OperationCanceledException)
-                {
-                    // Ctrl-C or SIGTERM: a clean stop.
-                }
-            }
-            finally
-            {
-                var counters = await host.StopAsync().ConfigureAwait(false);
-                Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: stopped ({counters.MovesExecuted} moves, {counters.Underruns} underruns, {counters.Errors} errors)"));
-            }
-
-            return CliGlobals.Ok;
-        });
+        cmd.SetAction((parse, ct) => RunAsync(
+            new SimArgs(parse.GetValue(tcp)!, parse.GetValue(serial), parse.GetValue(baud), parse.GetValue(speed)!, parse.GetValue(rotWords), parse.GetValue(executedLog),
+                parse.GetValue(idleTimeout), parse.GetValue(maxClients), parse.GetValue(library)!),
+            CliConsole.Standard,
+            ct));
         return cmd;
+    }
+
+    /// <summary>Serves the simulator until Ctrl-C, SIGTERM or <paramref name="ct"/>; returns the exit code.</summary>
+    /// <exception cref="CliException">An option is out of range, or the port cannot be served.</exception>
+    internal static async Task<int> RunAsync(SimArgs args, CliConsole console, CancellationToken ct)
+    {
+        var hostOptions = HostOptions(args);
+        await using var host = new SimHost(hostOptions);
+        var libraryLines = LibraryLines(args.Library);
+        if (libraryLines.Count > 0)
+        {
+            await new InProcessConnection(host.Simulator.OpenPort("library"), "library").DownloadAsync(libraryLines, ct).ConfigureAwait(false);
+        }
+
+        if (hostOptions.TcpEndPoint is { } endPoint && SimHost.IsExposed(endPoint))
+        {
+            await console.Error.WriteLineAsync($"pmacstream sim: warning: {endPoint} is reachable from other machines and a PMAC port has no authentication: anyone who can connect can run motion programs. Serve 127.0.0.1 unless the network is isolated.").ConfigureAwait(false);
+        }
+
+        // SIGTERM and Ctrl-C end the wait below; the host then stops and moves the executed-move log into place.
+        // The command line cancels the token too, but only once this action has returned its task, which is after
+        // "listening" is printed: a script that signals as soon as it reads that line would find no handler yet.
+        // Both handlers run; this one may come after the token is gone.
+        using var stop = CancellationTokenSource.CreateLinkedTokenSource(ct);
+        void OnSignal(PosixSignalContext c)
+        {
+            c.Cancel = true;
+            try
+            {
+                stop.Cancel();
+            }
+            catch (ObjectDisposedException)
+            {
+                // Already stopped by the other handler and disposed: nothing left to do.
+            }
+        }
+
+        using var sigterm = PosixSignalRegistration.Create(PosixSignal.SIGTERM, OnSignal);
+        using var sigint = PosixSignalRegistration.Create(PosixSignal.SIGINT, OnSignal);
+        try
+        {
+            await ServeAsync(host, hostOptions, console, stop.Token).ConfigureAwait(false);
+        }
+        finally
+        {
+            var counters = await host.StopAsync().ConfigureAwait(false);
+            await console.Out.WriteLineAsync(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: stopped ({counters.MovesExecuted} moves, {counters.Underruns} underruns, {counters.Errors} errors)")).ConfigureAwait(false);
+        }
+
+        return CliGlobals.Ok;
+    }
+
+    /// <summary>The host's options from the bound ones (the executed-move log is streamed to its file: memory does not grow with the program).</summary>
+    private static SimHostOptions HostOptions(SimArgs args)
+    {
+        var options = new SimOptions { RetainExecutedMoves = false };
+        try
+        {
+            options.Speed = SimSpeed.Parse(args.Speed);
+        }
+        catch (FormatException e)
+        {
+            throw new CliException(e.Message);
+        }
+
+        if (args.RotWords is { } words)
+        {
+            options.DefaultRotWords = words >= 0 ? words : throw new CliException("--rot-words must be 0 or more");
+        }
+
+        var endPoint = args.Tcp.Equals("none", StringComparison.OrdinalIgnoreCase) ? null : ParseEndPoint(args.Tcp);
+        if (endPoint is null && args.Serial is null)
+        {
+            throw new CliException("nothing to serve: give --tcp HOST:PORT and/or --serial PATH");
+        }
+
+        if (!(args.IdleTimeout >= 0) || args.MaxClients < 1)
+        {
+            throw new CliException("--idle-timeout must be 0 or more seconds and --max-clients 1 or more");
+        }
+
+        return new SimHostOptions
+        {
+            Simulator = options,
+            TcpEndPoint = endPoint,
+            SerialPath = args.Serial,
+            Serial = new SerialSettings(args.Baud),
+            ExecutedLogPath = args.ExecutedLog,
+            TcpServer = new PmacTcpServerOptions
+            {
+                IdleTimeout = args.IdleTimeout == 0 ? Timeout.InfiniteTimeSpan : TimeSpan.FromSeconds(args.IdleTimeout),
+                MaxClients = args.MaxClients,
+            },
+        };
+    }
+
+    /// <summary>Starts the host, says where it listens, and waits for <paramref name="stop"/>.</summary>
+    private static async Task ServeAsync(SimHost host, SimHostOptions options, CliConsole console, CancellationToken stop)
+    {
+        try
+        {
+            host.Start();
+        }
+        catch (System.Net.Sockets.SocketException e)
+        {
+            throw new CliException($"cannot listen on {options.TcpEndPoint}: {e.Message}");
+        }
+        catch (Exception e) when (e is IOException or UnauthorizedAccessException)
+        {
+            throw new CliException(e.Message);
+        }
+
+        var speed = options.Simulator.Speed;
+        if (host.TcpEndPoint is { } bound)
+        {
+            await console.Out.WriteLineAsync(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: listening on tcp {bound} (port {bound.Port}), speed {speed}")).ConfigureAwait(false);
+        }
+
+        if (options.SerialPath is not null)
+        {
+            await console.Out.WriteLineAsync($"pmacstream sim: serving serial {options.SerialPath}, speed {speed}").ConfigureAwait(false);
+        }
+
+        console.Out.Flush();
+        try
+        {
+            await Task.Delay(Timeout.Infinite, stop).ConfigureAwait(false);
+        }
+        catch (OperationCanceledException)
+        {
+            // Ctrl-C or SIGTERM: a clean stop.
+        }
     }
 
     /// <summary>

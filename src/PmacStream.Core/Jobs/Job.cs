@@ -69,6 +69,27 @@ public sealed class Job : IAsyncDisposable
     /// </summary>
     public double? ProgrammedFeed => Session.Status.CurrentLine > 0 ? Session.MoveTimes?.ProgrammedFeedAt(Session.Status.CurrentLine) : null;
 
+    /// <summary>The status in the job service's words, for a screen that does not read streaming's types.</summary>
+    public JobView View
+    {
+        get
+        {
+            var s = Session.Status;
+            var state = s.State switch
+            {
+                SessionState.Running => JobState.Running,
+                SessionState.Held => JobState.Held,
+                SessionState.Completed => JobState.Completed,
+                SessionState.Aborted => JobState.Aborted,
+                SessionState.Faulted => JobState.Faulted,
+                SessionState.Stopped => JobState.Stopped,
+                _ => JobState.Idle,
+            };
+            return new JobView(state, s.CurrentChunk, s.CurrentLine, s.Percent, s.Feed, ProgrammedFeed, s.Elapsed, s.Eta, s.Message,
+                s.Stop is { } stop ? new JobStop(stop.Line, stop.Code) : null, Session.OptionalStop);
+        }
+    }
+
     /// <summary>Job events: downloads, late windows, chunk changes, faults, completion.</summary>
     public event EventHandler<StreamingEvent>? EventRaised
     {

@@ -87,6 +87,28 @@ public sealed record ResumableJob(JobRecord Record, ChunkedProgram Program, int?
     public int ResumeLine => RestartLine ?? Program.Manifest.Chunks[0].FirstSourceLine;
 }
 
+/// <summary>A resume of an unfinished job on an open controller (<see cref="JobService.ResumeAsync"/>).</summary>
+/// <param name="Job">The job, opened by <see cref="JobService.OpenResumable"/>.</param>
+/// <param name="Settings">The run settings it goes on with (the job's own, unless the operator says otherwise).</param>
+/// <param name="ConfirmRestart">Asked when the controller lost the job: true starts it again behind the proposal's preamble.</param>
+public sealed record ResumeRequest(ResumableJob Job, RunSettings Settings, Func<RestartProposal, Task<bool>> ConfirmRestart)
+{
+    /// <summary>The feed override in percent, set on the continued job at once or before the restart; null leaves the controller's.</summary>
+    public double? FeedOverride { get; init; }
+
+    /// <summary>The machine profile the job ran under (<see cref="JobService.ProfileOf"/>); null: <see cref="MachineProfile.Default"/>.</summary>
+    public MachineProfile? Profile { get; init; }
+
+    /// <summary>Resume although the program uses codes the controller cannot run yet, or its split was forced past errors.</summary>
+    public bool Force { get; init; }
+
+    /// <summary>Optional stop on: the controller stops at <c>M01</c>.</summary>
+    public bool OptionalStop { get; init; } = true;
+
+    /// <summary>The library check before anything reaches the controller; null: <see cref="LibraryPolicy.Force"/> when forced, else <see cref="LibraryPolicy.Verify"/>.</summary>
+    public LibraryPolicy? Library { get; init; }
+}
+
 /// <summary>How a resume goes on.</summary>
 public enum ResumeKind
 {
@@ -101,13 +123,24 @@ public enum ResumeKind
 
     /// <summary>The operator declined the restart; nothing was sent.</summary>
     Declined,
+
+    /// <summary>
+    /// The job record and the controller disagree in a way that could repeat or skip a block: nothing but <c>CLOSE</c>
+    /// and queries was sent, no restart is proposed; <see cref="ResumeResult.Reason"/> gives both positions and the
+    /// operator's choices.
+    /// </summary>
+    Refused,
 }
 
 /// <summary>What a resume did.</summary>
 /// <param name="Kind">How it goes on.</param>
-/// <param name="Job">The job (null when declined).</param>
-/// <param name="Reason">Why the controller could not continue (restarts), else null.</param>
-public sealed record ResumeResult(ResumeKind Kind, Job? Job, string? Reason = null);
+/// <param name="Job">The job (null when declined or refused).</param>
+/// <param name="Reason">Why the controller could not continue (restarts), why the resume was refused, else null.</param>
+public sealed record ResumeResult(ResumeKind Kind, Job? Job, string? Reason = null)
+{
+    /// <summary>The line a restart was proposed at (declined), or where a start from a line would begin once the controller stopped (refused); null when none is named.</summary>
+    public int? RestartLine { get; init; }
+}
 
 /// <summary>A restart the operator is asked about: its plan (null: from the top) and why the job cannot simply continue.</summary>
 /// <param name="Line">The line it restarts at, null from the top.</param>

@@ -27,7 +27,7 @@ public sealed record JobServiceOptions
 /// facade, the library), plan a start from a line, start and run a job, find and resume an interrupted one.
 /// See <c>Jobs/README.md</c>.
 /// </summary>
-public sealed class JobService
+public sealed partial class JobService
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<JobService>();
     private readonly JobServiceOptions _options;
@@ -347,85 +347,60 @@ public sealed class JobService
     /// aborted, and not a simulator made for this link), the session reconciles the record with what the controller
     /// reports: sending continues where the controller's lines end (or a start that broke off while loading is loaded
     /// again) and the job runs. When the controller stopped the job it restarts at the controller's line (else at
-    /// <see cref="ResumableJob.RestartLine"/>) behind a preamble, once <paramref name="confirmRestart"/> agrees: the
-    /// job is returned ready for <see cref="Job.StartAsync"/>. A <paramref name="feedOverride"/> (percent) is set on
-    /// the continued job at once, or before the restart; null leaves the controller's. The job gate runs first
-    /// (<see cref="ProgramGate"/>): a program with codes the controller cannot run yet, or a split forced past errors,
-    /// is resumed only with <paramref name="force"/>. Before anything else reaches the controller, the library check of
-    /// <paramref name="library"/> (null: <see cref="LibraryPolicy.Force"/> when forced, else <see cref="LibraryPolicy.Verify"/>);
-    /// a load is refused while the controller still runs the job.
+    /// <see cref="ResumableJob.RestartLine"/>) behind a preamble, once <see cref="ResumeRequest.ConfirmRestart"/> agrees:
+    /// the job is returned ready for <see cref="Job.StartAsync"/>. When the record and the controller disagree in a way
+    /// that could repeat or skip a block the result is <see cref="ResumeKind.Refused"/>, with both positions and the
+    /// operator's choices; nothing was sent. A <see cref="ResumeRequest.FeedOverride"/> (percent) is set on the
+    /// continued job at once, or before the restart. The job gate runs first (<see cref="ProgramGate"/>): a program with
+    /// codes the controller cannot run yet, or a split forced past errors, is resumed only when forced. Before anything
+    /// else reaches the controller, the library check of <see cref="ResumeRequest.Library"/>; a load is refused while the
+    /// controller still runs the job.
     /// </summary>
-    /// <exception cref="JobException">The controller could not be asked (link or ERR), or it and the job record
-    /// disagree in a way that could repeat or skip a block (<see cref="ResumeRefusedException"/> inside: both positions
-    /// and the operator's choices; nothing was sent).</exception>
+    /// <exception cref="JobException">The controller could not be asked (link or ERR), or runs another library.</exception>
     /// <exception cref="ProgramRefusedException">The gate refused it; nothing was sent.</exception>
-    public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumableJob job, RunSettings settings, Func<RestartProposal, Task<bool>> confirmRestart,
-        double? feedOverride = null, MachineProfile? profile = null, CancellationToken cancellationToken = default, bool force = false, bool optionalStop = true,
-        LibraryPolicy? library = null)
+    public async Task<ResumeResult> ResumeAsync(ControllerLink controller, ResumeRequest request, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(controller);
-        ArgumentNullException.ThrowIfNull(job);
-        ArgumentNullException.ThrowIfNull(confirmRestart);
+        ArgumentNullException.ThrowIfNull(request);
+        var job = request.Job;
         var record = job.Record;
+        var profile = request.Profile ?? MachineProfile.Default;
 
         // The gate again: a job forced past it at its start is resumed only when forced again.
-        ProgramGate.EnsureRunnable(record.ProgramPath, job.Program.Manifest, profile ?? MachineProfile.Default, force, cancellationToken);
-        var times = await MoveTimesAsync(record.ProgramPath, profile ?? MachineProfile.Default, cancellationToken).ConfigureAwait(false);
+        ProgramGate.EnsureRunnable(record.ProgramPath, job.Program.Manifest, profile, request.Force, cancellationToken);
+        var times = await MoveTimesAsync(record.ProgramPath, profile, cancellationToken).ConfigureAwait(false);
         var store = OpenExistingStore();
         try
         {
-            var options = settings.ToStreamingOptions(record.Strategy, singleBlock: false, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
-                with { OptionalStop = optionalStop };
-            await ControllerLibrary.EnsureAsync(controller.Connection, profile, library ?? (force ? LibraryPolicy.Force : LibraryPolicy.Verify), ScopeOf(options, job.Program, null), cancellationToken)
-                .ConfigureAwait(false);
+            var options = request.Settings.ToStreamingOptions(record.Strategy, singleBlock: false, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
+                with { OptionalStop = request.OptionalStop };
+            var library = request.Library ?? (request.Force ? LibraryPolicy.Force : LibraryPolicy.Verify);
+            await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, library, ScopeOf(options, job.Program, null), cancellationToken).ConfigureAwait(false);
             StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
-            string? reason = null;
-            var restartLine = job.RestartLine;
-            if (record.Checkpoint is { State: not SessionState.Aborted } cp && controller.Simulator?.Fresh != true)
+            var outcome = new ContinueOutcome(null, null, job.RestartLine);
+            if (record.Checkpoint is { State: not SessionState.Aborted } && controller.Simulator?.Fresh != true)
             {
-                var session = NewSession();
-                try
+                outcome = await ContinueAsync(controller, request, store, NewSession(), cancellationToken).ConfigureAwait(false);
+                if (outcome.Result is { } done)
                 {
-                    // From the record: its line probe, and a start that broke off while loading is loaded again.
-                    await session.ResumeAsync(record, cancellationToken).ConfigureAwait(false);
-                    var reloaded = cp is { Loaded: false, Started: false };
-                    Log.Information("Job {Job} resumed from its checkpoint at line {Line}{How:l}", record.Id, cp.LastExecutedLine, reloaded ? " (its start loaded again)" : string.Empty);
-                    var continued = new Job(controller, session, settings, null, feedOverride, store, record.Id);
-                    if (feedOverride is { } percent)
+                    if (done.Job is null)
                     {
-                        await continued.SetFeedOverrideAsync(percent, cancellationToken).ConfigureAwait(false);
+                        store.Dispose();
                     }
 
-                    return new ResumeResult(reloaded ? ResumeKind.Reloaded : ResumeKind.Continued, continued);
-                }
-                catch (ResumeRefusedException e)
-                {
-                    // The record and the controller disagree: neither position is safe, so no restart is proposed.
-                    Log.Error("Job {Job}: resume refused: {Message:l}", record.Id, e.Message);
-                    throw new JobException($"cannot resume job {record.Id}: {e.Message}", JobErrorKind.Failed, e);
-                }
-                catch (InvalidOperationException e)
-                {
-                    // The controller stopped the job: restart where it stopped (its M0), not where the record says.
-                    reason = e.Message;
-                    restartLine = (e as ControllerLostJobException)?.RestartLine ?? restartLine;
-                    Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.Id, e.Message, restartLine);
-                }
-                catch (Exception e) when (e is PmacLinkException or PmacErrorException)
-                {
-                    throw new JobException($"cannot resume job {record.Id}: {e.Message}", JobErrorKind.Failed, e);
+                    return done;
                 }
             }
 
-            var plan = restartLine is { } line ? PlanStart(job.Program, line, settings, profile, cancellationToken) : null;
-            if (!await confirmRestart(new RestartProposal(restartLine, plan, reason)).ConfigureAwait(false))
+            var plan = outcome.RestartLine is { } line ? PlanStart(job.Program, line, request.Settings, request.Profile, cancellationToken) : null;
+            if (!await request.ConfirmRestart(new RestartProposal(outcome.RestartLine, plan, outcome.Reason)).ConfigureAwait(false))
             {
                 Log.Information("Restart of job {Job} declined", record.Id);
                 store.Dispose();
-                return new ResumeResult(ResumeKind.Declined, null, reason);
+                return new ResumeResult(ResumeKind.Declined, null, outcome.Reason) { RestartLine = outcome.RestartLine };
             }
 
-            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), settings, plan, feedOverride, store, record.Id), reason);
+            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id), outcome.Reason);
         }
         catch
         {
@@ -433,6 +408,52 @@ public sealed class JobService
             throw;
         }
     }
+
+    /// <summary>
+    /// Continues a job the controller may still hold, from its record. The outcome is the result when the job runs on
+    /// or the resume is refused; else (the controller stopped the job) why, and the line a restart starts at.
+    /// </summary>
+    private static async Task<ContinueOutcome> ContinueAsync(ControllerLink controller, ResumeRequest request, JobStore store, StreamingSession session, CancellationToken cancellationToken)
+    {
+        var record = request.Job.Record;
+        var cp = record.Checkpoint!;
+        try
+        {
+            // From the record: its line probe, and a start that broke off while loading is loaded again.
+            await session.ResumeAsync(record, cancellationToken).ConfigureAwait(false);
+        }
+        catch (ResumeRefusedException e)
+        {
+            // The record and the controller disagree: neither position is safe, so no restart is proposed.
+            Log.Error("Job {Job}: resume refused: {Message:l}", record.Id, e.Message);
+            return new ContinueOutcome(new ResumeResult(ResumeKind.Refused, null, $"cannot resume job {record.Id}: {e.Message}") { RestartLine = e.RestartLine }, null, null);
+        }
+        catch (InvalidOperationException e)
+        {
+            // The streaming session's word for "the controller stopped the job" (or a start that cannot be loaded
+            // again): restart where it stopped (its M0), not where the record says.
+            var line = (e as ControllerLostJobException)?.RestartLine ?? request.Job.RestartLine;
+            Log.Warning("Job {Job}: {Message:l}; restarting at line {Line} with the restore preamble", record.Id, e.Message, line);
+            return new ContinueOutcome(null, e.Message, line);
+        }
+        catch (Exception e) when (e is PmacLinkException or PmacErrorException)
+        {
+            throw new JobException($"cannot resume job {record.Id}: {e.Message}", JobErrorKind.Failed, e);
+        }
+
+        var reloaded = cp is { Loaded: false, Started: false };
+        Log.Information("Job {Job} resumed from its checkpoint at line {Line}{How:l}", record.Id, cp.LastExecutedLine, reloaded ? " (its start loaded again)" : string.Empty);
+        var continued = new Job(controller, session, request.Settings, null, request.FeedOverride, store, record.Id);
+        if (request.FeedOverride is { } percent)
+        {
+            await continued.SetFeedOverrideAsync(percent, cancellationToken).ConfigureAwait(false);
+        }
+
+        return new ContinueOutcome(new ResumeResult(reloaded ? ResumeKind.Reloaded : ResumeKind.Continued, continued), null, null);
+    }
+
+    /// <summary>What continuing from the record gave: a result (runs on, refused), or a restart with its reason and line.</summary>
+    private sealed record ContinueOutcome(ResumeResult? Result, string? Reason, int? RestartLine);
 
     private PreparedProgram Prepare(PrepareRequest request, IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
     {

@@ -4,8 +4,6 @@ using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Preview;
-using PmacStream.Preparation;
-using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Hmi;
 
@@ -119,20 +117,9 @@ internal sealed class FakeView : IMainView
     }
 }
 
-internal sealed class FakeConnection : IPmacConnection
-{
-    public bool Disposed { get; private set; }
-    public string Description => "fake";
-    public Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
-    public Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default) => Task.CompletedTask;
-    public Task FlushAsync(CancellationToken cancellationToken = default) => Task.CompletedTask;
-    public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
-    public ValueTask DisposeAsync() { Disposed = true; return ValueTask.CompletedTask; }
-}
-
 /// <summary>
 /// Stands in for the checker, splitter and streaming session: a line with "BAD" is an error, every non-empty line
-/// is a block, chunk files really are written, and a job advances <see cref="LinesPerTick"/> lines a tick.
+/// is a block, chunk files really are written (no manifest: the split is a view), no controller is opened, and a job advances <see cref="LinesPerTick"/> lines a tick.
 /// </summary>
 internal sealed class FakeBackend : IHmiBackend
 {
@@ -144,16 +131,16 @@ internal sealed class FakeBackend : IHmiBackend
     public List<string> ProfilesUsed { get; } = [];
     public List<string> LibrariesLoaded { get; } = [];
     public List<FakeJob> Jobs { get; } = [];
-    public HmiInterruptedJob? Interrupted { get; set; }
-    public FakeConnection? Connection { get; private set; }
+    public InterruptedJobView? Interrupted { get; set; }
+    public bool Connected { get; private set; }
 
-    public Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default)
+    public Task LoadLibraryAsync(MachineProfile profile, CancellationToken cancellationToken = default)
     {
         LibrariesLoaded.Add(profile.Name);
         return Task.CompletedTask;
     }
 
-    public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
+    public Task<string> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {
         LibrariesLoaded.Add(profile.Name);
         if (settings.Device == DeviceKind.Ethernet && settings.EthernetAddress == "unreachable")
@@ -161,8 +148,14 @@ internal sealed class FakeBackend : IHmiBackend
             throw new PmacLinkException("ethernet unreachable:1025: connection refused");
         }
 
-        Connection = new FakeConnection();
-        return Task.FromResult(new ControllerLink(ConnectionSpec.Simulator, Connection));
+        Connected = true;
+        return Task.FromResult("fake");
+    }
+
+    public Task DisconnectAsync()
+    {
+        Connected = false;
+        return Task.CompletedTask;
     }
 
     public Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default)
@@ -190,7 +183,7 @@ internal sealed class FakeBackend : IHmiBackend
     }
 
     /// <summary>Refuses a program with a "BAD" line (the service's gate), else writes chunk files of <see cref="RunSettings.BlocksPerChunk"/> lines.</summary>
-    public async Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
+    public async Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {
         Prepared.Add(settings);
         ProfilesUsed.Add("prepare " + profile.Name);
@@ -203,12 +196,12 @@ internal sealed class FakeBackend : IHmiBackend
         return Split(sourcePath, settings.BlocksPerChunk);
     }
 
-    public HmiSplitResult Split(string sourcePath, int linesPerChunk)
+    public SplitView Split(string sourcePath, int linesPerChunk)
     {
         var lines = File.ReadAllLines(sourcePath);
         var dir = Path.Combine(Path.GetDirectoryName(sourcePath)!, Path.GetFileNameWithoutExtension(sourcePath) + "_chunks");
         Directory.CreateDirectory(dir);
-        var chunks = new List<ChunkInfo>();
+        var chunks = new List<ChunkView>();
         for (int first = 1, index = 1; first <= lines.Length; first += linesPerChunk, index++)
         {
             var last = Math.Min(lines.Length, first + linesPerChunk - 1);
@@ -221,40 +214,47 @@ internal sealed class FakeBackend : IHmiBackend
 
             sb.Append("CLOSE\n");
             File.WriteAllText(Path.Combine(dir, name), sb.ToString());
-            chunks.Add(new ChunkInfo(index, name, first, last, last - first + 1, last - first + 1, sb.Length, 0, ""));
+            chunks.Add(new ChunkView(index, name, first, last, last - first + 1));
         }
 
-        var manifest = new ChunkManifest(sourcePath, 0, "", lines.Length, lines.Length, "M0", TrackingPlacement.Exact, FeedMode.Paper, "P500", chunks);
-        return new HmiSplitResult(manifest, dir);
+        return new SplitView(sourcePath, dir, chunks, lines.Length);
     }
 
-    public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
+    /// <summary>Row r + 2 of a chunk file tracks its r-th line (after CLOSE and OPEN ROT).</summary>
+    public ChunkRows ReadChunkRows(SplitView program, int chunk)
+    {
+        var c = program.Chunks[chunk - 1];
+        var lines = Enumerable.Range(c.FirstSourceLine, c.LastSourceLine - c.FirstSourceLine + 1).ToArray();
+        return new ChunkRows(lines, lines.Select(l => l - c.FirstSourceLine + 3).ToArray());
+    }
+
+    public Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {
         ProfilesUsed.Add("preamble " + profile.Name);
         return Task.FromResult<IReadOnlyList<string>>(["G21 G17 G90 G54", $"RAPID Z50 (to line {line})"]);
     }
 
-    public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default)
+    public Task<IHmiJob> StartAsync(HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         Started.Add(request);
         ProfilesUsed.Add("start " + request.Profile.Name);
-        var job = new FakeJob(request.Program.Manifest, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.FeedOverride) { OptionalStop = request.OptionalStop, StopAt = StopAt };
+        var job = new FakeJob(request.Program, request.FromLine ?? 1, LinesPerTick, request.SingleBlock, request.FeedOverride) { OptionalStop = request.OptionalStop, StopAt = StopAt };
         Jobs.Add(job);
         return Task.FromResult<IHmiJob>(job);
     }
 
-    public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
-        Task.FromResult(Interrupted is { } j && j.Program.Manifest.SourcePath == sourcePath ? j : null);
+    public Task<InterruptedJobView?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
+        Task.FromResult(Interrupted is { } j && j.Program.SourcePath == sourcePath ? j : null);
 
     /// <summary>Where the next job started stops (a program stop at that line), null for none.</summary>
-    public ProgramStop? StopAt { get; set; }
+    public JobStop? StopAt { get; set; }
 
-    public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
+    public Task<IHmiJob> ResumeInterruptedAsync(InterruptedJobView job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
         CancellationToken cancellationToken = default)
     {
         ProfilesUsed.Add("resume " + profile.Name);
         Resumed.Add(settings);
-        var j = new FakeJob(job.Program.Manifest, job.ResumeLine, LinesPerTick, false, feedOverride);
+        var j = new FakeJob(job.Program, job.ResumeLine, LinesPerTick, false, feedOverride);
         Jobs.Add(j);
         return Task.FromResult<IHmiJob>(j);
     }
@@ -266,7 +266,7 @@ internal sealed class FakeBackend : IHmiBackend
     }
 }
 
-internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPerTick, bool singleBlock, double feedOverride) : IHmiJob
+internal sealed class FakeJob(SplitView manifest, int firstLine, int linesPerTick, bool singleBlock, double feedOverride) : IHmiJob
 {
     private int _line = firstLine - 1;
     private HmiJobState _state = HmiJobState.Running;
@@ -287,9 +287,9 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
     public bool OptionalStop { get; set; } = true;
 
     /// <summary>A program stop the job reaches (it stops there once), null for none.</summary>
-    public ProgramStop? StopAt { get; set; }
+    public JobStop? StopAt { get; set; }
 
-    public HmiJobStatus Status => new(_state, manifest.ChunkOfLine(Math.Max(1, _line))?.Index ?? 0, _line,
+    public HmiJobStatus Status => new(_state, manifest.Chunks.FirstOrDefault(c => c.LastSourceLine >= Math.Max(1, _line))?.Number ?? 0, _line,
         100.0 * _line / manifest.TotalBlocks, ControllerOverride ?? _override, ProgrammedFeed, TimeSpan.FromSeconds(_ticks), TimeSpan.FromSeconds(manifest.TotalBlocks - _line),
         Stop: _state == HmiJobState.Stopped ? StopAt : null, OptionalStop: OptionalStop);
 
@@ -325,7 +325,7 @@ internal sealed class FakeJob(ChunkManifest manifest, int firstLine, int linesPe
             return;
         }
 
-        _line = Math.Min(manifest.TotalBlocks, _line + n);
+        _line = (int)Math.Min(manifest.TotalBlocks, _line + n);
         if (_line == manifest.TotalBlocks)
         {
             _state = HmiJobState.Completed;

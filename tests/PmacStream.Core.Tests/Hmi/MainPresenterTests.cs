@@ -112,7 +112,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     public async Task A_program_stop_shows_the_banner_and_state_resume_continues_and_optional_stop_follows_the_box()
     {
         await ReadyToRun(100, 30);
-        _backend.StopAt = new PmacStream.Streaming.ProgramStop(40, "M00");
+        _backend.StopAt = new JobStop(40, "M00");
         _view.OptionalStop.Should().BeTrue("M01 stops unless the operator says otherwise");
         await Do(() => _view.ToggleOptionalStop(false));
         await Do(_view.ClickExecute);
@@ -379,7 +379,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
         var manifest = _backend.Jobs[0].Status;
         manifest.CurrentLine.Should().Be(63);
         var split = _backend.Split(Path.Combine(_dir, "part.nc"), 30);
-        _backend.Interrupted = new HmiInterruptedJob(7, split, 64, 3, "chunk", DateTimeOffset.UtcNow);
+        _backend.Interrupted = new InterruptedJobView(7, split, 64, 3, "chunk", DateTimeOffset.UtcNow);
         await _p.DisposeAsync();
         var view2 = new FakeView();
         _p = new MainPresenter(view2, _backend, _sink, Logger());
@@ -601,7 +601,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
         await Do(_view.ClickConnect);
         _view.ConnectionState.Should().Be("Connected: fake");
         await Do(_view.ClickDisconnect);
-        _backend.Connection!.Disposed.Should().BeTrue();
+        _backend.Connected.Should().BeFalse("Disconnect closes the link the backend holds");
     }
 
     [Fact]

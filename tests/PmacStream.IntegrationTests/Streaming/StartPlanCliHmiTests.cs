@@ -32,7 +32,7 @@ public sealed class StartPlanCliHmiTests : IDisposable
         var options = new StartPlanOptions { SafeZMode = mode == "fixed" ? SafeZMode.Fixed : SafeZMode.HighestSoFar };
         var backend = new CoreHmiBackend(new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_temp.Path, "hmi.db") }));
         var settings = RunSettings.Default with { SafeZMode = options.SafeZMode };
-        var hmi = await backend.BuildPreambleAsync(new HmiSplitResult(split.Manifest, split.OutputDirectory), line, settings, PmacStream.GCode.MachineProfile.Default);
+        var hmi = await backend.BuildPreambleAsync(new SplitView(src, split.OutputDirectory, [], split.Manifest.TotalBlocks), line, settings, PmacStream.GCode.MachineProfile.Default);
 
         hmi.Should().Equal(cli, "the HMI shows exactly the preamble the CLI shows for the same line");
         var plan = StartFromLine.Plan(src, line, StartPlanOptions.For(split.Manifest, options));
