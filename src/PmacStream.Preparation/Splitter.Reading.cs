@@ -74,7 +74,6 @@ public static partial class Splitter
                         }
 
                         var block = reader.LexRaw();
-                        host?.Before();
                         if (check != null)
                         {
                             if (number == 1 && reader.StartsWithUtf16Bom)
