@@ -41,6 +41,6 @@ public class CanonicalMovesTests
         canon.Motions.Select(m => m.Kind).Should().Contain([MotionKind.ArcCw, MotionKind.Dwell, MotionKind.Cycle]);
         canon.Steps.Should().Contain(s => s.Kind == HostMoveKind.Feed && s.Target.Z == -3, "the hole's feed to its bottom");
         canon.Steps.Should().Contain(s => s.Kind == HostMoveKind.MachineRapid, "G28's way to the reference position");
-        canon.Starts[4].Position.Should().Be(new Point3(10, 5, 2), "the G01 block starts where the rapid ended");
+        canon.Starts[3].Position.Should().Be(new Point3(10, 5, 2), "the G01 block starts where the rapid ended");
     }
 }
