@@ -40,21 +40,21 @@ public sealed partial class Interpreter
         return seconds;
     }
 
-    /// <summary>G27-G30: through the programmed point to the reference position, on the axes named (their steps for the host in <see cref="HostMoves"/>).</summary>
+    /// <summary>G27-G30: through the programmed point to the reference position, on the axes named (their steps to <see cref="Canon"/>).</summary>
     private (Point3 End, MotionKind Kind, double Length, double Seconds) ConvertReference(int key, Point3 start, double? x, double? y, double? z, bool hasAxes)
     {
         var via = Target(start, x, y, z);
         var home = key is 280 or 300 ? _profile.ReferencePosition(key / 10) : via;
         var end = new Point3(x.HasValue ? home.X : start.X, y.HasValue ? home.Y : start.Y, z.HasValue ? home.Z : start.Z);
-        if (HostMoves != null && hasAxes)
+        if (Canon is { } canon && hasAxes)
         {
             // Only the axes the block names move, to the intermediate point too: the others stay wherever the
             // machine is (at a program's first G28 the host does not know where that is).
             var named = (x.HasValue ? 1 : 0) | (y.HasValue ? 2 : 0) | (z.HasValue ? 4 : 0);
-            HostMoves.Add(new HostMove(HostMoveKind.Rapid, via, 0, named));
+            canon.Step(new HostMove(HostMoveKind.Rapid, via, 0, named));
             if (key is 280 or 300)
             {
-                HostMoves.Add(new HostMove(HostMoveKind.MachineRapid, end, 0, named));
+                canon.Step(new HostMove(HostMoveKind.MachineRapid, end, 0, named));
             }
         }
 
@@ -80,7 +80,15 @@ public sealed partial class Interpreter
         double? q = col['Q' - 'A'] != 0 ? val['Q' - 'A'] * _scale : null;
         var dwell = col['P' - 'A'] != 0 ? (_profile.DwellPInMilliseconds ? val['P' - 'A'] / 1000.0 : val['P' - 'A']) : 0;
         var (end, rapid, feed, holes) = _cycle.Run(start, x, y, z, r, q, dwell, (int)Math.Max(0, repeats), _absolute, _returnToR, _coords.Active);
-        HostMoves?.AddRange(_cycle.Steps);
+        if (Canon is { } canon)
+        {
+            var steps = _cycle.Steps;
+            for (var i = 0; i < steps.Count; i++)
+            {
+                canon.Step(steps[i]);
+            }
+        }
+
         if (holes == 0)
         {
             return (start, MotionKind.None, 0, 0);

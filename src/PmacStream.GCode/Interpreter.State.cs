@@ -27,10 +27,10 @@ public sealed partial class Interpreter
     public bool BlockDeleteEnabled { get; set; }
 
     /// <summary>
-    /// When set, canned cycle holes and reference returns append their steps here (machine coordinates), for the
-    /// host to send them as plain moves.
+    /// When set, every block's canonical moves go here as the interpreter decides them: the state it starts from, the
+    /// steps of its cycle holes or reference return, its motion (the host sends them, the ETA times them).
     /// </summary>
-    internal List<HostMove>? HostMoves { get; set; }
+    public ICanonicalMoves? Canon { get; set; }
 
     /// <summary>
     /// The last block is one the host rewrites before the controller sees it: program units other than millimetres,

@@ -131,6 +131,12 @@ public sealed partial class Interpreter
 
     internal DecodedBlock? Step(GBlock block, List<Diagnostic>? diags) => StepCore(block, diags) ? Materialize() : null;
 
+    /// <summary>
+    /// Interprets one block for its canonical moves (<see cref="Canon"/>) and state only, without a record: the
+    /// allocation-free step of a caller that times or sends the moves. False when the line holds no block.
+    /// </summary>
+    public bool Execute(GBlock block) => StepCore(block, null);
+
     /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
@@ -140,6 +146,7 @@ public sealed partial class Interpreter
     {
         // Before anything here changes the mode or the work offset the lane's values were written under.
         Resolve();
+        Canon?.StartBlock(new CanonStart(_pos, _coords.Active, _tool));
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
         {
@@ -508,6 +515,11 @@ public sealed partial class Interpreter
             kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol)) || _compensated;
         _pos = end;
         UpdateLane();
+        if (kind != MotionKind.None && Canon is { } sink)
+        {
+            sink.Motion(new CanonMotion(line, kind, start, end, center, length, seconds, _feed));
+        }
+
         // Filled in place: the record is large and this runs once per block.
         ref var last = ref _last;
         if (!RecordBlocks)

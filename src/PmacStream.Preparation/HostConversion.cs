@@ -34,30 +34,22 @@ internal sealed class HostConversion
     private readonly List<HostMove> _moves = [];
     private readonly List<string> _lines = [];
     private readonly StringBuilder _sb = new(128);
-    private readonly double?[] _given = new double?[26]; // the block's words by letter (the first of each)
-    private Point3 _start;
-    private Point3 _offsetBefore;
-    private int _toolBefore;
+    private readonly double?[] _given = new double?[26]; // the block's words by letter: the first of each (a library routine's)
+    private readonly double?[] _word = new double?[26];  // and the last of each (the move's)
+    private readonly List<(char Letter, double Value)> _codes = []; // the block's G and M codes as written
+    private CanonStart _before;
 
     // The words of the move line as written (an inch program converts every move), so it is not lexed again.
     private readonly WrittenWords _moveWords = new();
     private int _moveLine = -1;
-    private readonly List<string> _modes = [], _data = [], _before = [], _after = []; // a block's parts, reused
+    private readonly List<string> _modes = [], _data = [], _stopsBefore = [], _after = []; // a block's parts, reused
 
+    /// <summary>Converts what <paramref name="interp"/> decides: it becomes the interpreter's canonical move sink.</summary>
     public HostConversion(Interpreter interp)
     {
         _interp = interp;
         _profile = interp.Profile;
-        interp.HostMoves = _moves;
-    }
-
-    /// <summary>Call before the interpreter takes a block: what the conversion needs of the state before it.</summary>
-    public void Before()
-    {
-        _moves.Clear();
-        _start = _interp.Position;
-        _offsetBefore = _interp.ActiveOffset;
-        _toolBefore = _interp.Tool;
+        interp.Canon = new Sink(this);
     }
 
     /// <summary>
@@ -73,224 +65,26 @@ internal sealed class HostConversion
 
         _lines.Clear();
         _moveLine = -1;
-        var words = block.WordList;
-        var (modes, data, before, after) = (Cleared(_modes), Cleared(_data), Cleared(_before), Cleared(_after));
-        string? motionCode = null;
-        var machine = false;
-        var dwell = false;
-        var cycleOrReference = _moves.Count > 0;
-        double? x = null, y = null, z = null, a = null, b = null, c = null, i = null, j = null, k = null, r = null, f = null, p = null, s = null, l = null, h = null;
-        var codes = new List<(char Letter, double Value)>();
-        Array.Clear(_given);
-        foreach (var w in words)
+        ReadWords(block);
+        var seen = SortCodes(_interp.UnitScale);
+        if (seen.LengthCode || (W('H').HasValue && _interp.LengthMode != 0))
         {
-            if (w.Letter is >= 'A' and <= 'Z' && _given[w.Letter - 'A'] is null)
-            {
-                _given[w.Letter - 'A'] = w.Value;
-            }
-
-            switch (w.Letter)
-            {
-                case 'G' or 'M': codes.Add((w.Letter, w.Value)); break;
-                case 'X': x = w.Value; break;
-                case 'Y': y = w.Value; break;
-                case 'Z': z = w.Value; break;
-                case 'A': a = w.Value; break;
-                case 'B': b = w.Value; break;
-                case 'C': c = w.Value; break;
-                case 'I': i = w.Value; break;
-                case 'J': j = w.Value; break;
-                case 'K': k = w.Value; break;
-                case 'R': r = w.Value; break;
-                case 'F': f = w.Value; break;
-                case 'P': p = w.Value; break;
-                case 'S': s = w.Value; break;
-                case 'L': l = w.Value; break;
-                case 'H': h = w.Value; break;
-            }
+            _data.Add(_interp.LengthMode == 0 ? "G49" : $"G{_interp.LengthMode} H{_interp.LengthOffsetNumber.ToString(CultureInfo.InvariantCulture)}");
         }
 
-        var scale = _interp.UnitScale;
-        var hasAxes = x.HasValue || y.HasValue || z.HasValue || a.HasValue || b.HasValue || c.HasValue;
-        var lengthCodeInBlock = false;
-        var axisData = false; // a data code takes the block's axis words: nothing moves
-        foreach (var (letter, value) in codes)
+        if (W('S') is { } sv)
         {
-            var key = (int)Math.Round(value * 10);
-            if (letter == 'M')
-            {
-                var m = "M" + Code(value) + LibraryWords('M', value, scale);
-                if (key == 60)
-                {
-                    // The tool change routine reads the tool it changes to.
-                    after.Add($"{m} T{_interp.Tool.ToString(CultureInfo.InvariantCulture)}");
-                }
-                else if (key is 30 or 40 or 70 or 80 or 190 or 880)
-                {
-                    before.Add(m);
-                }
-                else
-                {
-                    after.Add(m);
-                }
-
-                continue;
-            }
-
-            switch (key)
-            {
-                case 0 or 10 or 20 or 30:
-                    motionCode = "G" + Code(value);
-                    break;
-                case 40:
-                    dwell = true;
-                    break;
-                case 530:
-                    machine = true;
-                    break;
-                case 100:
-                    axisData = true;
-                    data.AddRange(TableSettings(l, p));
-                    break;
-                case 520:
-                    axisData = true;
-                    data.Add("G52" + Axes(x, y, z, scale, _interp.Coordinates.Local, all: false));
-                    break;
-                case 920:
-                    axisData = true;
-                    data.Add("G92" + Axes(x, y, z, 1.0, _interp.Coordinates.Shift, all: false, fromResult: true));
-                    break;
-                case 921 or 922:
-                    data.Add("G92.1");
-                    break;
-                case 430 or 440 or 490:
-                    lengthCodeInBlock = true;
-                    break;
-                case 541 or 1540:
-                    modes.Add("G54.1 P" + Num(p ?? 1));
-                    break;
-                // Pure program syntax the host has already applied: units, arc centre mode, cycles and their return
-                // levels, reference returns (their moves follow), feed modes (feeds are sent per minute).
-                case 200 or 210 or 901 or 911 or 800 or 980 or 990 or 270 or 280 or 290 or 300 or 930 or 940 or 950:
-                    break;
-                // Mirror, scaling and rotation are in the positions sent; exact stop mode and G09 are a G09 after the move.
-                case 510 or 511 or 680:
-                    axisData = true;
-                    break;
-                case 500 or 501 or 690 or 610 or 90:
-                    break;
-                // Cutter radius compensation is in the positions sent (CompensatedMoves).
-                case 410 or 420:
-                    break;
-                case >= 730 and <= 890 when CodeIsCycle(key):
-                    break;
-                default:
-                    // Codes that take the block's axis words as data (scaling, rotation, macro calls...) never move.
-                    axisData |= CodeRoles.OfG(key) == GRole.AxisData;
-                    modes.Add("G" + Code(value) + LibraryWords('G', value, scale));
-                    break;
-            }
+            _stopsBefore.Insert(0, "S" + Num(sv));
         }
 
-        if (lengthCodeInBlock || (h.HasValue && _interp.LengthMode != 0))
+        if (_modes.Count > 0)
         {
-            data.Add(_interp.LengthMode == 0 ? "G49" : $"G{_interp.LengthMode} H{_interp.LengthOffsetNumber.ToString(CultureInfo.InvariantCulture)}");
+            _lines.Add(string.Join(' ', _modes));
         }
 
-        if (s is { } sv)
-        {
-            before.Insert(0, "S" + Num(sv));
-        }
-
-        if (modes.Count > 0)
-        {
-            _lines.Add(string.Join(' ', modes));
-        }
-
-        Add(before);
-        Add(data);
-        var feed = FeedPerMinute(f);
-        if (dwell)
-        {
-            _lines.Add("G04 P" + Num(DwellP(p, x)));
-        }
-        else if (cycleOrReference)
-        {
-            Expand(feed);
-        }
-        else if (axisData)
-        {
-            // The axis words were the data settings' values (G10, G52, G92).
-        }
-        else if (_interp.CompensatedMove)
-        {
-            CompensatedMoves.Write(_lines, _interp, _start, feed);
-        }
-        else if (_interp.Transforming && !machine && (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue)))
-        {
-            TransformedMove(a, b, c, feed);
-        }
-        else if (hasAxes || (motionCode is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (i.HasValue || j.HasValue || k.HasValue))
-        {
-            _sb.Clear();
-            _moveWords.Begin();
-            if (machine)
-            {
-                AppendCode("G53");
-            }
-
-            if (motionCode != null)
-            {
-                AppendCode(motionCode);
-            }
-
-            AppendAxes(x, y, z, scale);
-            AppendWord('A', a);
-            AppendWord('B', b);
-            AppendWord('C', c);
-            if (_interp.MotionCode is 2 or 3)
-            {
-                if (r is { } rv)
-                {
-                    AppendWord('R', rv * scale);
-                }
-                else if (_interp.ArcCentresAbsolute)
-                {
-                    // G90.1: the PMAC's centre vector is incremental from the start (its default INC(R)).
-                    var startProgram = _start - _offsetBefore;
-                    AppendWord('I', i is { } iv ? (iv * scale) - startProgram.X : null);
-                    AppendWord('J', j is { } jv ? (jv * scale) - startProgram.Y : null);
-                    AppendWord('K', k is { } kv ? (kv * scale) - startProgram.Z : null);
-                }
-                else
-                {
-                    AppendWord('I', i * scale);
-                    AppendWord('J', j * scale);
-                    AppendWord('K', k * scale);
-                }
-            }
-
-            if (feed is { } fv)
-            {
-                AppendWord('F', fv);
-            }
-
-            _lines.Add(_sb.Length > 0 && _sb[^1] == ' ' ? _sb.ToString(0, _sb.Length - 1) : _sb.ToString()); // less the blank after the last word
-            _moveLine = _moveWords.End() ? _lines.Count - 1 : -1;
-            if (machine)
-            {
-                _lines.Add(BackFromMachineCoordinates);
-            }
-        }
-        else if (motionCode != null)
-        {
-            _lines.Add(motionCode + (feed is { } fv ? " F" + Num(fv) : string.Empty));
-        }
-        else if (feed is { } fv)
-        {
-            _lines.Add("F" + Num(fv));
-        }
-
+        Add(_stopsBefore);
+        Add(_data);
+        WriteMotion(seen, FeedPerMinute(W('F')));
         if (_interp.ExactStopBlock)
         {
             // The library's G09 (DWELL0) after the move: the move decelerates to rest before the next one starts. A
@@ -298,8 +92,262 @@ internal sealed class HostConversion
             _lines.Add(_profile.Find('G', 9) is { Controller: ControllerSupport.Library } g09 ? g09.Code : ExactStopCode);
         }
 
-        Add(after);
+        Add(_after);
         return _lines;
+    }
+
+    /// <summary>What the block's codes say about its motion (<see cref="SortCodes"/>).</summary>
+    private struct Seen
+    {
+        public string? Motion;   // G00..G03 in the block
+        public bool Machine;     // G53
+        public bool Dwell;       // G04
+        public bool AxisData;    // a data code takes the block's axis words: nothing moves
+        public bool LengthCode;  // G43, G44 or G49 in the block
+    }
+
+    /// <summary>The block's words by letter (<see cref="W"/>, <see cref="_given"/>) and its G and M codes in order.</summary>
+    private void ReadWords(GBlock block)
+    {
+        _codes.Clear();
+        Array.Clear(_given);
+        Array.Clear(_word);
+        foreach (var w in block.WordList)
+        {
+            if (w.Letter is < 'A' or > 'Z')
+            {
+                continue;
+            }
+
+            _given[w.Letter - 'A'] ??= w.Value;
+            _word[w.Letter - 'A'] = w.Value;
+            if (w.Letter is 'G' or 'M')
+            {
+                _codes.Add((w.Letter, w.Value));
+            }
+        }
+    }
+
+    /// <summary>The block's word <paramref name="letter"/> as written (the last one when it is there twice).</summary>
+    private double? W(char letter) => _word[letter - 'A'];
+
+    /// <summary>
+    /// The block's codes into the parts of what is sent: modes, data settings, stops before the move, codes after it;
+    /// what is pure program syntax the host already applied is left out.
+    /// </summary>
+    private Seen SortCodes(double scale)
+    {
+        var seen = default(Seen);
+        _modes.Clear();
+        _data.Clear();
+        _stopsBefore.Clear();
+        _after.Clear();
+        foreach (var (letter, value) in _codes)
+        {
+            if (letter == 'M')
+            {
+                SortM(value, scale);
+            }
+            else
+            {
+                SortG(value, scale, ref seen);
+            }
+        }
+
+        return seen;
+    }
+
+    private void SortM(double value, double scale)
+    {
+        var key = (int)Math.Round(value * 10);
+        var m = "M" + Code(value) + LibraryWords('M', value, scale);
+        if (key == 60)
+        {
+            // The tool change routine reads the tool it changes to.
+            _after.Add($"{m} T{_interp.Tool.ToString(CultureInfo.InvariantCulture)}");
+        }
+        else if (key is 30 or 40 or 70 or 80 or 190 or 880)
+        {
+            _stopsBefore.Add(m);
+        }
+        else
+        {
+            _after.Add(m);
+        }
+    }
+
+    private void SortG(double value, double scale, ref Seen seen)
+    {
+        switch ((int)Math.Round(value * 10))
+        {
+            case 0 or 10 or 20 or 30:
+                seen.Motion = "G" + Code(value);
+                break;
+            case 40:
+                seen.Dwell = true;
+                break;
+            case 530:
+                seen.Machine = true;
+                break;
+            case 100:
+                seen.AxisData = true;
+                _data.AddRange(TableSettings(W('L'), W('P')));
+                break;
+            case 520:
+                seen.AxisData = true;
+                _data.Add("G52" + Axes(W('X'), W('Y'), W('Z'), scale, _interp.Coordinates.Local, all: false));
+                break;
+            case 920:
+                seen.AxisData = true;
+                _data.Add("G92" + Axes(W('X'), W('Y'), W('Z'), 1.0, _interp.Coordinates.Shift, all: false, fromResult: true));
+                break;
+            case 921 or 922:
+                _data.Add("G92.1");
+                break;
+            case 430 or 440 or 490:
+                seen.LengthCode = true;
+                break;
+            case 541 or 1540:
+                _modes.Add("G54.1 P" + Num(W('P') ?? 1));
+                break;
+            // Pure program syntax the host has already applied: units, arc centre mode, cycles and their return
+            // levels, reference returns (their moves follow), feed modes (feeds are sent per minute).
+            case 200 or 210 or 901 or 911 or 800 or 980 or 990 or 270 or 280 or 290 or 300 or 930 or 940 or 950:
+                break;
+            // Mirror, scaling and rotation are in the positions sent; exact stop mode and G09 are a G09 after the move.
+            case 510 or 511 or 680:
+                seen.AxisData = true;
+                break;
+            case 500 or 501 or 690 or 610 or 90:
+                break;
+            // Cutter radius compensation is in the positions sent (CompensatedMoves).
+            case 410 or 420:
+                break;
+            case var key and >= 730 and <= 890 when CodeIsCycle(key):
+                break;
+            case var key:
+                // Codes that take the block's axis words as data (scaling, rotation, macro calls...) never move.
+                seen.AxisData |= CodeRoles.OfG(key) == GRole.AxisData;
+                _modes.Add("G" + Code(value) + LibraryWords('G', value, scale));
+                break;
+        }
+    }
+
+    /// <summary>The block's motion as the controller runs it: a dwell, the interpreter's steps, a compensated, transformed or plain move, or the mode and feed alone.</summary>
+    private void WriteMotion(in Seen seen, double? feed)
+    {
+        var hasAxes = W('X').HasValue || W('Y').HasValue || W('Z').HasValue || W('A').HasValue || W('B').HasValue || W('C').HasValue;
+        var arcByCentre = (seen.Motion is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (W('I').HasValue || W('J').HasValue || W('K').HasValue);
+        if (seen.Dwell)
+        {
+            _lines.Add("G04 P" + Num(DwellP(W('P'), W('X'))));
+        }
+        else if (_moves.Count > 0)
+        {
+            // A cycle's holes or a reference return: the interpreter's steps.
+            Expand(feed);
+        }
+        else if (seen.AxisData)
+        {
+            // The axis words were the data settings' values (G10, G52, G92).
+        }
+        else if (_interp.CompensatedMove)
+        {
+            CompensatedMoves.Write(_lines, _interp, _before.Position, feed);
+        }
+        else if (_interp.Transforming && !seen.Machine && (hasAxes || arcByCentre))
+        {
+            TransformedMove(W('A'), W('B'), W('C'), feed);
+        }
+        else if (hasAxes || arcByCentre)
+        {
+            PlainMove(seen, feed);
+        }
+        else if (seen.Motion != null)
+        {
+            _lines.Add(seen.Motion + (feed is { } fv ? " F" + Num(fv) : string.Empty));
+        }
+        else if (feed is { } fv)
+        {
+            _lines.Add("F" + Num(fv));
+        }
+    }
+
+    /// <summary>The move as written, in millimetres: G53 and the motion code, axes, the arc's centre or radius, the feed.</summary>
+    private void PlainMove(in Seen seen, double? feed)
+    {
+        var scale = _interp.UnitScale;
+        _sb.Clear();
+        _moveWords.Begin();
+        if (seen.Machine)
+        {
+            AppendCode("G53");
+        }
+
+        if (seen.Motion != null)
+        {
+            AppendCode(seen.Motion);
+        }
+
+        AppendAxes(W('X'), W('Y'), W('Z'), scale);
+        AppendWord('A', W('A'));
+        AppendWord('B', W('B'));
+        AppendWord('C', W('C'));
+        if (_interp.MotionCode is 2 or 3)
+        {
+            var (i, j, k) = (W('I'), W('J'), W('K'));
+            if (W('R') is { } rv)
+            {
+                AppendWord('R', rv * scale);
+            }
+            else if (_interp.ArcCentresAbsolute)
+            {
+                // G90.1: the PMAC's centre vector is incremental from the start (its default INC(R)).
+                var startProgram = _before.Position - _before.Offset;
+                AppendWord('I', i is { } iv ? (iv * scale) - startProgram.X : null);
+                AppendWord('J', j is { } jv ? (jv * scale) - startProgram.Y : null);
+                AppendWord('K', k is { } kv ? (kv * scale) - startProgram.Z : null);
+            }
+            else
+            {
+                AppendWord('I', i * scale);
+                AppendWord('J', j * scale);
+                AppendWord('K', k * scale);
+            }
+        }
+
+        if (feed is { } fv)
+        {
+            AppendWord('F', fv);
+        }
+
+        _lines.Add(_sb.Length > 0 && _sb[^1] == ' ' ? _sb.ToString(0, _sb.Length - 1) : _sb.ToString()); // less the blank after the last word
+        _moveLine = _moveWords.End() ? _lines.Count - 1 : -1;
+        if (seen.Machine)
+        {
+            _lines.Add(BackFromMachineCoordinates);
+        }
+    }
+
+    /// <summary>
+    /// The interpreter's canonical moves as the conversion needs them: the state each block starts from and the steps
+    /// of its cycle holes or reference return. The interpreter calls it for every block, so nothing depends on when
+    /// <see cref="Convert"/> is called.
+    /// </summary>
+    private sealed class Sink(HostConversion host) : ICanonicalMoves
+    {
+        public void StartBlock(in CanonStart start)
+        {
+            host._moves.Clear();
+            host._before = start;
+        }
+
+        public void Step(in HostMove step) => host._moves.Add(step);
+
+        public void Motion(in CanonMotion motion)
+        {
+            // The block's own motion is written from the interpreter's state in Convert.
+        }
     }
 
     /// <summary>
@@ -334,7 +382,7 @@ internal sealed class HostConversion
         AppendWord('C', c);
         if (sent is 2 or 3 && _interp.LastArc.Centre is { } at)
         {
-            var v = at - _start;
+            var v = at - _before.Position;
             var plane = _interp.State.Plane;
             AppendWord('I', plane is 17 or 18 ? v.X : null);
             AppendWord('J', plane is 17 or 19 ? v.Y : null);
@@ -562,12 +610,6 @@ internal sealed class HostConversion
             _moveWords.Record(_sb, at);
             _sb.Append(' ');
         }
-    }
-
-    private static List<string> Cleared(List<string> list)
-    {
-        list.Clear();
-        return list;
     }
 
     private void AppendCode(string code)

@@ -5,11 +5,48 @@ namespace PmacStream.Preparation;
 /// <content>The reading side of a split: the reader and checker lanes, host conversions, the line batches handed to the writer.</content>
 public static partial class Splitter
 {
-    /// <content>The reading side of a split: the reader and checker lanes, host conversions, the line batches handed to the writer.</content>
-    private sealed partial class SplitRun
+    /// <summary>
+    /// What the reading side found, handed to the writing side once it finished: its only other link to it is the
+    /// bounded queue of line batches.
+    /// </summary>
+    private sealed record ReadOutcome(long Size, List<Diagnostic> Errors, int ErrorCount, List<Diagnostic> CheckErrors, int CheckErrorCount,
+        int Warnings, Dictionary<string, int>? NotYet, int LaneLines, int BufferLaneLines);
+
+    /// <summary>
+    /// The reading side of a split, on its own thread: lexes the source (and checks it on the same blocks), converts
+    /// the host blocks, and hands batches of lines to the writing side over <c>full</c>, taking empty ones back from
+    /// <c>free</c>. Every field is this thread's; the writing side gets the <see cref="ReadOutcome"/> when it ends.
+    /// </summary>
+    private sealed class SourceReader(string source, SplitOptions options, HandOff<LineBatch> full, HandOff<LineBatch> free, CancellationToken stop)
     {
-        /// <summary>The reading thread: lexes (and checks) the source, hands lines over; returns the bytes read.</summary>
-        private long Produce()
+        private readonly string _source = source;
+        private readonly SplitOptions _o = options;
+        private readonly HandOff<LineBatch> _full = full;
+        private readonly HandOff<LineBatch> _free = free;
+        private readonly CancellationToken _stop = stop;
+        private readonly List<Diagnostic> _errors = [];
+        private readonly List<Diagnostic> _checkErrors = [];
+        private int _errorCount;
+        private int _checkErrorCount;
+        private int _warnings;
+        // Errors were found and the split will be refused: stop handing lines over, keep reading to list them.
+        private bool _refusing;
+        private LineBatch? _batch;
+        private CheckRun? _check;
+        private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
+        private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
+        private HostConversion? _host;
+        private GBlock? _hostLine; // the host's converted lines are lexed into this one block (the batch copies them)
+        private bool _started;              // the power-on call went before the first block
+        private readonly Dictionary<string, int>? _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null; // codes the controller cannot run yet, first line
+        private int _laneLines;        // lines the AxisLine lane took ...
+        private int _bufferLaneLines;  // ... of them, straight from the read buffer
+
+        /// <summary>The checker runs in this pass whenever there is a profile (see <see cref="SplitRun"/>).</summary>
+        private bool Checking => _o.CheckProfile != null;
+
+        /// <summary>The reading thread: lexes (and checks) the source, hands lines over; returns what it found.</summary>
+        public ReadOutcome Read()
         {
             try
             {
@@ -74,7 +111,6 @@ public static partial class Splitter
                         }
 
                         var block = reader.LexRaw();
-                        host?.Before();
                         if (check != null)
                         {
                             if (number == 1 && reader.StartsWithUtf16Bom)
@@ -115,13 +151,13 @@ public static partial class Splitter
                 }
 
                 _batch!.EndPosition = size;
-                _full!.Add(_batch);
+                _full.Add(_batch);
                 _batch = null;
-                return size;
+                return new ReadOutcome(size, _errors, _errorCount, _checkErrors, _checkErrorCount, _warnings, _notYet, _laneLines, _bufferLaneLines);
             }
             finally
             {
-                _full!.Complete();
+                _full.Complete();
             }
         }
 
@@ -169,12 +205,12 @@ public static partial class Splitter
             _check?.ReleaseText(batch.Text);
             _own?.ReleaseText(batch.Text);
             batch.EndPosition = endPosition;
-            _full!.Add(batch);
+            _full.Add(batch);
             _batch = TakeFree();
         }
 
         private LineBatch TakeFree() =>
-            _free!.TryTake(out var batch) ? batch : throw new InvalidOperationException("batch pool closed");
+            _free.TryTake(out var batch) ? batch : throw new InvalidOperationException("batch pool closed");
 
         private void OnCheckDiagnostic(Diagnostic d)
         {
@@ -271,67 +307,6 @@ public static partial class Splitter
                     _notYet!.TryAdd(def.Code, b.LineNumber);
                 }
             }
-        }
-
-        /// <summary>The splitting thread's work on one batch.</summary>
-        private void Consume(LineBatch batch)
-        {
-            var text = batch.Text;
-            var lines = batch.Lines;
-            var n = 0;
-            while (n < lines.Length)
-            {
-                ref readonly var line = ref lines[n];
-                if ((n & 0x3FF) == 0x3FF)
-                {
-                    _ct.ThrowIfCancellationRequested();
-                }
-
-                if (line.IsAxisLine)
-                {
-                    EmitAxisLine(text.AsSpan(line.TextStart, line.TextLength), line.WordCount, line.LineNumber);
-                    n++;
-                }
-                else if (n + 1 < lines.Length && lines[n + 1].Continues)
-                {
-                    // A host block of several lines: emitted together (they stay in one chunk).
-                    n = EmitGroup(batch, n);
-                }
-                else
-                {
-                    Emit(text.AsSpan(line.TextStart, line.TextLength), batch.WordsOf(line), line.LineNumber);
-                    n++;
-                }
-            }
-
-            _position = batch.EndPosition;
-        }
-
-        private void Finish()
-        {
-            if (Checking && !_o.AllowErrors && _checkErrorCount > 0)
-            {
-                throw new SplitException(
-                    $"{_source}: {_checkErrorCount} error(s); not split (force splits anyway)", _checkErrors, _checkErrorCount)
-                {
-                    FromChecker = true,
-                };
-            }
-
-            // Also when checking: lines stopped flowing at the first lexical error, so never publish what came before.
-            if (_errorCount > 0 && !_o.AllowErrors)
-            {
-                throw new SplitException(
-                    $"{_source}: {_errorCount} error(s); not split (force splits anyway, dropping what is not G-code)",
-                    _errors, _errorCount);
-            }
-
-            if (_chunkBlocks == 0)
-            {
-                throw new SplitException($"{_source}: no program blocks to split", [], 1);
-            }
-
-            Flush(last: true);
         }
 
         private void Collect(GBlock b)

@@ -10,6 +10,68 @@ public static partial class Splitter
     /// <content>The writing side of a split: chunk lines written byte by byte (tracking assignments, feed variable, stops), chunk files flushed.</content>
     private sealed partial class SplitRun
     {
+        /// <summary>The splitting thread's work on one batch.</summary>
+        private void Consume(LineBatch batch)
+        {
+            var text = batch.Text;
+            var lines = batch.Lines;
+            var n = 0;
+            while (n < lines.Length)
+            {
+                ref readonly var line = ref lines[n];
+                if ((n & 0x3FF) == 0x3FF)
+                {
+                    _ct.ThrowIfCancellationRequested();
+                }
+
+                if (line.IsAxisLine)
+                {
+                    EmitAxisLine(text.AsSpan(line.TextStart, line.TextLength), line.WordCount, line.LineNumber);
+                    n++;
+                }
+                else if (n + 1 < lines.Length && lines[n + 1].Continues)
+                {
+                    // A host block of several lines: emitted together (they stay in one chunk).
+                    n = EmitGroup(batch, n);
+                }
+                else
+                {
+                    Emit(text.AsSpan(line.TextStart, line.TextLength), batch.WordsOf(line), line.LineNumber);
+                    n++;
+                }
+            }
+
+            _position = batch.EndPosition;
+        }
+
+        /// <summary>The last chunk, once the reading side finished: unless what it found refuses the split.</summary>
+        private void Finish(ReadOutcome read)
+        {
+            if (Checking && !_o.AllowErrors && read.CheckErrorCount > 0)
+            {
+                throw new SplitException(
+                    $"{_source}: {read.CheckErrorCount} error(s); not split (force splits anyway)", read.CheckErrors, read.CheckErrorCount)
+                {
+                    FromChecker = true,
+                };
+            }
+
+            // Also when checking: lines stopped flowing at the first lexical error, so never publish what came before.
+            if (read.ErrorCount > 0 && !_o.AllowErrors)
+            {
+                throw new SplitException(
+                    $"{_source}: {read.ErrorCount} error(s); not split (force splits anyway, dropping what is not G-code)",
+                    read.Errors, read.ErrorCount);
+            }
+
+            if (_chunkBlocks == 0)
+            {
+                throw new SplitException($"{_source}: no program blocks to split", [], 1);
+            }
+
+            Flush(last: true);
+        }
+
         /// <summary>The lines of one host block from <paramref name="first"/> on, as one block of the chunk; returns the index after them.</summary>
         private int EmitGroup(LineBatch batch, int first)
         {

@@ -150,9 +150,10 @@ public static partial class Splitter
     }
 
     /// <summary>
-    /// One split in progress. Two threads share the work: the reading thread lexes the source (and runs the
-    /// checker on the same blocks when <see cref="SplitOptions.CheckProfile"/> is set) and hands batches of lines
-    /// over a bounded queue, in order, to the calling thread, which builds the chunks; a third writes and hashes
+    /// One split in progress, and its writing side. Two threads share the work and nothing else: the reading thread
+    /// (<see cref="SourceReader"/>, which owns its state) lexes the source (and runs the checker on the same blocks
+    /// when <see cref="SplitOptions.CheckProfile"/> is set) and hands batches of lines over a bounded queue, in order,
+    /// to the calling thread, which builds the chunks; a third writes and hashes
     /// the chunk files (<see cref="ChunkFileWriter"/>) and a fourth hashes the source. Most CAM lines are plain
     /// axis moves in the mode in force: those take the <see cref="AxisLine"/> lane (lexed in one scan of the read
     /// buffer, checked by <see cref="CheckRun.TryAxisLine"/>, handed over as their emitted text); every other line
@@ -196,30 +197,10 @@ public static partial class Splitter
         private long _position;
         private ChunkFileWriter? _writer;
 
-        // Reading thread only (read by the splitting thread after it finished).
-        private readonly List<Diagnostic> _errors = [];
-        private readonly List<Diagnostic> _checkErrors = [];
-        private int _errorCount;
-        private int _checkErrorCount;
-        private int _warnings;
-        // Errors were found and the split will be refused: stop handing lines over, keep reading to list them.
-        private bool _refusing;
-        private LineBatch? _batch;
-        private CheckRun? _check;
-        private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
         private readonly ProgramStopCodes _stops;
         private readonly Dictionary<string, int> _stopCodes = new(StringComparer.Ordinal); // stop codes used, first line
-        private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
-        private HostConversion? _host;
-        private GBlock? _hostLine; // the host's converted lines are lexed into this one block (the batch copies them)
-        private bool _started;              // the power-on call went before the first block
-        private readonly Dictionary<string, int>? _notYet; // codes the controller cannot run yet, first line (with a profile)
         private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
-        private int _laneLines;        // lines the AxisLine lane took ...
-        private int _bufferLaneLines;  // ... of them, straight from the read buffer
-        private HandOff<LineBatch>? _full;
-        private HandOff<LineBatch>? _free;
-        private CancellationToken _stop;
+        private ReadOutcome? _read;           // the reading side's findings, once it finished
 
         // Current chunk (splitting thread).
         private int _chunkBlocks;
@@ -269,18 +250,17 @@ public static partial class Splitter
             _toolChangeMoves = options.CheckProfile?.ToolChangePosition != null;
             _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
             _chunk.Append(HeaderBytes);
-            _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null;
             _stops = ProgramStopCodes.Of(options.CheckProfile ?? MachineProfile.Default);
         }
 
         /// <summary>The codes the program uses that the controller cannot run yet, with their first line (null without a profile).</summary>
-        public IReadOnlyDictionary<string, int>? NotYetCodes => _notYet;
+        public IReadOnlyDictionary<string, int>? NotYetCodes => _read?.NotYet;
 
         /// <summary>Lines the <see cref="AxisLine"/> lane took (read after <see cref="Execute"/>).</summary>
-        public int LaneLines => _laneLines;
+        public int LaneLines => _read?.LaneLines ?? 0;
 
         /// <summary>Of <see cref="LaneLines"/>, those scanned straight in the read buffer.</summary>
-        public int BufferLaneLines => _bufferLaneLines;
+        public int BufferLaneLines => _read?.BufferLaneLines ?? 0;
 
         /// <summary>
         /// The checker runs in this pass whenever there is a profile: it decides refusal (unless forced) and, forced or
@@ -290,7 +270,6 @@ public static partial class Splitter
 
         public (ChunkManifest Manifest, int Warnings) Execute()
         {
-            long size;
             _totalBytes = new FileInfo(_source).Length;
             // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
             var sourceHash = Task.Run(() => (Sha: FileHash.Sha256Hex(_source, out var hashed), Size: hashed), _ct);
@@ -302,13 +281,12 @@ public static partial class Splitter
                 free.Add(new LineBatch());
             }
 
-            _full = full;
-            _free = free;
-            _stop = stop.Token;
+            var source = new SourceReader(_source, _o, full, free, stop.Token);
+            ReadOutcome read;
             using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct, (int)Math.Min(_o.MaxChunkBytes + 256, 1 << 20)))
             {
                 _writer = writer;
-                var reading = Task.Factory.StartNew(Produce, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
+                var reading = Task.Factory.StartNew(source.Read, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
                 try
                 {
                     // Batches arrive in source order (one producer, one FIFO queue), so chunks keep the source order.
@@ -319,7 +297,7 @@ public static partial class Splitter
                         free.Add(batch);
                     }
 
-                    size = reading.GetAwaiter().GetResult(); // rethrows what stopped the reading thread
+                    read = reading.GetAwaiter().GetResult(); // rethrows what stopped the reading thread
                 }
                 catch
                 {
@@ -336,25 +314,26 @@ public static partial class Splitter
                     throw;
                 }
 
-                Finish();
+                _read = read;
+                Finish(read);
                 writer.Complete();
             }
 
             var (sha, hashedSize) = sourceHash.GetAwaiter().GetResult();
-            if (hashedSize != size)
+            if (hashedSize != read.Size)
             {
-                throw new IOException($"{_source}: changed while it was being split ({size} bytes read, {hashedSize} hashed)");
+                throw new IOException($"{_source}: changed while it was being split ({read.Size} bytes read, {hashedSize} hashed)");
             }
 
-            var manifest = new ChunkManifest(_source, size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
+            var manifest = new ChunkManifest(_source, read.Size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
                 _o.Tracking, _o.Feed, _o.FeedVariable, _chunks)
             {
                 Shape = _o.ResolvedShape,
                 CheckedProfile = _o.CheckedProfile,
-                NotYetCodes = _notYet,
+                NotYetCodes = read.NotYet,
                 StopCodes = _stopCodes,
             };
-            return (manifest, _warnings);
+            return (manifest, read.Warnings);
         }
     }
 }

@@ -21,17 +21,35 @@ public sealed class MoveTimeTable : IMoveTimes
 
         static IEnumerable<(int, double, double)> Moves(string path, MachineProfile profile)
         {
-            var interp = new Interpreter(profile);
+            var motions = new LastMotion();
+            var interp = new Interpreter(profile) { Canon = motions };
             using var reader = GCodeReader.Open(path);
             while (reader.Read())
             {
                 // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.
-                if (interp.StepCore(reader.Current, null) && interp.Last.Motion != MotionKind.None)
+                if (interp.Execute(reader.Current) && motions.Take() is { } m)
                 {
-                    yield return (interp.Last.Line, interp.Last.DurationSeconds, interp.State.Feed ?? double.NaN);
+                    yield return (m.Line, m.Seconds, m.Feed ?? double.NaN);
                 }
             }
         }
+    }
+
+    /// <summary>The motion of the block the interpreter took last, if it moved (its canonical moves).</summary>
+    private sealed class LastMotion : ICanonicalMoves
+    {
+        private CanonMotion _motion;
+        private bool _moved;
+
+        public void StartBlock(in CanonStart start) => _moved = false;
+
+        public void Step(in HostMove step)
+        {
+        }
+
+        public void Motion(in CanonMotion motion) => (_motion, _moved) = (motion, true);
+
+        public CanonMotion? Take() => _moved ? _motion : null;
     }
 
     /// <summary>Samples kept before the table starts thinning (2 MB of samples).</summary>

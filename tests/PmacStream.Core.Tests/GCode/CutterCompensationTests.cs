@@ -80,7 +80,6 @@ public class CutterCompensationTests
         foreach (var line in Outside.Split('\n'))
         {
             var block = GCodeReader.LexLine(line, 1);
-            host.Before();
             interp.StepCore(block, null);
             sent.AddRange(host.Convert(block) ?? [line]);
         }

@@ -43,10 +43,11 @@ public class MachinePositionTests
     [Fact]
     public void A_peck_cycle_writes_out_every_step()
     {
-        var interp = new Interpreter(Machine) { HostMoves = [] };
+        var canon = new CanonRecorder();
+        var interp = new Interpreter(Machine) { Canon = canon };
         interp.Step(GCodeReader.LexLine("G90 G00 X0 Y0 Z10.", 1));
         interp.Step(GCodeReader.LexLine("G98 G73 X1. Y1. Z-3. R1. Q1. F100.", 2))!.End.Should().Be(new Point3(1, 1, 10));
-        var steps = interp.HostMoves!;
+        var steps = canon.Steps;
         steps.Count(s => s.Kind == HostMoveKind.Feed).Should().Be(4, "R1 to Z-3 in pecks of 1");
         steps.Last().Target.Z.Should().Be(10, "G98: back to the initial level");
     }

@@ -97,7 +97,8 @@ public class TransformTests
     [Fact]
     public void A_drilling_cycle_under_rotation_drills_at_the_rotated_holes()
     {
-        var interp = new Interpreter(Machine) { HostMoves = [] };
+        var canon = new CanonRecorder();
+        var interp = new Interpreter(Machine) { Canon = canon };
         foreach (var (l, i) in new[] { "G55 G90 G00 X0 Y0 Z10.", "G68 X0 Y0 R90." }.Select((l, i) => (l, i)))
         {
             interp.Step(GCodeReader.LexLine(l, i + 1));
@@ -105,7 +106,7 @@ public class TransformTests
 
         var hole = interp.Step(GCodeReader.LexLine("G98 G81 X10. Y0 Z-5. R2. F100.", 3))!;
         ShouldBe(hole.End, 100, 60, 0);   // back to the initial level Z10 (machine 0)
-        interp.HostMoves!.Where(m => m.Kind == HostMoveKind.Feed).Select(m => m.Target).Should().ContainSingle()
+        canon.Steps.Where(m => m.Kind == HostMoveKind.Feed).Select(m => m.Target).Should().ContainSingle()
             .Which.Should().Be(new Point3(100, 60, -15));
         var next = interp.Step(GCodeReader.LexLine("Y10.", 4))!;
         ShouldBe(next.End, 90, 60, 0);

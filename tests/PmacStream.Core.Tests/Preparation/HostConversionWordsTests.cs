@@ -27,7 +27,6 @@ public class HostConversionWordsTests
         for (var n = 0; n < Inch.Length; n++)
         {
             var block = GCodeReader.LexLine(Inch[n], n + 1);
-            host.Before();
             interpreter.StepCore(block, null);
             if (host.Convert(block) is not { } lines)
             {

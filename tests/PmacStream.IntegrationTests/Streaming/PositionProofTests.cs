@@ -481,20 +481,7 @@ public class PositionProofTests(ITestOutputHelper output)
         return new ProofReport(name, expected.Count, executed.Count, largest);
     }
 
-    /// <summary>The interpreter's end of every moving block, machine coordinates in millimetres.</summary>
-    private static List<(int Line, Point3 End)> Expected(string path, MachineProfile profile)
-    {
-        var interp = new Interpreter(profile) { BlockDeleteEnabled = true };
-        var list = new List<(int, Point3)>();
-        using var reader = GCodeReader.Open(path);
-        while (reader.Read())
-        {
-            if (interp.Step(reader.Current) is { Motion: not MotionKind.None } d)
-            {
-                list.Add((d.Line, d.End));
-            }
-        }
-
-        return list;
-    }
+    /// <summary>The interpreter's end of every moving block (its canonical moves), machine coordinates in millimetres.</summary>
+    private static List<(int Line, Point3 End)> Expected(string path, MachineProfile profile) =>
+        CanonBlockEnds.Of(path, profile, blockDelete: true).Select(m => (m.Line, m.End)).ToList();
 }

@@ -229,18 +229,8 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
 
         var moves = Moves(canon, out var inch);
         var tolerance = inch ? InchTolerance : Tolerance;
-        var interp = new Interpreter(profile);
-        var ends = new List<(int Line, Point3 End)>();
-        using (var reader = GCodeReader.Open(path))
-        {
-            while (reader.Read())
-            {
-                if (interp.Step(reader.Current) is { Motion: not MotionKind.None and not MotionKind.Dwell } d)
-                {
-                    ends.Add((d.Line, d.End));
-                }
-            }
-        }
+        // The interpreter's canonical moves: every block that moves the machine (a dwell does not).
+        var ends = CanonBlockEnds.Of(path, profile).Where(m => m.Kind != MotionKind.Dwell).Select(m => (m.Line, m.End)).ToList();
 
         var at = 0;
         foreach (var (line, end) in ends)
