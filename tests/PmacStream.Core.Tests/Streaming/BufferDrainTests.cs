@@ -43,10 +43,10 @@ public sealed class BufferDrainTests : IDisposable
         drain.Begin(positionExact: false);
 
         (await drain.StepAsync(queries, program, linesAhead: 2, trackedLine: 2, new StreamPosition(1, 0), default)).Should().BeNull();
-        port.Sent.Should().BeEmpty("lines are still ahead");
+        port.Executed.Should().BeEmpty("lines are still ahead");
         (await drain.StepAsync(queries, program, 0, 3, new StreamPosition(1, 0), default)).Should().BeNull("M0 moved");
         (await drain.StepAsync(queries, program, 0, 3, new StreamPosition(1, 0), default)).Should().Be(new StreamPosition(1, 5));
-        port.Sent.Should().Equal("&1??", "&1??", "P501");
+        port.Executed.Should().Equal("&1??", "&1??", "P501");
         drain.Draining.Should().BeFalse();
     }
 
