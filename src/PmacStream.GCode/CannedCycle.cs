@@ -158,27 +158,7 @@ internal sealed class CannedCycle
         switch (Code)
         {
             case 730 or 830 when _q > 0:
-                // Pecks of Q: G73 backs out a little after each, G83 goes back to R and comes down again near the last depth.
-                var depth = rLevel;
-                while ((bottom - depth) * down > 1e-9)
-                {
-                    var next = (bottom - (depth + (down * _q))) * down > 0 ? depth + (down * _q) : bottom;
-                    Feed(At(next));
-                    depth = next;
-                    if ((bottom - depth) * down > 1e-9)
-                    {
-                        if (Code == 730)
-                        {
-                            Rapid(At(depth - (down * PeckClearance)));
-                        }
-                        else
-                        {
-                            Rapid(At(rLevel));
-                            Rapid(At(depth - (down * PeckClearance)));
-                        }
-                    }
-                }
-
+                Pecks(above, rLevel, bottom, down);
                 break;
             default:
                 Feed(At(bottom));
@@ -217,6 +197,35 @@ internal sealed class CannedCycle
         }
 
         return At(retract);
+    }
+
+    /// <summary>
+    /// Pecks of Q from R down to the bottom: G73 backs out a little after each, G83 goes back to R and comes down again
+    /// near the last depth.
+    /// </summary>
+    private void Pecks(Point3 above, double rLevel, double bottom, double down)
+    {
+        Point3 At(double z) => above with { Z = z };
+        void Rapid(Point3 p) => _steps.Add(new HostMove(HostMoveKind.Rapid, p));
+        var depth = rLevel;
+        while ((bottom - depth) * down > 1e-9)
+        {
+            var next = (bottom - (depth + (down * _q))) * down > 0 ? depth + (down * _q) : bottom;
+            _steps.Add(new HostMove(HostMoveKind.Feed, At(next)));
+            depth = next;
+            if ((bottom - depth) * down > 1e-9)
+            {
+                if (Code == 730)
+                {
+                    Rapid(At(depth - (down * PeckClearance)));
+                }
+                else
+                {
+                    Rapid(At(rLevel));
+                    Rapid(At(depth - (down * PeckClearance)));
+                }
+            }
+        }
     }
 
     private double LastZ()

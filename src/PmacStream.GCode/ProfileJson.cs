@@ -48,38 +48,7 @@ internal static class ProfileJson
             w.WriteString("letters", p.Letters);
             WritePoints(w, "workOffsets", p.WorkOffsets);
             WritePoints(w, "referencePositions", p.ReferencePositions);
-            if (p.ToolLengths.Count > 0)
-            {
-                w.WriteStartObject("toolLengths");
-                foreach (var (key, v) in p.ToolLengths)
-                {
-                    w.WriteNumber(key, v);
-                }
-
-                w.WriteEndObject();
-            }
-
-            if (p.ToolRadii.Count > 0)
-            {
-                w.WriteStartObject("toolRadii");
-                foreach (var (key, v) in p.ToolRadii)
-                {
-                    w.WriteNumber(key, v);
-                }
-
-                w.WriteEndObject();
-            }
-
-            if (p.ToolChangePosition is { } tc)
-            {
-                w.WriteStartArray("toolChangePosition");
-                foreach (var x in tc)
-                {
-                    w.WriteNumberValue(x);
-                }
-
-                w.WriteEndArray();
-            }
+            WriteTools(w, p);
             foreach (var (name, groups) in new[] { ("gGroups", p.GGroups), ("mGroups", p.MGroups) })
             {
                 w.WriteStartArray(name);
@@ -110,6 +79,43 @@ internal static class ProfileJson
         }
 
         return System.Text.Encoding.UTF8.GetString(ms.ToArray());
+    }
+
+    /// <summary>The tool tables and the tool change position, each only when the profile sets it.</summary>
+    private static void WriteTools(Utf8JsonWriter w, MachineProfile p)
+    {
+        if (p.ToolLengths.Count > 0)
+        {
+            w.WriteStartObject("toolLengths");
+            foreach (var (key, v) in p.ToolLengths)
+            {
+                w.WriteNumber(key, v);
+            }
+
+            w.WriteEndObject();
+        }
+
+        if (p.ToolRadii.Count > 0)
+        {
+            w.WriteStartObject("toolRadii");
+            foreach (var (key, v) in p.ToolRadii)
+            {
+                w.WriteNumber(key, v);
+            }
+
+            w.WriteEndObject();
+        }
+
+        if (p.ToolChangePosition is { } tc)
+        {
+            w.WriteStartArray("toolChangePosition");
+            foreach (var x in tc)
+            {
+                w.WriteNumberValue(x);
+            }
+
+            w.WriteEndArray();
+        }
     }
 
     private static void WriteCode(Utf8JsonWriter w, CodeDefinition c)

@@ -116,34 +116,10 @@ public static class LadderParser
                     continue;
                 }
 
-                previousRung = null;
-                var words = LadderLexer.SplitWords(code, lineNo);
-                var first = words[0];
-                var isRung = words.Count >= 2 && words[1].Text.StartsWith('=') || first.Text.Contains('=', StringComparison.Ordinal);
-                if (!isRung && Keywords.Contains(first.Text))
+                previousRung = Statement(code, lineNo, comment);
+                if (previousRung is not null && LadderLexer.NeedsContinuation(previousRung.Tokens))
                 {
-                    if (!_directives.Apply(words))
-                    {
-                        Declaration(first.Text.ToLowerInvariant(), words, comment);
-                    }
-
-                    continue;
-                }
-
-                var tokens = new List<LadderToken>();
-                LadderLexer.Tokenize(code, lineNo, tokens, Error);
-                if (tokens.Count < 2 || tokens[0].Kind != LadderTokenKind.Name || tokens[1].Kind != LadderTokenKind.Assign)
-                {
-                    Error(first, $"expected a rung 'COIL = contacts' or a declaration (input, output, internal, plc, inputs, outputs, internals), found '{first.Text}'");
-                    continue;
-                }
-
-                var rung = new PendingRung(new LadderWord(tokens[0].Text, tokens[0].Line, tokens[0].Column), tokens.Skip(2).ToList(), lineNo);
-                _rungs.Add(rung);
-                previousRung = rung;
-                if (LadderLexer.NeedsContinuation(rung.Tokens))
-                {
-                    open = rung;
+                    open = previousRung;
                 }
             }
 
@@ -155,6 +131,35 @@ public static class LadderParser
             }
 
             Build();
+        }
+
+        /// <summary>A line that starts something: a directive, a declaration, or a rung (returned; null otherwise).</summary>
+        private PendingRung? Statement(string code, int lineNo, string? comment)
+        {
+            var words = LadderLexer.SplitWords(code, lineNo);
+            var first = words[0];
+            var isRung = words.Count >= 2 && words[1].Text.StartsWith('=') || first.Text.Contains('=', StringComparison.Ordinal);
+            if (!isRung && Keywords.Contains(first.Text))
+            {
+                if (!_directives.Apply(words))
+                {
+                    Declaration(first.Text.ToLowerInvariant(), words, comment);
+                }
+
+                return null;
+            }
+
+            var tokens = new List<LadderToken>();
+            LadderLexer.Tokenize(code, lineNo, tokens, Error);
+            if (tokens.Count < 2 || tokens[0].Kind != LadderTokenKind.Name || tokens[1].Kind != LadderTokenKind.Assign)
+            {
+                Error(first, $"expected a rung 'COIL = contacts' or a declaration (input, output, internal, plc, inputs, outputs, internals), found '{first.Text}'");
+                return null;
+            }
+
+            var rung = new PendingRung(new LadderWord(tokens[0].Text, tokens[0].Line, tokens[0].Column), tokens.Skip(2).ToList(), lineNo);
+            _rungs.Add(rung);
+            return rung;
         }
 
         private void Declaration(string kw, List<LadderWord> words, string? comment)
@@ -254,7 +259,18 @@ public static class LadderParser
 
             CheckVariableClashes(symbols);
             CheckAddressClashes(internalIndex);
+            var rungs = Rungs(byName);
+            if (_rungs.Count == 0 && Diagnostics.Count == 0)
+            {
+                Error(1, 1, "the file has no rungs; write at least one 'COIL = contacts' line");
+            }
 
+            Program = new LadderProgram(_directives.Plc, Inputs, Outputs, Internals, symbols, rungs);
+        }
+
+        /// <summary>The rungs whose coil may be driven (declared, not an input, not driven twice) and which parse.</summary>
+        private List<LadderRung> Rungs(Dictionary<string, LadderSymbol> byName)
+        {
             var rungs = new List<LadderRung>();
             var driven = new Dictionary<LadderSymbol, int>();
             foreach (var r in _rungs)
@@ -286,12 +302,7 @@ public static class LadderParser
                 }
             }
 
-            if (_rungs.Count == 0 && Diagnostics.Count == 0)
-            {
-                Error(1, 1, "the file has no rungs; write at least one 'COIL = contacts' line");
-            }
-
-            Program = new LadderProgram(_directives.Plc, Inputs, Outputs, Internals, symbols, rungs);
+            return rungs;
         }
 
         private void ValidateIo(string kw, IoWordConfig io)

@@ -29,6 +29,12 @@ internal static class PmacSourcePreprocessor
 {
     private const int MaxIncludeDepth = 16;
 
+    /// <summary>One file being prepared: where it is read from, the name its errors show, and how deep in includes.</summary>
+    private sealed record SourceFile(string FullPath, string DisplayPath, bool Macro, Dictionary<string, string> Defines, PreparedSource Result, int Depth);
+
+    /// <summary>One open <c>#ifdef</c>: whether its lines are active, whether the enclosing ones were, and if #else was seen.</summary>
+    private readonly record struct Branch(bool Active, bool ParentActive, bool SeenElse);
+
     public static PreparedSource Prepare(string path, bool macro)
     {
         var result = new PreparedSource();
@@ -40,16 +46,16 @@ internal static class PmacSourcePreprocessor
             return result;
         }
 
-        Process(full, path, macro, defines, result, 0);
+        Process(new SourceFile(full, path, macro, defines, result, 0));
         return result;
     }
 
-    private static bool Process(string fullPath, string displayPath, bool macro, Dictionary<string, string> defines, PreparedSource result, int depth)
+    private static bool Process(SourceFile file)
     {
         // Conditional stack: each entry says whether lines in the current branch are active.
-        var active = new Stack<(bool Active, bool ParentActive, bool SeenElse)>();
+        var active = new Stack<Branch>();
         var lineNo = 0;
-        foreach (var rawLine in File.ReadLines(fullPath, Encoding.Latin1))
+        foreach (var rawLine in File.ReadLines(file.FullPath, Encoding.Latin1))
         {
             lineNo++;
             var text = StripComment(rawLine).Trim();
@@ -59,99 +65,14 @@ internal static class PmacSourcePreprocessor
             }
 
             var enabled = active.Count == 0 || active.Peek().Active;
-            if (macro && text[0] == '#')
+            if (file.Macro && text[0] == '#')
             {
-                var (directive, argument) = SplitDirective(text);
-                switch (directive)
+                if (!Directive(file, text, active, enabled, lineNo))
                 {
-                    case "ifdef":
-                    case "ifndef":
-                        {
-                            var name = FirstWord(argument);
-                            var defined = defines.ContainsKey(name);
-                            active.Push((enabled && (directive == "ifdef" ? defined : !defined), enabled, false));
-                            continue;
-                        }
-
-                    case "else":
-                        {
-                            if (active.Count == 0 || active.Peek().SeenElse)
-                            {
-                                return Fail(result, displayPath, lineNo, "#else without #ifdef");
-                            }
-
-                            var top = active.Pop();
-                            active.Push((top.ParentActive && !top.Active, top.ParentActive, true));
-                            continue;
-                        }
-
-                    case "endif":
-                        if (active.Count == 0)
-                        {
-                            return Fail(result, displayPath, lineNo, "#endif without #ifdef");
-                        }
-
-                        active.Pop();
-                        continue;
+                    return false;
                 }
 
-                if (!enabled)
-                {
-                    continue;
-                }
-
-                switch (directive)
-                {
-                    case "define":
-                        {
-                            var name = FirstWord(argument);
-                            if (name.Length == 0 || !IsIdentifierStart(name[0]))
-                            {
-                                return Fail(result, displayPath, lineNo, "#define needs a name");
-                            }
-
-                            var value = argument[name.Length..].Trim();
-                            defines[name] = value;
-                            result.Macros.Add(new MacroDefinition(name, value, displayPath, lineNo));
-                            continue;
-                        }
-
-                    case "undef":
-                    case "undefine":
-                        defines.Remove(FirstWord(argument));
-                        continue;
-
-                    case "include":
-                        {
-                            var name = argument.Trim().Trim('"', '<', '>', '\'');
-                            if (name.Length == 0)
-                            {
-                                return Fail(result, displayPath, lineNo, "#include needs a file name");
-                            }
-
-                            var includePath = Path.GetFullPath(Path.Combine(Path.GetDirectoryName(fullPath)!, name));
-                            if (!File.Exists(includePath))
-                            {
-                                return Fail(result, displayPath, lineNo, $"#include file not found: {name}");
-                            }
-
-                            if (depth + 1 > MaxIncludeDepth)
-                            {
-                                return Fail(result, displayPath, lineNo, $"#include nested deeper than {MaxIncludeDepth} (a file includes itself?)");
-                            }
-
-                            var includeDisplay = Path.Combine(Path.GetDirectoryName(displayPath) ?? string.Empty, name);
-                            if (!Process(includePath, includeDisplay, macro, defines, result, depth + 1))
-                            {
-                                return false;
-                            }
-
-                            continue;
-                        }
-
-                    default:
-                        return Fail(result, displayPath, lineNo, $"unknown directive #{directive}");
-                }
+                continue;
             }
 
             if (!enabled)
@@ -159,20 +80,117 @@ internal static class PmacSourcePreprocessor
                 continue;
             }
 
-            if (macro && defines.Count > 0)
+            if (file.Macro && file.Defines.Count > 0)
             {
-                text = Expand(text, defines);
+                text = Expand(text, file.Defines);
             }
 
-            result.Lines.Add(new SourceLine(text, displayPath, lineNo));
+            file.Result.Lines.Add(new SourceLine(text, file.DisplayPath, lineNo));
         }
 
         if (active.Count > 0)
         {
-            return Fail(result, displayPath, lineNo, "#ifdef without #endif");
+            return Fail(file.Result, file.DisplayPath, lineNo, "#ifdef without #endif");
         }
 
         return true;
+    }
+
+    /// <summary>
+    /// One <c>#</c> line: the conditionals are followed even inside an inactive branch (to find its end); the others
+    /// act only in an active one. False when the directive is an error (already recorded).
+    /// </summary>
+    private static bool Directive(SourceFile file, string text, Stack<Branch> active, bool enabled, int lineNo)
+    {
+        var (directive, argument) = SplitDirective(text);
+        switch (directive)
+        {
+            case "ifdef":
+            case "ifndef":
+                {
+                    var defined = file.Defines.ContainsKey(FirstWord(argument));
+                    active.Push(new Branch(enabled && (directive == "ifdef" ? defined : !defined), enabled, false));
+                    return true;
+                }
+
+            case "else":
+                {
+                    if (active.Count == 0 || active.Peek().SeenElse)
+                    {
+                        return Fail(file.Result, file.DisplayPath, lineNo, "#else without #ifdef");
+                    }
+
+                    var top = active.Pop();
+                    active.Push(new Branch(top.ParentActive && !top.Active, top.ParentActive, true));
+                    return true;
+                }
+
+            case "endif":
+                if (active.Count == 0)
+                {
+                    return Fail(file.Result, file.DisplayPath, lineNo, "#endif without #ifdef");
+                }
+
+                active.Pop();
+                return true;
+        }
+
+        if (!enabled)
+        {
+            return true;
+        }
+
+        switch (directive)
+        {
+            case "define":
+                return Define(file, argument, lineNo);
+            case "undef":
+            case "undefine":
+                file.Defines.Remove(FirstWord(argument));
+                return true;
+            case "include":
+                return Include(file, argument, lineNo);
+            default:
+                return Fail(file.Result, file.DisplayPath, lineNo, $"unknown directive #{directive}");
+        }
+    }
+
+    private static bool Define(SourceFile file, string argument, int lineNo)
+    {
+        var name = FirstWord(argument);
+        if (name.Length == 0 || !IsIdentifierStart(name[0]))
+        {
+            return Fail(file.Result, file.DisplayPath, lineNo, "#define needs a name");
+        }
+
+        var value = argument[name.Length..].Trim();
+        file.Defines[name] = value;
+        file.Result.Macros.Add(new MacroDefinition(name, value, file.DisplayPath, lineNo));
+        return true;
+    }
+
+    /// <summary><c>#include "file"</c>, relative to the including file; prepared in place, with the same defines.</summary>
+    private static bool Include(SourceFile file, string argument, int lineNo)
+    {
+        var name = argument.Trim().Trim('"', '<', '>', '\'');
+        if (name.Length == 0)
+        {
+            return Fail(file.Result, file.DisplayPath, lineNo, "#include needs a file name");
+        }
+
+        var includePath = Path.GetFullPath(Path.Combine(Path.GetDirectoryName(file.FullPath)!, name));
+        if (!File.Exists(includePath))
+        {
+            return Fail(file.Result, file.DisplayPath, lineNo, $"#include file not found: {name}");
+        }
+
+        if (file.Depth + 1 > MaxIncludeDepth)
+        {
+            return Fail(file.Result, file.DisplayPath, lineNo, $"#include nested deeper than {MaxIncludeDepth} (a file includes itself?)");
+        }
+
+        var includeDisplay = Path.Combine(Path.GetDirectoryName(file.DisplayPath) ?? string.Empty, name);
+        return Process(file with { FullPath = includePath, DisplayPath = includeDisplay, Depth = file.Depth + 1 });
     }
 
     private static bool Fail(PreparedSource result, string file, int line, string message)

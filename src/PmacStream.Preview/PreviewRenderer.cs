@@ -82,15 +82,7 @@ public static class PreviewRenderer
         var logBox = Box3.Empty;
         if (executedLogPath is not null)
         {
-            // A block the program draws as several moves (a canned cycle, a reference return) may carry a tracking
-            // assignment on each controller line: its marks in a row count once. A one-move block counts every mark.
-            counts = new ExecutionCounts(multiMoveLines);
-            foreach (var row in ExecutedLogReader.Read(executedLogPath, cancellationToken))
-            {
-                counts.Add(row.Line, row.BlockStart);
-                logBox.Add(row.End);
-            }
-
+            (counts, logBox) = ReadExecuted(executedLogPath, multiMoveLines, cancellationToken);
             pass++;
         }
 
@@ -99,17 +91,7 @@ public static class PreviewRenderer
             throw new PreviewRefusedException();
         }
 
-        var min = extents.Min;
-        var max = extents.Max;
-        if (!logBox.IsEmpty)
-        {
-            // Executed moves off the program's path must be in the picture too.
-            min = extents.IsEmpty ? new Point3(logBox.MinX, logBox.MinY, logBox.MinZ)
-                : new Point3(Math.Min(min.X, logBox.MinX), Math.Min(min.Y, logBox.MinY), Math.Min(min.Z, logBox.MinZ));
-            max = extents.IsEmpty ? new Point3(logBox.MaxX, logBox.MaxY, logBox.MaxZ)
-                : new Point3(Math.Max(max.X, logBox.MaxX), Math.Max(max.Y, logBox.MaxY), Math.Max(max.Z, logBox.MaxZ));
-        }
-
+        var (min, max) = Bounds(extents, logBox);
         var palette = options.Palette;
         var layout = PreviewLayout.For(options);
         var projection = new ViewProjection(options.View, min, max, layout.PlotLeft, layout.PlotTop, layout.PlotWidth, layout.PlotHeight);
@@ -137,23 +119,12 @@ public static class PreviewRenderer
 
             if (report is not null && counts is not null)
             {
-                for (var line = 1L; line <= counts.MaxLine; line++)
-                {
-                    var times = counts[line];
-                    if (times > 1)
-                    {
-                        report.RepeatedLines++;
-                        ExecutionReport.AddRun(report.RepeatedList, line, times, line - 1);
-                    }
-                }
+                CountRepeats(report, counts);
             }
 
             if (options.Legend && layout.LegendHeight > 0)
             {
-                using var font = new LegendFont(layout.FontSize);
-                var chinese = WantsChinese(options.Culture, font, warnings);
-                PreviewLegend.Draw(canvas, layout, font, chinese, projection, extents, source, options, report);
-                Logger.Debug("Preview legend font {Family}, fallbacks {Fallbacks}, language {Language}", font.Family, string.Join(", ", font.Fallbacks), chinese ? "zh-CN" : "en");
+                DrawLegend(canvas, layout, projection, extents, source, options, report, warnings);
             }
 
             canvas.Flush();
@@ -164,6 +135,21 @@ public static class PreviewRenderer
             throw;
         }
 
+        Finished(source, options, extents, warnings, started);
+        return new PreviewPicture(image, projection, extents, source.Units, report, palette, warnings);
+    }
+
+    private static void DrawLegend(SKCanvas canvas, PreviewLayout layout, ViewProjection projection, PreviewExtents extents, IToolpathSource source, PreviewOptions options, ExecutionReport? report, List<string> warnings)
+    {
+        using var font = new LegendFont(layout.FontSize);
+        var chinese = WantsChinese(options.Culture, font, warnings);
+        PreviewLegend.Draw(canvas, layout, font, chinese, projection, extents, source, options, report);
+        Logger.Debug("Preview legend font {Family}, fallbacks {Fallbacks}, language {Language}", font.Family, string.Join(", ", font.Fallbacks), chinese ? "zh-CN" : "en");
+    }
+
+    /// <summary>Logs the picture's warnings and what was drawn, and reports the render done.</summary>
+    private static void Finished(IToolpathSource source, PreviewOptions options, PreviewExtents extents, List<string> warnings, System.Diagnostics.Stopwatch started)
+    {
         foreach (var warning in warnings)
         {
             Logger.Warning("Preview of {Name}: {Warning}", source.Name, warning);
@@ -173,7 +159,53 @@ public static class PreviewRenderer
         Logger.Information(
             "Preview of {Name}: {Moves} moves ({Rapids} rapid, {Lines} linear, {Arcs} arc), view {View}, {Width}x{Height}, {Ms} ms",
             source.Name, extents.Moves, extents.Rapids, extents.Lines, extents.Arcs, options.View, options.Width, options.Height, started.ElapsedMilliseconds);
-        return new PreviewPicture(image, projection, extents, source.Units, report, palette, warnings);
+    }
+
+    /// <summary>The executed log's counts per line and the box its end points span.</summary>
+    private static (ExecutionCounts Counts, Box3 Box) ReadExecuted(string executedLogPath, Dictionary<int, int>? multiMoveLines, CancellationToken cancellationToken)
+    {
+        // A block the program draws as several moves (a canned cycle, a reference return) may carry a tracking
+        // assignment on each controller line: its marks in a row count once. A one-move block counts every mark.
+        var counts = new ExecutionCounts(multiMoveLines);
+        var logBox = Box3.Empty;
+        foreach (var row in ExecutedLogReader.Read(executedLogPath, cancellationToken))
+        {
+            counts.Add(row.Line, row.BlockStart);
+            logBox.Add(row.End);
+        }
+
+        return (counts, logBox);
+    }
+
+    /// <summary>The program's extents, grown to hold the executed moves.</summary>
+    private static (Point3 Min, Point3 Max) Bounds(PreviewExtents extents, Box3 logBox)
+    {
+        var min = extents.Min;
+        var max = extents.Max;
+        if (!logBox.IsEmpty)
+        {
+            // Executed moves off the program's path must be in the picture too.
+            min = extents.IsEmpty ? new Point3(logBox.MinX, logBox.MinY, logBox.MinZ)
+                : new Point3(Math.Min(min.X, logBox.MinX), Math.Min(min.Y, logBox.MinY), Math.Min(min.Z, logBox.MinZ));
+            max = extents.IsEmpty ? new Point3(logBox.MaxX, logBox.MaxY, logBox.MaxZ)
+                : new Point3(Math.Max(max.X, logBox.MaxX), Math.Max(max.Y, logBox.MaxY), Math.Max(max.Z, logBox.MaxZ));
+        }
+
+        return (min, max);
+    }
+
+    /// <summary>The lines executed more than once, into the report.</summary>
+    private static void CountRepeats(ExecutionReport report, ExecutionCounts counts)
+    {
+        for (var line = 1L; line <= counts.MaxLine; line++)
+        {
+            var times = counts[line];
+            if (times > 1)
+            {
+                report.RepeatedLines++;
+                ExecutionReport.AddRun(report.RepeatedList, line, times, line - 1);
+            }
+        }
     }
 
     /// <summary>

@@ -71,28 +71,7 @@ internal static class Flow
         switch (c.Current)
         {
             case IfStmt f:
-                if (f.Condition.Eval(v) != 0)
-                {
-                    c.Step();
-                }
-                else if (f.SingleLine)
-                {
-                    c.LoopBack = -1;
-                    c.EndLine();
-                }
-                else if (c.Buffer.TryFindMatch(c.Line, c.Stmt, out var m))
-                {
-                    c.JumpTo(m);
-                    if (!c.AtEnd && c.Current is ElseStmt or EndIfStmt)
-                    {
-                        c.Step();
-                    }
-                }
-                else
-                {
-                    throw new SimRuntimeException(16);
-                }
-
+                If(ref c, f, v);
                 return true;
             case ElseStmt:
                 // Reached from the taken IF branch: skip the ELSE branch.
@@ -108,35 +87,7 @@ internal static class Flow
                 c.Step();
                 return true;
             case WhileStmt w:
-                if (w.Condition.Eval(v) != 0)
-                {
-                    if (w.SingleLine)
-                    {
-                        var self = c.Stmt;
-                        c.Step();
-                        c.LoopBack = self;
-                        loopedBack = false;
-                    }
-                    else
-                    {
-                        c.Step();
-                    }
-                }
-                else if (w.SingleLine)
-                {
-                    c.LoopBack = -1;
-                    c.EndLine();
-                }
-                else if (c.Buffer.TryFindMatch(c.Line, c.Stmt, out var endWhile))
-                {
-                    c.JumpTo(endWhile);
-                    c.Step();
-                }
-                else
-                {
-                    throw new SimRuntimeException(16);
-                }
-
+                While(ref c, w, v);
                 return true;
             case EndWhileStmt:
                 if (c.Buffer.TryFindMatch(c.Line, c.Stmt, out var start))
@@ -149,6 +100,64 @@ internal static class Flow
                 throw new SimRuntimeException(16);
             default:
                 return false;
+        }
+    }
+
+    /// <summary>IF: into its branch when true; else past the line (one-line form) or to its ELSE/ENDIF.</summary>
+    private static void If(ref Cursor c, IfStmt f, IVariableAccess v)
+    {
+        if (f.Condition.Eval(v) != 0)
+        {
+            c.Step();
+        }
+        else if (f.SingleLine)
+        {
+            c.LoopBack = -1;
+            c.EndLine();
+        }
+        else if (c.Buffer.TryFindMatch(c.Line, c.Stmt, out var m))
+        {
+            c.JumpTo(m);
+            if (!c.AtEnd && c.Current is ElseStmt or EndIfStmt)
+            {
+                c.Step();
+            }
+        }
+        else
+        {
+            throw new SimRuntimeException(16);
+        }
+    }
+
+    /// <summary>WHILE: into the loop when true (a one-line loop comes back to itself); else past the line or its ENDWHILE.</summary>
+    private static void While(ref Cursor c, WhileStmt w, IVariableAccess v)
+    {
+        if (w.Condition.Eval(v) != 0)
+        {
+            if (w.SingleLine)
+            {
+                var self = c.Stmt;
+                c.Step();
+                c.LoopBack = self;
+            }
+            else
+            {
+                c.Step();
+            }
+        }
+        else if (w.SingleLine)
+        {
+            c.LoopBack = -1;
+            c.EndLine();
+        }
+        else if (c.Buffer.TryFindMatch(c.Line, c.Stmt, out var endWhile))
+        {
+            c.JumpTo(endWhile);
+            c.Step();
+        }
+        else
+        {
+            throw new SimRuntimeException(16);
         }
     }
 }

@@ -48,15 +48,7 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
                 break;
             }
 
-            var motionNext = double.PositiveInfinity;
-            for (var i = 1; i < coordinateSystems.Length; i++)
-            {
-                var cs = coordinateSystems[i];
-                if (cs.IsMoving)
-                {
-                    motionNext = Math.Min(motionNext, cs.NextEventTime(_now));
-                }
-            }
+            var motionNext = NextMotionEvent();
 
             // Idle means no motion that can progress (none, or all held at 0 %).
             if (untilIdle && double.IsPositiveInfinity(motionNext))
@@ -113,6 +105,22 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
                 break;
             }
         }
+    }
+
+    /// <summary>The earliest next event of any moving coordinate system; infinity when none is moving.</summary>
+    private double NextMotionEvent()
+    {
+        var motionNext = double.PositiveInfinity;
+        for (var i = 1; i < coordinateSystems.Length; i++)
+        {
+            var cs = coordinateSystems[i];
+            if (cs.IsMoving)
+            {
+                motionNext = Math.Min(motionNext, cs.NextEventTime(_now));
+            }
+        }
+
+        return motionNext;
     }
 
     /// <summary>At the current instant: calculate ahead, start and finish zero-time segments until nothing changes.</summary>

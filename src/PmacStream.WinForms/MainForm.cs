@@ -128,6 +128,24 @@ internal sealed partial class MainForm : Form, IMainView
         MinimumSize = Size;
         StartPosition = FormStartPosition.CenterScreen;
 
+        PlaceConnectionGroup();
+        PlaceProgramGroup();
+        PlaceRunControls();
+        statusStrip.Items.AddRange(new ToolStripItem[] { stsState, stsConnection });
+        Controls.Add(statusStrip);
+
+        AnchorForGrowth();
+        FillChoices();
+        ApplyTexts();
+        cboDevice.SelectedIndex = 0;
+
+        WireEvents();
+        ResumeLayout(performLayout: true);
+    }
+
+    /// <summary>The connection group: device, address, port, baud, device number and the connect buttons.</summary>
+    private void PlaceConnectionGroup()
+    {
         Place(grpConnection, HmiLayout.ConnectionGroup, this);
         Place(lblDevice, HmiLayout.DeviceLabel, grpConnection);
         Place(cboDevice, HmiLayout.DeviceCombo, grpConnection);
@@ -142,7 +160,11 @@ internal sealed partial class MainForm : Form, IMainView
         Place(btnConnect, HmiLayout.ConnectButton, grpConnection);
         Place(btnDisconnect, HmiLayout.DisconnectButton, grpConnection);
         Place(lblConnectionState, HmiLayout.ConnectionStateLabel, grpConnection);
+    }
 
+    /// <summary>The program group: open, check, split, the chunk shape, strategy, window, profile and language.</summary>
+    private void PlaceProgramGroup()
+    {
         Place(grpProgram, HmiLayout.ProgramGroup, this);
         Place(btnOpen, HmiLayout.OpenButton, grpProgram);
         Place(lblPath, HmiLayout.PathLabel, grpProgram);
@@ -160,7 +182,11 @@ internal sealed partial class MainForm : Form, IMainView
         Place(cboProfile, HmiLayout.ProfileCombo, grpProgram);
         Place(lblLanguage, HmiLayout.LanguageLabel, grpProgram);
         Place(cboLanguage, HmiLayout.LanguageCombo, grpProgram);
+    }
 
+    /// <summary>The feed group, the three lists, the run buttons, the status group, diagnostics, log and toolpath pane.</summary>
+    private void PlaceRunControls()
+    {
         Place(grpFeed, HmiLayout.FeedGroup, this);
         Place(lblFeed, HmiLayout.FeedLabel, grpFeed);
         Place(trkFeed, HmiLayout.FeedTrackBar, grpFeed);
@@ -201,10 +227,11 @@ internal sealed partial class MainForm : Form, IMainView
         Place(txtLog, HmiLayout.LogText, this);
         Place(lblToolpath, HmiLayout.ToolpathLabel, this);
         Place(picToolpath, HmiLayout.ToolpathPane, this);
+    }
 
-        statusStrip.Items.AddRange(new ToolStripItem[] { stsState, stsConnection });
-        Controls.Add(statusStrip);
-
+    /// <summary>What grows with the window and what stays put, and the window defaults.</summary>
+    private void AnchorForGrowth()
+    {
         // Growing the window grows the lists and the log, not the buttons; the toolpath pane keeps the size it is drawn at.
         listBox2.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
         lvChunkLines.Anchor = AnchorStyles.Top | AnchorStyles.Bottom | AnchorStyles.Left;
@@ -227,18 +254,17 @@ internal sealed partial class MainForm : Form, IMainView
         txtLog.Anchor = AnchorStyles.Bottom | AnchorStyles.Left | AnchorStyles.Right;
         numWindowStart.Value = (decimal)(RunSettings.DefaultWindowStart * 100);
         numWindowEnd.Value = (decimal)(RunSettings.DefaultWindowEnd * 100);
+    }
 
+    /// <summary>The fixed choices of the port, baud and language boxes.</summary>
+    private void FillChoices()
+    {
         cboPort.Items.AddRange(new object[] { "COM1", "COM2", "COM3", "COM4", "COM5", "COM6", "COM7", "COM8" });
         cboPort.SelectedIndex = 0;
         cboBaud.Items.AddRange(new object[] { "9600", "19200", "38400", "57600", "115200" });
         cboBaud.SelectedIndex = 2;
         cboLanguage.Items.AddRange(new object[] { "English", "简体中文" });
         cboLanguage.SelectedIndex = CultureInfo.CurrentUICulture.Name.StartsWith("zh", StringComparison.OrdinalIgnoreCase) ? 1 : 0;
-        ApplyTexts();
-        cboDevice.SelectedIndex = 0;
-
-        WireEvents();
-        ResumeLayout(performLayout: true);
     }
 
     /// <summary>Attaches the presenter whose tick the timer drives; the timer starts when the window shows.</summary>
@@ -352,7 +378,14 @@ internal sealed partial class MainForm : Form, IMainView
             }
         };
 
-        // The slider moves the box as it is dragged; the feed is sent once the operator lets go.
+        WireFeed();
+        numWindowStart.ValueChanged += (_, _) => WindowChanged();
+        numWindowEnd.ValueChanged += (_, _) => WindowChanged();
+    }
+
+    /// <summary>The slider moves the box as it is dragged; the feed is sent once the operator lets go.</summary>
+    private void WireFeed()
+    {
         trkFeed.ValueChanged += (_, _) =>
         {
             if (_updating)
@@ -391,8 +424,6 @@ internal sealed partial class MainForm : Form, IMainView
 
             FeedOverrideChanged?.Invoke(this, EventArgs.Empty);
         };
-        numWindowStart.ValueChanged += (_, _) => WindowChanged();
-        numWindowEnd.ValueChanged += (_, _) => WindowChanged();
     }
 
     private void WindowChanged()

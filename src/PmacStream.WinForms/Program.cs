@@ -16,35 +16,12 @@ internal static class Program
     [STAThread]
     private static int Main(string[] args)
     {
-        var simSpeed = SimSpeed.Realtime;
-        string? uiTestDirectory = null;
-        for (var i = 0; i < args.Length; i++)
+        if (ParseArguments(args) is not { } options)
         {
-            var value = i + 1 < args.Length ? args[i + 1] : null;
-            switch (args[i])
-            {
-                case "--sim-speed" when value is not null:
-                    try
-                    {
-                        simSpeed = SimSpeed.Parse(value);
-                    }
-                    catch (Exception e) when (e is FormatException or ArgumentException)
-                    {
-                        Console.Error.WriteLine($"PmacStream.WinForms: --sim-speed {value}: {e.Message}");
-                        return 2;
-                    }
-
-                    i++;
-                    break;
-                case "--ui-test" when value is not null:
-                    uiTestDirectory = value;
-                    i++;
-                    break;
-                default:
-                    Console.Error.WriteLine($"PmacStream.WinForms: unknown option '{args[i]}' (use --sim-speed realtime|Nx, --ui-test DIR)");
-                    return 2;
-            }
+            return 2;
         }
+
+        var (simSpeed, uiTestDirectory) = options;
 
         // What the WinForms SDK's generated ApplicationConfiguration.Initialize() does, written out so the project also
         // compiles against the runtime pack (no generator there).
@@ -75,18 +52,7 @@ internal static class Program
             },
         });
 
-        // The run settings the command line reads too (~/.pmacstream/settings.json when it exists).
-        RunSettings settings;
-        try
-        {
-            settings = RunSettingsFile.Load();
-        }
-        catch (Exception e) when (e is RunSettingsException or IOException)
-        {
-            MessageBox.Show(e.Message, "PmacStream", MessageBoxButtons.OK, MessageBoxIcon.Warning);
-            settings = RunSettings.Default;
-        }
-
+        var settings = LoadSettings();
         using (var form = new MainForm())
         {
             var presenter = new MainPresenter(form, new CoreHmiBackend(service), sink, settings: settings);
@@ -109,5 +75,55 @@ internal static class Program
         simulator?.Dispose();
         Log.CloseAndFlush();
         return 0;
+    }
+
+    /// <summary>The simulator's speed and the UI test folder from the command line; null (after saying why) when it is wrong.</summary>
+    private static (SimSpeed SimSpeed, string? UiTestDirectory)? ParseArguments(string[] args)
+    {
+        var simSpeed = SimSpeed.Realtime;
+        string? uiTestDirectory = null;
+        for (var i = 0; i < args.Length; i++)
+        {
+            var value = i + 1 < args.Length ? args[i + 1] : null;
+            switch (args[i])
+            {
+                case "--sim-speed" when value is not null:
+                    try
+                    {
+                        simSpeed = SimSpeed.Parse(value);
+                    }
+                    catch (Exception e) when (e is FormatException or ArgumentException)
+                    {
+                        Console.Error.WriteLine($"PmacStream.WinForms: --sim-speed {value}: {e.Message}");
+                        return null;
+                    }
+
+                    i++;
+                    break;
+                case "--ui-test" when value is not null:
+                    uiTestDirectory = value;
+                    i++;
+                    break;
+                default:
+                    Console.Error.WriteLine($"PmacStream.WinForms: unknown option '{args[i]}' (use --sim-speed realtime|Nx, --ui-test DIR)");
+                    return null;
+            }
+        }
+
+        return (simSpeed, uiTestDirectory);
+    }
+
+    /// <summary>The run settings the command line reads too (~/.pmacstream/settings.json when it exists).</summary>
+    private static RunSettings LoadSettings()
+    {
+        try
+        {
+            return RunSettingsFile.Load();
+        }
+        catch (Exception e) when (e is RunSettingsException or IOException)
+        {
+            MessageBox.Show(e.Message, "PmacStream", MessageBoxButtons.OK, MessageBoxIcon.Warning);
+            return RunSettings.Default;
+        }
     }
 }

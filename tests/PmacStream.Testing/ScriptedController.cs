@@ -13,6 +13,19 @@ namespace PmacStream.Testing;
 /// </summary>
 public sealed class ScriptedController
 {
+    private readonly Func<string, string>? _reply;
+
+    /// <summary>The controller of the script above.</summary>
+    public ScriptedController()
+    {
+    }
+
+    /// <summary>
+    /// A controller that answers every line with <paramref name="reply"/>'s text instead (values separated by CR;
+    /// <c>ERRnnn</c> an error reply), recording each line as sent, for the streaming layer's query and channel tests.
+    /// </summary>
+    public ScriptedController(Func<string, string> reply) => _reply = reply;
+
     /// <summary>Lines run, in order, as received (trimmed).</summary>
     public ConcurrentQueue<string> Executed { get; } = new();
 
@@ -37,6 +50,15 @@ public sealed class ScriptedController
     {
         public byte[] Execute(string commandLine)
         {
+            if (c._reply is { } reply)
+            {
+                c.Executed.Enqueue(commandLine);
+                var text = reply(commandLine);
+                return text.StartsWith("ERR", StringComparison.Ordinal)
+                    ? Encoding.ASCII.GetBytes("\a" + text + "\r")
+                    : Encoding.ASCII.GetBytes(text.Length == 0 ? "\x06" : text + "\r\x06");
+            }
+
             var cmd = commandLine.Trim();
             var upper = cmd.ToUpperInvariant();
             if (upper.Contains("BAD", StringComparison.Ordinal))

@@ -196,62 +196,80 @@ internal static class ProgramParser
         var save = p.Pos;
         if (t.IsLetter)
         {
-            var letter = t.Text[0];
-            var next = p.PeekAt(1);
-            if (letter is 'I' or 'P' or 'Q' or 'M' && next.Is("("))
-            {
-                // P(expression)=value: the variable an expression numbers.
-                p.Pos++;
-                var index = p.ParseValue();
-                if (p.Peek.Is("="))
-                {
-                    p.Pos++;
-                    return new AssignStmt(letter, -1, p.ParseExpression(), false, index);
-                }
-
-                p.Pos = save;
-            }
-
-            if (letter is 'I' or 'P' or 'Q' or 'M' && next.Kind == TokenKind.Number)
-            {
-                var after = p.PeekAt(2);
-                if (after.Is("=") || (letter == 'M' && after.Is("==")))
-                {
-                    p.Pos += 3;
-                    var index = ExprParser.VariableIndex(next);
-                    return new AssignStmt(letter, index, p.ParseExpression(), after.Text == "==");
-                }
-
-                if (after.Is("->") || after.Is(".."))
-                {
-                    return null;
-                }
-
-                if (letter == 'M')
-                {
-                    p.Pos++;
-                    return new CodeCallStmt('M', p.ParseValue());
-                }
-            }
-
-            p.Pos++;
-            if (!p.AtValue)
-            {
-                p.Pos = save;
-                return null;
-            }
-
-            return letter switch
-            {
-                'G' or 'M' or 'T' or 'D' => new CodeCallStmt(letter, p.ParseValue()),
-                'F' => new ParamStmt(ParamKind.Feed, p.ParseValue()),
-                'N' or 'O' => new LabelStmt(LabelNumber(p)),
-                _ => new WordStmt(letter, p.ParseValue()),
-            };
+            return LetterStatement(p, t, save);
         }
 
         p.Pos++;
-        switch (t.Text)
+        if ((MotionStatement(p, t.Text) ?? FlowStatement(p, t.Text)) is { } statement)
+        {
+            return statement;
+        }
+
+        p.Pos = save;
+        return null;
+    }
+
+    /// <summary>A statement that starts with one letter: an assignment, a code call, a label or an axis word.</summary>
+    private static Stmt? LetterStatement(ExprParser p, Token t, int save)
+    {
+        var letter = t.Text[0];
+        var next = p.PeekAt(1);
+        if (letter is 'I' or 'P' or 'Q' or 'M' && next.Is("("))
+        {
+            // P(expression)=value: the variable an expression numbers.
+            p.Pos++;
+            var index = p.ParseValue();
+            if (p.Peek.Is("="))
+            {
+                p.Pos++;
+                return new AssignStmt(letter, -1, p.ParseExpression(), false, index);
+            }
+
+            p.Pos = save;
+        }
+
+        if (letter is 'I' or 'P' or 'Q' or 'M' && next.Kind == TokenKind.Number)
+        {
+            var after = p.PeekAt(2);
+            if (after.Is("=") || (letter == 'M' && after.Is("==")))
+            {
+                p.Pos += 3;
+                var index = ExprParser.VariableIndex(next);
+                return new AssignStmt(letter, index, p.ParseExpression(), after.Text == "==");
+            }
+
+            if (after.Is("->") || after.Is(".."))
+            {
+                return null;
+            }
+
+            if (letter == 'M')
+            {
+                p.Pos++;
+                return new CodeCallStmt('M', p.ParseValue());
+            }
+        }
+
+        p.Pos++;
+        if (!p.AtValue)
+        {
+            p.Pos = save;
+            return null;
+        }
+
+        return letter switch
+        {
+            'G' or 'M' or 'T' or 'D' => new CodeCallStmt(letter, p.ParseValue()),
+            'F' => new ParamStmt(ParamKind.Feed, p.ParseValue()),
+            'N' or 'O' => new LabelStmt(LabelNumber(p)),
+            _ => new WordStmt(letter, p.ParseValue()),
+        };
+    }
+
+    /// <summary>A keyword that shapes motion (modes, move parameters, the axis matrices), or null for another word.</summary>
+    private static Stmt? MotionStatement(ExprParser p, string keyword)
+    {
+        switch (keyword)
         {
             case "RAPID":
                 return new ModeStmt(MotionMode.Rapid);
@@ -267,25 +285,12 @@ internal static class ProgramParser
 
             case "ABS":
             case "INC":
-                return new AbsIncStmt(t.Text == "INC", p.Peek.Is("(") ? AxisList(p) : string.Empty);
+                return new AbsIncStmt(keyword == "INC", p.Peek.Is("(") ? AxisList(p) : string.Empty);
             case "NORMAL":
-                {
-                    double i = 0, j = 0, k = 0;
-                    var any = false;
-                    while (p.Peek.IsLetter && p.Peek.Text is "I" or "J" or "K")
-                    {
-                        var axis = p.Next().Text[0];
-                        var value = p.ParseValue() is ConstExpr c ? c.Value : throw new SimSyntaxException(3);
-                        _ = axis == 'I' ? i = value : axis == 'J' ? j = value : k = value;
-                        any = true;
-                    }
-
-                    return any ? new NormalStmt(i, j, k) : throw new SimSyntaxException(3);
-                }
-
+                return Normal(p);
             case "DWELL":
             case "DELAY":
-                return new DwellStmt(p.ParseValue(), t.Text == "DELAY");
+                return new DwellStmt(p.ParseValue(), keyword == "DELAY");
             case "TA":
                 return new ParamStmt(ParamKind.Ta, p.ParseValue());
             case "TS":
@@ -301,17 +306,6 @@ internal static class ProgramParser
 
             case "CCR":
                 return new ParamStmt(ParamKind.CutterRadius, p.ParseValue());
-            case "CALL":
-                return new JumpStmt(JumpKind.Call, p.ParseValue());
-            case "GOSUB":
-                return new JumpStmt(JumpKind.Gosub, p.ParseValue());
-            case "GOTO":
-                return new JumpStmt(JumpKind.Goto, p.ParseValue());
-            case "RET":
-            case "RETURN":
-                return new ReturnStmt();
-            case "STOP":
-                return new StopStmt();
             case "TSEL" or "TSELECT":
                 return new MatrixStmt(MatrixOp.Select, p.IntArgument(0, 8191));
             case "TINIT":
@@ -324,6 +318,43 @@ internal static class ProgramParser
                 return new MatrixStmt(MatrixOp.AbsoluteRotation, p.IntArgument(0, 8183));
             case "IROT":
                 return new MatrixStmt(MatrixOp.IncrementalRotation, p.IntArgument(0, 8183));
+            default:
+                return null;
+        }
+    }
+
+    /// <summary><c>NORMAL</c> with its I, J and K components (at least one, each a constant).</summary>
+    private static NormalStmt Normal(ExprParser p)
+    {
+        double i = 0, j = 0, k = 0;
+        var any = false;
+        while (p.Peek.IsLetter && p.Peek.Text is "I" or "J" or "K")
+        {
+            var axis = p.Next().Text[0];
+            var value = p.ParseValue() is ConstExpr c ? c.Value : throw new SimSyntaxException(3);
+            _ = axis == 'I' ? i = value : axis == 'J' ? j = value : k = value;
+            any = true;
+        }
+
+        return any ? new NormalStmt(i, j, k) : throw new SimSyntaxException(3);
+    }
+
+    /// <summary>A keyword of program flow (jumps, conditions, loops, READ, CMD/SEND), or null for another word.</summary>
+    private static Stmt? FlowStatement(ExprParser p, string keyword)
+    {
+        switch (keyword)
+        {
+            case "CALL":
+                return new JumpStmt(JumpKind.Call, p.ParseValue());
+            case "GOSUB":
+                return new JumpStmt(JumpKind.Gosub, p.ParseValue());
+            case "GOTO":
+                return new JumpStmt(JumpKind.Goto, p.ParseValue());
+            case "RET":
+            case "RETURN":
+                return new ReturnStmt();
+            case "STOP":
+                return new StopStmt();
             case "READ":
                 {
                     var list = AxisList(p);
@@ -331,24 +362,9 @@ internal static class ProgramParser
                 }
 
             case "IF":
+                return new IfStmt(Condition(p));
             case "WHILE":
-                {
-                    p.Expect("(");
-                    var cond = p.ParseExpression(condition: true);
-                    p.Expect(")");
-                    // Turbo PMAC also accepts "(a) AND (b)" outside one pair of parentheses.
-                    while (p.Peek.Is("AND") || p.Peek.Is("OR"))
-                    {
-                        var op = p.Next().Text;
-                        p.Expect("(");
-                        var more = p.ParseExpression(condition: true);
-                        p.Expect(")");
-                        cond = new BinaryExpr(op, cond, more);
-                    }
-
-                    return t.Text == "IF" ? new IfStmt(cond) : new WhileStmt(cond);
-                }
-
+                return new WhileStmt(Condition(p));
             case "ELSE":
                 return new ElseStmt();
             case "ENDIF":
@@ -367,9 +383,27 @@ internal static class ProgramParser
 
                 throw new SimSyntaxException(3);
             default:
-                p.Pos = save;
                 return null;
         }
+    }
+
+    /// <summary>The parenthesised condition of IF or WHILE.</summary>
+    private static Expr Condition(ExprParser p)
+    {
+        p.Expect("(");
+        var cond = p.ParseExpression(condition: true);
+        p.Expect(")");
+        // Turbo PMAC also accepts "(a) AND (b)" outside one pair of parentheses.
+        while (p.Peek.Is("AND") || p.Peek.Is("OR"))
+        {
+            var op = p.Next().Text;
+            p.Expect("(");
+            var more = p.ParseExpression(condition: true);
+            p.Expect(")");
+            cond = new BinaryExpr(op, cond, more);
+        }
+
+        return cond;
     }
 
     /// <summary>Parses a run of statements; the one-line IF/WHILE forms are marked here.</summary>

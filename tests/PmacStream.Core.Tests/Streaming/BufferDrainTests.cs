@@ -3,14 +3,16 @@ using PmacStream.Streaming;
 
 namespace PmacStream.Core.Tests.Streaming;
 
-public class BufferDrainTests
+public sealed class BufferDrainTests : IDisposable
 {
+    private readonly TestFolder _folder = new("drain");
+
     // Body lines: 0 M0==1 move, 1 M08, 2 M0==3 move, 3 M09, 4 M05, 5 M0==6 move, 6 M08, 7 M0==8 move.
     private static readonly string[] Source = ["G01 X1", "M08", "G01 X2", "M09", "M05", "G01 X3", "M08", "G01 X4"];
 
-    private static ChunkedProgram Program(string? probe, TrackingPlacement placement = TrackingPlacement.Exact)
+    private ChunkedProgram Program(string? probe, TrackingPlacement placement = TrackingPlacement.Exact)
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("drain"), Source, 100, placement);
+        var program = FakeSplit.Write(_folder.NewFolder("program"), Source, 100, placement);
         program.UseLineProbe(probe);
         return program;
     }
@@ -41,10 +43,10 @@ public class BufferDrainTests
         drain.Begin(positionExact: false);
 
         (await drain.StepAsync(queries, program, linesAhead: 2, trackedLine: 2, new StreamPosition(1, 0), default)).Should().BeNull();
-        port.Sent.Should().BeEmpty("lines are still ahead");
+        port.Executed.Should().BeEmpty("lines are still ahead");
         (await drain.StepAsync(queries, program, 0, 3, new StreamPosition(1, 0), default)).Should().BeNull("M0 moved");
         (await drain.StepAsync(queries, program, 0, 3, new StreamPosition(1, 0), default)).Should().Be(new StreamPosition(1, 5));
-        port.Sent.Should().Equal("&1??", "&1??", "P501");
+        port.Executed.Should().Equal("&1??", "&1??", "P501");
         drain.Draining.Should().BeFalse();
     }
 
@@ -119,4 +121,6 @@ public class BufferDrainTests
         BufferDrain.Compare(new StreamPosition(2, 3), new StreamPosition(2, 1)).Should().BePositive();
         BufferDrain.Compare(new StreamPosition(2, 3), new StreamPosition(2, 3)).Should().Be(0);
     }
+
+    public void Dispose() => _folder.Dispose();
 }

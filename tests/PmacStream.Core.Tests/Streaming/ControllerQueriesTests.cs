@@ -27,7 +27,7 @@ public class ControllerQueriesTests
     {
         var (queries, port) = Rig(c => c == "M7" ? "12.0000001\r3" : "0");
         (await queries.TrackedLineAsync(default)).Should().Be(12);
-        port.Sent.Should().Equal("M7");
+        port.Executed.Should().Equal("M7");
     }
 
     [Fact]
@@ -47,7 +47,7 @@ public class ControllerQueriesTests
         (await Rig(reply, FeedMode.Paper, "P9").Queries.FeedAsync(default)).Should().Be(800);
         var (queries, port) = Rig(reply, FeedMode.Override);
         (await queries.FeedAsync(default)).Should().Be(150);
-        port.Sent.Should().Equal("&1 %");
+        port.Executed.Should().Equal("&1 %");
     }
 
     [Fact]
@@ -57,7 +57,7 @@ public class ControllerQueriesTests
         (await queries.MotionStoppedAsync(default)).Should().BeTrue();
         queries.StatusUnknown.Should().BeTrue();
         (await queries.MotionStoppedAsync(default)).Should().BeTrue();
-        port.Sent.Should().Equal("&1??");
+        port.Executed.Should().Equal("&1??");
     }
 
     [Fact]
@@ -71,30 +71,30 @@ public class ControllerQueriesTests
     [Fact]
     public async Task No_online_command_is_sent_while_the_buffer_is_open_except_CLOSE()
     {
-        var port = new ScriptedPort(_ => string.Empty);
-        var channel = new ControllerChannel(new InProcessConnection(port)) { BufferOpen = true };
+        var port = new ScriptedController(_ => string.Empty);
+        var channel = new ControllerChannel(new InProcessConnection(port.OpenPort())) { BufferOpen = true };
 
         await FluentActions.Awaiting(() => channel.OnlineAsync("M0", default).AsTask()).Should().ThrowAsync<InvalidOperationException>();
-        port.Sent.Should().BeEmpty("it would have been stored in the buffer");
+        port.Executed.Should().BeEmpty("it would have been stored in the buffer");
 
         await channel.OnlineAsync("close", default);
         channel.BufferOpen.Should().BeFalse();
         await channel.OnlineAsync("M0", default);
-        port.Sent.Should().Equal("close", "M0");
+        port.Executed.Should().Equal("close", "M0");
     }
 
     [Fact]
     public async Task A_refused_CLOSE_means_nothing_was_open()
     {
-        var channel = new ControllerChannel(new InProcessConnection(new ScriptedPort(_ => "ERR003"))) { BufferOpen = true };
+        var channel = new ControllerChannel(new InProcessConnection(new ScriptedController(_ => "ERR003").OpenPort())) { BufferOpen = true };
         await channel.TryCloseAsync(default);
         channel.BufferOpen.Should().BeFalse();
     }
 
-    internal static (ControllerQueries Queries, ScriptedPort Port) Rig(Func<string, string> reply, FeedMode feed = FeedMode.Paper, string? feedVariable = null)
+    internal static (ControllerQueries Queries, ScriptedController Port) Rig(Func<string, string> reply, FeedMode feed = FeedMode.Paper, string? feedVariable = null)
     {
-        var port = new ScriptedPort(reply);
-        var queries = new ControllerQueries(new ControllerChannel(new InProcessConnection(port)), new CoordinateSystemCommands(1, feed, feedVariable), new SyncAssignment("M7"));
+        var port = new ScriptedController(reply);
+        var queries = new ControllerQueries(new ControllerChannel(new InProcessConnection(port.OpenPort())), new CoordinateSystemCommands(1, feed, feedVariable), new SyncAssignment("M7"));
         return (queries, port);
     }
 }

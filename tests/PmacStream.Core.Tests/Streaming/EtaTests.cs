@@ -58,7 +58,8 @@ public class EtaTests(ITestOutputHelper output)
     [MemberData(nameof(Cases))]
     public async Task Eta_converges_on_the_real_remaining_time(string name, double programmedSeconds, double programmedFeed, double realSeconds, double liveFeed, bool overrideMode)
     {
-        var folder = FakeSplit.TempFolder("eta");
+        using var temp = new TestFolder("eta");
+        var folder = temp.Path;
         try
         {
             var program = FakeSplit.Write(folder, FakeSplit.Program(800, 7), 200);
@@ -109,7 +110,8 @@ public class EtaTests(ITestOutputHelper output)
     [Fact]
     public async Task Eta_follows_a_live_override_change_at_once()
     {
-        var folder = FakeSplit.TempFolder("eta-override");
+        using var temp = new TestFolder("eta-override");
+        var folder = temp.Path;
         try
         {
             var program = FakeSplit.Write(folder, FakeSplit.Program(800, 3), 200);

@@ -93,7 +93,8 @@ public class FaultHarnessTests(ITestOutputHelper output)
         var strategy = (StrategyKind)(seed % 3);
         var lines = 150 + r.Next(250);
         var chunk = 25 + r.Next(120);
-        var folder = FakeSplit.TempFolder($"fault{seed}");
+        using var temp = new TestFolder($"fault{seed}");
+        var folder = temp.Path;
         var program = FakeSplit.Write(folder, FakeSplit.Program(lines, seed), chunk, placement);
         var options = new StreamingOptions { LineProbeVariable = probe, Strategy = strategy, BufferWords = 6000, PrTargetLines = 20 + r.Next(60), AdaptiveMinLeadSeconds = 0.1 + (r.NextDouble() * 0.4) };
         Rig? rig = null;

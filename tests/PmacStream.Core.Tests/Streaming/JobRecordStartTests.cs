@@ -21,7 +21,8 @@ public class JobRecordStartTests
     [Fact]
     public void An_old_job_database_stays_readable_and_gains_the_new_columns_with_defaults()
     {
-        var db = Path.Combine(FakeSplit.TempFolder("oldjobs"), "jobs.db");
+        using var temp = new TestFolder("oldjobs");
+        var db = Path.Combine(temp.Path, "jobs.db");
         using (var raw = new SqliteConnection($"Data Source={db};Pooling=False"))
         {
             raw.Open();
@@ -62,7 +63,8 @@ public class JobRecordStartTests
     [Fact]
     public async Task A_start_records_itself_before_sending_and_its_checkpoints_say_loaded_only_once_the_load_completed()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("startrec"), FakeSplit.Program(300, 5), 60);
+        using var temp = new TestFolder("startrec");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(300, 5), 60);
         var rig = new Rig(program, new StreamingOptions { LineProbeVariable = "P640" });
         await rig.Session.StartAsync();
         rig.Sink.Start!.FromLine.Should().BeNull();

@@ -11,7 +11,8 @@ public class JobStoreTests
     [Fact]
     public void Checkpoints_survive_reopening_and_the_latest_unfinished_job_is_found()
     {
-        var db = Path.Combine(FakeSplit.TempFolder("jobs"), "jobs.db");
+        using var temp = new TestFolder("jobs");
+        var db = Path.Combine(temp.Path, "jobs.db");
         long first, second;
         var cp = new Checkpoint(1234, 2, new StreamPosition(3, 17), false, 2, SessionState.Running, new DateTimeOffset(2026, 1, 2, 3, 4, 5, TimeSpan.Zero), Started: true);
         using (var store = JobStore.Open(db))
@@ -47,7 +48,8 @@ public class JobStoreTests
     [Fact]
     public async Task A_session_writes_a_checkpoint_every_tick_and_durable_ones_at_chunk_boundaries()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("jobsink"), FakeSplit.Program(600, 3), 100);
+        using var temp = new TestFolder("jobsink");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(600, 3), 100);
         var rig = new Rig(program, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
         await rig.Session.StartAsync();
         (await rig.RunAsync()).Should().BeTrue();

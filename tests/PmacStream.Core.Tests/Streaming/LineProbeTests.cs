@@ -43,11 +43,13 @@ internal sealed class CutOnceConnection(IPmacPortEndpoint port) : IPmacConnectio
 /// The exact mechanism of the old repeat, deterministically: a chunk download that breaks right after a non-motion
 /// line (M08) which follows a move. M0 names that move; only the line probe tells that M08 arrived too.
 /// </summary>
-public class LineProbeTests
+public sealed class LineProbeTests : IDisposable
 {
-    private static (Rig Rig, CutOnceConnection Conn, string Folder) Setup(string? probe, Func<ChunkedProgramProbe, int> cutAt)
+    private readonly TestFolder _folder = new("probe");
+
+    private (Rig Rig, CutOnceConnection Conn, string Folder) Setup(string? probe, Func<ChunkedProgramProbe, int> cutAt)
     {
-        var folder = FakeSplit.TempFolder("probe");
+        var folder = _folder.NewFolder("program");
         var program = FakeSplit.Write(folder, FakeSplit.Program(400, 11), 100);
         var options = new StreamingOptions { LineProbeVariable = probe, BufferWords = 8000 };
         var rig = new Rig(program, options, capacityWords: 8000);
@@ -162,7 +164,8 @@ public class LineProbeTests
     [Fact]
     public void Probe_annotation_keeps_labels_first_and_the_download_copy_line_for_line()
     {
-        var folder = FakeSplit.TempFolder("probe-copy");
+        using var temp = new TestFolder("probe-copy");
+        var folder = temp.Path;
         var program = FakeSplit.Write(folder, FakeSplit.Program(300, 5), 100);
         program.UseLineProbe("p501");
         program.LineProbeVariable.Should().Be("P501");
@@ -195,9 +198,12 @@ public class LineProbeTests
         Directory.Delete(folder, true);
 
         // An N label must lead its line: the probe goes right after it.
-        var labelled = FakeSplit.Write(FakeSplit.TempFolder("probe-n"), ["G01 X1 Y1", "N120 M08", "G01 X2 Y2"], 10);
+        using var temp2 = new TestFolder("probe-n");
+        var labelled = FakeSplit.Write(temp2.Path, ["G01 X1 Y1", "N120 M08", "G01 X2 Y2"], 10);
         labelled.UseLineProbe("P501");
         labelled.Body(1)[1].Text.Should().Be($"N120 P501={ChunkedProgram.ProbeValue(new StreamPosition(1, 1))} M08");
         Directory.Delete(labelled.Folder, true);
     }
+
+    public void Dispose() => _folder.Dispose();
 }

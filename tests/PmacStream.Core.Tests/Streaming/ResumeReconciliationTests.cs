@@ -6,15 +6,17 @@ namespace PmacStream.Core.Tests.Streaming;
 /// The controller is the truth on resume: the record is read against M0, the running bit, PR and the line probe, and
 /// the resume continues, drains, restarts at the controller's line or refuses with both positions (issue 20).
 /// </summary>
-public class ResumeReconciliationTests
+public sealed class ResumeReconciliationTests : IDisposable
 {
+    private readonly TestFolder _folder = new("reconcile");
+
     // 300 source lines in 3 chunks of 100 body lines: a move on every line but each tenth, which is an M08. Body index
     // i of chunk c holds source line 100 (c - 1) + i + 1.
     private static readonly string[] Source = Enumerable.Range(1, 300).Select(i => i % 10 == 0 ? "M08" : $"G01 X{i} Y0").ToArray();
 
-    private static ChunkedProgram Program(string? probe = null)
+    private ChunkedProgram Program(string? probe = null)
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("reconcile"), Source, 100);
+        var program = FakeSplit.Write(_folder.NewFolder("program"), Source, 100);
         program.UseLineProbe(probe);
         return program;
     }
@@ -126,4 +128,6 @@ public class ResumeReconciliationTests
         // The buffer holds the first chunk (and maybe a preamble): PR is not compared while M0 is 0.
         Decide(program, record, Seen(0, linesAhead: 130, running: false)).Should().Be(new ResumeDecision(ResumeAction.Continue, null));
     }
+
+    public void Dispose() => _folder.Dispose();
 }

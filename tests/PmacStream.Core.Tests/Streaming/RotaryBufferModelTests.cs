@@ -118,7 +118,8 @@ public class RotaryBufferModelTests
     [Fact]
     public void A_chunk_larger_than_the_room_is_refused_and_the_line_probe_counts_a_word_a_block()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("fit"), FakeSplit.Program(100, 4), 100);
+        using var temp = new TestFolder("fit");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(100, 4), 100);
         var words = program.Manifest.Chunks[0].EstimatedWords;
         var blocks = program.Manifest.Chunks[0].BlockCount;
         program.UseLineProbe(null);

@@ -95,13 +95,6 @@ public static class FakeSplit
         manifest.Save(Path.Combine(folder, ChunkManifest.FileName));
         return ChunkedProgram.Open(folder);
     }
-
-    public static string TempFolder(string tag)
-    {
-        var d = Path.Combine(Path.GetTempPath(), "pmacstream-tests", $"{tag}-{Guid.NewGuid():N}");
-        Directory.CreateDirectory(d);
-        return d;
-    }
 }
 
 /// <summary>A fake controller, a session on it and a loop that ticks and advances virtual time together.</summary>

@@ -19,7 +19,8 @@ public class StreamingSessionTests
     [InlineData(StrategyKind.Adaptive, 77, 0.6, 0.7, 0.05)]
     public async Task Every_block_executes_exactly_once_in_order(StrategyKind strategy, int chunkLines, double w0, double w1, double moveSeconds)
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("exact"), FakeSplit.Program(2500, chunkLines), chunkLines);
+        using var temp = new TestFolder("exact");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(2500, chunkLines), chunkLines);
         var rig = new Rig(program, new StreamingOptions { Strategy = strategy, WindowStart = w0, WindowEnd = w1, BufferWords = 20_000 }, moveSeconds: moveSeconds, capacityWords: 20_000);
         await rig.Session.StartAsync();
         (await rig.RunAsync()).Should().BeTrue(rig.Session.Status.Message);
@@ -38,7 +39,8 @@ public class StreamingSessionTests
     [InlineData(1000, 0.6, 0.7)]
     public async Task Chunk_strategy_downloads_each_next_chunk_once_inside_its_window_never_early(int chunkLines, double w0, double w1)
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("once"), FakeSplit.Program(5000, 3), chunkLines);
+        using var temp = new TestFolder("once");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(5000, 3), chunkLines);
         // Slow moves against a 50 ms tick: M0 passes through every window, so every download must be on time.
         var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, WindowStart = w0, WindowEnd = w1, BufferWords = 30_000 }, moveSeconds: 0.02, capacityWords: 30_000);
         var downloads = new List<StreamingEvent>();
@@ -76,7 +78,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task A_missed_window_gives_one_late_download_and_still_no_block_lost()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("late"), FakeSplit.Program(3000, 5), 100);
+        using var temp = new TestFolder("late");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(3000, 5), 100);
         // Very fast moves: a 50 ms tick jumps over whole windows.
         var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 30_000 }, moveSeconds: 0.004, capacityWords: 30_000);
         var events = new List<StreamingEvent>();
@@ -93,7 +96,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task A_chunk_is_never_sent_without_room_in_the_buffer()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("room"), FakeSplit.Program(2000, 9), 200);
+        using var temp = new TestFolder("room");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(2000, 9), 200);
         var biggest = program.Manifest.Chunks.Max(c => c.EstimatedWords);
         // Room for about 1.3 chunks: in the window the next chunk does not fit yet, so it must wait.
         var words = (int)(biggest * 1.3) + 64;
@@ -109,8 +113,10 @@ public class StreamingSessionTests
     public async Task Paper_placement_lags_one_line_exact_placement_does_not()
     {
         var source = FakeSplit.Program(400, 11);
-        var exact = FakeSplit.Write(FakeSplit.TempFolder("exactp"), source, 100, TrackingPlacement.Exact);
-        var paper = FakeSplit.Write(FakeSplit.TempFolder("paperp"), source, 100, TrackingPlacement.Paper);
+        using var temp = new TestFolder("exactp");
+        var exact = FakeSplit.Write(temp.Path, source, 100, TrackingPlacement.Exact);
+        using var temp2 = new TestFolder("paperp");
+        var paper = FakeSplit.Write(temp2.Path, source, 100, TrackingPlacement.Paper);
         var r1 = new Rig(exact, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
         var r2 = new Rig(paper, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
         await r1.Session.StartAsync();
@@ -127,7 +133,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task Setup_sends_B0_before_the_first_OPEN_ROT_and_R_after_it()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("setup"), FakeSplit.Program(300, 1), 100);
+        using var temp = new TestFolder("setup");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(300, 1), 100);
         var rig = new Rig(program, new StreamingOptions());
         await rig.Session.StartAsync();
         var log = rig.Controller.Log;
@@ -143,7 +150,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task Hold_resume_feed_and_abort_reach_the_controller_and_are_never_stored_in_the_buffer()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("ops"), FakeSplit.Program(1500, 2), 100);
+        using var temp = new TestFolder("ops");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1500, 2), 100);
         var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Pr }, moveSeconds: 0.01);
         await rig.Session.StartAsync();
         for (var i = 0; i < 10; i++)
@@ -185,7 +193,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task Override_mode_changes_feed_with_percent()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("ovr"), FakeSplit.Program(300, 2), 100);
+        using var temp = new TestFolder("ovr");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(300, 2), 100);
         var rig = new Rig(program, new StreamingOptions { Feed = FeedMode.Override, Strategy = StrategyKind.Adaptive });
         await rig.Session.StartAsync();
         await rig.Session.SetFeedAsync(50);
@@ -197,7 +206,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task Single_block_mode_runs_one_block_per_start()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("sb"), FakeSplit.Program(200, 4), 100);
+        using var temp = new TestFolder("sb");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(200, 4), 100);
         var rig = new Rig(program, new StreamingOptions { SingleBlock = true }, moveSeconds: 0.01);
         await rig.Session.StartAsync();
         for (var i = 0; i < 20; i++)
@@ -221,7 +231,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task Starting_from_a_line_sends_the_preamble_then_that_block_and_the_rest()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("from"), FakeSplit.Program(1200, 6), 100);
+        using var temp = new TestFolder("from");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1200, 6), 100);
         var all = program.TrackedLines().ToList();
         var from = all[500];
         var rig = new Rig(program, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
@@ -240,7 +251,8 @@ public class StreamingSessionTests
     {
         // A start mid-chunk loads the rest of that chunk behind the preamble: when the start lies in or past the
         // download window, execution joined the chunk there; the next chunk goes at once and no window was missed.
-        var program = FakeSplit.Write(FakeSplit.TempFolder("from-late"), FakeSplit.Program(1200, 6), 100);
+        using var temp = new TestFolder("from-late");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1200, 6), 100);
         var chunk = program.Chunk(5);
         var size = chunk.LastSourceLine - chunk.FirstSourceLine + 1;
         var all = program.TrackedLines().ToList();
@@ -276,7 +288,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task Status_reports_chunks_lines_percent_and_eta()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("status"), FakeSplit.Program(1000, 8), 250);
+        using var temp = new TestFolder("status");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1000, 8), 250);
         var times = new MoveTimeTable(program.TrackedLines().Select(l => (l, 0.01)));
         var rig = new Rig(program, new StreamingOptions());
         rig.Session = new StreamingSession(rig.Connection, program, rig.Options, rig.Sink, times, rig.Time);
@@ -301,7 +314,8 @@ public class StreamingSessionTests
     [Fact]
     public async Task A_chunk_larger_than_the_buffer_is_refused_before_anything_is_sent()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("big"), FakeSplit.Program(1000, 8), 1000);
+        using var temp = new TestFolder("big");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1000, 8), 1000);
         var rig = new Rig(program, new StreamingOptions { BufferWords = 500 });
         var act = () => rig.Session.StartAsync();
         (await act.Should().ThrowAsync<InvalidOperationException>()).WithMessage("*needs about*words*");
@@ -314,7 +328,8 @@ public class ResumeTests
     [Fact]
     public async Task A_new_session_resumes_from_the_checkpoint_while_the_controller_keeps_running()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("resume"), FakeSplit.Program(1500, 12), 150);
+        using var temp = new TestFolder("resume");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1500, 12), 150);
         var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 20_000 }, capacityWords: 20_000);
         await rig.Session.StartAsync();
         for (var i = 0; i < 40; i++)
@@ -334,7 +349,8 @@ public class ResumeTests
     [Fact]
     public async Task Resume_refuses_a_controller_that_no_longer_runs_the_job()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("aborted"), FakeSplit.Program(800, 13), 100);
+        using var temp = new TestFolder("aborted");
+        var program = FakeSplit.Write(temp.Path, FakeSplit.Program(800, 13), 100);
         var rig = new Rig(program, new StreamingOptions());
         await rig.Session.StartAsync();
         for (var i = 0; i < 10; i++)

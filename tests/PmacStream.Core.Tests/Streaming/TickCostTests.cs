@@ -29,7 +29,8 @@ public class TickCostTests
     [Fact]
     public void The_running_executed_count_is_the_programs_count_for_any_line_in_any_order()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("executed-count"), Source, 100);
+        using var temp = new TestFolder("executed-count");
+        var program = FakeSplit.Write(temp.Path, Source, 100);
         var count = new ExecutedBlockCount(program);
         var lines = Enumerable.Range(-1, 305).ToList();
         var shuffled = lines.ToArray();
@@ -76,7 +77,8 @@ public class TickCostTests
     [Fact]
     public async Task Over_moves_longer_than_a_tick_a_tick_reads_m0_alone_and_the_job_still_runs_every_block_once_in_order()
     {
-        var program = FakeSplit.Write(FakeSplit.TempFolder("tick-cost"), Source, 100);
+        using var temp = new TestFolder("tick-cost");
+        var program = FakeSplit.Write(temp.Path, Source, 100);
         var options = new StreamingOptions { BufferWords = 8000 };
         var rig = new Rig(program, options, moveSeconds: 0.4, capacityWords: 8000);
         await rig.Session.StartAsync();
