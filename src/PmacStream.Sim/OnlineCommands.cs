@@ -232,10 +232,10 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
             case "HMZ" or "HOMEZ":
                 Check(motorSet.HomeHere(port.Motor));
                 return;
-            case "V" when !p.AtValue:
+            case "V" when ReportEnds(p):
                 outputs.Add(ReplyFrame.Number(VelocityOf(port.Motor)));
                 return;
-            case "F" when !p.AtValue:
+            case "F" when ReportEnds(p):
                 outputs.Add(ReplyFrame.Number(FollowingErrorOf(port.Motor)));
                 return;
             case "B":
@@ -353,6 +353,9 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
                 throw new SimSyntaxException(3);
         }
     }
+
+    /// <summary>A one-letter report (<c>V</c>, <c>F</c>) ends the command: the line ends or the next motor is addressed (<c>#1F#2F</c>).</summary>
+    private static bool ReportEnds(ExprParser p) => p.Peek.Kind == TokenKind.End || p.Peek.Is("#") || p.Peek.Is("&");
 
     private string MotorStatusOf(int motor) => MotorStatus.Motor(motorSet, motors, coordinateSystems, motor);
 

@@ -352,6 +352,7 @@ public sealed class PmacSimulator : IDisposable
             return new MotorSnapshot(
                 _motorSet.ActualPosition(motor),
                 m.Commanded,
+                m.Machine,
                 m.Velocity,
                 _motorSet.FollowingError(motor),
                 m.HomeComplete,

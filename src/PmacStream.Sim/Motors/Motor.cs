@@ -89,6 +89,17 @@ internal sealed class Motor(int number)
     /// <summary>True while the motor makes a move of its own.</summary>
     public bool Moving => Move != MotorMove.None;
 
+    // The planned profile of a definite move (from the velocity it has towards the target): accelerate, cruise at the
+    // peak, decelerate; time since its start. Not planned (numeric approach) when it starts moving away or too fast.
+    private bool _planned;
+    private double _tau;
+    private double _start;
+    private double _u;
+    private double _peak;
+    private double _tAccel;
+    private double _tCruise;
+    private double _tDecel;
+
     /// <summary>A move to <paramref name="target"/>.</summary>
     public void StartJogTo(double target, double speed, double acceleration)
     {
@@ -97,6 +108,57 @@ internal sealed class Motor(int number)
         Speed = speed;
         Acceleration = acceleration;
         Direction = Math.Sign(target - Commanded);
+        Plan();
+    }
+
+    private void Plan()
+    {
+        var d = Math.Abs(Target - Commanded);
+        var u = Velocity * Direction;
+        var a = Acceleration;
+        _planned = Direction != 0 && u >= 0 && u <= Speed && (u * u / (2 * a)) <= d;
+        if (!_planned)
+        {
+            return;
+        }
+
+        _tau = 0;
+        _start = Commanded;
+        _u = u;
+        var accelDistance = ((Speed * Speed) - (u * u)) / (2 * a);
+        var decelDistance = Speed * Speed / (2 * a);
+        if (d >= accelDistance + decelDistance)
+        {
+            _peak = Speed;
+            _tCruise = (d - accelDistance - decelDistance) / Speed;
+        }
+        else
+        {
+            _peak = Math.Sqrt(((2 * a * d) + (u * u)) / 2);
+            _tCruise = 0;
+        }
+
+        _tAccel = (_peak - u) / a;
+        _tDecel = _peak / a;
+    }
+
+    /// <summary>Distance along and velocity of the planned profile at <paramref name="tau"/> seconds.</summary>
+    private (double Distance, double Velocity) Profile(double tau)
+    {
+        var a = Acceleration;
+        if (tau < _tAccel)
+        {
+            return ((_u * tau) + (a * tau * tau / 2), _u + (a * tau));
+        }
+
+        var accelDistance = ((_peak * _peak) - (_u * _u)) / (2 * a);
+        if (tau < _tAccel + _tCruise)
+        {
+            return (accelDistance + (_peak * (tau - _tAccel)), _peak);
+        }
+
+        var t = Math.Min(tau - _tAccel - _tCruise, _tDecel);
+        return (accelDistance + (_peak * _tCruise) + (_peak * t) - (a * t * t / 2), _peak - (a * t));
     }
 
     /// <summary>An indefinite jog in <paramref name="direction"/> (0 = decelerate to a stop).</summary>
@@ -130,6 +192,7 @@ internal sealed class Motor(int number)
     /// <summary>Stops at once where it is (a kill, a limit, an abort).</summary>
     public void Halt()
     {
+        _planned = false;
         Move = MotorMove.None;
         Velocity = 0;
         Direction = 0;
@@ -144,6 +207,22 @@ internal sealed class Motor(int number)
     {
         if (!Moving || dt <= 0)
         {
+            return;
+        }
+
+        if (Move == MotorMove.JogTo && _planned)
+        {
+            _tau += dt;
+            if (_tau >= _tAccel + _tCruise + _tDecel)
+            {
+                Commanded = Target;
+                Halt();
+                return;
+            }
+
+            var (distance, velocity) = Profile(_tau);
+            Commanded = _start + (Direction * distance);
+            Velocity = Direction * velocity;
             return;
         }
 

@@ -526,7 +526,7 @@ internal sealed class MotorSet
         var c = _cs[cs];
 
         // A held program whose feed has slewed to 0 lets its motors be jogged (to be brought back before R).
-        return c.Running && !(c.Holding && c.OverrideCurrent <= 0);
+        return c.Running && !(c.Holding && c.OverrideCurrent <= 1e-6);
     }
 
     private double FollowingError(Motor motor)
@@ -600,6 +600,11 @@ internal sealed class MotorSet
             CheckHomeTrigger(motor);
         }
 
+        if (CheckFatalFollowingError(motor))
+        {
+            return;
+        }
+
         var dir = Math.Sign(motor.Velocity);
         if (dir == 0 || !IntoLimit(motor, dir))
         {
@@ -656,15 +661,23 @@ internal sealed class MotorSet
             return;
         }
 
+        CheckFatalFollowingError(motor);
+        _ = cs;
+    }
+
+    /// <summary>Following error beyond Ixx11 (when not 0) kills the motor as a fault; true when it did.</summary>
+    private bool CheckFatalFollowingError(Motor motor)
+    {
         var fatal = I(motor.Number, 11);
-        if (fatal > 0 && Math.Abs(FollowingError(motor)) * 16 > fatal)
+        if (!motor.Enabled || fatal <= 0 || Math.Abs(FollowingError(motor)) * 16 <= fatal)
         {
-            motor.FatalFollowingError = true;
-            motor.InjectedFollowingError = FollowingError(motor);
-            FaultKill(motor);
+            return false;
         }
 
-        _ = cs;
+        motor.InjectedFollowingError = FollowingError(motor);
+        motor.FatalFollowingError = true;
+        FaultKill(motor);
+        return true;
     }
 
     /// <summary>A limit reached: the motor stops; a program running in its coordinate system is aborted (all its motors stop).</summary>

@@ -3,6 +3,7 @@ namespace PmacStream.Sim;
 /// <summary>One motor as the simulator sees it at an instant (<see cref="PmacSimulator.Motor"/>); positions in counts.</summary>
 /// <param name="Position">Actual position (<c>P</c>): commanded minus following error.</param>
 /// <param name="Commanded">Commanded position.</param>
+/// <param name="Machine">Commanded position in counts from where the motor stood at power-on (where switches are placed, <see cref="MotorSettings"/>).</param>
 /// <param name="Velocity">Commanded velocity, counts per second.</param>
 /// <param name="FollowingError">Following error (<c>F</c>).</param>
 /// <param name="HomeComplete">The Home Complete status bit.</param>
@@ -17,6 +18,7 @@ namespace PmacStream.Sim;
 public readonly record struct MotorSnapshot(
     double Position,
     double Commanded,
+    double Machine,
     double Velocity,
     double FollowingError,
     bool HomeComplete,
