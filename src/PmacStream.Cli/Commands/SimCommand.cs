@@ -24,6 +24,13 @@ internal static class SimCommand
         var idleTimeout = new Option<double>("--idle-timeout") { Description = "Close an Ethernet connection after this many seconds without a packet (0 = never).", DefaultValueFactory = _ => 300 };
         var maxClients = new Option<int>("--max-clients") { Description = "Ethernet connections served at once; when all are taken, the one idle longest (2 s or more) makes room for a new client.", DefaultValueFactory = _ => 32 };
 
+        var homed = new Option<bool>("--homed") { Description = "Start with every motor homed (Home Complete set), as a machine with absolute encoders. Without it the simulator starts unhomed, as a machine with incremental encoders does: home with #nHM." };
+        var inject = new Option<string[]>("--inject")
+        {
+            Description = "Inject a fault KIND:MOTOR@SECONDS, SECONDS on the simulator's clock after a motion program first starts running (homing and jogging do not count). KIND: limit+, limit- (stays until the motor is jogged off it), fatal-following-error, amp-fault (until re-enabled: #nJ/, #n$ or &nA). Repeatable.",
+            HelpName = "KIND:MOTOR@SECONDS",
+            AllowMultipleArgumentsPerToken = false,
+        };
         var library = new Option<string>("--library")
         {
             Description = "The PROG 1000/1001 library loaded at start, as on a configured controller: a profile (built-in name or JSON file) whose library and tables are loaded, a PMAC library file (e.g. from 'pmacstream prog1000'), or 'none' (a bare controller).",
@@ -31,7 +38,7 @@ internal static class SimCommand
             DefaultValueFactory = _ => MachineProfile.DefaultName,
         };
         var cmd = new Command("sim", "Run the simulated Turbo PMAC as a server until Ctrl-C or SIGTERM.");
-        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients, library })
+        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients, library, homed, inject })
         {
             cmd.Options.Add(o);
         }
@@ -39,7 +46,20 @@ internal static class SimCommand
         cmd.SetAction(async (parse, ct) =>
         {
             // The executed-move log is streamed to its file (or not kept): memory does not grow with the program.
-            var options = new SimOptions { RetainExecutedMoves = false };
+            // A served controller starts unhomed, as a machine with incremental encoders, unless --homed.
+            var options = new SimOptions { RetainExecutedMoves = false, StartHomed = parse.GetValue(homed) };
+            foreach (var spec in parse.GetValue(inject) ?? [])
+            {
+                try
+                {
+                    options.Faults.Add(FaultInjection.Parse(spec));
+                }
+                catch (FormatException e)
+                {
+                    throw new CliException(e.Message);
+                }
+            }
+
             try
             {
                 options.Speed = SimSpeed.Parse(parse.GetValue(speed)!);
@@ -136,6 +156,12 @@ internal static class SimCommand
                 if (serialPath is not null)
                 {
                     Console.Out.WriteLine($"pmacstream sim: serving serial {serialPath}, speed {options.Speed}");
+                }
+
+                Console.Out.WriteLine(options.StartHomed ? "pmacstream sim: motors homed at start (--homed)" : "pmacstream sim: motors not homed at start (home with #nHM, or start with --homed)");
+                foreach (var fault in options.Faults)
+                {
+                    Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: will inject {fault} ({fault.Seconds} s after a motion program first starts)"));
                 }
 
                 Console.Out.Flush();
