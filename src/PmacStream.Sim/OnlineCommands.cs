@@ -226,6 +226,9 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
             case "J":
                 Jog(port, cs, p);
                 return;
+            case "PMATCH":
+                motorSet.Match(cs);
+                return;
             case "HM" or "HOME":
                 Check(motorSet.Home(port.Motor));
                 return;

@@ -23,6 +23,11 @@ internal sealed class MotorSet
     private readonly double[] _scratch = new double[CoordinateSystem.AxisCount];
     private bool[] _homeArmed = new bool[MotorMap.Count + 1];
 
+    // Axis positions of each coordinate system for one clock step, taken once for all its motors.
+    private readonly double[][] _stepPositions = new double[SimMemory.CoordinateSystems + 1][];
+    private readonly bool[] _stepValid = new bool[SimMemory.CoordinateSystems + 1];
+    private bool _inStep;
+
     public MotorSet(CoordinateSystem[] coordinateSystems, MotorMap map, SimMemory memory, SimOptions options, Func<double> now)
     {
         _cs = coordinateSystems;
@@ -66,6 +71,7 @@ internal sealed class MotorSet
             {
                 motor.ZeroAt = 0;
                 motor.Commanded = old.Machine;
+                motor.Detached = true; // the axes are matched to it again at the next R (PMATCH)
             }
 
             // Turbo PMAC defaults (Software Reference, I-variables): the simulator's motors start with them.
@@ -366,6 +372,35 @@ internal sealed class MotorSet
         return 0;
     }
 
+    /// <summary><c>PMATCH</c>: the axes of <paramref name="cs"/> start their next move from where their motors are.</summary>
+    public void Match(CoordinateSystem cs)
+    {
+        if (cs.IsMoving)
+        {
+            return;
+        }
+
+        var matched = new bool[CoordinateSystem.AxisCount];
+        for (var m = 1; m < _motors.Length; m++)
+        {
+            var (c, axis, scale) = _map.Definition(m);
+            if (axis >= 0 && c == cs.Number && !matched[axis] && scale != 0)
+            {
+                var motor = Get(m);
+                matched[axis] = true;
+                cs.MatchAxis(axis, motor.Commanded / scale);
+            }
+        }
+
+        for (var m = 1; m < _motors.Length; m++)
+        {
+            if (InCoordinateSystem(m, cs.Number) && !_motors[m].Moving && _motors[m].Enabled)
+            {
+                _motors[m].Detached = false;
+            }
+        }
+    }
+
     /// <summary>A motion program started running: the fault-injection clock starts at the first one.</summary>
     public void ProgramStarted() => ProgramEpoch ??= _now();
 
@@ -466,6 +501,20 @@ internal sealed class MotorSet
         }
 
         var step = Math.Max(1e-5, _options.MotorStepMs / 1000.0);
+        Array.Clear(_stepValid);
+        _inStep = true;
+        try
+        {
+            AdvanceMotors(t0, t1, dt, step);
+        }
+        finally
+        {
+            _inStep = false;
+        }
+    }
+
+    private void AdvanceMotors(double t0, double t1, double dt, double step)
+    {
         for (var m = 1; m < _motors.Length; m++)
         {
             var motor = _motors[m];
@@ -549,8 +598,23 @@ internal sealed class MotorSet
         }
 
         var c = _cs[cs];
-        c.ActualPosition(_scratch);
-        var position = _scratch[axis] * scale;
+        double[] positions;
+        if (_inStep)
+        {
+            positions = _stepPositions[cs] ??= new double[CoordinateSystem.AxisCount];
+            if (!_stepValid[cs])
+            {
+                c.ActualPosition(positions);
+                _stepValid[cs] = true;
+            }
+        }
+        else
+        {
+            positions = _scratch;
+            c.ActualPosition(positions);
+        }
+
+        var position = positions[axis] * scale;
         if (dt > 0)
         {
             motor.Velocity = c.IsMoving ? (position - motor.Commanded) / dt : 0;
@@ -694,6 +758,7 @@ internal sealed class MotorSet
         {
             Follow(motor, 0);
             _cs[cs].Abort();
+            _stepValid[cs] = false;
             Log.Warning("C.S.{Cs} aborted: motor {Motor} on a position limit", cs, motor.Number);
         }
 
@@ -712,6 +777,7 @@ internal sealed class MotorSet
             }
 
             _cs[cs].Abort();
+            _stepValid[cs] = false;
             Log.Warning("C.S.{Cs} aborted: motor {Motor} killed by a fault", cs, motor.Number);
         }
 

@@ -113,4 +113,16 @@ public class JogTests
         h.MotorBit(1, 2, 2).Should().BeFalse("re-enabling clears it");
         h.CsBit(2, 19).Should().BeFalse();
     }
+
+    [Fact]
+    public void PMATCH_moves_the_axis_to_where_its_motor_was_jogged()
+    {
+        using var h = new SimHarness();
+        h.Ok("#1->1000X I119=100 I121=1 #1J:2500");
+        h.Sim.RunUntilIdle();
+        h.Sim.Position()[0].Should().Be(0, "the axis does not know of the jog yet");
+        h.Ok("&1 PMATCH");
+        h.Sim.Position()[0].Should().Be(2.5);
+        h.Ok("#1P").Should().Be("2500");
+    }
 }
