@@ -20,7 +20,11 @@ internal sealed class MotorSet
     private readonly SimOptions _options;
     private readonly Func<double> _now;
     private readonly List<FaultInjection> _pending = [];
+    private readonly MotorSettings[] _settings = new MotorSettings[MotorMap.Count + 1];
+    private readonly bool _anySwitch;
     private readonly double[] _scratch = new double[CoordinateSystem.AxisCount];
+    private readonly double[] _velocityA = new double[CoordinateSystem.AxisCount];
+    private readonly double[] _velocityB = new double[CoordinateSystem.AxisCount];
     private bool[] _homeArmed = new bool[MotorMap.Count + 1];
 
     // Axis positions of each coordinate system for one clock step, taken once for all its motors.
@@ -36,6 +40,12 @@ internal sealed class MotorSet
         _options = options;
         _now = now;
         _pending.AddRange(options.Faults);
+        for (var m = 1; m < _settings.Length; m++)
+        {
+            // Read once: the machine's switches do not move while it runs.
+            _settings[m] = options.MotorSettings.TryGetValue(m, out var s) ? s : new MotorSettings();
+            _anySwitch |= _settings[m].PlusLimitPosition is not null || _settings[m].MinusLimitPosition is not null;
+        }
     }
 
     /// <summary>Virtual time when a motion program first started running (the fault-injection clock's zero); null before.</summary>
@@ -95,7 +105,7 @@ internal sealed class MotorSet
     public Motor Get(int number)
     {
         var motor = _motors[number];
-        Follow(motor, 0);
+        Follow(motor);
         return motor;
     }
 
@@ -436,6 +446,11 @@ internal sealed class MotorSet
     /// <summary>The next time motors need a step: now plus a servo-sized step while any moves on its own or a program moves one near a limit.</summary>
     public double NextMotionTime(double now)
     {
+        if (Quiet())
+        {
+            return double.PositiveInfinity;
+        }
+
         var step = Math.Max(1e-5, _options.MotorStepMs / 1000.0);
         for (var m = 1; m < _motors.Length; m++)
         {
@@ -500,6 +515,11 @@ internal sealed class MotorSet
             return;
         }
 
+        if (Quiet())
+        {
+            return; // nothing moves on its own and nothing can trip: motors are read from their axes when asked
+        }
+
         var step = Math.Max(1e-5, _options.MotorStepMs / 1000.0);
         Array.Clear(_stepValid);
         _inStep = true;
@@ -515,9 +535,15 @@ internal sealed class MotorSet
 
     private void AdvanceMotors(double t0, double t1, double dt, double step)
     {
+        var lag = _options.ServoLagMs > 0;
         for (var m = 1; m < _motors.Length; m++)
         {
             var motor = _motors[m];
+            if (!motor.Moving && (motor.Detached || _map.Definition(m).Axis < 0))
+            {
+                continue; // holds its position: nothing changes over the step
+            }
+
             if (motor.Moving)
             {
                 for (var t = t0; t < t1 - 1e-12 && motor.Moving;)
@@ -530,21 +556,43 @@ internal sealed class MotorSet
 
                 ReleaseInjectedLimits(motor);
             }
-            else if (motor.Enabled)
+            else if (motor.Enabled && (lag || HasLimit(motor)))
             {
-                Follow(motor, dt);
+                // A following motor is read from its axis when asked (Get); it needs a step only to be checked.
+                Follow(motor);
                 CheckFollowing(motor);
                 ReleaseInjectedLimits(motor);
             }
         }
     }
 
+    /// <summary>
+    /// No motor moves on its own and none following a program can trip (no lag, no switch, no software limit): the
+    /// clock need not step them. The common case while a job streams, so it is checked first and cheaply.
+    /// </summary>
+    private bool Quiet()
+    {
+        if (_options.ServoLagMs > 0 || _anySwitch)
+        {
+            return false;
+        }
+
+        for (var m = 1; m < _motors.Length; m++)
+        {
+            var motor = _motors[m];
+            if (motor.Moving || motor.InjectedPlusLimit is not null || motor.InjectedMinusLimit is not null
+                || _memory.GetI((m * 100) + 13) != 0 || _memory.GetI((m * 100) + 14) != 0)
+            {
+                return false;
+            }
+        }
+
+        return true;
+    }
+
     // ---- internals ----------------------------------------------------------------------------------------------
 
-    private MotorSettings Settings(int number) =>
-        _options.MotorSettings.TryGetValue(number, out var s) ? s : DefaultSettings;
-
-    private static readonly MotorSettings DefaultSettings = new();
+    private MotorSettings Settings(int number) => _settings[number];
 
     private double I(int motor, int item) => _memory.GetI((motor * 100) + item);
 
@@ -588,8 +636,8 @@ internal sealed class MotorSet
         return motor.Velocity * _options.ServoLagMs / 1000.0;
     }
 
-    /// <summary>A motor that follows its axis takes the axis position; its velocity from the change over <paramref name="dt"/>.</summary>
-    private void Follow(Motor motor, double dt)
+    /// <summary>A motor that follows its axis takes the axis position and velocity (times its scale).</summary>
+    private void Follow(Motor motor)
     {
         var (cs, axis, scale) = _map.Definition(motor.Number);
         if (axis < 0 || motor.Detached || motor.Moving || !motor.Enabled)
@@ -615,16 +663,27 @@ internal sealed class MotorSet
         }
 
         var position = positions[axis] * scale;
-        if (dt > 0)
+        motor.Velocity = c.IsMoving ? AxisVelocity(c, axis) * scale : 0;
+        motor.Commanded = position;
+    }
+
+    /// <summary>
+    /// The axis's velocity now (units/s): the executing segment's slope at its present fraction (a central difference of
+    /// its position, whatever its profile) at the present feed override.
+    /// </summary>
+    private double AxisVelocity(CoordinateSystem c, int axis)
+    {
+        if (c.Current is not { Duration: > 0 } seg)
         {
-            motor.Velocity = c.IsMoving ? (position - motor.Commanded) / dt : 0;
-        }
-        else if (!c.IsMoving)
-        {
-            motor.Velocity = 0;
+            return 0;
         }
 
-        motor.Commanded = position;
+        var f = 1 - Math.Clamp(seg.Remaining / seg.Duration, 0, 1);
+        var f0 = Math.Max(0, f - 1e-4);
+        var f1 = Math.Min(1, f + 1e-4);
+        seg.PositionAt(f0, _velocityA);
+        seg.PositionAt(f1, _velocityB);
+        return (_velocityB[axis] - _velocityA[axis]) / (f1 - f0) / seg.Duration * (c.OverrideCurrent / 100.0);
     }
 
     private double? PlusSwitch(Motor motor) => Min(Settings(motor.Number).PlusLimitPosition, motor.InjectedPlusLimit);
@@ -756,7 +815,7 @@ internal sealed class MotorSet
         var (cs, axis, _) = _map.Definition(motor.Number);
         if (axis >= 0 && !motor.Detached && (_cs[cs].Running || _cs[cs].IsMoving))
         {
-            Follow(motor, 0);
+            Follow(motor);
             _cs[cs].Abort();
             _stepValid[cs] = false;
             Log.Warning("C.S.{Cs} aborted: motor {Motor} on a position limit", cs, motor.Number);
@@ -773,7 +832,7 @@ internal sealed class MotorSet
         {
             for (var m = 1; m < _motors.Length; m++)
             {
-                Follow(_motors[m], 0);
+                Follow(_motors[m]);
             }
 
             _cs[cs].Abort();
@@ -796,7 +855,7 @@ internal sealed class MotorSet
 
     private void Kill(Motor motor)
     {
-        Follow(motor, 0);
+        Follow(motor);
         motor.Halt();
         motor.Enabled = false;
         motor.Detached = true;
