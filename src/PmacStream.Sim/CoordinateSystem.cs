@@ -218,6 +218,15 @@ internal sealed class CoordinateSystem : IVariableAccess
         StopRunning();
     }
 
+    /// <summary>PMATCH for one axis: the next move starts from <paramref name="value"/>, where the axis's motor is (not while moving).</summary>
+    public void MatchAxis(int axis, double value)
+    {
+        if (!IsMoving)
+        {
+            _moves.Position[axis] = value;
+        }
+    }
+
     /// <summary>Positions as the motors are now (interpolated within the executing move).</summary>
     public void ActualPosition(double[] into) => _motion.Position(into, _moves.Position);
 

@@ -16,7 +16,8 @@ namespace PmacStream.Sim;
 /// <param name="buffers">The program buffers and the one open.</param>
 /// <param name="plcs">The PLC programs.</param>
 /// <param name="motors">The motor definitions.</param>
-internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coordinateSystems, ProgramBuffers buffers, PlcTable plcs, MotorMap motors)
+/// <param name="motorSet">The motors: jog, home, kill, reports.</param>
+internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coordinateSystems, ProgramBuffers buffers, PlcTable plcs, MotorMap motors, MotorSet motorSet)
 {
     // Per-line scratch, reused so that storing a line allocates only what is kept.
     private readonly List<Token> _tokens = new(32);
@@ -74,22 +75,25 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
         return c switch
         {
             'X' => string.Empty,
-            'B' => string.Join(" ", Enumerable.Range(1, 8).Select(motors.Status)) + "\r",
+            'B' => string.Join(" ", Enumerable.Range(1, 8).Select(MotorStatusOf)) + "\r",
             'C' => string.Join(" ", Enumerable.Range(1, 8).Select(n => StatusOf(coordinateSystems[n]))) + "\r",
             'G' => "000000000000\r",
-            'P' => string.Join(" ", Enumerable.Range(1, 8).Select(n => ReplyFrame.Number(motors.Position(n)))) + "\r",
-            'V' or 'F' => string.Join(" ", Enumerable.Repeat("0", 8)) + "\r",
+            'P' => string.Join(" ", Enumerable.Range(1, 8).Select(n => ReplyFrame.Number(PositionOf(n)))) + "\r",
+            'V' => string.Join(" ", Enumerable.Range(1, 8).Select(n => ReplyFrame.Number(VelocityOf(n)))) + "\r",
+            'F' => string.Join(" ", Enumerable.Range(1, 8).Select(n => ReplyFrame.Number(FollowingErrorOf(n)))) + "\r",
             _ => null,
         };
     }
 
     /// <summary>
     /// The coordinate system status (<c>??</c>, Ctrl-C): first word bit 0 running, bit 1 single step, bit 3 time mode,
-    /// bit 4 continuous motion request; second word the move mode, bit 16 rotary buffer full, bit 17 in position,
-    /// bit 21 moves queued; a third word of zeros.
+    /// bit 4 continuous motion request; second word the move mode, bit 16 rotary buffer full, bit 17 in position (no
+    /// motion and every motor in position), bits 18/19/20 warning following error, fatal following error, amplifier
+    /// fault of a motor of it, bit 21 moves queued; a third word of zeros.
     /// </summary>
-    internal static string StatusOf(CoordinateSystem cs)
+    private string StatusOf(CoordinateSystem cs)
     {
+        var (motorBits, motorsInPosition) = MotorStatus.CoordinateSystem(motorSet, cs.Number);
         var w1 = 0xA80000; // X, Y, Z used in feedrate calculations
         if (cs.Running)
         {
@@ -123,10 +127,12 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
             w2 |= 1 << 16;
         }
 
-        if (!cs.IsMoving)
+        if (!cs.IsMoving && motorsInPosition)
         {
             w2 |= 1 << 17;
         }
+
+        w2 |= motorBits;
 
         if (cs.QueuedSegments > 0)
         {
@@ -198,14 +204,48 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
 
         switch (t.Text)
         {
-            case "R" or "S" or "H" or "Q" or "A" or "K" when !p.AtValue:
+            case "R" or "S" when !p.AtValue:
+                Check(motorSet.BeforeRun(cs));
                 Motion(cs, t.Text[0]);
+                if (cs.Running)
+                {
+                    motorSet.ProgramStarted();
+                }
+
+                return;
+            case "H" or "Q" when !p.AtValue:
+                Motion(cs, t.Text[0]);
+                return;
+            case "A" when !p.AtValue:
+                Motion(cs, 'A');
+                motorSet.Abort(cs.Number);
+                return;
+            case "K" when !p.AtValue:
+                Check(motorSet.Kill(port.Motor));
+                return;
+            case "J":
+                Jog(port, cs, p);
+                return;
+            case "PMATCH":
+                motorSet.Match(cs);
+                return;
+            case "HM" or "HOME":
+                Check(motorSet.Home(port.Motor));
+                return;
+            case "HMZ" or "HOMEZ":
+                Check(motorSet.HomeHere(port.Motor));
+                return;
+            case "V" when ReportEnds(p):
+                outputs.Add(ReplyFrame.Number(VelocityOf(port.Motor)));
+                return;
+            case "F" when ReportEnds(p):
+                outputs.Add(ReplyFrame.Number(FollowingErrorOf(port.Motor)));
                 return;
             case "B":
                 Check(cs.Begin(p.IntArgument(0, 65535)));
                 return;
             case "P" when !p.AtValue:
-                outputs.Add(ReplyFrame.Number(motors.Position(port.Motor)));
+                outputs.Add(ReplyFrame.Number(PositionOf(port.Motor)));
                 return;
             case "PR":
                 outputs.Add(cs.RotaryLinesAhead().ToString(CultureInfo.InvariantCulture));
@@ -295,7 +335,7 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
 
                     outputs.Add(n switch
                     {
-                        1 => motors.Status(port.Motor),
+                        1 => MotorStatusOf(port.Motor),
                         2 => StatusOf(cs),
                         3 => "000000000000",
                         _ => throw new SimSyntaxException(3),
@@ -303,6 +343,9 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
                     return;
                 }
 
+            case "$":
+                motorSet.Reset(port.Motor);
+                return;
             case "$$$":
                 sim.Reset(factory: false);
                 return;
@@ -312,6 +355,42 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
             default:
                 throw new SimSyntaxException(3);
         }
+    }
+
+    /// <summary>A one-letter report (<c>V</c>, <c>F</c>) ends the command: the line ends or the next motor is addressed (<c>#1F#2F</c>).</summary>
+    private static bool ReportEnds(ExprParser p) => p.Peek.Kind == TokenKind.End || p.Peek.Is("#") || p.Peek.Is("&");
+
+    private string MotorStatusOf(int motor) => MotorStatus.Motor(motorSet, motors, coordinateSystems, motor);
+
+    /// <summary><c>P</c>: counts, to 1/32 count as a Turbo PMAC rounds it, shown to 6 decimals at most.</summary>
+    private double PositionOf(int motor) => Math.Round(motorSet.ActualPosition(motor), 6);
+
+    /// <summary><c>V</c>: counts per servo cycle, to a tenth (the manual's Ctrl-V rounding).</summary>
+    private double VelocityOf(int motor) => Math.Round(motorSet.ReportedVelocity(motor), 1);
+
+    private double FollowingErrorOf(int motor) => Math.Round(motorSet.FollowingError(motor), 6);
+
+    /// <summary><c>J+ J- J/ J= J={pos} J:{dist} J^{dist}</c> to the addressed motor.</summary>
+    private void Jog(SimPort port, CoordinateSystem cs, ExprParser p)
+    {
+        var t = p.Next();
+        if (t.Kind != TokenKind.Symbol || t.Text.Length != 1 || "+-/=:^".IndexOf(t.Text[0], StringComparison.Ordinal) < 0)
+        {
+            throw new SimSyntaxException(3);
+        }
+
+        var kind = t.Text[0];
+        double? value = null;
+        if (kind is '=' or ':' or '^' && p.AtValue)
+        {
+            value = p.ParseValue().Eval(cs);
+        }
+        else if (kind is ':' or '^')
+        {
+            throw new SimSyntaxException(3);
+        }
+
+        Check(motorSet.Jog(port.Motor, kind, value));
     }
 
     private static void Check(int error)

@@ -28,6 +28,7 @@ public sealed class PmacSimulator : IDisposable
     private readonly List<SimPort> _ports = [];
     private readonly ExecutionLog _log;
     private readonly MotorMap _motors;
+    private readonly MotorSet _motorSet;
     private readonly ProgramBuffers _buffers;
     private readonly OnlineCommands _commands;
     private readonly SimClock _clock;
@@ -47,10 +48,11 @@ public sealed class PmacSimulator : IDisposable
             _cs[i] = new CoordinateSystem(this, i);
         }
 
-        _motors = new MotorMap(_cs);
+        _motors = new MotorMap();
+        _motorSet = new MotorSet(_cs, _motors, Memory, Options, () => _time!.Now);
         _buffers = new ProgramBuffers(_cs, _plcs, Options, Matrices);
-        _commands = new OnlineCommands(this, _cs, _buffers, _plcs, _motors);
-        _time = new VirtualClock(_cs, _plcs, _log, Memory, Options, () => MoveExecuted is not null, PlcError);
+        _commands = new OnlineCommands(this, _cs, _buffers, _plcs, _motors, _motorSet);
+        _time = new VirtualClock(_cs, _plcs, _log, Memory, Options, () => MoveExecuted is not null, PlcError, _motorSet);
         _clock = new SimClock(_sync, _time.Step, RaiseEvents, _ => InternalFaults++);
         PowerOn(factory: true);
     }
@@ -303,6 +305,68 @@ public sealed class PmacSimulator : IDisposable
         }
     }
 
+    /// <summary>
+    /// Schedules <paramref name="fault"/> at its time on the program clock (seconds after a motion program first
+    /// starts running; at once when that time has passed), as <c>pmacstream sim --inject</c> does.
+    /// </summary>
+    public void InjectFault(FaultInjection fault)
+    {
+        ArgumentNullException.ThrowIfNull(fault);
+        lock (_sync)
+        {
+            _motorSet.Schedule(fault);
+        }
+    }
+
+    /// <summary>Injects <paramref name="kind"/> into motor <paramref name="motor"/> now.</summary>
+    public void InjectFault(FaultKind kind, int motor)
+    {
+        ArgumentOutOfRangeException.ThrowIfLessThan(motor, 1);
+        ArgumentOutOfRangeException.ThrowIfGreaterThan(motor, MotorMap.Count);
+        lock (_sync)
+        {
+            _motorSet.Fire(kind, motor);
+        }
+    }
+
+    /// <summary>Virtual seconds since a motion program first started running (the fault-injection clock); null before.</summary>
+    public double? ProgramClock
+    {
+        get
+        {
+            lock (_sync)
+            {
+                return _motorSet.ProgramEpoch is { } epoch ? _time.Now - epoch : null;
+            }
+        }
+    }
+
+    /// <summary>A snapshot of motor <paramref name="motor"/> (1..32): what <c>P</c>, <c>V</c>, <c>F</c> and <c>?</c> report, in counts.</summary>
+    public MotorSnapshot Motor(int motor)
+    {
+        ArgumentOutOfRangeException.ThrowIfLessThan(motor, 1);
+        ArgumentOutOfRangeException.ThrowIfGreaterThan(motor, MotorMap.Count);
+        lock (_sync)
+        {
+            var m = _motorSet.Get(motor);
+            return new MotorSnapshot(
+                _motorSet.ActualPosition(motor),
+                m.Commanded,
+                m.Machine,
+                m.Velocity,
+                _motorSet.FollowingError(motor),
+                m.HomeComplete,
+                m.Enabled,
+                m.Moving,
+                _motorSet.InPosition(motor),
+                m.StoppedOnLimit,
+                _motorSet.PlusLimitInput(motor),
+                _motorSet.MinusLimitInput(motor),
+                m.AmpFault,
+                m.FatalFollowingError);
+        }
+    }
+
     /// <inheritdoc />
     public void Dispose()
     {
@@ -491,6 +555,7 @@ public sealed class PmacSimulator : IDisposable
         Memory.SetI(17, Options.I17);
         Memory.SetI(10, 3713991);
         _motors.PowerOn();
+        _motorSet.PowerOn();
 
         foreach (var port in _ports)
         {

@@ -144,4 +144,37 @@ public sealed class SimOptions
 
     /// <summary>Statements a program may run without producing a move before the calculation yields (runaway-loop guard).</summary>
     public int MaxStatementsPerCalculation { get; set; } = 100_000;
+
+    /// <summary>
+    /// Motors start with Home Complete set, as a machine with absolute encoders or one already homed. Default true (what
+    /// the command line's built-in simulator and the tests use); <c>pmacstream sim</c> starts unhomed unless <c>--homed</c>.
+    /// </summary>
+    public bool StartHomed { get; set; } = true;
+
+    /// <summary>
+    /// The servo loop as a pure lag, milliseconds: the following error is the commanded velocity times this. Default 0
+    /// (*assumed*: an ideal servo, actual = commanded); set it to see warning/fatal following error (Ixx12/Ixx11) at speed.
+    /// </summary>
+    public double ServoLagMs { get; set; }
+
+    /// <summary>
+    /// Step of the motors' own moves (jog, homing) and of the limit checks of program moves near a limit, milliseconds.
+    /// Default 1 (*assumed*; a Turbo PMAC's servo cycle is about 0.44 ms): a limit stops a program within one step.
+    /// </summary>
+    public double MotorStepMs { get; set; } = 1.0;
+
+    /// <summary>How far (counts) a motor may be from where a held program stopped for <c>R</c> to resume it (else ERR017). Default 0.5 (*assumed*).</summary>
+    public double ResumePositionToleranceCounts { get; set; } = 0.5;
+
+    /// <summary>
+    /// A fault kill (fatal following error, amplifier fault) kills every motor of the motor's coordinate system, not only
+    /// the motor. Default true (*assumed*: the choice a Turbo PMAC makes with Ixx24 bits 21-22, not simulated).
+    /// </summary>
+    public bool FaultKillsCoordinateSystem { get; set; } = true;
+
+    /// <summary>Home switch and hardware limit positions per motor number (*assumed*: what the machine has); motors not listed have the defaults.</summary>
+    public IDictionary<int, MotorSettings> MotorSettings { get; } = new Dictionary<int, MotorSettings>();
+
+    /// <summary>Faults to inject, each at its time after a motion program first starts running (<c>pmacstream sim --inject</c>).</summary>
+    public IList<FaultInjection> Faults { get; } = new List<FaultInjection>();
 }

@@ -15,8 +15,9 @@ namespace PmacStream.Sim;
 /// <param name="options">Speed, scan period, statement budget.</param>
 /// <param name="notifyMoves">True when finished moves are to be kept for the subscribers.</param>
 /// <param name="plcError">A PLC stopped with a run-time error (its number, the ERR number).</param>
+/// <param name="motors">The motors: their own moves (jog, homing), limit checks and injected faults are events too.</param>
 internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTable plcs, ExecutionLog log, SimMemory memory, SimOptions options,
-    Func<bool> notifyMoves, Action<int, int> plcError)
+    Func<bool> notifyMoves, Action<int, int> plcError, MotorSet motors)
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<PmacSimulator>();
 
@@ -43,12 +44,15 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
             var before = _now;
             var movesBefore = log.Count;
             Settle();
+            motors.FireDue(_now);
             if (_now >= until)
             {
                 break;
             }
 
             var motionNext = NextMotionEvent();
+
+            motionNext = Math.Min(motionNext, motors.NextMotionTime(_now));
 
             // Idle means no motion that can progress (none, or all held at 0 %).
             if (untilIdle && double.IsPositiveInfinity(motionNext))
@@ -57,6 +61,7 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
             }
 
             var next = Math.Min(until, motionNext);
+            next = Math.Min(next, Math.Max(_now, motors.NextFaultTime()));
 
             var plcActive = plcs.AnyEnabled;
             if (plcActive)
@@ -79,6 +84,7 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
                     }
                 }
 
+                motors.Advance(_now, next);
                 _now = next;
             }
 
@@ -188,6 +194,11 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
 
     private bool AllHeld()
     {
+        if (motors.AnyMoving)
+        {
+            return false;
+        }
+
         for (var i = 1; i < coordinateSystems.Length; i++)
         {
             if (coordinateSystems[i].IsMoving && !double.IsPositiveInfinity(coordinateSystems[i].NextEventTime(_now)))
@@ -209,7 +220,7 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
             }
         }
 
-        return false;
+        return motors.AnyMoving;
     }
 
     private bool AnyMotion()
@@ -222,6 +233,6 @@ internal sealed class VirtualClock(CoordinateSystem[] coordinateSystems, PlcTabl
             }
         }
 
-        return false;
+        return motors.AnyMoving;
     }
 }

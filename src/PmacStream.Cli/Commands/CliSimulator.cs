@@ -18,7 +18,9 @@ internal sealed class CliSimulator(SimSpeed speed) : IDisposable
     public Task<SimulatorLink> OpenAsync(CancellationToken cancellationToken)
     {
         Sim?.Dispose();
-        var sim = Sim = new PmacSimulator(new SimOptions { Speed = speed, RetainExecutedMoves = false });
+        // Homed at start: the command itself stands for an operator who homed the machine, so `demo` and every `--sim`
+        // run work as they always have (a served `pmacstream sim` starts unhomed).
+        var sim = Sim = new PmacSimulator(new SimOptions { Speed = speed, RetainExecutedMoves = false, StartHomed = true });
         var connection = new InProcessConnection(sim.OpenPort("stream"), "sim");
         return Task.FromResult(new SimulatorLink(connection, new SimTimeProvider(sim))
         {

@@ -20,7 +20,10 @@ namespace PmacStream.Cli.Commands;
 /// <param name="IdleTimeout">Seconds without a packet before an Ethernet connection closes (0: never).</param>
 /// <param name="MaxClients">Ethernet connections served at once.</param>
 /// <param name="Library">The library loaded at start: a profile, a library file or <c>none</c>.</param>
-internal sealed record SimArgs(string Tcp, string? Serial, int Baud, string Speed, int? RotWords, string? ExecutedLog, double IdleTimeout, int MaxClients, string Library);
+/// <param name="Homed">Start with every motor homed (<c>--homed</c>); else unhomed, as incremental encoders start.</param>
+/// <param name="Inject">Faults to inject, <c>KIND:MOTOR@SECONDS</c> each.</param>
+internal sealed record SimArgs(string Tcp, string? Serial, int Baud, string Speed, int? RotWords, string? ExecutedLog, double IdleTimeout, int MaxClients, string Library,
+    bool Homed = false, IReadOnlyList<string>? Inject = null);
 
 /// <summary>`pmacstream sim`: the simulated Turbo PMAC served over Ethernet (VR_PMAC) and/or a serial line.</summary>
 internal static class SimCommand
@@ -36,6 +39,13 @@ internal static class SimCommand
         var idleTimeout = new Option<double>("--idle-timeout") { Description = "Close an Ethernet connection after this many seconds without a packet (0 = never).", DefaultValueFactory = _ => 300 };
         var maxClients = new Option<int>("--max-clients") { Description = "Ethernet connections served at once; when all are taken, the one idle longest (2 s or more) makes room for a new client.", DefaultValueFactory = _ => 32 };
 
+        var homed = new Option<bool>("--homed") { Description = "Start with every motor homed (Home Complete set), as a machine with absolute encoders. Without it the simulator starts unhomed, as a machine with incremental encoders does: home with #nHM." };
+        var inject = new Option<string[]>("--inject")
+        {
+            Description = "Inject a fault KIND:MOTOR@SECONDS, SECONDS on the simulator's clock after a motion program first starts running (homing and jogging do not count). KIND: limit+, limit- (stays until the motor is jogged off it), fatal-following-error, amp-fault (until re-enabled: #nJ/, #n$ or &nA). Repeatable.",
+            HelpName = "KIND:MOTOR@SECONDS",
+            AllowMultipleArgumentsPerToken = false,
+        };
         var library = new Option<string>("--library")
         {
             Description = "The PROG 1000/1001 library loaded at start, as on a configured controller: a profile (built-in name or JSON file) whose library and tables are loaded, a PMAC library file (e.g. from 'pmacstream prog1000'), or 'none' (a bare controller).",
@@ -43,14 +53,14 @@ internal static class SimCommand
             DefaultValueFactory = _ => MachineProfile.DefaultName,
         };
         var cmd = new Command("sim", "Run the simulated Turbo PMAC as a server until Ctrl-C or SIGTERM.");
-        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients, library })
+        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients, library, homed, inject })
         {
             cmd.Options.Add(o);
         }
 
         cmd.SetAction((parse, ct) => RunAsync(
             new SimArgs(parse.GetValue(tcp)!, parse.GetValue(serial), parse.GetValue(baud), parse.GetValue(speed)!, parse.GetValue(rotWords), parse.GetValue(executedLog),
-                parse.GetValue(idleTimeout), parse.GetValue(maxClients), parse.GetValue(library)!),
+                parse.GetValue(idleTimeout), parse.GetValue(maxClients), parse.GetValue(library)!, parse.GetValue(homed), parse.GetValue(inject) ?? []),
             CliConsole.Standard,
             ct));
         return cmd;
@@ -106,10 +116,25 @@ internal static class SimCommand
         return CliGlobals.Ok;
     }
 
-    /// <summary>The host's options from the bound ones (the executed-move log is streamed to its file: memory does not grow with the program).</summary>
+    /// <summary>
+    /// The host's options from the bound ones (the executed-move log is streamed to its file: memory does not grow with
+    /// the program). A served controller starts unhomed, as a machine with incremental encoders, unless --homed.
+    /// </summary>
     private static SimHostOptions HostOptions(SimArgs args)
     {
-        var options = new SimOptions { RetainExecutedMoves = false };
+        var options = new SimOptions { RetainExecutedMoves = false, StartHomed = args.Homed };
+        foreach (var spec in args.Inject ?? [])
+        {
+            try
+            {
+                options.Faults.Add(FaultInjection.Parse(spec));
+            }
+            catch (FormatException e)
+            {
+                throw new CliException(e.Message);
+            }
+        }
+
         try
         {
             options.Speed = SimSpeed.Parse(args.Speed);
@@ -175,6 +200,12 @@ internal static class SimCommand
         if (options.SerialPath is not null)
         {
             await console.Out.WriteLineAsync($"pmacstream sim: serving serial {options.SerialPath}, speed {speed}").ConfigureAwait(false);
+        }
+
+        await console.Out.WriteLineAsync(options.Simulator.StartHomed ? "pmacstream sim: motors homed at start (--homed)" : "pmacstream sim: motors not homed at start (home with #nHM, or start with --homed)").ConfigureAwait(false);
+        foreach (var fault in options.Simulator.Faults)
+        {
+            await console.Out.WriteLineAsync(string.Create(CultureInfo.InvariantCulture, $"pmacstream sim: will inject {fault} ({fault.Seconds} s after a motion program first starts)")).ConfigureAwait(false);
         }
 
         console.Out.Flush();

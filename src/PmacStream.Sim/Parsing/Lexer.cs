@@ -37,7 +37,7 @@ internal static class Lexer
         "ENDWHILE", "EXP", "GAT", "GATHER", "GOSUB", "GOTO", "IF", "INC", "INT", "LINEAR", "LIST", "LN", "NORMAL", "OPEN",
         "OR", "PLC", "PR", "PROG", "RAPID", "READ", "RET", "RETURN", "ROT", "SAVE", "SIN", "SQRT", "STOP", "TA", "TAN",
         "TM", "TS", "TYPE", "VER", "VERSION", "WHILE", "CMD", "SEND", "ROTARY", "PROGRAM", "CTRL",
-        "TSEL", "TSELECT", "TINIT", "ADIS", "IDIS", "AROT", "IROT", "TBUF",
+        "TSEL", "TSELECT", "TINIT", "ADIS", "IDIS", "AROT", "IROT", "TBUF", "HM", "HMZ", "HOME", "HOMEZ", "PMATCH",
     ];
 
     private static readonly HashSet<string> KeywordSet = new(Keywords, StringComparer.Ordinal);
@@ -128,7 +128,9 @@ internal static class Lexer
 
                 if (i == start + 1)
                 {
-                    throw new SimSyntaxException(3);
+                    // A lone $ is the motor reset command (#n$), not a hex constant.
+                    tokens.Add(new Token(TokenKind.Symbol, "$", 0, start, i));
+                    continue;
                 }
 
                 // More hex digits than a 64-bit word holds is an illegal constant, not a fault of the controller.

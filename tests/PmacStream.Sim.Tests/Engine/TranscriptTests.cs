@@ -38,7 +38,7 @@ public class TranscriptTests
     [InlineData("&1 DEL ROT", "<ACK>")]
     [InlineData("%", "100<CR><ACK>")]
     [InlineData("&1??", "A80000020000000000<CR><ACK>")]
-    [InlineData("#1?", "80200001C401<CR><ACK>")]
+    [InlineData("#1?", "88200007C401<CR><ACK>")]
     [InlineData("P1=2 &1 P1", "2<CR><ACK>")]
     [InlineData("P1=7 %50 P1", "7<CR><ACK>")]
     [InlineData("P1=7 % 4 P1", "3<CR><ACK>")]
