@@ -150,6 +150,12 @@ public static class DiagnosticCodes
     /// <summary>Text after the <c>%</c> that ends the tape: ignored.</summary>
     public const string TextAfterTapeEnd = "W007";
 
+    /// <summary>
+    /// A centre-format arc inside the profile's arc tolerance whose radii differ by more than rounding to the program's
+    /// last decimal explains: it runs (as a spiral to the programmed end), but the post or the hand that wrote it erred.
+    /// </summary>
+    public const string ArcRoundedOffCircle = "W008";
+
     /// <summary>The program has no program number (O word).</summary>
     public const string NoProgramNumber = "W001";
 
@@ -172,6 +178,7 @@ public static class DiagnosticCodes
         NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
         NotRunnableInJob, TooManyWords, TransformNotRunnable, CycleInInverseTime, RotaryOffset,
         NoCutterRadius, CompensationNotRunnable, CompensationEntryTooShort, CompensationConcaveCorner,
+        ArcRoundedOffCircle,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

@@ -25,7 +25,9 @@ public static class DiagnosticText
         [DiagnosticCodes.DuplicateWord] = ("word {0} appears twice in the block (first at column {1})", "同一段中字 {0} 出现两次（第一次在第 {1} 列）"),
         [DiagnosticCodes.MotionWithoutAxes] = ("G{0} without axis words: expected an end point such as X, Y or Z", "G{0} 没有坐标字：应给出终点，如 X、Y 或 Z"),
         [DiagnosticCodes.ArcWithoutCenter] = ("arc G{0} without R or {1}: expected the radius or the centre offset for plane G{2}", "圆弧 G{0} 没有 R 或 {1}：平面 G{2} 需要半径或圆心偏移"),
-        [DiagnosticCodes.ArcRadiusMismatch] = ("arc end point is not on the circle: start radius {0}, end radius {1} (tolerance {2})", "圆弧终点不在圆上：起点半径 {0}，终点半径 {1}（允差 {2}）"),
+        [DiagnosticCodes.ArcRadiusMismatch] = ("arc end point is not on the circle: start radius {0}, end radius {1} (the profile's arc tolerance: {2} and {3} % of the radius)", "圆弧终点不在圆上：起点半径 {0}，终点半径 {1}（机床配置的圆弧允差：{2} 且半径的 {3} %）"),
+        [ArcRadiusKey] = ("arc radius R {0} is shorter than half the chord ({1}) by more than the profile's tolerance {2}: the end point cannot be reached", "圆弧半径 R {0} 比弦长的一半（{1}）短，超过机床配置的允差 {2}：无法到达终点"),
+        [DiagnosticCodes.ArcRoundedOffCircle] = ("arc end point is {0} off its circle (start radius {1}, end radius {2}): within the arc tolerance, but more than rounding to the program's last decimal explains ({3}); the controller runs a spiral to the programmed end point", "圆弧终点偏离圆 {0}（起点半径 {1}，终点半径 {2}）：在圆弧允差之内，但超过程序末位小数的舍入误差（{3}）；控制器以螺旋线走到编程终点"),
         [DiagnosticCodes.FeedMoveWithoutFeed] = ("feed move G{0} without a feed rate: expected an F word greater than 0 before or in this block", "进给运动 G{0} 没有进给速度：本段或之前应有大于 0 的 F 字"),
         [DiagnosticCodes.UnsupportedLetter] = ("address letter '{0}' is not used by machine profile '{1}' (letters {2})", "机床配置 '{1}' 不使用地址字母 '{0}'（可用字母 {2}）"),
         [DiagnosticCodes.EmptyProgram] = ("empty program: the file holds no blocks", "空程序：文件中没有程序段"),
@@ -55,6 +57,9 @@ public static class DiagnosticText
         [UnlistedKey] = ("{0} more not listed (at most {1} a line)", "另有 {0} 条未列出（每行最多 {1} 条）"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };
+
+    /// <summary>The key of E115's text for an R shorter than half the chord.</summary>
+    internal const string ArcRadiusKey = "arc-r";
 
     /// <summary>The key of E102's text for a LinuxCNC o-word construct (<c>O100 sub</c>), which no profile runs.</summary>
     internal const string OWordKey = "oword";

@@ -448,7 +448,11 @@ public sealed partial class Interpreter
                     kind = cw ? MotionKind.ArcCw : MotionKind.ArcCcw;
                     // Under compensation the arc is the programmed one (from the programmed point), then offset.
                     (center, length) = ArcGeometry.Solve(cw, _plane, _comp.Active ? _comp.Programmed(start) : start, end, i0, j0, k0, r, _arcAbsolute && _transform == null, _coords.Active,
-                        _profile.ArcTolerance, diags, line, modeCol, col);
+                        _profile.ArcTolerance, _scale, diags, line, modeCol, col, out var radii);
+                    if (diags != null && radii.Start != radii.End)
+                    {
+                        WarnOffCircle(radii, block, wordSpan, diags, line, modeCol);
+                    }
                     if (_comp.Active)
                     {
                         (end, length) = CompensateArc(start, end, center, cw, length, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);

@@ -86,6 +86,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G02 X10. Y-10. R10. F100", 4, 8 },
         { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-4.\nG41 D1 G01 X0 Y0 F100", 4, 8 },
         { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nX-30.", 5, 1 },
+        { DiagnosticCodes.ArcRoundedOffCircle, "O1\nF100\nG02 X20.010 Y0 I10.000 J0", 3, 1 },
     };
 
     public static TheoryData<string, string> Good => new()
@@ -127,6 +128,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nY10.\nG40 X20. Y-10.\nG02 X30. Y0 R10." },
         { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100" },
         { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nY10.\nX10.\nY-10." },
+        { DiagnosticCodes.ArcRoundedOffCircle, "O1\nG20 F10.\nG02 X2.0002 Y0 I1.0001 J0\nG02 X0.0001 Y0 I-1. J0" },
     };
 
     [Theory]
