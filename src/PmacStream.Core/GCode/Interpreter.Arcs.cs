@@ -9,7 +9,8 @@ public sealed partial class Interpreter
     /// <summary>
     /// W008 for a centre-format arc inside the arc tolerance whose <paramref name="radii"/> (program units) differ
     /// by more than rounding start, end and centre to the program's last decimal can explain. Only arcs that are off
-    /// at all get here, and only while checking: the decimals are counted in this block's own words.
+    /// at all get here, and only while checking: the decimals are counted in this block's own words. Never under a
+    /// micrometre.
     /// </summary>
     private void WarnOffCircle((double Start, double End) radii, GBlock block, ReadOnlySpan<GWord> words, List<Diagnostic> diags, int line, int column)
     {
@@ -26,8 +27,10 @@ public sealed partial class Interpreter
             }
         }
 
+        // Below a micrometre the controller does not tell the spiral from the circle (it compares within 0.001 mm),
+        // so programs written to six decimals are not warned for their last digits.
         var off = Math.Abs(radii.Start - radii.End);
-        var bound = ArcTolerance.RoundingBound(_arcDecimals);
+        var bound = Math.Max(ArcTolerance.RoundingBound(_arcDecimals), 0.001 / _scale);
         if (off > bound)
         {
             var units = _scale != 1.0 ? "in" : "mm";

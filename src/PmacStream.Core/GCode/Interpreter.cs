@@ -486,6 +486,11 @@ public sealed partial class Interpreter
             seconds += RapidTime(hook);
         }
 
+        if (diags != null && (anyG || anyM || col['T' - 'A'] != 0 || _extendedSetLine > 0))
+        {
+            CheckDialect(codes, toolChange, kind, start, x, y, z, col, val, wordSpan, diags, line);
+        }
+
         // Most blocks carry no parameter word: eight loads instead of the report's loop.
         if (diags != null && (col['I' - 'A'] | col['J' - 'A'] | col['K' - 'A'] | col['R' - 'A'] | col['P' - 'A'] | col['Q' - 'A'] | col['L' - 'A'] | col['E' - 'A']) != 0)
         {
