@@ -97,9 +97,10 @@ public sealed partial class Interpreter
             _toolSelected = false;
         }
 
-        foreach (ref readonly var w in words)
+        for (var i = 0; i < words.Length && _coords.Shift != default; i++)
         {
-            if (w.Letter == 'M' && w.Value is 2 or 30 && _coords.Shift != default)
+            ref readonly var w = ref words[i];
+            if (w.Letter == 'M' && w.Value is 2 or 30)
             {
                 var s = InProgramUnits(_coords.Shift);
                 Add(diags, DiagnosticCodes.DialectG92AtEnd, line, w.Column,

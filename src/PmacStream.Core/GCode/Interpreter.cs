@@ -449,7 +449,7 @@ public sealed partial class Interpreter
                     // Under compensation the arc is the programmed one (from the programmed point), then offset.
                     (center, length) = ArcGeometry.Solve(cw, _plane, _comp.Active ? _comp.Programmed(start) : start, end, i0, j0, k0, r, _arcAbsolute && _transform == null, _coords.Active,
                         _profile.ArcTolerance, _scale, diags, line, modeCol, col, out var radii);
-                    if (diags != null && radii.Start != radii.End)
+                    if (diags != null && Math.Abs(radii.Start - radii.End) > 0.001 / _scale)
                     {
                         WarnOffCircle(radii, block, wordSpan, diags, line, modeCol);
                     }
