@@ -13,11 +13,17 @@ public static class ArcGeometry
     /// Solves an arc in <paramref name="plane"/> (17, 18 or 19). With <paramref name="absoluteCentre"/> the centre words
     /// are coordinates of the work system, shifted by <paramref name="offset"/> into machine coordinates. Reports
     /// E113 (no centre) and E115 (end not on the circle) into <paramref name="diags"/>; the centre is null when the
-    /// circle cannot be placed (the length is then the chord).
+    /// circle cannot be placed (the length is then the chord). Positions are millimetres; <paramref name="scale"/> (25.4
+    /// in G20) turns them back into the program's units, in which <paramref name="tolerance"/> is compared.
+    /// <paramref name="radii"/> are a centre-format arc's start and end radii (program units) when it runs, for the
+    /// rounding warning; (0, 0) otherwise.
     /// </summary>
-    internal static (Point3? Center, double Length) Solve(bool cw, int plane, Point3 start, Point3 end, double? i, double? j, double? k, double? r,
-        bool absoluteCentre, Point3 offset, double tolerance, List<Diagnostic>? diags, int line, int column, Span<int> col)
+    public static (Point3? Center, double Length) Solve(bool cw, int plane, Point3 start, Point3 end, double? i, double? j, double? k, double? r,
+        bool absoluteCentre, Point3 offset, ArcTolerance tolerance, double scale, List<Diagnostic>? diags, int line, int column, Span<int> col,
+        out (double Start, double End) radii)
     {
+        radii = default;
+        var inch = scale != 1.0;
         // Map the plane to (first, second, linear) axes; G18 is ZX so that G02/G03 keep the right-hand rule.
         (double s1, double s2, double sl, double e1, double e2, double el, double? o1, double? o2, double b1, double b2, string names) = plane switch
         {
@@ -34,10 +40,18 @@ public static class ArcGeometry
             var chord = Math.Sqrt((dx * dx) + (dy * dy));
             var half = chord / 2;
             var rr = Math.Abs(radius);
-            if (chord < 1e-12 || half - rr > tolerance)
+            // rs274ngc's arc_data_r: R may fall short of half the chord by a rounding's worth; the arc is then the
+            // half circle on the chord (the centre at its middle), which the host sends as its centre.
+            var slack = tolerance.RadiusSlack(inch);
+            if (chord < 1e-12 || ((half - rr) / scale) - slack > 1e-12 * Math.Max(1, half))
             {
-                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, col['R' - 'A'], ModalState.Num(Math.Round(rr, 4)),
-                    ModalState.Num(Math.Round(half, 4)), ModalState.Num(tolerance));
+                if (diags != null)
+                {
+                    var units = inch ? "in" : "mm";
+                    diags.Add(new Diagnostic(Severity.Error, DiagnosticCodes.ArcRadiusMismatch, line, col['R' - 'A'], DiagnosticText.Format(DiagnosticText.ArcRadiusKey,
+                        Length(rr / scale, units), Length(half / scale, units), Length(slack, units))));
+                }
+
                 return (null, start.DistanceTo(end));
             }
 
@@ -53,11 +67,19 @@ public static class ArcGeometry
             c2 = absoluteCentre ? b2 + (o2 ?? s2 - b2) : s2 + (o2 ?? 0);
             var r0 = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
             var r1 = Math.Sqrt(((e1 - c1) * (e1 - c1)) + ((e2 - c2) * (e2 - c2)));
-            if (Math.Abs(r0 - r1) > tolerance && Math.Abs(r0 - r1) > 0.001 * Math.Max(r0, r1))
+            // Compared in the program's units, as rs274ngc compares them (its tolerances are per unit system).
+            if (tolerance.Refuses(r0 / scale, r1 / scale, inch))
             {
                 var firstOffset = plane switch { 18 => Min(col['K' - 'A'], col['I' - 'A']), 19 => Min(col['J' - 'A'], col['K' - 'A']), _ => Min(col['I' - 'A'], col['J' - 'A']) };
-                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, firstOffset, ModalState.Num(Math.Round(r0, 4)),
-                    ModalState.Num(Math.Round(r1, 4)), ModalState.Num(tolerance));
+                var units = inch ? "in" : "mm";
+                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, firstOffset, Length(r0 / scale, units), Length(r1 / scale, units),
+                    Length(inch ? tolerance.Inch : tolerance.Millimetre, units), ModalState.Num(tolerance.Relative * 100));
+            }
+            else
+            {
+                // The PMAC runs such an arc as a spiral from the start radius to the end radius, ending exactly at the
+                // programmed end point (Turbo SRM, CIRCLE1/CIRCLE2), as LinuxCNC does.
+                radii = (r0 / scale, r1 / scale);
             }
         }
         else
@@ -159,6 +181,8 @@ public static class ArcGeometry
         var n1 = Normal(end, plane);
         return FromPlane(ca + (radius * Math.Cos(angle)), cb + (radius * Math.Sin(angle)), n0 + ((n1 - n0) * t), plane);
     }
+    /// <summary>A length for a message: six decimals at most, and its unit.</summary>
+    internal static string Length(double value, string units) => ModalState.Num(Math.Round(value, 6)) + " " + units;
 
     private static int Min(int a, int b) => a == 0 ? b : b == 0 ? a : Math.Min(a, b);
 

@@ -150,6 +150,33 @@ public static class DiagnosticCodes
     /// <summary>Text after the <c>%</c> that ends the tape: ignored.</summary>
     public const string TextAfterTapeEnd = "W007";
 
+    /// <summary>
+    /// A centre-format arc inside the profile's arc tolerance whose radii differ by more than rounding to the program's
+    /// last decimal explains: it runs (as a spiral to the programmed end), but the post or the hand that wrote it erred.
+    /// </summary>
+    public const string ArcRoundedOffCircle = "W008";
+
+    /// <summary>
+    /// <c>G10 L20 P</c> under a profile with FANUC's extended offsets (it set <c>G54.1 P</c>), then a move before the
+    /// program selected that offset: under grbl and LinuxCNC it set <c>G54</c>.. so that the position reads as the values.
+    /// </summary>
+    public const string DialectG10L20 = "W009";
+
+    /// <summary><c>G04 P</c> whose value looks written for the other unit (a fraction of a millisecond, or 100 s and more).</summary>
+    public const string DialectDwellUnits = "W010";
+
+    /// <summary><c>G10 L2 P0</c>: FANUC's external work offset, or LinuxCNC's and grbl's offset in force.</summary>
+    public const string DialectG10L2P0 = "W011";
+
+    /// <summary><c>G28</c>/<c>G30</c> without axis words (grbl and LinuxCNC move every axis, FANUC none), or in G90 through an intermediate point that moves.</summary>
+    public const string DialectReturn = "W012";
+
+    /// <summary><c>M06</c> with no T word since the last tool change: the tool of the last T, not one written after it.</summary>
+    public const string DialectToolChange = "W013";
+
+    /// <summary>A <c>G92</c> shift still in force at program end: LinuxCNC keeps it for the next program; this host's next job starts without it.</summary>
+    public const string DialectG92AtEnd = "W014";
+
     /// <summary>The program has no program number (O word).</summary>
     public const string NoProgramNumber = "W001";
 
@@ -172,6 +199,7 @@ public static class DiagnosticCodes
         NestedComment, RequiredWordMissing, ValueNotAllowed, NoMotionMode, NotYetOnController, TextAfterTapeEnd,
         NotRunnableInJob, TooManyWords, TransformNotRunnable, CycleInInverseTime, RotaryOffset,
         NoCutterRadius, CompensationNotRunnable, CompensationEntryTooShort, CompensationConcaveCorner,
+        ArcRoundedOffCircle, DialectG10L20, DialectDwellUnits, DialectG10L2P0, DialectReturn, DialectToolChange, DialectG92AtEnd,
     ];
 
     /// <summary>Severity of a code: <c>E</c> codes are errors, <c>W</c> codes warnings.</summary>

@@ -25,7 +25,9 @@ public static class DiagnosticText
         [DiagnosticCodes.DuplicateWord] = ("word {0} appears twice in the block (first at column {1})", "同一段中字 {0} 出现两次（第一次在第 {1} 列）"),
         [DiagnosticCodes.MotionWithoutAxes] = ("G{0} without axis words: expected an end point such as X, Y or Z", "G{0} 没有坐标字：应给出终点，如 X、Y 或 Z"),
         [DiagnosticCodes.ArcWithoutCenter] = ("arc G{0} without R or {1}: expected the radius or the centre offset for plane G{2}", "圆弧 G{0} 没有 R 或 {1}：平面 G{2} 需要半径或圆心偏移"),
-        [DiagnosticCodes.ArcRadiusMismatch] = ("arc end point is not on the circle: start radius {0}, end radius {1} (tolerance {2})", "圆弧终点不在圆上：起点半径 {0}，终点半径 {1}（允差 {2}）"),
+        [DiagnosticCodes.ArcRadiusMismatch] = ("arc end point is not on the circle: start radius {0}, end radius {1} (the profile's arc tolerance: {2} and {3} % of the radius)", "圆弧终点不在圆上：起点半径 {0}，终点半径 {1}（机床配置的圆弧允差：{2} 且半径的 {3} %）"),
+        [ArcRadiusKey] = ("arc radius R {0} is shorter than half the chord ({1}) by more than the profile's tolerance {2}: the end point cannot be reached", "圆弧半径 R {0} 比弦长的一半（{1}）短，超过机床配置的允差 {2}：无法到达终点"),
+        [DiagnosticCodes.ArcRoundedOffCircle] = ("arc end point is {0} off its circle (start radius {1}, end radius {2}): within the arc tolerance, but more than rounding to the program's last decimal explains ({3}); the controller runs a spiral to the programmed end point", "圆弧终点偏离圆 {0}（起点半径 {1}，终点半径 {2}）：在圆弧允差之内，但超过程序末位小数的舍入误差（{3}）；控制器以螺旋线走到编程终点"),
         [DiagnosticCodes.FeedMoveWithoutFeed] = ("feed move G{0} without a feed rate: expected an F word greater than 0 before or in this block", "进给运动 G{0} 没有进给速度：本段或之前应有大于 0 的 F 字"),
         [DiagnosticCodes.UnsupportedLetter] = ("address letter '{0}' is not used by machine profile '{1}' (letters {2})", "机床配置 '{1}' 不使用地址字母 '{0}'（可用字母 {2}）"),
         [DiagnosticCodes.EmptyProgram] = ("empty program: the file holds no blocks", "空程序：文件中没有程序段"),
@@ -52,9 +54,22 @@ public static class DiagnosticText
         [DiagnosticCodes.CompensationNotRunnable] = ("{0} under cutter radius compensation: {1}", "刀具半径补偿下的 {0}：{2}"),
         [DiagnosticCodes.CompensationEntryTooShort] = ("cutter radius compensation entry move is not longer than the tool radius ({0} mm)", "刀具半径补偿的引入运动不长于刀具半径（{0} mm）"),
         [DiagnosticCodes.CompensationConcaveCorner] = ("inside corner under cutter radius compensation: the host compensates outside corners and straight runs only; the end of the move before would have to move back", "刀具半径补偿下的内拐角：主机只补偿外拐角和直线延续；前一运动的终点需要回退"),
+        [DiagnosticCodes.DialectG10L20] = ("G10 L20 P{0} at line {1} set the extended work offset G54.1 P{0} under profile '{2}' (FANUC), which the program has not selected before this move; under grbl and LinuxCNC G10 L20 P{0} sets work offset P{0} (G54 for P1) so that the position there reads as {3}: a program written for them runs this move off by that offset", "第 {1} 行的 G10 L20 P{0} 在机床配置 '{2}'（FANUC）下设定扩展工件坐标系 G54.1 P{0}，而程序在此运动之前没有选用它；在 grbl 和 LinuxCNC 中 G10 L20 P{0} 设定工件坐标系 P{0}（P1 即 G54），使当时位置读作 {3}：为它们编写的程序此运动将偏移该偏置量"),
+        [DiagnosticCodes.DialectDwellUnits] = ("G04 P{0}: FANUC and Haas read P in milliseconds ({1} s), LinuxCNC and grbl in seconds ({0} s); profile '{2}' takes the {3} meaning, and the value looks written for the other: write G04 X in seconds", "G04 P{0}：FANUC 和 Haas 的 P 以毫秒计（{1} 秒），LinuxCNC 和 grbl 以秒计（{0} 秒）；机床配置 '{2}' 按 {3} 的含义执行，而此值像是为另一方言编写：请用 G04 X 指定秒数"),
+        [DiagnosticCodes.DialectG10L2P0] = ("G10 L2 P0 has two meanings: FANUC sets the external work offset, added to every work coordinate system; LinuxCNC and grbl set the work offset in force ({2}); profile '{0}' takes the {1} meaning", "G10 L2 P0 有两种含义：FANUC 设定外部工件坐标偏置，加到所有工件坐标系上；LinuxCNC 和 grbl 设定当前生效的工件坐标系（{2}）；机床配置 '{0}' 按 {1} 的含义执行"),
+        [DiagnosticCodes.DialectReturn] = ("{0} without axis words: Haas, LinuxCNC and grbl send every axis to the {0} position; FANUC moves no axis, and neither does this host under profile '{1}': name the axes ({0} G91 Z0)", "没有坐标字的 {0}：Haas、LinuxCNC 和 grbl 将所有轴送回 {0} 位置；FANUC 不移动任何轴，机床配置 '{1}' 下本主机也不移动：请写出轴（{0} G91 Z0）"),
+        [ReturnThroughWorkKey] = ("{0} in absolute mode (G90) first moves to the intermediate point {1} in work coordinates, then to the reference position (FANUC, LinuxCNC and grbl alike); posts write G91 {0} Z0 to go straight home: a program that means that drives the tool to the intermediate point first", "绝对方式（G90）下的 {0} 先移动到工件坐标中的中间点 {1}，再到参考点（FANUC、LinuxCNC 和 grbl 相同）；后处理写 G91 {0} Z0 以直接回参考点：若程序本意如此，刀具会先走到中间点"),
+        [DiagnosticCodes.DialectToolChange] = ("M06 with no T word since the last tool change: FANUC, Haas and LinuxCNC change to the tool of the last T word (T{0}); a program written for a control that reads the T after M06 means the T of a later block", "自上次换刀以来没有 T 字的 M06：FANUC、Haas 和 LinuxCNC 换上最后一个 T 字的刀具（T{0}）；为在 M06 之后读取 T 的控制器编写的程序指的是后面程序段的 T"),
+        [DiagnosticCodes.DialectG92AtEnd] = ("the G92 shift ({0}) is still in force at program end: LinuxCNC keeps it for the next program (and across restarts) until G92.1; FANUC's reset and this host's next job start without it: end the program with G92.1", "程序结束时 G92 偏移（{0}）仍然有效：LinuxCNC 在 G92.1 之前会为下一个程序（甚至重启后）保留它；FANUC 的复位和本主机的下一个作业则不带它开始：请以 G92.1 结束程序"),
         [UnlistedKey] = ("{0} more not listed (at most {1} a line)", "另有 {0} 条未列出（每行最多 {1} 条）"),
         [SummaryKey] = ("{0} errors, {1} warnings, {2} blocks", "{0} 个错误，{1} 个警告，{2} 个程序段"),
     };
+
+    /// <summary>The key of W012's text for G28/G30 in G90 through an intermediate point that moves.</summary>
+    internal const string ReturnThroughWorkKey = "return-through-work";
+
+    /// <summary>The key of E115's text for an R shorter than half the chord.</summary>
+    internal const string ArcRadiusKey = "arc-r";
 
     /// <summary>The key of E102's text for a LinuxCNC o-word construct (<c>O100 sub</c>), which no profile runs.</summary>
     internal const string OWordKey = "oword";

@@ -455,7 +455,11 @@ public sealed partial class Interpreter
                     kind = cw ? MotionKind.ArcCw : MotionKind.ArcCcw;
                     // Under compensation the arc is the programmed one (from the programmed point), then offset.
                     (center, length) = ArcGeometry.Solve(cw, _plane, _comp.Active ? _comp.Programmed(start) : start, end, i0, j0, k0, r, _arcAbsolute && _transform == null, _coords.Active,
-                        _profile.ArcTolerance, diags, line, modeCol, col);
+                        _profile.ArcTolerance, _scale, diags, line, modeCol, col, out var radii);
+                    if (diags != null && Math.Abs(radii.Start - radii.End) > 0.001 / _scale)
+                    {
+                        WarnOffCircle(radii, block, wordSpan, diags, line, modeCol);
+                    }
                     if (_comp.Active)
                     {
                         (end, length) = CompensateArc(start, end, center, cw, length, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);
@@ -487,6 +491,11 @@ public sealed partial class Interpreter
             var hook = MeasureMoves ? Math.Abs(end.Z - from.Z) + Math.Sqrt(((end.X - from.X) * (end.X - from.X)) + ((end.Y - from.Y) * (end.Y - from.Y))) : 0;
             length += hook;
             seconds += RapidTime(hook);
+        }
+
+        if (diags != null && (anyG || anyM || col['T' - 'A'] != 0 || _extendedSetLine > 0))
+        {
+            CheckDialect(codes, toolChange, kind, start, x, y, z, col, val, wordSpan, diags, line);
         }
 
         // Most blocks carry no parameter word: eight loads instead of the report's loop.

@@ -45,7 +45,7 @@ public sealed class MachineProfile
         Description = dto.Description ?? string.Empty;
         ToolCount = dto.ToolCount ?? 24;
         RapidRate = dto.RapidRate ?? 15000;
-        ArcTolerance = dto.ArcTolerance ?? 0.002;
+        ArcTolerance = dto.ArcTolerance ?? ArcTolerance.LinuxCnc;
         DwellPInMilliseconds = dto.DwellPInMilliseconds ?? true;
         SlashInBlock = dto.SlashInBlock ?? false;
         ExtendedWorkOffsets = dto.ExtendedWorkOffsets ?? false;
@@ -88,9 +88,9 @@ public sealed class MachineProfile
             throw Bad(source, "toolCount must be 0 or more");
         }
 
-        if (RapidRate <= 0 || ArcTolerance <= 0)
+        if (RapidRate <= 0)
         {
-            throw Bad(source, "rapidRate and arcTolerance must be greater than 0");
+            throw Bad(source, "rapidRate must be greater than 0");
         }
 
         foreach (var c in Letters)
@@ -160,8 +160,8 @@ public sealed class MachineProfile
     /// <summary>Rapid traverse rate in millimetres per minute, for move-time estimates of G00.</summary>
     public double RapidRate { get; }
 
-    /// <summary>Largest difference (program units) between an arc's start and end radius that is still accepted.</summary>
-    public double ArcTolerance { get; }
+    /// <summary>How far an arc's end may be off its circle, in the program's units (LinuxCNC's rule unless the profile says otherwise).</summary>
+    public ArcTolerance ArcTolerance { get; }
 
     /// <summary>FANUC reads <c>G04 P</c> in milliseconds; false means seconds (LinuxCNC, grbl).</summary>
     public bool DwellPInMilliseconds { get; }

@@ -38,7 +38,7 @@ internal static class ProfileJson
             w.WriteString("description", p.Description);
             w.WriteNumber("toolCount", p.ToolCount);
             w.WriteNumber("rapidRate", p.RapidRate);
-            w.WriteNumber("arcTolerance", p.ArcTolerance);
+            p.ArcTolerance.Write(w);
             w.WriteBoolean("dwellPInMilliseconds", p.DwellPInMilliseconds);
             w.WriteBoolean("slashInBlock", p.SlashInBlock);
             w.WriteBoolean("extendedWorkOffsets", p.ExtendedWorkOffsets);
@@ -203,7 +203,7 @@ internal static class ProfileJson
                     case "description": dto.Description = v.GetString(); break;
                     case "toolcount": dto.ToolCount = v.GetInt32(); break;
                     case "rapidrate": dto.RapidRate = v.GetDouble(); break;
-                    case "arctolerance": dto.ArcTolerance = v.GetDouble(); break;
+                    case "arctolerance": dto.ArcTolerance = ArcTolerance.Read(v, source); break;
                     case "dwellpinmilliseconds": dto.DwellPInMilliseconds = v.GetBoolean(); break;
                     case "slashinblock": dto.SlashInBlock = v.GetBoolean(); break;
                     case "extendedworkoffsets": dto.ExtendedWorkOffsets = v.GetBoolean(); break;
@@ -313,7 +313,7 @@ internal static class ProfileJson
 
         public double? RapidRate { get; set; }
 
-        public double? ArcTolerance { get; set; }
+        public ArcTolerance? ArcTolerance { get; set; }
 
         public bool? DwellPInMilliseconds { get; set; }
 

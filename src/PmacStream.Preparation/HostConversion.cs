@@ -296,9 +296,19 @@ internal sealed class HostConversion
         if (_interp.MotionCode is 2 or 3)
         {
             var (i, j, k) = (W('I'), W('J'), W('K'));
-            if (W('R') is { } rv)
+            if (W('R') is { } rv && !ShortRadius(rv * scale))
             {
                 AppendWord('R', rv * scale);
+            }
+            else if (W('R').HasValue && _interp.LastArc.Centre is { } mid)
+            {
+                // An R a rounding short of half the chord runs as the half circle on the chord (rs274ngc's
+                // arc_data_r): its centre is sent, since a PMAC given the short R would spiral (Isx96).
+                var v = mid - _before.Position;
+                var plane = _interp.State.Plane;
+                AppendWord('I', plane is 17 or 18 ? v.X : null);
+                AppendWord('J', plane is 17 or 19 ? v.Y : null);
+                AppendWord('K', plane is 18 or 19 ? v.Z : null);
             }
             else if (_interp.ArcCentresAbsolute)
             {
@@ -639,5 +649,18 @@ internal sealed class HostConversion
     {
         var text = Math.Round(v, 6).ToString("0.######", CultureInfo.InvariantCulture);
         return text == "-0" ? "0" : text;
+    }
+
+    /// <summary>True when the interpreter placed this R arc's centre further from the start than R: R was short of half the chord.</summary>
+    private bool ShortRadius(double radius)
+    {
+        if (_interp.LastArc.Centre is not { } c)
+        {
+            return false;
+        }
+
+        var v = c - _before.Position;
+        var (a, b) = _interp.State.Plane switch { 18 => (v.Z, v.X), 19 => (v.Y, v.Z), _ => (v.X, v.Y) };
+        return Math.Sqrt((a * a) + (b * b)) > Math.Abs(radius) + 1e-9;
     }
 }

@@ -344,6 +344,9 @@ internal sealed class MoveCalculator(SimOptions options, AxisMatrices matrices)
         seg.C1 = c1;
         seg.C2 = c2;
         seg.Radius = radius;
+        // An end off the circle: the Turbo PMAC changes the radius smoothly over the move, a spiral ending exactly at
+        // the programmed end point (SRM, CIRCLE1/CIRCLE2).
+        seg.EndRadius = Math.Sqrt(Sq(e1 - c1) + Sq(e2 - c2));
         seg.StartAngle = startAngle;
         seg.Sweep = dir * sweep;
         var helix = seg.End[an] - seg.Start[an];

@@ -13,7 +13,7 @@ internal sealed class Segment
     public bool BlocksCalculation;
     public List<(int Index, double Value)>? Sync;
 
-    // Arc geometry (circle moves only): plane axes, centre in plane, start angle, signed sweep, radius.
+    // Arc geometry (circle moves only): plane axes, centre in plane, start angle, signed sweep, radius at the start and the end.
     public int A1;
     public int A2;
     public int An;
@@ -22,6 +22,7 @@ internal sealed class Segment
     public double StartAngle;
     public double Sweep;
     public double Radius;
+    public double EndRadius;
     public double StartTime;
     public int SourceLine;
 
@@ -40,8 +41,9 @@ internal sealed class Segment
         if (IsArc && fraction < 1)
         {
             var a = StartAngle + (Sweep * fraction);
-            into[A1] = C1 + (Radius * Math.Cos(a));
-            into[A2] = C2 + (Radius * Math.Sin(a));
+            var r = Radius + ((EndRadius - Radius) * fraction);
+            into[A1] = C1 + (r * Math.Cos(a));
+            into[A2] = C2 + (r * Math.Sin(a));
         }
     }
 }

@@ -68,7 +68,8 @@ internal static class ProfilesCommand
             .Append("reference returns...), or \"not yet\" (the checker warns W006 at its first use and a ")
             .Append("job gate refuses the program). The profile format and the sources of these facts are in ")
             .Append("`src/PmacStream.GCode/README.md`; the library's variables and the Turbo PMAC facts it relies on in ")
-            .Append("`docs/pmac-library.md`.\n\n");
+            .Append("`docs/pmac-library.md`.\n\n")
+            .Append(ProgramFamilies.Markdown.Replace("\r\n", "\n", StringComparison.Ordinal));
         foreach (var name in MachineProfile.BuiltInNames)
         {
             sb.Append(ProfileTable.Markdown(MachineProfile.Named(name)!)).Append('\n');

@@ -86,6 +86,15 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G02 X10. Y-10. R10. F100", 4, 8 },
         { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-4.\nG41 D1 G01 X0 Y0 F100", 4, 8 },
         { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nX-30.", 5, 1 },
+        { DiagnosticCodes.ArcRoundedOffCircle, "O1\nF100\nG02 X20.010 Y0 I10.000 J0", 3, 1 },
+        { DiagnosticCodes.DialectG10L20, "O1\nG10 L20 P1 X0 Y0 Z50.\nG54\nG00 X10.", 4, 1 },
+        { DiagnosticCodes.DialectDwellUnits, "O1\nG04 P0.5", 2, 5 },
+        { DiagnosticCodes.DialectDwellUnits, "G4 P500", 1, 4, "linuxcnc-mill" },
+        { DiagnosticCodes.DialectG10L2P0, "O1\nG10 L2 P0 X1.", 2, 8 },
+        { DiagnosticCodes.DialectReturn, "O1\nG90 G00 Z10.\nG28 Z0", 3, 1 },
+        { DiagnosticCodes.DialectReturn, "G28", 1, 1, "grbl" },
+        { DiagnosticCodes.DialectToolChange, "O1\nM06", 2, 1 },
+        { DiagnosticCodes.DialectG92AtEnd, "O1\nG00 X10.\nG92 X0\nM30", 4, 1 },
     };
 
     public static TheoryData<string, string> Good => new()
@@ -127,6 +136,13 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nY10.\nG40 X20. Y-10.\nG02 X30. Y0 R10." },
         { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100" },
         { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nY10.\nX10.\nY-10." },
+        { DiagnosticCodes.ArcRoundedOffCircle, "O1\nG20 F10.\nG02 X2.0002 Y0 I1.0001 J0\nG02 X0.0001 Y0 I-1. J0" },
+        { DiagnosticCodes.DialectG10L20, "O1\nG10 L20 P1 X0 Y0 Z50.\nG54.1 P1\nG00 X10." },
+        { DiagnosticCodes.DialectDwellUnits, "O1\nG04 P500\nG04 X0.5" },
+        { DiagnosticCodes.DialectG10L2P0, "O1\nG10 L2 P1 X1." },
+        { DiagnosticCodes.DialectReturn, "O1\nG91 G28 Z0\nG90" },
+        { DiagnosticCodes.DialectToolChange, "O1\nT1 M06\nT2\nM06" },
+        { DiagnosticCodes.DialectG92AtEnd, "O1\nG00 X10.\nG92 X0\nG92.1\nM30" },
     };
 
     [Theory]

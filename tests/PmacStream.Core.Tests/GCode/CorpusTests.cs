@@ -43,7 +43,7 @@ public class CorpusUnderDefaultProfileTests(ITestOutputHelper output)
             "G41 D01 (line 27) names a cutter radius the default profile has no table for: a machine's profile gives toolRadii. " +
             "With one, the host still refuses it: its entry (line 27) is followed by an inside corner (E135, line 28), which " +
             "rs274ngc takes by moving the entry's end back and the host does not compute."),
-        ["danheeks__voxelcut__gr105.tap"] = ("E101x4, E104x4, E115x98, E116x3, E124x7",
+        ["danheeks__voxelcut__gr105.tap"] = ("E101x4, E104x4, E115x92, E116x3, E124x7",
             "an older ISO dialect, not FANUC: 'T1//15.98' tool-table lines (E101, named so), G71 for millimetres (E104: FANUC milling has " +
             "G21), and G74 meaning single-quadrant arcs whose I/J are unsigned, so FANUC's incremental signed centres miss the end " +
             "point (E115); FANUC's G74 is the left-hand tapping cycle, so the positioning blocks after it are holes without Z and feed (E124, E116)."),

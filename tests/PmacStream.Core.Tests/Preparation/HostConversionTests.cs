@@ -34,6 +34,15 @@ public class HostConversionTests
     }
 
     [Fact]
+    public void An_R_a_rounding_short_of_half_the_chord_is_sent_as_the_half_circle_on_the_chord()
+    {
+        // rs274ngc runs R0.99996 over a chord of 2 in as the half circle centred on the chord; a PMAC given the
+        // short R would spiral (Isx96), so the host sends the centre.
+        var body = Body("O1\nG20 G90 G17\nG01 X0 Y0 F10.\nG02 X2. Y0 R0.99996\nG02 X0 Y0 R1.\nM30\n");
+        body.Should().Contain("M0==4 G02 X50.8 Y0 I25.4 J0 F(P500)").And.Contain("M0==5 G02 X0 Y0 R25.4 F(P500)", "an R that reaches is sent as it is");
+    }
+
+    [Fact]
     public void Words_a_routine_reads_follow_its_code()
     {
         var body = Body("O1\nT3 M06\nG43 Z50. H3\nG04 X1.5\nM30\n");

@@ -194,6 +194,29 @@ public class PositionProofTests(ITestOutputHelper output)
     }
 
     [Fact]
+    public async Task Arcs_off_their_circle_within_the_tolerance_and_a_short_R_end_each_block_where_the_interpreter_says()
+    {
+        // Issue 27: a post's 4-decimal inch arcs (radii 0.0002 in apart), an R 0.00004 in short of half the chord (sent as
+        // the half circle's centre), a metric arc 0.02 mm off: the controller lands on each programmed end point.
+        const string program = "O1\nG20 G90 G17 G54\nG00 X0 Y0 Z0.2\nG01 Z0 F20.\nG02 X2.0002 Y0 I1. J0\nG03 X0.0002 Y0 I-1. J0\n" +
+            "G02 X2.0002 Y0 R0.99996\nG21 G01 X60. Y0\nG03 X80.02 Y0 I10. J0\nG00 Z10.\nM30\n";
+        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        try
+        {
+            var path = Path.Combine(dir, "arcs.nc");
+            await File.WriteAllTextAsync(path, program);
+            new Checker(MachineProfile.Default).CheckText(program).Diagnostics.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+            var report = await ProveAsync(path, MachineProfile.Default, force: false);
+            output.WriteLine($"{report.Lines} moving lines, {report.Moves} moves, largest difference {report.Largest:0.######} mm");
+            report.Lines.Should().Be(8);
+        }
+        finally
+        {
+            Directory.Delete(dir, recursive: true);
+        }
+    }
+
+    [Fact]
     public async Task A_grbl_program_in_exact_path_mode_ends_each_block_where_the_interpreter_says()
     {
         // grbl's G61 is in force from power-on: every move ends at rest (G09.9 after it), in inch blocks too.

@@ -119,6 +119,34 @@ public class MotionTests
     }
 
     [Fact]
+    public void An_arc_whose_end_is_off_its_circle_runs_as_a_spiral_to_the_programmed_end()
+    {
+        // Turbo SRM (CIRCLE1/CIRCLE2): a destination at another distance from the centre than the start changes the
+        // radius smoothly over the move; the host sends arcs inside the profile's arc tolerance so (issue 27).
+        using var h = WithLibrary();
+        h.Download("&1 B0", "OPEN ROT", "F600 ABS LINEAR X10 Y0", "CIRCLE2 X-10.5 Y0 I-10 J0", "CLOSE");
+        h.Ok("R");
+        var radii = new List<double>();
+        for (var i = 0; i < 60; i++)
+        {
+            h.Advance(0.1);
+            var p = h.Sim.Position();
+            if (p[1] > 1e-6)
+            {
+                radii.Add(Math.Sqrt((p[0] * p[0]) + (p[1] * p[1])));
+            }
+        }
+
+        radii.Should().NotBeEmpty();
+        radii.Should().OnlyContain(r => r >= 10 - 1e-9 && r <= 10.5 + 1e-9, "between the start and end radii");
+        radii.Should().Contain(r => r > 10.1 && r < 10.4, "the radius grows along the way, not at the end");
+        h.Sim.RunUntilIdle();
+        var end = h.Sim.Position();
+        end[0].Should().BeApproximately(-10.5, 1e-9);
+        end[1].Should().BeApproximately(0, 1e-9);
+    }
+
+    [Fact]
     public void Full_circle_with_ijk_and_helix()
     {
         using var h = WithLibrary();
