@@ -16,6 +16,10 @@ internal sealed class CoordinateSystem : IVariableAccess
     private readonly PmacSimulator _sim;
     private readonly CallStack _calls = new();
     private readonly UnderrunWatch _underruns = new();
+
+    // Whether the next blended move continues a blended sequence (the last segment done was a LINEAR or CIRCLE move
+    // and the next one followed it at once) or starts from rest and so pays its acceleration (Turbo timing, issue 28).
+    private bool _inBlendedSequence;
     private readonly MoveCalculator _moves;
     private readonly MotionQueue _motion;
     private readonly List<(int Index, double Value)> _pendingSync = [];
@@ -185,6 +189,7 @@ internal sealed class CoordinateSystem : IVariableAccess
         Stepping = step;
         _stepSegments = 0;
         _underruns.Started();
+        _inBlendedSequence = false;
         return 0;
     }
 
@@ -551,6 +556,7 @@ internal sealed class CoordinateSystem : IVariableAccess
 
         if (_motion.Count == 0)
         {
+            _inBlendedSequence = false; // nothing to blend into: the axes decelerate to a stop
             if (Running && !Quitting && !Stepping && !_programEnded && _motion.BlockedBy is null && _pcValid && _pc.Buffer.Kind == BufferKind.Rotary && _pc.AtEnd && _calls.Depth == 0)
             {
                 switch (_underruns.OutOfLines(_pc.Buffer.IsOpen, _sim.Options.RotaryEndBehaviour))
@@ -573,6 +579,7 @@ internal sealed class CoordinateSystem : IVariableAccess
         }
 
         var seg = _motion.StartNext(now);
+        TurboTiming.StartFromRest(seg, _inBlendedSequence);
         if (_underruns.MoveStarted())
         {
             _sim.CountUnderrun(this); // it was not the end after all
@@ -597,5 +604,14 @@ internal sealed class CoordinateSystem : IVariableAccess
     public void AdvanceTime(double t0, double t1) => _motion.AdvanceTime(t0, t1, Holding);
 
     /// <summary>Finishes the executing segment if it is done; returns it.</summary>
-    public Segment? CompleteIfDone() => _motion.CompleteIfDone();
+    public Segment? CompleteIfDone()
+    {
+        var done = _motion.CompleteIfDone();
+        if (done is not null)
+        {
+            _inBlendedSequence = TurboTiming.IsBlended(done);
+        }
+
+        return done;
+    }
 }
