@@ -1,4 +1,5 @@
 using System.Globalization;
+using PmacStream.Pmac;
 
 namespace PmacStream.Streaming;
 
@@ -15,7 +16,15 @@ namespace PmacStream.Streaming;
 /// </summary>
 public sealed class FullBufferStrategy : IStreamingStrategy
 {
+    /// <summary>ERR006, "no room in buffer for command": the controller's rotary buffer is full.</summary>
+    private const int NoRoomError = 6;
+
     private double _warnedStall;
+
+    // Controller words per estimated word. The per-line estimate counts a value a word; the controller's own count
+    // can be higher (an M0==n assignment, F(P500)), and this strategy is the only one that fills the buffer to the
+    // brim, so the first "no room" teaches it the real capacity in estimated words.
+    private double _scale = 1;
 
     /// <inheritdoc />
     public string Name => "full";
@@ -44,11 +53,24 @@ public sealed class FullBufferStrategy : IStreamingStrategy
         // A slice of the buffer (1/32) free is worth a batch: smaller top-ups would cost a round trip per few lines.
         // The words kept free beyond the session's margin (1/64) absorb the per-line estimate's error, since this
         // strategy runs the buffer near full where the others never go.
-        var reserve = context.BufferWords / 64;
-        var free = context.FreeWords - reserve;
+        var room = context.BufferWords - context.Options.SafetyWords;
+        var used = room - context.FreeWords;
+        var free = (int)(room / _scale) - (context.BufferWords / 64) - used;
         if (free >= Math.Max(64, context.BufferWords / 32))
         {
-            await context.SendLinesAsync(context.Options.FullMaxBatchLines, free, oneByOne: false, cancellationToken).ConfigureAwait(false);
+            try
+            {
+                await context.SendLinesAsync(context.Options.FullMaxBatchLines, free, oneByOne: false, cancellationToken).ConfigureAwait(false);
+            }
+            catch (PmacErrorException e) when (e.Number == NoRoomError && e.LineInBatch is not null && room - context.FreeWords > context.BufferWords / 4)
+            {
+                // The lines before the refused one are stored and the position stands exactly before it (the
+                // sender's rule); the buffer holds what the estimate calls this many words.
+                var full = room - context.FreeWords;
+                _scale = Math.Max(_scale, 1.03 * room / full);
+                context.Note(string.Create(CultureInfo.InvariantCulture,
+                    $"the rotary buffer was full at {full} estimated words of {room}: filling it to {room / _scale:0} from now on"));
+            }
         }
 
         LeadSeconds = context.LeadSeconds();

@@ -226,7 +226,10 @@ public static class StartFromLine
                 // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.
                 if (interp.StepCore(reader.Current, null) && interp.Last.Motion != MotionKind.None)
                 {
-                    yield return (interp.Last.Line, interp.Last.DurationSeconds, interp.State.Feed ?? double.NaN);
+                    var seconds = interp.Last.Motion is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw
+                        ? Math.Max(interp.Last.DurationSeconds, MoveTimeTable.MinimumMoveSeconds) // the controller's shortest blended move
+                        : interp.Last.DurationSeconds;
+                    yield return (interp.Last.Line, seconds, interp.State.Feed ?? double.NaN);
                 }
             }
         }
