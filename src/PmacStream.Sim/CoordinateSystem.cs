@@ -484,6 +484,18 @@ internal sealed class CoordinateSystem : IVariableAccess
             _pc.Stmt++;
         }
 
+        // A modal F/TA/TS/TM on the move's own line is the move's, wherever it stands on the line ("modal commands can
+        // precede the move commands they are to affect, or they can be on the same line", Turbo User Manual p. 272;
+        // "X10Y0 F2 ; Linear move", Turbo SRM p. 421): the splitter writes F(P500) after the axis words. They run
+        // again where they stand, which changes nothing.
+        for (var i = _pc.Stmt; i < stmts.Length && stmts[i] is not (WordStmt or CodeCallStmt or JumpStmt); i++)
+        {
+            if (stmts[i] is ParamStmt { Kind: ParamKind.Feed or ParamKind.Ta or ParamKind.Ts or ParamKind.Tm } modal)
+            {
+                _moves.Apply(modal, this);
+            }
+        }
+
         _pc.Stmt--;
         _pc.Step();
         AfterAdvance();

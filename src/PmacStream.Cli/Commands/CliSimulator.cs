@@ -1,3 +1,4 @@
+using PmacStream.GCode;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Sim;
@@ -9,7 +10,9 @@ namespace PmacStream.Cli.Commands;
 /// by the job's tick loop (deterministic; <c>instant</c> means as fast as sensible). Its executed moves are not kept:
 /// the job's <see cref="ExecutedLineCheck"/> counts them as they finish, so memory does not grow with the program.
 /// </summary>
-internal sealed class CliSimulator(SimSpeed speed) : IDisposable
+/// <param name="speed">The virtual clock's speed.</param>
+/// <param name="rapidRate">The machine's rapid rate (mm/min; the profile's, so the host's move times agree); the default profile's when null.</param>
+internal sealed class CliSimulator(SimSpeed speed, double? rapidRate = null) : IDisposable
 {
     /// <summary>The simulator once opened, else null.</summary>
     public PmacSimulator? Sim { get; private set; }
@@ -18,7 +21,7 @@ internal sealed class CliSimulator(SimSpeed speed) : IDisposable
     public Task<SimulatorLink> OpenAsync(CancellationToken cancellationToken)
     {
         Sim?.Dispose();
-        var sim = Sim = new PmacSimulator(new SimOptions { Speed = speed, RetainExecutedMoves = false });
+        var sim = Sim = new PmacSimulator(new SimOptions { Speed = speed, RetainExecutedMoves = false, RapidFeed = rapidRate ?? MachineProfile.Default.RapidRate });
         var connection = new InProcessConnection(sim.OpenPort("stream"), "sim");
         return Task.FromResult(new SimulatorLink(connection, new SimTimeProvider(sim))
         {

@@ -39,7 +39,9 @@ internal static class SimCommand
         cmd.SetAction(async (parse, ct) =>
         {
             // The executed-move log is streamed to its file (or not kept): memory does not grow with the program.
-            var options = new SimOptions { RetainExecutedMoves = false };
+            // The simulated machine is the profile's: its rapids at the profile's rapid rate (the motors' Ixx16/Ixx22 on a
+            // real one), so the host's move times and the ETA agree with it (issue 28).
+            var options = new SimOptions { RetainExecutedMoves = false, RapidFeed = RapidRate(parse.GetValue(library)!) };
             try
             {
                 options.Speed = SimSpeed.Parse(parse.GetValue(speed)!);
@@ -195,6 +197,12 @@ internal static class SimCommand
         int.TryParse(text, NumberStyles.None, CultureInfo.InvariantCulture, out var port) && port <= 65535
             ? port
             : throw new CliException($"--tcp '{spec}': the port must be 0..65535");
+
+    /// <summary>The rapid rate of the machine <c>--library</c> names: a profile's, else the default profile's.</summary>
+    private static double RapidRate(string choice) =>
+        string.Equals(choice, "none", StringComparison.OrdinalIgnoreCase) || (MachineProfile.Named(choice) is null && !choice.EndsWith(".json", StringComparison.OrdinalIgnoreCase))
+            ? MachineProfile.Default.RapidRate
+            : CliProfiles.Load(choice).RapidRate;
 
     /// <summary>What <c>--library</c> loads: a profile's library and tables, a library file's statements, or nothing.</summary>
     private static IReadOnlyList<string> LibraryLines(string choice)

@@ -42,7 +42,7 @@ internal static class StreamCommand
             var machine = CliProfiles.Load(parse.GetValue(profile));
             var settings = options.Settings(parse);
             var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
-            using var sim = new CliSimulator(options.SimSpeed(parse));
+            using var sim = new CliSimulator(options.SimSpeed(parse), machine.RapidRate);
             var service = new JobService(new JobServiceOptions { JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync });
 
             // The gate: checked under the machine profile in the split's own pass and refused with every error, or with

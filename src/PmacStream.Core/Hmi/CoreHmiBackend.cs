@@ -118,7 +118,7 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend
 
     private static ChunkedProgram Program(HmiSplitResult split) => ChunkedProgram.FromManifest(split.Manifest, split.Directory);
 
-    private static StrategyKind Strategy(string name) => string.IsNullOrWhiteSpace(name) ? StrategyKind.Full : StreamingStrategies.Parse(name);
+    private static StrategyKind Strategy(string name) => string.IsNullOrWhiteSpace(name) ? StrategyKind.Chunk : StreamingStrategies.Parse(name);
 
     private static async Task<IHmiJob> StartedAsync(Job job, CancellationToken cancellationToken)
     {

@@ -16,7 +16,7 @@ public enum StrategyKind
 
     /// <summary>
     /// Keep the rotary buffer full: a buffer defined as large as the controller's memory allows, topped up as soon as
-    /// a slice of it is free, so the lead rides out the link's retransmission stalls. The default of every face.
+    /// a slice of it is free, so the lead rides out the link's retransmission stalls. The default of `stream`; a choice in the HMI.
     /// </summary>
     Full,
 }

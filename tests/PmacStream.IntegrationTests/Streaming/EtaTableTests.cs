@@ -55,7 +55,8 @@ public sealed class EtaTableTests(ITestOutputHelper output) : IDisposable
         var prepared = await service.PrepareAsync(new PrepareRequest(source, RunSettings.Default) { OutDir = Path.Combine(_temp.Path, Path.GetFileNameWithoutExtension(source)) });
         var program = prepared.Program;
         var times = StartFromLine.MoveTimes(source, profile: prepared.Profile)!;
-        using var sim = new PmacSimulator(new SimOptions { RetainExecutedMoves = false });
+        // The simulated machine is the profile's: rapids at its rapid rate, as the command line's simulators run it.
+        using var sim = new PmacSimulator(new SimOptions { RetainExecutedMoves = false, RapidFeed = prepared.Profile.RapidRate });
         var moves = new List<(double Start, double End)>();
         sim.MoveExecuted += m => moves.Add((m.StartTime, m.EndTime));
         var port = sim.OpenPort("stream");
