@@ -65,8 +65,10 @@ public sealed class FullBufferStrategy : IStreamingStrategy
             catch (PmacErrorException e) when (e.Number == NoRoomError && e.LineInBatch is not null && room - context.FreeWords > context.BufferWords / 4)
             {
                 // The lines before the refused one are stored and the position stands exactly before it (the
-                // sender's rule); the buffer holds what the estimate calls this many words.
-                var full = room - context.FreeWords;
+                // sender's rule). The model still counts the lines executed while the batch went out (M0 was not
+                // read meanwhile): PR, the lines ahead, frees those, so what is left is what the full buffer holds.
+                await context.ReadLinesAheadAsync(cancellationToken).ConfigureAwait(false);
+                var full = Math.Max(1, room - context.FreeWords);
                 _scale = Math.Max(_scale, 1.03 * room / full);
                 context.Note(string.Create(CultureInfo.InvariantCulture,
                     $"the rotary buffer was full at {full} estimated words of {room}: filling it to {room / _scale:0} from now on"));

@@ -68,8 +68,11 @@ public sealed record StreamingOptions
     /// <summary><c>adaptive</c> strategy: most program lines sent in one batch.</summary>
     public int AdaptiveMaxBatchLines { get; init; } = 400;
 
-    /// <summary><c>full</c> strategy: most program lines sent in one batch (a batch holds the tick, so operator commands wait for it).</summary>
-    public int FullMaxBatchLines { get; init; } = 2000;
+    /// <summary>
+    /// <c>full</c> strategy: most program lines sent in one batch. A batch holds the tick (operator commands and the
+    /// M0 reading that frees the model's words wait for it): 600 lines are about 20 WRITEBUFFER packets.
+    /// </summary>
+    public int FullMaxBatchLines { get; init; } = 600;
 
     /// <summary>Feed control: <c>P500</c> (paper) or the <c>%</c> override; defaults to the manifest's mode.</summary>
     public FeedMode? Feed { get; init; }
