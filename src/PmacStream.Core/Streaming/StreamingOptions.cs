@@ -70,9 +70,10 @@ public sealed record StreamingOptions
 
     /// <summary>
     /// <c>full</c> strategy: most program lines sent in one batch. A batch holds the tick (operator commands and the
-    /// M0 reading that frees the model's words wait for it): 600 lines are about 20 WRITEBUFFER packets.
+    /// M0 reading that frees the model's words wait for it), but one batch a tick is the strategy's throughput: 600
+    /// lines a tick gave 69 underruns where 2,000 gave none (issue 28's bench), so 2,000 (about 70 WRITEBUFFER packets).
     /// </summary>
-    public int FullMaxBatchLines { get; init; } = 600;
+    public int FullMaxBatchLines { get; init; } = 2000;
 
     /// <summary>Feed control: <c>P500</c> (paper) or the <c>%</c> override; defaults to the manifest's mode.</summary>
     public FeedMode? Feed { get; init; }
