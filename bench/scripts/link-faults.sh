@@ -6,14 +6,17 @@
 # executed-move log must show every block once, in order. Underruns are the simulator's own count.
 #
 # Needs root, ip(8), /dev/net/tun and python3. Usage: sudo bench/scripts/link-faults.sh
-# Environment (defaults): STRATEGIES="chunk pr adaptive" RATES="1000 5000" (blocks/s) BLOCKS=20000 PR_BLOCKS=4000
+# Environment (defaults): STRATEGIES="full chunk pr adaptive" RATES="1000 5000" (blocks/s) BLOCKS=20000 PR_BLOCKS=4000
 #   DOWN_AT=3 (s after the host first reports an executing line) DOWN_FOR=5 (s) DELAY_MS=2 JITTER_MS=1 LOSS=0.01 REORDER=0.05 SEED=1 PMACSTREAM_CLI=path/to/pmacstream.dll
+#   MAX_UNDERRUNS=N fails a run of the full strategy (the default) with more underruns than N (CI: 0).
+#   DOWN_FOR=0 is the no-outage mode: the link is never taken down (only delay, jitter, loss and reordering).
 #   KEEP=1 keeps the work folder. Prints one result line per run and exits 1 if any run lost, repeated or reordered a
-#   block, 2 when it cannot run here, 3 when the CLI does not build (PMACSTREAM_CLI given: used as it is, not rebuilt).
+#   block (or starved past MAX_UNDERRUNS), 2 when it cannot run here, 3 when the CLI does not build (PMACSTREAM_CLI given: used as it is, not rebuilt).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
-STRATEGIES="${STRATEGIES:-chunk pr adaptive}"
+STRATEGIES="${STRATEGIES:-full chunk pr adaptive}"
+MAX_UNDERRUNS="${MAX_UNDERRUNS:-}"
 RATES="${RATES:-1000 5000}"
 BLOCKS="${BLOCKS:-20000}"
 PR_BLOCKS="${PR_BLOCKS:-4000}"
@@ -157,10 +160,12 @@ run_one() { # STRATEGY RATE
     kill -0 "$host" 2>/dev/null || break
     sleep 0.1
   done
-  sleep "$DOWN_AT"
-  ip -n "$NS_HOST" link set "$TUN_HOST" down
-  sleep "$DOWN_FOR"
-  ip -n "$NS_HOST" link set "$TUN_HOST" up
+  if [ "$DOWN_FOR" != 0 ]; then
+    sleep "$DOWN_AT"
+    ip -n "$NS_HOST" link set "$TUN_HOST" down
+    sleep "$DOWN_FOR"
+    ip -n "$NS_HOST" link set "$TUN_HOST" up
+  fi
   local rc=0 resumes=0
   wait "$host" || rc=$?
   # As an operator would: resume while the job is not done (the simulator still holds it).
@@ -175,19 +180,27 @@ run_one() { # STRATEGY RATE
   kill -TERM "$RELAY_PID"; wait "$RELAY_PID" || true; RELAY_PID=""
   local underruns
   underruns=$(grep -o "[0-9]* underruns" "$dir/sim.log" | tail -n 1 | grep -o "[0-9]*" || echo "?")
+  # The least lead the host saw (seconds of motion ahead of the executing block while it still had lines to send).
+  local lead
+  lead=$(grep -o "worst lead [0-9.]* s" "$dir/host.log" | awk '{print $3}' | sort -g | head -n 1)
+  [ -n "$lead" ] || lead="?"
   local executed expected lost repeated breaks reordered first twice
   read -r executed expected lost repeated breaks reordered first twice < <(check_log "$dir/executed.csv" "$dir/part_chunks")
   local verdict=ok
   if [ "$lost$repeated$breaks" != 000 ]; then
     verdict="BROKEN (first break: ${first//_/ }; lines run twice: $twice)"
+  elif [ -n "$MAX_UNDERRUNS" ] && [ "$strategy" = full ] && ! [ "$underruns" -le "$MAX_UNDERRUNS" ] 2>/dev/null; then
+    verdict="STARVED ($underruns underruns, at most $MAX_UNDERRUNS allowed)"
   fi
-  printf '%-8s %5s blocks/s  %6s of %6s blocks  lost %s repeated %s order breaks %s  underruns %-6s host exit %s after %s resume(s), %3ss  relay %s  %s\n' \
-    "$strategy" "$rate" "$executed" "$expected" "$lost" "$repeated" "$breaks" "$underruns" "$rc" "$resumes" "$took" \
+  printf '%-8s %5s blocks/s  %6s of %6s blocks  lost %s repeated %s order breaks %s  underruns %-6s worst lead %-6s s  host exit %s after %s resume(s), %3ss  relay %s  %s\n' \
+    "$strategy" "$rate" "$executed" "$expected" "$lost" "$repeated" "$breaks" "$underruns" "$lead" "$rc" "$resumes" "$took" \
     "$(tr -d '{}"' <"$dir/relay.json" 2>/dev/null)" "$verdict"
   [ "$verdict" = ok ]
 }
 
-echo "link-faults: $DELAY_MS ms +- $JITTER_MS ms, loss $LOSS, reorder $REORDER each way; link down ${DOWN_FOR}s at ${DOWN_AT}s; sim $SIM_ADDR, host $HOST_ADDR"
+outage="link down ${DOWN_FOR}s at ${DOWN_AT}s"
+[ "$DOWN_FOR" = 0 ] && outage="no outage"
+echo "link-faults: $DELAY_MS ms +- $JITTER_MS ms, loss $LOSS, reorder $REORDER each way, seed $SEED; $outage; sim $SIM_ADDR, host $HOST_ADDR"
 failed=0
 for rate in $RATES; do
   for strategy in $STRATEGIES; do

@@ -387,6 +387,7 @@ public sealed class EthernetConnection : IPmacConnection
         CloseSocket();
         var sw = Stopwatch.StartNew();
         var socket = new Socket(SocketType.Stream, ProtocolType.Tcp) { NoDelay = true };
+        LossyLinkSocket.Tune(socket);
         using var timeout = CancellationTokenSource.CreateLinkedTokenSource(cancellationToken);
         timeout.CancelAfter(_options.ConnectTimeout);
         try

@@ -16,6 +16,10 @@ internal sealed class CoordinateSystem : IVariableAccess
     private readonly PmacSimulator _sim;
     private readonly CallStack _calls = new();
     private readonly UnderrunWatch _underruns = new();
+
+    // Whether the next blended move continues a blended sequence (the last segment done was a LINEAR or CIRCLE move
+    // and the next one followed it at once) or starts from rest and so pays its acceleration (Turbo timing, issue 28).
+    private bool _inBlendedSequence;
     private readonly MoveCalculator _moves;
     private readonly MotionQueue _motion;
     private readonly List<(int Index, double Value)> _pendingSync = [];
@@ -185,6 +189,7 @@ internal sealed class CoordinateSystem : IVariableAccess
         Stepping = step;
         _stepSegments = 0;
         _underruns.Started();
+        _inBlendedSequence = false;
         return 0;
     }
 
@@ -488,6 +493,18 @@ internal sealed class CoordinateSystem : IVariableAccess
             _pc.Stmt++;
         }
 
+        // A modal F/TA/TS/TM on the move's own line is the move's, wherever it stands on the line ("modal commands can
+        // precede the move commands they are to affect, or they can be on the same line", Turbo User Manual p. 272;
+        // "X10Y0 F2 ; Linear move", Turbo SRM p. 421): the splitter writes F(P500) after the axis words. They run
+        // again where they stand, which changes nothing.
+        for (var i = _pc.Stmt; i < stmts.Length && stmts[i] is not (WordStmt or CodeCallStmt or JumpStmt); i++)
+        {
+            if (stmts[i] is ParamStmt { Kind: ParamKind.Feed or ParamKind.Ta or ParamKind.Ts or ParamKind.Tm } modal)
+            {
+                _moves.Apply(modal, this);
+            }
+        }
+
         _pc.Stmt--;
         _pc.Step();
         AfterAdvance();
@@ -560,6 +577,7 @@ internal sealed class CoordinateSystem : IVariableAccess
 
         if (_motion.Count == 0)
         {
+            _inBlendedSequence = false; // nothing to blend into: the axes decelerate to a stop
             if (Running && !Quitting && !Stepping && !_programEnded && _motion.BlockedBy is null && _pcValid && _pc.Buffer.Kind == BufferKind.Rotary && _pc.AtEnd && _calls.Depth == 0)
             {
                 switch (_underruns.OutOfLines(_pc.Buffer.IsOpen, _sim.Options.RotaryEndBehaviour))
@@ -582,6 +600,7 @@ internal sealed class CoordinateSystem : IVariableAccess
         }
 
         var seg = _motion.StartNext(now);
+        TurboTiming.StartFromRest(seg, _inBlendedSequence);
         if (_underruns.MoveStarted())
         {
             _sim.CountUnderrun(this); // it was not the end after all
@@ -606,5 +625,14 @@ internal sealed class CoordinateSystem : IVariableAccess
     public void AdvanceTime(double t0, double t1) => _motion.AdvanceTime(t0, t1, Holding);
 
     /// <summary>Finishes the executing segment if it is done; returns it.</summary>
-    public Segment? CompleteIfDone() => _motion.CompleteIfDone();
+    public Segment? CompleteIfDone()
+    {
+        var done = _motion.CompleteIfDone();
+        if (done is not null)
+        {
+            _inBlendedSequence = TurboTiming.IsBlended(done);
+        }
+
+        return done;
+    }
 }

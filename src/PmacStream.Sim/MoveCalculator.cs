@@ -56,15 +56,15 @@ internal sealed class MoveCalculator(SimOptions options, AxisMatrices matrices)
 
     private (double I, double J, double K) Normal { get; set; }
 
-    /// <summary>The power-on modes: LINEAR, ABS, INC arc centres, no feed, TA 10, NORMAL K-1.</summary>
+    /// <summary>The power-on modes: LINEAR, ABS, INC arc centres, no feed, TA and TS from Isx87 and Isx88, NORMAL K-1.</summary>
     public void Reset()
     {
         Mode = MotionMode.Linear;
         Array.Clear(_incremental);
         IncrementalRadius = true;
         Feed = 0;
-        Ta = 10;
-        Ts = 0;
+        Ta = options.AccelerationTimeMs;
+        Ts = options.SCurveTimeMs;
         Tm = 0;
         TimeMode = false;
         Normal = (0, 0, -1);
@@ -270,6 +270,11 @@ internal sealed class MoveCalculator(SimOptions options, AxisMatrices matrices)
             var feed = Feed > 0 ? Feed : options.DefaultFeed;
             seg.Feed = feed;
             seg.Duration = seg.Length / feed * unit;
+        }
+
+        if (seg.Kind != MoveKind.Rapid)
+        {
+            TurboTiming.Blend(seg, Ta, Ts, options);
         }
 
         Array.Copy(seg.End, _calcPos, CoordinateSystem.AxisCount);

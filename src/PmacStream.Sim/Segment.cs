@@ -11,6 +11,9 @@ internal sealed class Segment
     public double Length;
     public double Feed;
     public bool BlocksCalculation;
+
+    // The acceleration time (s) in force when the move was calculated: max(TA, 2 TS), 0 for rapids and dwells.
+    public double Acceleration;
     public List<(int Index, double Value)>? Sync;
 
     // Arc geometry (circle moves only): plane axes, centre in plane, start angle, signed sweep, radius at the start and the end.

@@ -103,6 +103,33 @@ public sealed class SimOptions
     /// <summary>Feed used before any F is programmed, units per feed time unit. Default 1000 (*assumed*).</summary>
     public double DefaultFeed { get; set; } = 1000;
 
+    /// <summary>
+    /// Isx87, the default acceleration time (ms) of blended LINEAR and CIRCLE moves until a program's <c>TA</c>.
+    /// Default 0, the manual's (Turbo SRM p. 188: "0 (so Isx88 controls)"). See docs/turbo-pmac-timing.md.
+    /// </summary>
+    public double AccelerationTimeMs { get; set; }
+
+    /// <summary>
+    /// Isx88, the default S-curve time (ms) until a program's <c>TS</c>; the acceleration time is twice this when it
+    /// is more than half of TA (Turbo SRM p. 188-189). Default 0 (*assumed*: a machine set up for contouring from
+    /// G-code, which has no TA/TS words; the factory value is not in the pages we have).
+    /// </summary>
+    public double SCurveTimeMs { get; set; }
+
+    /// <summary>
+    /// Isx13, the segmentation time (ms). Default 10 (*assumed*, within the typical 5-20 ms, Turbo SRM p. 177):
+    /// circles, cutter compensation and the lookahead need segmentation mode, and only in it may TA and TS both be 0
+    /// (Turbo User Manual p. 276). It does not change move times here: blocks shorter than it are smoothed over, not
+    /// lengthened (p. 177). 0 is accepted and changes nothing in the simulated path either.
+    /// </summary>
+    public double SegmentationTimeMs { get; set; } = 10;
+
+    /// <summary>
+    /// The shortest blended move when the acceleration time is 0 (TA and TS both 0), ms: 0.5 (Turbo SRM p. 188). So a
+    /// Turbo PMAC runs at most 2,000 blended blocks a second, and so does the simulator.
+    /// </summary>
+    public double MinimumMoveTimeMs { get; set; } = 0.5;
+
     /// <summary>Feed-override slew rate in percent per second (Isx94/Isx95 analogue). Default 50 (*assumed*).</summary>
     public double OverrideSlewPercentPerSecond { get; set; } = 50;
 

@@ -29,6 +29,12 @@ internal sealed class ControllerChannel
     /// <summary>Measured round trip of a query or batch, seconds (smoothed; 0 until measured).</summary>
     public double RoundTripSeconds { get; private set; }
 
+    /// <summary>
+    /// The longest single query or batch so far, seconds: over a lossy link a request whose packet was lost waits for
+    /// TCP's retransmission timeout (200 ms or more on Linux), so this is the stall the lead must ride out.
+    /// </summary>
+    public double WorstRoundTripSeconds { get; private set; }
+
     /// <summary>Sends a line as it is (program lines, <c>OPEN ROT</c>, <c>CLEAR</c>); returns the reply.</summary>
     public async ValueTask<string> SendAsync(string command, CancellationToken cancellationToken)
     {
@@ -113,6 +119,9 @@ internal sealed class ControllerChannel
         }
     }
 
-    private void MeasureRoundTrip(double seconds) =>
+    private void MeasureRoundTrip(double seconds)
+    {
         RoundTripSeconds = RoundTripSeconds <= 0 ? seconds : (0.8 * RoundTripSeconds) + (0.2 * seconds);
+        WorstRoundTripSeconds = Math.Max(WorstRoundTripSeconds, seconds);
+    }
 }

@@ -27,7 +27,12 @@ public sealed class EtaEstimator
     public double SmoothingSeconds { get; }
 
     /// <summary>Measured rate: predicted wall seconds per actual wall second (1 until something was measured).</summary>
-    public double Rate => _actual > 1e-9 && _predicted > 1e-9 ? _predicted / _actual : 1.0;
+    /// <remarks>
+    /// The model's 1.0 until half a smoothing span of program time was measured: the first blocks' intervals (a tool
+    /// change the stop watch has not seen yet, the tick's quantization) say little, and the move times are the
+    /// controller's own (docs/turbo-pmac-timing.md), so an early rate only made the ETA worse (issue 28's table).
+    /// </remarks>
+    public double Rate => _actual > 1e-9 && _predicted >= SmoothingSeconds / 2 ? _predicted / _actual : 1.0;
 
     /// <summary>Predicted seconds measured so far (decayed): how much the rate rests on.</summary>
     public double Evidence => _predicted;

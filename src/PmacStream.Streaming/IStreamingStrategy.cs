@@ -7,7 +7,7 @@ namespace PmacStream.Streaming;
 /// </summary>
 public interface IStreamingStrategy
 {
-    /// <summary>The strategy's name (<c>chunk</c>, <c>pr</c>, <c>adaptive</c>).</summary>
+    /// <summary>The strategy's name (<c>full</c>, <c>chunk</c>, <c>pr</c>, <c>adaptive</c>).</summary>
     string Name { get; }
 
     /// <summary>One timer tick: send what the strategy wants sent now.</summary>
@@ -26,16 +26,18 @@ public static class StreamingStrategies
         StrategyKind.Chunk => new ChunkStrategy(),
         StrategyKind.Pr => new PrStrategy(),
         StrategyKind.Adaptive => new AdaptiveStrategy(),
+        StrategyKind.Full => new FullBufferStrategy(),
         _ => throw new ArgumentOutOfRangeException(nameof(kind)),
     };
 
-    /// <summary>Parses <c>chunk</c>, <c>pr</c> or <c>adaptive</c>.</summary>
+    /// <summary>Parses <c>full</c>, <c>chunk</c>, <c>pr</c> or <c>adaptive</c>.</summary>
     public static StrategyKind Parse(string text) => text.Trim().ToLowerInvariant() switch
     {
         "chunk" => StrategyKind.Chunk,
         "pr" => StrategyKind.Pr,
         "adaptive" => StrategyKind.Adaptive,
-        _ => throw new ArgumentException($"unknown strategy '{text}': expected chunk, pr or adaptive", nameof(text)),
+        "full" => StrategyKind.Full,
+        _ => throw new ArgumentException($"unknown strategy '{text}': expected full, chunk, pr or adaptive", nameof(text)),
     };
 }
 

@@ -55,6 +55,12 @@ public sealed class MoveTimeTable : IMoveTimes
     /// <summary>Samples kept before the table starts thinning (2 MB of samples).</summary>
     public const int DefaultMaxSamples = 131_072;
 
+    /// <summary>
+    /// The shortest a blended feed move takes on a Turbo PMAC set with TA = TS = 0 (0.5 ms, Turbo SRM p. 188;
+    /// docs/turbo-pmac-timing.md): a program's tiny segments take at least this, so it runs at most 2,000 blocks/s.
+    /// </summary>
+    public const double MinimumMoveSeconds = 0.0005;
+
     private readonly int[] _lines;
     private readonly double[] _prefix;
     private readonly float[]? _feeds;

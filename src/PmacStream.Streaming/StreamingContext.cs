@@ -44,6 +44,15 @@ public sealed class StreamingContext
     /// <summary>Measured round trip of a query, seconds (smoothed).</summary>
     public double RoundTripSeconds => _channel.RoundTripSeconds;
 
+    /// <summary>The longest single query or batch so far, seconds (a retransmission stall shows here).</summary>
+    public double WorstRoundTripSeconds => _channel.WorstRoundTripSeconds;
+
+    /// <summary>The rotary buffer's size in words, as defined.</summary>
+    public int BufferWords => _buffer.BufferWords;
+
+    /// <summary>Moves sent and not yet reached by the tracking variable.</summary>
+    public int MovesAhead => _buffer.MovesAhead;
+
     /// <summary>Estimated free words in the rotary buffer.</summary>
     public int FreeWords => _buffer.FreeWords;
 

@@ -13,6 +13,12 @@ public enum StrategyKind
 
     /// <summary>Keep a time-based lead (seconds of motion ahead) from move times and the measured round trip, bounded by buffer words.</summary>
     Adaptive,
+
+    /// <summary>
+    /// Keep the rotary buffer full: a buffer defined as large as the controller's memory allows, topped up as soon as
+    /// a slice of it is free, so the lead rides out the link's retransmission stalls. The default of `stream`; a choice in the HMI.
+    /// </summary>
+    Full,
 }
 
 /// <summary>Settings of a streaming session.</summary>
@@ -61,6 +67,13 @@ public sealed record StreamingOptions
 
     /// <summary><c>adaptive</c> strategy: most program lines sent in one batch.</summary>
     public int AdaptiveMaxBatchLines { get; init; } = 400;
+
+    /// <summary>
+    /// <c>full</c> strategy: most program lines sent in one batch. A batch holds the tick (operator commands and the
+    /// M0 reading that frees the model's words wait for it), but one batch a tick is the strategy's throughput: 600
+    /// lines a tick gave 69 underruns where 2,000 gave none (issue 28's bench), so 2,000 (about 70 WRITEBUFFER packets).
+    /// </summary>
+    public int FullMaxBatchLines { get; init; } = 2000;
 
     /// <summary>Feed control: <c>P500</c> (paper) or the <c>%</c> override; defaults to the manifest's mode.</summary>
     public FeedMode? Feed { get; init; }

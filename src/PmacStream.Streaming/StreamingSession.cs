@@ -91,6 +91,20 @@ public sealed partial class StreamingSession
     /// <summary>The strategy feeding the buffer.</summary>
     public IStreamingStrategy Strategy => _strategy;
 
+    /// <summary>
+    /// The least lead (seconds of motion ahead of the executing block, from the move times) seen after a tick's send
+    /// while the job ran with lines still to send; infinity before. What the link-fault bench reports per strategy.
+    /// </summary>
+    public double WorstLeadSeconds { get; private set; } = double.PositiveInfinity;
+
+    private void NoteLead()
+    {
+        if (_state == SessionState.Running && Tracked > 0 && !_sender.AllSent)
+        {
+            WorstLeadSeconds = Math.Min(WorstLeadSeconds, Context.LeadSeconds());
+        }
+    }
+
     /// <summary>The state.</summary>
     public SessionState State => _state;
 
@@ -380,6 +394,7 @@ public sealed partial class StreamingSession
                 // Before the strategy and the dry check: a stopped program leaves the buffer unread, not dry.
                 await WatchProgramStopAsync(m, cancellationToken).ConfigureAwait(false);
                 await _strategy.TickAsync(Context, cancellationToken).ConfigureAwait(false);
+                NoteLead();
                 await CheckDryAndDoneAsync(cancellationToken).ConfigureAwait(false);
             }
 

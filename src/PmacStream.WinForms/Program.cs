@@ -43,7 +43,7 @@ internal static class Program
             {
                 if (simulator is null)
                 {
-                    simulator = new PmacSimulator(new SimOptions { Speed = simSpeed });
+                    simulator = new PmacSimulator(new SimOptions { Speed = simSpeed, RapidFeed = PmacStream.GCode.MachineProfile.Default.RapidRate });
                     simulator.StartClock();
                 }
 

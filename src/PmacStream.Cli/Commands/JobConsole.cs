@@ -106,6 +106,11 @@ internal static class JobConsole
             return CliGlobals.Failed;
         }
 
+        if (!double.IsPositiveInfinity(job.Session.WorstLeadSeconds))
+        {
+            Console.WriteLine(string.Create(System.Globalization.CultureInfo.InvariantCulture, $"worst lead {job.Session.WorstLeadSeconds:0.000} s of motion ahead while sending ({job.Session.Strategy.Name})"));
+        }
+
         if (check is not null && sim.Sim is { } simulator)
         {
             simulator.RunUntilIdle(TimeSpan.FromHours(24));

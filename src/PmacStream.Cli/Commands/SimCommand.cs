@@ -118,11 +118,13 @@ internal static class SimCommand
 
     /// <summary>
     /// The host's options from the bound ones (the executed-move log is streamed to its file: memory does not grow with
-    /// the program). A served controller starts unhomed, as a machine with incremental encoders, unless --homed.
+    /// the program). A served controller starts unhomed, as a machine with incremental encoders, unless --homed. The
+    /// simulated machine is the profile's: its rapids at the profile's rapid rate (the motors' Ixx16/Ixx22 on a real one),
+    /// so the host's move times and the ETA agree with it.
     /// </summary>
     private static SimHostOptions HostOptions(SimArgs args)
     {
-        var options = new SimOptions { RetainExecutedMoves = false, StartHomed = args.Homed };
+        var options = new SimOptions { RetainExecutedMoves = false, StartHomed = args.Homed, RapidFeed = RapidRate(args.Library) };
         foreach (var spec in args.Inject ?? [])
         {
             try
@@ -255,6 +257,12 @@ internal static class SimCommand
         int.TryParse(text, NumberStyles.None, CultureInfo.InvariantCulture, out var port) && port <= 65535
             ? port
             : throw new CliException($"--tcp '{spec}': the port must be 0..65535");
+
+    /// <summary>The rapid rate of the machine <c>--library</c> names: a profile's, else the default profile's.</summary>
+    private static double RapidRate(string choice) =>
+        string.Equals(choice, "none", StringComparison.OrdinalIgnoreCase) || (MachineProfile.Named(choice) is null && !choice.EndsWith(".json", StringComparison.OrdinalIgnoreCase))
+            ? MachineProfile.Default.RapidRate
+            : CliProfiles.Load(choice).RapidRate;
 
     /// <summary>What <c>--library</c> loads: a profile's library and tables, a library file's statements, or nothing.</summary>
     private static IReadOnlyList<string> LibraryLines(string choice)

@@ -11,7 +11,7 @@ internal static class StreamCommand
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "G-code program to run." };
-        var strategy = new Option<string>("--strategy") { Description = "chunk (the chunk method: the next chunk once, in the download window), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "chunk" };
+        var strategy = new Option<string>("--strategy") { Description = "full (the default: a rotary buffer as large as the controller allows, kept full, so link stalls do not starve the motion), chunk (the paper's chunk method: the next chunk once, in the download window), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "full" };
         var fromLine = new Option<int?>("--from-line") { Description = "Start at the block of this source line, with a preamble restoring modal state and a safe approach." };
         var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped, as split --force does) or uses codes the controller cannot run yet (the PMAC skips such a code and runs the rest of its block), or on a controller that runs no library or another one than the program was checked against." };
         var profile = CliProfiles.Option();
@@ -43,7 +43,7 @@ internal static class StreamCommand
             var machine = CliProfiles.Load(parse.GetValue(profile));
             var settings = options.Settings(parse);
             var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
-            using var sim = new CliSimulator(options.SimSpeed(parse));
+            using var sim = new CliSimulator(options.SimSpeed(parse), machine.RapidRate);
             var service = new JobService(new JobServiceOptions { JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync });
 
             // The gate: checked under the machine profile in the split's own pass and refused with every error, or with

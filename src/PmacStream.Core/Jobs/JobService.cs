@@ -44,7 +44,7 @@ public sealed partial class JobService
     public string JobDatabase { get; }
 
     /// <summary>Strategy names, the default first.</summary>
-    public static IReadOnlyList<string> Strategies { get; } = ["chunk", "pr", "adaptive"];
+    public static IReadOnlyList<string> Strategies { get; } = ["chunk", "pr", "adaptive", "full"];
 
     /// <summary>
     /// Checks a program under <paramref name="profile"/> and lists what it finds (at most <paramref name="maxListed"/>;

@@ -19,6 +19,14 @@ public sealed record RunSettings
     /// <summary>Rotary buffer words (<c>&amp;1 DEFINE ROT</c>): room for the executing chunk's rest and the next whole chunk.</summary>
     public const int DefaultBufferWords = StreamingDefaults.BufferWords;
 
+    /// <summary>
+    /// Rotary buffer words of the <c>full</c> strategy at least (it defines the buffer at the start): a Turbo PMAC's
+    /// standard user memory has about 26K words for programs and buffers (34K/42K with P or P and Q variables in
+    /// battery-backed RAM, 212K with the expanded memory option), less what the PROG 1000 library and the PLCs take;
+    /// see docs/turbo-pmac-timing.md. <c>--buffer-words</c> larger than this is used as given (extended memory).
+    /// </summary>
+    public const int FullBufferWords = 24_000;
+
     /// <summary>Words one chunk may take: 6400 words x 8 bytes is a ~50 KB chunk file, what one motion program buffer holds.</summary>
     public const int DefaultChunkWords = PreparationDefaults.ChunkWords;
 
@@ -165,9 +173,10 @@ public sealed record RunSettings
     public StreamingOptions ToStreamingOptions(StrategyKind strategy, bool singleBlock, bool defineBuffer, double clockFactor = 1) => new()
     {
         Strategy = strategy,
-        BufferWords = BufferWords,
+        // The full strategy's lead is the buffer: it defines one as large as the controller allows, on any controller.
+        BufferWords = strategy == StrategyKind.Full ? Math.Max(BufferWords, FullBufferWords) : BufferWords,
         SafetyWords = BufferMarginWords,
-        DefineBuffer = defineBuffer,
+        DefineBuffer = defineBuffer || strategy == StrategyKind.Full,
         WindowStart = WindowStart,
         WindowEnd = WindowEnd,
         TickPeriod = TickPeriod * clockFactor,

@@ -22,7 +22,10 @@ public class SimEtaTests(ITestOutputHelper output)
     public async Task Eta_converges_on_real_time_with_a_60x_simulator_clock()
     {
         const double speed = 60;
-        using var rig = new SimRig(RepoRoot.DemoProgram, 1000, new StreamingOptions { BufferWords = 20_000 });
+        // The faces' feed control (the % override, RunSettings.ToStreamingOptions): in paper mode the factor is the
+        // live P500 over the block's programmed F, and P500, read once a wall second (a minute of machine time at
+        // 60x), carries the program's own feed changes, so it is stale between readings (issue 28's note).
+        using var rig = new SimRig(RepoRoot.DemoProgram, 1000, new StreamingOptions { BufferWords = 20_000, Feed = PmacStream.Preparation.FeedMode.Override });
         var times = MoveTimeTable.FromProgram(RepoRoot.DemoProgram)!;
         rig.Session = new StreamingSession(rig.Connection, rig.Program, rig.Options, rig.Sink, moveTimes: times, time: new AcceleratedWallTime(rig.Sim, speed));
         await rig.Session.StartAsync();

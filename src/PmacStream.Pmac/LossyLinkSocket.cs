@@ -1,0 +1,54 @@
+using System.Net.Sockets;
+using Serilog;
+
+namespace PmacStream.Pmac;
+
+/// <summary>
+/// Shortens the stalls a lost packet causes on the host's side of a controller link (issue 28). The VR_PMAC protocol
+/// has one request in flight and waits for its reply, so a lost request never gets the duplicate ACKs of fast
+/// retransmit: it waits for the retransmission timeout, at least 200 ms on Linux (<c>net.ipv4.tcp_rto_min_us</c>),
+/// doubled on each further loss, while a plant Ethernet round trip is about a millisecond. On Linux 6.15 and later
+/// the socket's own floor is lowered (<c>TCP_RTO_MIN_US</c>; the timeout stays the kernel's smoothed round trip plus
+/// four deviations above it), and thin-stream linear timeouts keep a second loss from doubling the wait. Other
+/// systems, and older kernels that refuse the options, keep their defaults. The controller's side (lost replies) is
+/// its own TCP stack's and cannot be changed from here; the streaming lead covers those stalls.
+/// </summary>
+public static class LossyLinkSocket
+{
+    /// <summary>The retransmission timeout floor asked for, microseconds (the kernel accepts 2 ms to 200 ms).</summary>
+    public const int RtoMinMicroseconds = 10_000;
+
+    private const int TcpThinLinearTimeouts = 16; // linux/tcp.h
+    private const int TcpRtoMinUs = 45;           // linux/tcp.h, Linux 6.15
+
+    private static readonly ILogger Log = Serilog.Log.ForContext(typeof(LossyLinkSocket));
+
+    /// <summary>Applies the options a TCP socket to a controller gets; returns how many the system accepted.</summary>
+    public static int Tune(Socket socket)
+    {
+        ArgumentNullException.ThrowIfNull(socket);
+        if (!OperatingSystem.IsLinux())
+        {
+            return 0;
+        }
+
+        var applied = 0;
+        applied += TrySet(socket, TcpThinLinearTimeouts, 1, "TCP_THIN_LINEAR_TIMEOUTS");
+        applied += TrySet(socket, TcpRtoMinUs, RtoMinMicroseconds, "TCP_RTO_MIN_US");
+        return applied;
+    }
+
+    private static int TrySet(Socket socket, int option, int value, string name)
+    {
+        try
+        {
+            socket.SetSocketOption(SocketOptionLevel.Tcp, (SocketOptionName)option, value);
+            return 1;
+        }
+        catch (SocketException e)
+        {
+            Log.Debug("{Option} not available here ({Error}): the kernel's default stays", name, e.SocketErrorCode);
+            return 0;
+        }
+    }
+}
