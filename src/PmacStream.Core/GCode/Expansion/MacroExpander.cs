@@ -85,46 +85,96 @@ public sealed partial class MacroExpander : IMacroVariables
         return Needs(s, dialect);
     }
 
-    /// <summary>The same for a stream (read to its end or to the first line that needs it).</summary>
+    /// <summary>
+    /// The same for a stream (read to its end or to the first line that needs it). Fast on programs without macros:
+    /// the buffer is searched for what can start a statement (<c>#</c>, <c>[</c>, <c>M98</c>, <c>G65</c>, <c>GOTO</c>,
+    /// an o-word ...), and only lines holding one are compiled.
+    /// </summary>
     public static bool Needs(Stream s, MacroDialect dialect)
     {
         var buffer = new byte[1 << 16];
-        var line = new List<byte>(256);
+        var have = 0;
         var lineNo = 0;
-        int n;
-        while ((n = s.Read(buffer)) > 0)
+        while (true)
         {
-            var span = buffer.AsSpan(0, n);
-            while (span.Length > 0)
+            var n = s.Read(buffer, have, buffer.Length - have);
+            var end = have + n;
+            var data = buffer.AsSpan(0, end);
+            // Whole lines only, unless the input ended (or one line fills the buffer).
+            var cut = n == 0 ? end : data.LastIndexOfAny((byte)'\n', (byte)'\r') + 1;
+            if (cut <= 0)
             {
-                var end = span.IndexOfAny((byte)'\n', (byte)'\r');
-                var part = end < 0 ? span : span[..end];
-                if (line.Count == 0 && end >= 0)
-                {
-                    if (NeedsLine(part, dialect, ++lineNo))
-                    {
-                        return true;
-                    }
-                }
-                else
-                {
-                    line.AddRange(part);
-                    if (end >= 0)
-                    {
-                        if (NeedsLine(line.ToArray(), dialect, ++lineNo))
-                        {
-                            return true;
-                        }
+                cut = end;
+            }
 
-                        line.Clear();
-                    }
+            if (Candidates(buffer.AsSpan(0, cut), dialect, ref lineNo))
+            {
+                return true;
+            }
+
+            if (n == 0)
+            {
+                return false;
+            }
+
+            buffer.AsSpan(cut, end - cut).CopyTo(buffer);
+            have = end - cut;
+            if (have == buffer.Length)
+            {
+                Array.Resize(ref buffer, buffer.Length * 2);
+            }
+        }
+    }
+
+    // M98/M97/M99, G65/G66 and GOTO (WHILE and IF always come with a '['): few passes over a program without them.
+    private static readonly byte[][] FanucMarks = ["M9"u8.ToArray(), "G6"u8.ToArray(), "GOTO"u8.ToArray(), "m9"u8.ToArray(), "g6"u8.ToArray(), "goto"u8.ToArray()];
+
+    private static readonly byte[][] NgcMarks = ["O"u8.ToArray(), "o"u8.ToArray()];
+
+    /// <summary>Looks at the lines of <paramref name="data"/> holding a mark; true at the first that needs the expander.</summary>
+    private static bool Candidates(ReadOnlySpan<byte> data, MacroDialect dialect, ref int lineNo)
+    {
+        var firstLines = lineNo < 4;
+        if (firstLines || data.IndexOfAny((byte)'#', (byte)'[') >= 0 || AnyMark(data, dialect))
+        {
+            // Something to look at: line by line (rare for programs without macros; the first lines for the program number).
+            var pos = 0;
+            while (pos < data.Length)
+            {
+                var e = data[pos..].IndexOfAny((byte)'\n', (byte)'\r');
+                var line = e < 0 ? data[pos..] : data.Slice(pos, e);
+                lineNo++;
+                if (line.Length > 0 && (lineNo < 4 || line.IndexOfAny((byte)'#', (byte)'[') >= 0 || AnyMark(line, dialect)) && NeedsLine(line, dialect, lineNo))
+                {
+                    return true;
                 }
 
-                span = end < 0 ? default : span[(end + 1)..];
+                if (e < 0)
+                {
+                    break;
+                }
+
+                pos += e + 1;
+            }
+
+            return false;
+        }
+
+        lineNo += data.Count((byte)'\n') + 1; // only "first lines" matters; a CR-only file counts less, which is harmless
+        return false;
+    }
+
+    private static bool AnyMark(ReadOnlySpan<byte> data, MacroDialect dialect)
+    {
+        foreach (var m in dialect == MacroDialect.Fanuc ? FanucMarks : NgcMarks)
+        {
+            if (data.IndexOf(m) >= 0)
+            {
+                return true;
             }
         }
 
-        return line.Count > 0 && NeedsLine(line.ToArray(), dialect, ++lineNo);
+        return false;
     }
 
     private static bool NeedsLine(ReadOnlySpan<byte> line, MacroDialect dialect, int lineNo)
