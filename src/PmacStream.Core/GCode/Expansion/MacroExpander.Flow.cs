@@ -55,7 +55,7 @@ public sealed partial class MacroExpander
                 }
                 else if (f == _main)
                 {
-                    Finish(); // the next program in the file: the main program ended (without M30)
+                    throw Refuse(ExpansionCodes.Flow, c.Column, $"the main program runs into O{c.ProgramNumber.ToString("D4", CultureInfo.InvariantCulture)} without M30 or M02", ln);
                 }
                 else if (!f.Started && c.ProgramNumber == f.ProgramNumber)
                 {

@@ -94,8 +94,7 @@ public sealed partial class MacroExpander : IMacroVariables
     {
         var buffer = new byte[1 << 16];
         var have = 0;
-        var lineNo = 0;
-        while (true)
+                while (true)
         {
             var n = s.Read(buffer, have, buffer.Length - have);
             var end = have + n;
@@ -107,7 +106,7 @@ public sealed partial class MacroExpander : IMacroVariables
                 cut = end;
             }
 
-            if (Candidates(buffer.AsSpan(0, cut), dialect, ref lineNo))
+            if (Candidates(buffer.AsSpan(0, cut), dialect))
             {
                 return true;
             }
@@ -132,19 +131,17 @@ public sealed partial class MacroExpander : IMacroVariables
     private static readonly byte[][] NgcMarks = ["O"u8.ToArray(), "o"u8.ToArray()];
 
     /// <summary>Looks at the lines of <paramref name="data"/> holding a mark; true at the first that needs the expander.</summary>
-    private static bool Candidates(ReadOnlySpan<byte> data, MacroDialect dialect, ref int lineNo)
+    private static bool Candidates(ReadOnlySpan<byte> data, MacroDialect dialect)
     {
-        var firstLines = lineNo < 4;
-        if (firstLines || data.IndexOfAny((byte)'#', (byte)'[') >= 0 || AnyMark(data, dialect))
+        if (data.IndexOfAny((byte)'#', (byte)'[') >= 0 || AnyMark(data, dialect))
         {
-            // Something to look at: line by line (rare for programs without macros; the first lines for the program number).
+            // Something to look at: line by line (rare for programs without macros).
             var pos = 0;
             while (pos < data.Length)
             {
                 var e = data[pos..].IndexOfAny((byte)'\n', (byte)'\r');
                 var line = e < 0 ? data[pos..] : data.Slice(pos, e);
-                lineNo++;
-                if (line.Length > 0 && (lineNo < 4 || line.IndexOfAny((byte)'#', (byte)'[') >= 0 || AnyMark(line, dialect)) && NeedsLine(line, dialect, lineNo))
+                if (line.Length > 0 && (line.IndexOfAny((byte)'#', (byte)'[') >= 0 || AnyMark(line, dialect)) && NeedsLine(line, dialect))
                 {
                     return true;
                 }
@@ -160,7 +157,6 @@ public sealed partial class MacroExpander : IMacroVariables
             return false;
         }
 
-        lineNo += data.Count((byte)'\n') + 1; // only "first lines" matters; a CR-only file counts less, which is harmless
         return false;
     }
 
@@ -177,7 +173,7 @@ public sealed partial class MacroExpander : IMacroVariables
         return false;
     }
 
-    private static bool NeedsLine(ReadOnlySpan<byte> line, MacroDialect dialect, int lineNo)
+    private static bool NeedsLine(ReadOnlySpan<byte> line, MacroDialect dialect)
     {
         if (MacroCompiler.IsPlain(line, dialect))
         {
@@ -188,7 +184,8 @@ public sealed partial class MacroExpander : IMacroVariables
         {
             var c = MacroCompiler.Compile(Encoding.Latin1.GetString(line), dialect);
             // A program number is the program's own name on its first lines; one further down starts another program.
-            return c.Kind is not (LineKind.Raw or LineKind.TapeMark) && !(c.Kind == LineKind.ProgramNumber && lineNo <= 3);
+            // A program number alone needs nothing: only a call reaches the programs after the main one.
+            return c.Kind is not (LineKind.Raw or LineKind.TapeMark or LineKind.ProgramNumber);
         }
         catch (MacroEvalException)
         {

@@ -284,7 +284,7 @@ internal static class MacroCompiler
                 p.Advance();
                 line.Kind = LineKind.ProgramNumber;
                 line.ProgramNumber = (int)p.Number();
-                return line;
+                return End(ref p, line);
             }
 
             if (p.TryKeyword("IF"))
