@@ -94,7 +94,7 @@ public static class StartFromLine
         var profile = options.Profile ?? MachineProfile.Default;
         var interp = new Interpreter(profile);
         var highest = double.NegativeInfinity;
-        using var reader = GCodeReader.Open(sourcePath);
+        using var reader = GCode.Expansion.ProgramExpansion.OpenReader(sourcePath, profile);
         var count = 0;
         while (reader.Read())
         {
@@ -220,7 +220,7 @@ public static class StartFromLine
         static IEnumerable<(int, double, double)> Moves(string path, MachineProfile profile)
         {
             var interp = new Interpreter(profile);
-            using var reader = GCodeReader.Open(path);
+            using var reader = GCode.Expansion.ProgramExpansion.OpenReader(path, profile);
             while (reader.Read())
             {
                 // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.

@@ -149,8 +149,7 @@ public sealed partial class MacroExpander
 
     private ExpansionException MachineOnly(int n, MacroExpr at, string why)
     {
-        var f = _frame;
-        return Make(ExpansionCodes.MachineOnly, at.Column, $"#{n.ToString(CultureInfo.InvariantCulture)} is {why}; the host expands the program before it runs and cannot read it", f, f.Pc);
+        return Make(ExpansionCodes.MachineOnly, at.Column, $"#{n.ToString(CultureInfo.InvariantCulture)} is {why}; the host expands the program before it runs and cannot read it", _curFrame, _curLine);
     }
 
     private void Write(MacroExpr target, double value, MacroLine line)
@@ -184,7 +183,7 @@ public sealed partial class MacroExpander
                 {
                     var text = line.Comment.Length > 0 ? line.Comment : "(no message)";
                     throw Make(ExpansionCodes.Alarm, target.Column,
-                        $"the program raises alarm #3000={value.ToString(CultureInfo.InvariantCulture)}: {text}", _frame, _frame.Pc);
+                        $"the program raises alarm #3000={value.ToString(CultureInfo.InvariantCulture)}: {text}", _curFrame, _curLine);
                 }
 
                 case 3006:
@@ -196,7 +195,7 @@ public sealed partial class MacroExpander
                         _text.Append(" (").Append(line.Comment.Replace('(', '[').Replace(')', ']')).Append(')');
                     }
 
-                    EmitText(_frame, _frame.Pc);
+                    EmitText(_curFrame, _curLine);
                     return;
             }
         }

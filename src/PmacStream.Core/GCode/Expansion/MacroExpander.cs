@@ -31,6 +31,8 @@ public sealed partial class MacroExpander : IMacroVariables
     private bool _done;
     private bool _emittedBlock;
     private MacroLine? _evaluating;
+    private Frame _curFrame;   // the frame and line being run: where a refusal in an expression is reported
+    private int _curLine;
 
     /// <summary>Starts the expansion of <paramref name="path"/> (nothing is read from it beyond the file itself yet).</summary>
     public MacroExpander(string path, ExpansionOptions options, ExpansionMap? map = null)
@@ -41,7 +43,7 @@ public sealed partial class MacroExpander : IMacroVariables
         Map = map ?? new ExpansionMap(1 << 16);
         Array.Fill(_globals, _dialect == MacroDialect.Fanuc ? double.NaN : 0);
         var main = Source(Path.GetFullPath(path));
-        _main = _frame = new Frame(main, 0, NewLocals(), null, 0) { Name = string.Empty, Named = [] };
+        _main = _frame = _curFrame = new Frame(main, 0, NewLocals(), null, 0) { Name = string.Empty, Named = [] };
         if (options.PersistentVariablesFile is { } file)
         {
             foreach (var (k, v) in PersistentVariables.Load(file))
@@ -202,8 +204,8 @@ public sealed partial class MacroExpander : IMacroVariables
     {
         while (_outLen < atLeast && !_done)
         {
-            var f = _frame;
-            var ln = f.Pc;
+            var f = _curFrame = _frame;
+            var ln = _curLine = f.Pc;
             try
             {
                 if (ln >= f.Source.LineCount)
@@ -350,6 +352,7 @@ public sealed partial class MacroExpander : IMacroVariables
 
     private void EmitRaw(Frame f, int ln)
     {
+        CheckSize(ln);
         var bytes = f.Source.Line(ln);
         Reserve(bytes.Length + 1);
         bytes.CopyTo(_out.AsSpan(_outLen));
@@ -364,6 +367,7 @@ public sealed partial class MacroExpander : IMacroVariables
 
     private void EmitText(Frame f, int ln)
     {
+        CheckSize(ln);
         Reserve(_text.Length + 1);
         for (var i = 0; i < _text.Length; i++)
         {
@@ -395,14 +399,17 @@ public sealed partial class MacroExpander : IMacroVariables
         }
     }
 
-    private void Note(Frame f, int ln)
+    private void CheckSize(int ln)
     {
         if (Map.Lines >= _o.MaxExpandedLines)
         {
             throw Refuse(ExpansionCodes.SizeLimit, 1,
                 $"the expansion is longer than {_o.MaxExpandedLines.ToString(CultureInfo.InvariantCulture)} lines (the expanded-size limit)", ln);
         }
+    }
 
+    private void Note(Frame f, int ln)
+    {
         Map.Add(new SourceOrigin(f.Source.Index, ln + 1, f.MapId, f.Loops.Count > 0 ? f.Loops[^1].Iterations : 0));
     }
 
@@ -475,7 +482,7 @@ public sealed partial class MacroExpander : IMacroVariables
 
     // ------------------------------------------------------------------ errors and descriptions
 
-    private ExpansionException Refuse(string code, int column, string message, int ln) => Make(code, column, message, _frame, ln);
+    private ExpansionException Refuse(string code, int column, string message, int ln) => Make(code, column, message, _curFrame, ln);
 
     private ExpansionException Make(string code, int column, string message, Frame f, int ln)
     {

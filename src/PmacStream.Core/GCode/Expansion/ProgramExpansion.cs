@@ -21,6 +21,14 @@ public static class ProgramExpansion
     public static ExpansionOptions For(MachineProfile profile, ExpansionOptions? options) =>
         (options ?? new ExpansionOptions()) with { Dialect = profile.Macros, Profile = options?.Profile ?? profile };
 
+    /// <summary>
+    /// A reader of the program as the controller gets it: its expansion when <see cref="Applies"/> (lines numbered as
+    /// <c>M0==</c> numbers them), else its file. What replays a program to a tracked line (start from a line, resume,
+    /// move times, the job gate) reads through this, so a line means the same block everywhere.
+    /// </summary>
+    public static GCodeReader OpenReader(string path, MachineProfile profile, ExpansionOptions? options = null) =>
+        Applies(path, profile) ? new GCodeReader(new ExpandedStream(new MacroExpander(path, For(profile, options)))) : GCodeReader.Open(path);
+
     /// <summary>Checks a program through its expansion (what <see cref="Checker.CheckFile"/> does when <see cref="Applies"/>).</summary>
     public static CheckSummary Check(Checker checker, string path, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
         ExpansionOptions? options, CancellationToken cancellationToken)
