@@ -254,7 +254,12 @@ public sealed partial class MacroExpander
 
     private void FanucEnd(MacroLine c, Frame f, int ln)
     {
-        var i = f.Loops.FindLastIndex(l => l.Id == c.LoopId && l.Kind == "DO");
+        var i = f.Loops.Count - 1;
+        while (i >= 0 && !(f.Loops[i].Id == c.LoopId && f.Loops[i].Kind == "DO"))
+        {
+            i--; // a loop, not a lambda: END runs once per iteration
+        }
+
         if (i < 0)
         {
             throw Refuse(ExpansionCodes.Flow, c.Column, $"END{c.LoopId} without WHILE [...] DO{c.LoopId}", ln);
@@ -561,7 +566,12 @@ public sealed partial class MacroExpander
     /// <summary>The loop of the statement's label (inner loops of other labels left, as RS274/NGC leaves them).</summary>
     private Loop FindLoop(Frame f, MacroLine c, int ln, string? kind)
     {
-        var i = f.Loops.FindLastIndex(l => l.Label == c.Label && (kind == null || l.Kind == kind));
+        var i = f.Loops.Count - 1;
+        while (i >= 0 && !(f.Loops[i].Label == c.Label && (kind == null || f.Loops[i].Kind == kind)))
+        {
+            i--;
+        }
+
         if (i < 0)
         {
             throw Refuse(ExpansionCodes.Flow, c.Column, $"o{c.Label} {c.Keyword.ToLowerInvariant()} outside its loop", ln);

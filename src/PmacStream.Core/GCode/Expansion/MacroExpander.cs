@@ -467,16 +467,16 @@ public sealed partial class MacroExpander : IMacroVariables
         var frac = units % 1_000_000;
         if (frac != 0)
         {
+            // Six decimals, trailing zeros dropped; digits written here (a string per value would cost more than the value).
             _text.Append('.');
-            var digits = 6;
-            while (frac % 10 == 0)
+            var div = 100_000L;
+            while (frac != 0)
             {
-                frac /= 10;
-                digits--;
+                var digit = frac / div;
+                _text.Append((char)('0' + digit));
+                frac -= digit * div;
+                div /= 10;
             }
-
-            var s = frac.ToString(CultureInfo.InvariantCulture);
-            _text.Append('0', digits - s.Length).Append(s);
         }
     }
 

@@ -94,43 +94,56 @@ internal sealed class UnaryExpr(char op, MacroExpr operand) : MacroExpr
 }
 
 /// <summary>A binary operator: arithmetic, comparison (1/0) or logic.</summary>
-internal sealed class BinaryExpr(string op, MacroExpr left, MacroExpr right) : MacroExpr
+internal sealed class BinaryExpr : MacroExpr
 {
-    public string Op { get; } = op;
+    private readonly MacroExpr _left;
+    private readonly MacroExpr _right;
+    private readonly int _op; // index into Ops: a switch on a number, not on the operator's text, in loops run millions of times
+
+    private static readonly string[] Ops = ["+", "-", "*", "/", "**", "MOD", "GT", "GE", "LT", "LE", "AND", "OR", "XOR", "EQ", "NE"];
+
+    public BinaryExpr(string op, MacroExpr left, MacroExpr right)
+    {
+        _op = Array.IndexOf(Ops, op);
+        if (_op < 0)
+        {
+            throw new ArgumentException($"unknown operator {op}", nameof(op));
+        }
+
+        _left = left;
+        _right = right;
+    }
+
+    public string Op => Ops[_op];
 
     public override double Eval(IMacroVariables v)
     {
-        switch (Op)
+        if (_op >= 13)
         {
-            case "EQ":
-            case "NE":
-            {
-                // FANUC: <vacant> EQ #0 is true and <vacant> EQ 0 false; comparisons other than EQ/NE take vacant as 0.
-                var a = left.Eval(v);
-                var b = right.Eval(v);
-                var eq = double.IsNaN(a) || double.IsNaN(b) ? double.IsNaN(a) && double.IsNaN(b) : Math.Abs(a - b) < 1e-9;
-                return (Op == "EQ") == eq ? 1 : 0;
-            }
+            // FANUC: <vacant> EQ #0 is true and <vacant> EQ 0 false; comparisons other than EQ/NE take vacant as 0.
+            var a = _left.Eval(v);
+            var b = _right.Eval(v);
+            var eq = double.IsNaN(a) || double.IsNaN(b) ? double.IsNaN(a) && double.IsNaN(b) : Math.Abs(a - b) < 1e-9;
+            return (_op == 13) == eq ? 1 : 0;
         }
 
-        var x = left.Num(v);
-        var y = right.Num(v);
-        return Op switch
+        var x = _left.Num(v);
+        var y = _right.Num(v);
+        return _op switch
         {
-            "+" => x + y,
-            "-" => x - y,
-            "*" => x * y,
-            "/" => y == 0 ? throw new MacroEvalException(Column, "division by zero") : x / y,
-            "**" => Math.Pow(x, y),
-            "MOD" => y == 0 ? throw new MacroEvalException(Column, "MOD by zero") : x - (y * Math.Floor(x / y)),
-            "GT" => x > y + 1e-9 ? 1 : 0,
-            "GE" => x >= y - 1e-9 ? 1 : 0,
-            "LT" => x < y - 1e-9 ? 1 : 0,
-            "LE" => x <= y + 1e-9 ? 1 : 0,
-            "AND" => x != 0 && y != 0 ? 1 : 0,
-            "OR" => x != 0 || y != 0 ? 1 : 0,
-            "XOR" => (x != 0) ^ (y != 0) ? 1 : 0,
-            _ => throw new MacroEvalException(Column, $"unknown operator {Op}"),
+            0 => x + y,
+            1 => x - y,
+            2 => x * y,
+            3 => y == 0 ? throw new MacroEvalException(Column, "division by zero") : x / y,
+            4 => Math.Pow(x, y),
+            5 => y == 0 ? throw new MacroEvalException(Column, "MOD by zero") : x - (y * Math.Floor(x / y)),
+            6 => x > y + 1e-9 ? 1 : 0,
+            7 => x >= y - 1e-9 ? 1 : 0,
+            8 => x < y - 1e-9 ? 1 : 0,
+            9 => x <= y + 1e-9 ? 1 : 0,
+            10 => x != 0 && y != 0 ? 1 : 0,
+            11 => x != 0 || y != 0 ? 1 : 0,
+            _ => (x != 0) ^ (y != 0) ? 1 : 0,
         };
     }
 }

@@ -153,39 +153,78 @@ internal static class MacroCompiler
     private static readonly string[] OKeywords =
         ["ENDSUB", "SUB", "CALL", "RETURN", "ELSEIF", "ELSE", "ENDIF", "IF", "ENDWHILE", "WHILE", "DO", "ENDREPEAT", "REPEAT", "BREAK", "CONTINUE"];
 
-    /// <summary>True when a raw line cannot need the expander (no #, [, o-word, flow or call): most lines of most programs.</summary>
+    /// <summary>
+    /// True when a line is emitted as written and needs no compiling: no <c>#</c>, <c>[</c> or <c>%</c>, no keyword
+    /// (two letters in a row), no call, return or program end (<c>M98 M97 M99 G65-G67 M02 M30</c>), no program number
+    /// or o-word first. Most lines of most programs: they are neither compiled nor held.
+    /// </summary>
     public static bool IsPlain(ReadOnlySpan<byte> line, MacroDialect dialect)
     {
-        if (line.IndexOfAny((byte)'#', (byte)'[') >= 0)
+        var first = true;
+        for (var i = 0; i < line.Length; i++)
         {
-            // A '#' or '[' inside a comment is harmless, but rare enough to compile.
-            return false;
-        }
-
-        if (dialect == MacroDialect.LinuxCnc)
-        {
-            var t = line.TrimStart(" \t/"u8);
-            if (t.Length > 0 && t[0] is (byte)'N' or (byte)'n')
+            var b = line[i];
+            switch (b)
             {
-                var k = 1;
-                while (k < t.Length && t[k] is >= (byte)'0' and <= (byte)'9' or (byte)' ' or (byte)'.')
+                case (byte)'(':
+                    var close = line[i..].IndexOf((byte)')');
+                    if (close < 0)
+                    {
+                        return true; // the reader reports the open comment
+                    }
+
+                    i += close;
+                    continue;
+                case (byte)';':
+                    return true;
+                case (byte)'#' or (byte)'[' or (byte)'%' or (byte)':':
+                    return false;
+                case (byte)' ' or (byte)'\t' or (byte)'/':
+                    continue;
+            }
+
+            var u = (byte)(b & ~0x20);
+            if (u is < (byte)'A' or > (byte)'Z')
+            {
+                continue;
+            }
+
+            if (i + 1 < line.Length && (byte)(line[i + 1] & ~0x20) is >= (byte)'A' and <= (byte)'Z')
+            {
+                return false; // a keyword (IF, GOTO, WHILE, END, DO, SUB, CALL ...) or something the reader names
+            }
+
+            if (u == 'O' && (first || dialect == MacroDialect.LinuxCnc))
+            {
+                return false;
+            }
+
+            if (u == 'N')
+            {
+                continue; // a sequence number leaves the next word first
+            }
+
+            first = false;
+            if (u is (byte)'M' or (byte)'G')
+            {
+                var k = i + 1;
+                while (k < line.Length && line[k] == (byte)' ')
                 {
                     k++;
                 }
 
-                t = t[k..];
-            }
+                var v = 0;
+                var digits = 0;
+                while (k < line.Length && line[k] is >= (byte)'0' and <= (byte)'9' && digits < 6)
+                {
+                    v = (v * 10) + (line[k++] - '0');
+                    digits++;
+                }
 
-            return !(t.Length > 1 && t[0] is (byte)'O' or (byte)'o' && t[1] is (byte)'<' or (>= (byte)'0' and <= (byte)'9'));
-        }
-
-        // FANUC: letters that can start a call, a return or a flow keyword; a lower-case word is compiled too.
-        foreach (var b in line)
-        {
-            if (b is (byte)'M' or (byte)'G' or (byte)'I' or (byte)'W' or (byte)'E' or (byte)'D' or (byte)'O' or (byte)':' or
-                (byte)'m' or (byte)'g' or (byte)'i' or (byte)'w' or (byte)'e' or (byte)'d' or (byte)'o' or (byte)'(' or (byte)';')
-            {
-                return false;
+                if (u == 'M' ? v is 2 or 30 or 97 or 98 or 99 : v is 65 or 66 or 67)
+                {
+                    return false;
+                }
             }
         }
 
