@@ -191,8 +191,8 @@ public sealed partial class MacroExpander : IMacroVariables
         }
         catch (MacroEvalException)
         {
-            // What the reader reports itself (E101 for a '#' ...) unless the expander reads it: expand, so it is named.
-            return line.IndexOfAny((byte)'#', (byte)'[') >= 0;
+            // Not a statement either: the reader names it (E101 for a stray '#' ...), as in a program without macros.
+            return false;
         }
     }
 
