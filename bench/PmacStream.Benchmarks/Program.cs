@@ -31,6 +31,11 @@ if (args.Length > 1 && args[0] == "host-conversion")
     return PmacStream.Benchmarks.Streaming.HostConversionBench.Run(args[1..]);
 }
 
+if (args.Length > 0 && args[0] == "macro-expand")
+{
+    return PmacStream.Benchmarks.GCode.MacroExpansionBench.Run(args[1..]);
+}
+
 if (args.Length > 0 && args[0] == "stream-bench")
 {
     return PmacStream.Benchmarks.Streaming.StreamBench.Run(args[1..]);

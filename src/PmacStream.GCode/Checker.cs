@@ -66,12 +66,21 @@ public sealed class Checker
     /// <summary>The profile checked against.</summary>
     public MachineProfile Profile => _profile;
 
+    /// <summary>Folders, limits and the variable file of the expansion of programs with subprograms or macros (null: the defaults).</summary>
+    public Expansion.ExpansionOptions? MacroExpansion { get; init; }
+
     /// <summary>Off: straight moves are not measured, so the summary's estimated time covers arcs and dwells only (see <see cref="Interpreter.MeasureMoves"/>).</summary>
     internal bool MeasureMoves { get; init; } = true;
 
     /// <summary>Checks a file. Throws <see cref="IOException"/>/<see cref="UnauthorizedAccessException"/> when it cannot be read.</summary>
     public CheckSummary CheckFile(string path, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default)
     {
+        if (Expansion.ProgramExpansion.Applies(path, _profile))
+        {
+            // Subprograms, macros or o-words: checked as the host will send them (GCode/Expansion).
+            return Expansion.ProgramExpansion.Check(this, path, onDiagnostic, onBlock, MacroExpansion, cancellationToken);
+        }
+
         using var stream = new FileStream(path, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
         return Check(stream, path, onDiagnostic, onBlock, cancellationToken);
     }

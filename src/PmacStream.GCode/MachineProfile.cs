@@ -50,6 +50,13 @@ public sealed class MachineProfile
         SlashInBlock = dto.SlashInBlock ?? false;
         ExtendedWorkOffsets = dto.ExtendedWorkOffsets ?? false;
         ExternalWorkOffset = dto.ExternalWorkOffset ?? false;
+        Macros = dto.Macros?.Trim().ToLowerInvariant() switch
+        {
+            null or "" or "none" => Expansion.MacroDialect.None,
+            "fanuc" => Expansion.MacroDialect.Fanuc,
+            "linuxcnc" => Expansion.MacroDialect.LinuxCnc,
+            var other => throw Bad(source, $"macros: '{other}' is not fanuc, linuxcnc or none"),
+        };
         ProgramTail = dto.ProgramTail ?? "M05";
         Startup = dto.Startup ?? "G00 G21 G90 G54 G17 G49 G40 M05 M09";
         Letters = (dto.Letters ?? "NOGMXYZIJKRFSTHDP").ToUpperInvariant();
@@ -183,6 +190,12 @@ public sealed class MachineProfile
     /// (LinuxCNC, grbl): <c>G10 L2 P0</c> sets the work offset selected now.
     /// </summary>
     public bool ExternalWorkOffset { get; }
+
+    /// <summary>
+    /// The subprogram and macro language the host expands before checking and splitting (FANUC/Haas subprograms and
+    /// Custom Macro B, or LinuxCNC o-words; <c>GCode/Expansion</c>); None: such lines are errors, as before.
+    /// </summary>
+    public Expansion.MacroDialect Macros { get; }
 
     /// <summary>Code the splitter appends after the last chunk (some machines want <c>M03 M05</c>).</summary>
     public string ProgramTail { get; }

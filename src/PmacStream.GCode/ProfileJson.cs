@@ -43,6 +43,11 @@ internal static class ProfileJson
             w.WriteBoolean("slashInBlock", p.SlashInBlock);
             w.WriteBoolean("extendedWorkOffsets", p.ExtendedWorkOffsets);
             w.WriteBoolean("externalWorkOffset", p.ExternalWorkOffset);
+            if (p.Macros != Expansion.MacroDialect.None)
+            {
+                w.WriteString("macros", p.Macros == Expansion.MacroDialect.Fanuc ? "fanuc" : "linuxcnc");
+            }
+
             w.WriteString("programTail", p.ProgramTail);
             w.WriteString("startup", p.Startup);
             w.WriteString("letters", p.Letters);
@@ -208,6 +213,7 @@ internal static class ProfileJson
                     case "slashinblock": dto.SlashInBlock = v.GetBoolean(); break;
                     case "extendedworkoffsets": dto.ExtendedWorkOffsets = v.GetBoolean(); break;
                     case "externalworkoffset": dto.ExternalWorkOffset = v.GetBoolean(); break;
+                    case "macros": dto.Macros = v.GetString(); break;
                     case "programtail": dto.ProgramTail = v.GetString(); break;
                     case "startup": dto.Startup = v.GetString(); break;
                     case "letters": dto.Letters = v.GetString(); break;
@@ -322,6 +328,8 @@ internal static class ProfileJson
         public bool? ExtendedWorkOffsets { get; set; }
 
         public bool? ExternalWorkOffset { get; set; }
+
+        public string? Macros { get; set; }
 
         public string? ProgramTail { get; set; }
 

@@ -40,6 +40,12 @@ public static class ProfileTable
             .Append("; G10 L20: ").Append(profile.ExtendedWorkOffsets ? "extended work offsets (G54.1 P)" : "the current position reads as the values")
             .Append("; G10 L2 P0: ").Append(profile.ExternalWorkOffset ? "the external work offset, added to every work offset" : "the work offset in force")
             .Append("; arcs: ").Append(profile.ArcTolerance.Describe())
+            .Append("; subprograms and macros: ").Append(profile.Macros switch
+            {
+                GCode.Expansion.MacroDialect.Fanuc => "FANUC/Haas subprograms and Custom Macro B, expanded on the host",
+                GCode.Expansion.MacroDialect.LinuxCnc => "LinuxCNC o-words and parameters, expanded on the host",
+                _ => "not read",
+            })
             .Append("; tools 0-").Append(profile.ToolCount.ToString(ci))
             .Append("; letters ").Append(profile.Letters)
             .Append("; power-on `").Append(profile.Startup).Append("`.\n\n");

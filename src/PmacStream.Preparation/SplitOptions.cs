@@ -68,6 +68,9 @@ public sealed record SplitOptions
     /// </summary>
     public MachineProfile? CheckProfile { get; init; }
 
+    /// <summary>Folders, limits and the variable file of the expansion of programs with subprograms or macros (null: the defaults).</summary>
+    public GCode.Expansion.ExpansionOptions? Expansion { get; init; }
+
     /// <summary>
     /// The profile the split is checked against, named for the manifest and for reusing a split: the profile's name
     /// and the start of the SHA-256 of its JSON (two profiles of one name but other codes differ); null when the split

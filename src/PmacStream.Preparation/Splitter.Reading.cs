@@ -52,7 +52,7 @@ public static partial class Splitter
             {
                 _batch = TakeFree();
                 long size;
-                using (var stream = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan))
+                using (var stream = OpenSource())
                 using (var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16))
                 {
                     var check = _check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
@@ -137,6 +137,7 @@ public static partial class Splitter
                         Take(block, host?.Convert(block));
                     }
 
+                    EndExpansion();
                     if (check != null && reader.TextAfterTapeEnd)
                     {
                         check.TextAfterTapeEnd(reader.TapeEndLine);
@@ -147,7 +148,7 @@ public static partial class Splitter
                         // Errors past the per-line listing limit were counted, not listed: the refusal counts them all.
                         _checkErrorCount += Math.Min(int.MaxValue - _checkErrorCount, checkedAll.UnlistedErrors);
                     }
-                    size = reader.Position;
+                    size = SourceRead(reader);
                 }
 
                 _batch!.EndPosition = size;
@@ -214,6 +215,7 @@ public static partial class Splitter
 
         private void OnCheckDiagnostic(Diagnostic d)
         {
+            d = FromExpansion(d);
             if (d.Severity == Severity.Error)
             {
                 _checkErrorCount++;

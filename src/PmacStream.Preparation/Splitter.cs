@@ -94,7 +94,7 @@ public static partial class Splitter
         foreach (var f in Directory.EnumerateFileSystemEntries(outDir))
         {
             var name = Path.GetFileName(f);
-            if (!(name == ChunkManifest.FileName || name.EndsWith(ChunkExtension, StringComparison.OrdinalIgnoreCase) || IsDownloadReport(f)) || Directory.Exists(f))
+            if (!(name == ChunkManifest.FileName || name == GCode.Expansion.ExpansionMap.FileName || name.EndsWith(ChunkExtension, StringComparison.OrdinalIgnoreCase) || IsDownloadReport(f)) || Directory.Exists(f))
             {
                 throw new IOException($"{outDir}: folder exists and holds other files ({name}); choose another --out");
             }

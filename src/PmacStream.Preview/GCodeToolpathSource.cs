@@ -51,7 +51,7 @@ public sealed class GCodeToolpathSource : IToolpathSource
     /// <inheritdoc />
     public IEnumerable<PathSegment> ReadSegments(CancellationToken cancellationToken = default)
     {
-        using var reader = GCodeReader.Open(_path);
+        using var reader = GCode.Expansion.ProgramExpansion.OpenReader(_path, _profile); // subprograms and macros drawn as they run
         _length = Math.Max(1, new FileInfo(_path).Length);
         _issues.Clear();
         IssueCount = 0;

@@ -87,11 +87,13 @@ internal static class JobConsole
             return failed;
         }
 
-        var outcome = await CliProgress.RunAsync(title, report => job.RunAsync(s => report(s.Percent / 100.0, Describe(s)), ct)).ConfigureAwait(false);
+        // An expanded program (subprograms, macros, o-words) tracks expanded lines: its map names their source lines and calls.
+        var origins = CliExpansion.Map(program.Folder);
+        var outcome = await CliProgress.RunAsync(title, report => job.RunAsync(s => report(s.Percent / 100.0, CliExpansion.Describe(Describe(s), s.CurrentLine, origins)), ct)).ConfigureAwait(false);
         var status = job.Status;
         if (outcome == JobOutcome.Interrupted)
         {
-            Console.Error.WriteLine($"interrupted at line {status.CurrentLine}: sending stopped; the controller keeps the lines it holds. {Resumable(job)}");
+            Console.Error.WriteLine($"interrupted at line {status.CurrentLine}{CliExpansion.Where(status.CurrentLine, origins)}: sending stopped; the controller keeps the lines it holds. {Resumable(job)}");
             return CliGlobals.Failed;
         }
 

@@ -64,7 +64,7 @@ public static class ProgramGate
         var byLine = codes.GroupBy(c => c.Value).ToDictionary(g => g.Key, g => g.Select(c => c.Key).ToList());
         var last = byLine.Keys.DefaultIfEmpty(0).Max();
         var found = new List<Diagnostic>();
-        using (var reader = GCodeReader.Open(sourcePath))
+        using (var reader = GCode.Expansion.ProgramExpansion.OpenReader(sourcePath, profile))
         {
             while (reader.LineNumber < last && reader.Read())
             {
