@@ -2,7 +2,7 @@ using System.Text;
 using PmacStream.GCode;
 using PmacStream.GCode.Expansion;
 
-namespace PmacStream.Program;
+namespace PmacStream.Preparation;
 
 /// <content>
 /// A program with subprograms, macros or o-words is split from its expansion: the chunks carry the expanded blocks,
@@ -11,8 +11,8 @@ namespace PmacStream.Program;
 /// </content>
 public static partial class Splitter
 {
-    /// <content>The expansion's side of a split run.</content>
-    private sealed partial class SplitRun
+    /// <content>The expansion's side of the reading side of a split.</content>
+    private sealed partial class SourceReader
     {
         private MacroExpander? _expander;
         private StreamWriter? _mapWriter;

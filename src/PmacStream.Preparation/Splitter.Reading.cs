@@ -17,9 +17,11 @@ public static partial class Splitter
     /// the host blocks, and hands batches of lines to the writing side over <c>full</c>, taking empty ones back from
     /// <c>free</c>. Every field is this thread's; the writing side gets the <see cref="ReadOutcome"/> when it ends.
     /// </summary>
-    private sealed class SourceReader(string source, SplitOptions options, HandOff<LineBatch> full, HandOff<LineBatch> free, CancellationToken stop)
+    private sealed partial class SourceReader(string source, string folder, long totalBytes, SplitOptions options, HandOff<LineBatch> full, HandOff<LineBatch> free, CancellationToken stop)
     {
         private readonly string _source = source;
+        private readonly string _folder = folder;     // the chunk folder: an expansion's map goes beside the manifest
+        private readonly long _totalBytes = totalBytes; // the source file's size (an expanded source is longer than its file)
         private readonly SplitOptions _o = options;
         private readonly HandOff<LineBatch> _full = full;
         private readonly HandOff<LineBatch> _free = free;

@@ -281,7 +281,7 @@ public static partial class Splitter
                 free.Add(new LineBatch());
             }
 
-            var source = new SourceReader(_source, _o, full, free, stop.Token);
+            var source = new SourceReader(_source, _folder, _totalBytes, _o, full, free, stop.Token);
             ReadOutcome read;
             using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct, (int)Math.Min(_o.MaxChunkBytes + 256, 1 << 20)))
             {

@@ -10,7 +10,7 @@ namespace PmacStream.Streaming;
 /// the next chunk goes, and such a stall starves it. This strategy instead tops the buffer up on every tick on which
 /// a slice of it is free (as soon as there is room, never waiting for a window), in batches of whole lines, so the lead
 /// is always what the buffer holds; the job service defines the buffer as large as the controller's memory allows
-/// (<see cref="Jobs.RunSettings.FullBufferWords"/>, docs/turbo-pmac-timing.md). It measures the link (the longest
+/// (<c>RunSettings.FullBufferWords</c>, docs/turbo-pmac-timing.md). It measures the link (the longest
 /// single request, a retransmission stall) and the lead, and says once when the buffer at full is less than twice
 /// that stall: then only a larger buffer (<c>--buffer-words</c>, extended memory) helps.
 /// </summary>

@@ -23,13 +23,16 @@ public sealed class MoveTimeTable : IMoveTimes
         {
             var motions = new LastMotion();
             var interp = new Interpreter(profile) { Canon = motions };
-            using var reader = GCodeReader.Open(path);
+            using var reader = GCode.Expansion.ProgramExpansion.OpenReader(path, profile);
             while (reader.Read())
             {
                 // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.
                 if (interp.Execute(reader.Current) && motions.Take() is { } m)
                 {
-                    yield return (m.Line, m.Seconds, m.Feed ?? double.NaN);
+                    var seconds = m.Kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw
+                        ? Math.Max(m.Seconds, MinimumMoveSeconds) // the controller's shortest blended move
+                        : m.Seconds;
+                    yield return (m.Line, seconds, m.Feed ?? double.NaN);
                 }
             }
         }

@@ -78,14 +78,16 @@ public class OpenLargeProgramBenchmark
     private sealed class NoBackend : IHmiBackend
     {
         public IReadOnlyList<string> Strategies { get; } = ["chunk"];
-        public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<string> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task DisconnectAsync() => Task.CompletedTask;
+        public Task LoadLibraryAsync(MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => throw new NotSupportedException();
-        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public ChunkRows ReadChunkRows(SplitView program, int chunk) => throw new NotSupportedException();
+        public Task<IHmiJob> StartAsync(HmiJobRequest request, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<InterruptedJobView?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IHmiJob> ResumeInterruptedAsync(InterruptedJobView job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop, CancellationToken cancellationToken = default) => throw new NotSupportedException();
         public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile) => new GCodeToolpathSource(sourcePath, profile);
     }
 }

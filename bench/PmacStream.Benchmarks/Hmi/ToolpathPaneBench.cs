@@ -4,9 +4,7 @@ using PmacStream.Benchmarks.Generators;
 using PmacStream.GCode;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
-using PmacStream.Pmac;
 using PmacStream.Preview;
-using PmacStream.Preparation;
 
 namespace PmacStream.Benchmarks.Hmi;
 
@@ -134,46 +132,32 @@ public static class ToolpathPaneBench
     {
         public IReadOnlyList<string> Strategies { get; } = ["chunk"];
 
-        public Task<ControllerLink> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
-            Task.FromResult(new ControllerLink(ConnectionSpec.Simulator, new NullConnection()));
+        public Task<string> ConnectAsync(ConnectionSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => Task.FromResult("bench");
 
-        public Task LoadLibraryAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken = default) => Task.CompletedTask;
+        public Task DisconnectAsync() => Task.CompletedTask;
+
+        public Task LoadLibraryAsync(MachineProfile profile, CancellationToken cancellationToken = default) => Task.CompletedTask;
 
         public Task<HmiCheckResult> CheckAsync(string path, MachineProfile profile, HmiLanguage language, CancellationToken cancellationToken = default) => throw new NotSupportedException();
 
-        public Task<HmiSplitResult> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
+        public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
         {
             File.WriteAllText(Path.Combine(dir, "big_0001.pmc"), "CLOSE\nOPEN ROT\nM0==8 N8 X1 F(P500)\nCLOSE\n");
             // One chunk spanning the program for the status; its file (and block count) that of an ordinary chunk.
-            var chunk = new ChunkInfo(1, "big_0001.pmc", 1, lines, 1, 1, 0, 0, string.Empty);
-            var manifest = new ChunkManifest(sourcePath, 0, string.Empty, lines, lines, "M0", TrackingPlacement.Exact, FeedMode.Paper, "P500", [chunk]);
-            return Task.FromResult(new HmiSplitResult(manifest, dir));
+            return Task.FromResult(new SplitView(sourcePath, dir, [new ChunkView(1, "big_0001.pmc", 1, lines, 1)], lines));
         }
 
-        public Task<IReadOnlyList<string>> BuildPreambleAsync(HmiSplitResult program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) => throw new NotSupportedException();
 
-        public Task<IHmiJob> StartAsync(ControllerLink controller, HmiJobRequest request, CancellationToken cancellationToken = default) =>
+        public ChunkRows ReadChunkRows(SplitView program, int chunk) => new([8], [3]);
+
+        public Task<IHmiJob> StartAsync(HmiJobRequest request, CancellationToken cancellationToken = default) =>
             Task.FromResult<IHmiJob>(new BenchJob(lines, perTick));
 
-        public Task<HmiInterruptedJob?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => Task.FromResult<HmiInterruptedJob?>(null);
+        public Task<InterruptedJobView?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) => Task.FromResult<InterruptedJobView?>(null);
 
-        public Task<IHmiJob> ResumeInterruptedAsync(ControllerLink controller, HmiInterruptedJob job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop, CancellationToken cancellationToken = default) => throw new NotSupportedException();
+        public Task<IHmiJob> ResumeInterruptedAsync(InterruptedJobView job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop, CancellationToken cancellationToken = default) => throw new NotSupportedException();
 
         public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile) => new GCodeToolpathSource(sourcePath, profile);
-    }
-
-    private sealed class NullConnection : IPmacConnection
-    {
-        public string Description => "bench";
-
-        public Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
-
-        public Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default) => Task.CompletedTask;
-
-        public Task FlushAsync(CancellationToken cancellationToken = default) => Task.CompletedTask;
-
-        public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => Task.FromResult(string.Empty);
-
-        public ValueTask DisposeAsync() => ValueTask.CompletedTask;
     }
 }

@@ -68,7 +68,7 @@ public sealed class EtaTableTests(ITestOutputHelper output) : IDisposable
         var service = new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_temp.Path, "jobs.db") });
         var prepared = await service.PrepareAsync(new PrepareRequest(source, RunSettings.Default) { OutDir = Path.Combine(_temp.Path, Path.GetFileNameWithoutExtension(source)) });
         var program = prepared.Program;
-        var times = StartFromLine.MoveTimes(source, profile: prepared.Profile)!;
+        var times = MoveTimeTable.FromProgram(source, profile: prepared.Profile)!;
         // The simulated machine is the profile's: rapids at its rapid rate, as the command line's simulators run it.
         using var sim = new PmacSimulator(new SimOptions { RetainExecutedMoves = false, RapidFeed = prepared.Profile.RapidRate });
         var moves = new List<(double Start, double End)>();

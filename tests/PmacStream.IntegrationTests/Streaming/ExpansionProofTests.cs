@@ -3,7 +3,7 @@ using PmacStream.GCode;
 using PmacStream.GCode.Expansion;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
-using PmacStream.Program;
+using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
 using PmacStream.Streaming;
@@ -132,7 +132,7 @@ public class ExpansionProofTests(ITestOutputHelper output)
     private static async Task<ProofReport> ProveAsync(string path, MachineProfile profile)
     {
         var name = Path.GetFileName(path);
-        var split = Splitter.Split(path, new SplitOptions { CheckProfile = profile, LinesPerChunk = 40, OutDir = path + "_chunks" });
+        var split = Splitter.Split(path, new SplitOptions { CheckProfile = profile, BlocksPerChunk = 40, OutDir = path + "_chunks" });
         File.Exists(Path.Combine(split.OutputDirectory, ExpansionMap.FileName)).Should().BeTrue("an expanded split keeps its map");
         var program = ChunkedProgram.Open(split.ManifestPath);
         await using var host = new SimHost(new SimHostOptions

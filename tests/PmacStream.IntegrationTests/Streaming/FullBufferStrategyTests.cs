@@ -24,7 +24,7 @@ public sealed class FullBufferStrategyTests(ITestOutputHelper output) : IDisposa
     public async Task The_full_strategy_rides_out_one_second_stalls_at_the_controllers_top_block_rate_and_the_chunk_strategy_does_not()
     {
         var program = await PrepareAsync(rate: 5000, blocks: 12_000);
-        var times = StartFromLine.MoveTimes(program.Manifest.SourcePath)!;
+        var times = MoveTimeTable.FromProgram(program.Manifest.SourcePath)!;
         var full = await RunAsync(program, times, StrategyKind.Full);
         var chunk = await RunAsync(program, times, StrategyKind.Chunk);
         output.WriteLine($"full: {full.Underruns} underruns, worst lead {full.WorstLead:0.000} s; chunk: {chunk.Underruns} underruns, worst lead {chunk.WorstLead:0.000} s");
