@@ -232,23 +232,44 @@ public static partial class Splitter
                     values++;
                 }
 
+                // A block's G codes apply to its move wherever the program writes them (X1 G00 is a rapid), but on the
+                // controller a G code is a library call that runs where it stands: written after the axis words it would
+                // change the mode only from the next move. So the G codes go first; a block that writes them first (all
+                // the usual ones) is written as it is.
+                var gFirst = false;
+                var other = false;
                 foreach (ref readonly var w in words)
                 {
-                    if (w.Letter is 'N' or 'O' || (w.Letter == 'F' && paperFeed))
+                    if (w.Letter == 'G')
                     {
-                        continue;
+                        gFirst |= other;
                     }
-
-                    if (sep)
+                    else if (w.Letter is not ('N' or 'O'))
                     {
-                        o[0] = (byte)' ';
-                        o = o[1..];
+                        other = true;
                     }
+                }
 
-                    o[0] = (byte)w.Letter;
-                    o = Number(o[1..], src, w);
-                    sep = true;
-                    values++;
+                for (var pass = gFirst ? 0 : 1; pass < 2; pass++)
+                {
+                    foreach (ref readonly var w in words)
+                    {
+                        if (w.Letter is 'N' or 'O' || (w.Letter == 'F' && paperFeed) || (gFirst && (w.Letter == 'G') != (pass == 0)))
+                        {
+                            continue;
+                        }
+
+                        if (sep)
+                        {
+                            o[0] = (byte)' ';
+                            o = o[1..];
+                        }
+
+                        o[0] = (byte)w.Letter;
+                        o = Number(o[1..], src, w);
+                        sep = true;
+                        values++;
+                    }
                 }
 
                 if (motion == BlockMotion.Move && paperFeed)

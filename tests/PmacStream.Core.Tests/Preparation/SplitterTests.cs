@@ -27,6 +27,19 @@ public class SplitterTests
     }
 
     [Fact]
+    public void G_codes_written_after_the_axis_words_go_first_so_the_move_runs_in_their_mode()
+    {
+        // "Z0.3 G00" is a rapid (a block's G codes apply to its move); on the controller G00 is a call that runs where it
+        // stands, so written after Z it would feed Z at the old mode and make only the next move a rapid.
+        var checkedSplit = new SplitOptions { ProgramTail = "", CheckProfile = MachineProfile.Default };
+        BodyOf("O1\nG01 X1 F100\nZ0.3 G00\nX1 Y2 G01 G91\nG01 X3\n", checkedSplit).Should().Equal(
+            "G99.9", "P500=100", "M0==2 G01 X1 F(P500)", "M0==3 G00 Z0.3 F(P500)", "M0==4 G01 G91 X1 Y2 F(P500)", "M0==5 G01 X3 F(P500)");
+
+        // Blocks that write their G codes first are written as they are.
+        BodyOf("G00 X1 Y2\nG01 G91 Z-1 F50\n").Should().Equal("M0==1 G00 X1 Y2 F(P500)", "P500=50", "M0==2 G01 G91 Z-1 F(P500)");
+    }
+
+    [Fact]
     public void Comments_with_chinese_text_are_removed_in_utf8_and_gbk()
     {
         BodyOf("G01 X1 (粗加工 刀具 T1) Y2 ; 注释\n(只有注释)\n").Should().Equal("M0==1 G01 X1 Y2 F(P500)");

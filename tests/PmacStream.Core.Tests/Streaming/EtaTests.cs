@@ -62,7 +62,9 @@ public class EtaTests(ITestOutputHelper output)
         var folder = temp.Path;
         try
         {
-            var program = FakeSplit.Write(folder, FakeSplit.Program(800, 7), 200);
+            // 20,000 blocks: the measured rate replaces the move times only once half a smoothing span (15 s) of program
+            // time is measured (EtaEstimator.Rate), which every case reaches well before a quarter of the job has run.
+            var program = FakeSplit.Write(folder, FakeSplit.Program(20_000, 7), 200);
             var table = new MoveTimeTable(program.TrackedLines().Select(l => (l, programmedSeconds, programmedFeed)));
             var options = new StreamingOptions { BufferWords = 8000, Feed = overrideMode ? FeedMode.Override : FeedMode.Paper };
             var rig = new Rig(program, options, moveSeconds: realSeconds, capacityWords: 8000);

@@ -75,7 +75,7 @@ public sealed class SplitCliTests : IDisposable
     [Fact]
     public void Split_refuses_a_program_with_errors_naming_them_and_exits_1_unless_forced()
     {
-        var src = Write("bad.nc", "G21 G90\nG01 X1 F100\nG01 X#2\nG01 X3\nM30\n");
+        var src = Write("bad.nc", "G21 G90\nG01 X1 F100\nG01 X$2\nG01 X3\nM30\n");
         var outDir = Path.Combine(_temp.Path, "bad_chunks");
         var (code, _, stderr) = Run("split", src, "--out", outDir);
         code.Should().Be(1);

@@ -51,8 +51,8 @@ public sealed class EtaTableTests(ITestOutputHelper output) : IDisposable
     /// </summary>
     private static readonly Dictionary<string, string> KnownSplitDefects = new()
     {
-        ["stcline__CNC_Training__smiley.nc"] = "`Z0.3 G00` is written as `M0==28 Z0.3 G00 F(P500)`: the controller runs the move before the G00 call, so "
-            + "the three retracts feed at F5 in/min (3.6 s each) instead of rapid; the split should write the motion code before the axis words",
+        // None now: smiley.nc's "Z0.3 G00" retracts (written "Z0.3 G00", run at feed) are written "G00 Z0.3" since the
+        // split writes a block's G codes before its axis words.
     };
 
     /// <summary>The programs of ../shared/gcode-corpus that run as they are (CorpusStreamTests' list).</summary>
