@@ -23,7 +23,6 @@ public static class ArcGeometry
         out (double Start, double End) radii)
     {
         radii = default;
-        var inch = scale != 1.0;
         // Map the plane to (first, second, linear) axes; G18 is ZX so that G02/G03 keep the right-hand rule.
         (double s1, double s2, double sl, double e1, double e2, double el, double? o1, double? o2, double b1, double b2, string names) = plane switch
         {
@@ -35,52 +34,17 @@ public static class ArcGeometry
         double c1, c2;
         if (r is { } radius)
         {
-            var dx = e1 - s1;
-            var dy = e2 - s2;
-            var chord = Math.Sqrt((dx * dx) + (dy * dy));
-            var half = chord / 2;
-            var rr = Math.Abs(radius);
-            // rs274ngc's arc_data_r: R may fall short of half the chord by a rounding's worth; the arc is then the
-            // half circle on the chord (the centre at its middle), which the host sends as its centre.
-            var slack = tolerance.RadiusSlack(inch);
-            if (chord < 1e-12 || ((half - rr) / scale) - slack > 1e-12 * Math.Max(1, half))
+            if (!CentreFromRadius(cw, radius, (s1, s2), (e1, e2), tolerance, scale, diags, line, col['R' - 'A'], out c1, out c2))
             {
-                if (diags != null)
-                {
-                    var units = inch ? "in" : "mm";
-                    diags.Add(new Diagnostic(Severity.Error, DiagnosticCodes.ArcRadiusMismatch, line, col['R' - 'A'], DiagnosticText.Format(DiagnosticText.ArcRadiusKey,
-                        Length(rr / scale, units), Length(half / scale, units), Length(slack, units))));
-                }
-
                 return (null, start.DistanceTo(end));
             }
-
-            var hgt = Math.Sqrt(Math.Max(0, (rr * rr) - (half * half)));
-            var sign = (cw ? -1 : 1) * (radius < 0 ? -1 : 1);
-            c1 = s1 + (dx / 2) + (-dy / chord * hgt * sign);
-            c2 = s2 + (dy / 2) + (dx / chord * hgt * sign);
         }
         else if (o1.HasValue || o2.HasValue)
         {
             // Incremental centres default to the start's coordinate, absolute ones (G90.1) to the work origin's.
             c1 = absoluteCentre ? b1 + (o1 ?? s1 - b1) : s1 + (o1 ?? 0);
             c2 = absoluteCentre ? b2 + (o2 ?? s2 - b2) : s2 + (o2 ?? 0);
-            var r0 = Math.Sqrt(((s1 - c1) * (s1 - c1)) + ((s2 - c2) * (s2 - c2)));
-            var r1 = Math.Sqrt(((e1 - c1) * (e1 - c1)) + ((e2 - c2) * (e2 - c2)));
-            // Compared in the program's units, as rs274ngc compares them (its tolerances are per unit system).
-            if (tolerance.Refuses(r0 / scale, r1 / scale, inch))
-            {
-                var firstOffset = plane switch { 18 => Min(col['K' - 'A'], col['I' - 'A']), 19 => Min(col['J' - 'A'], col['K' - 'A']), _ => Min(col['I' - 'A'], col['J' - 'A']) };
-                var units = inch ? "in" : "mm";
-                Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, firstOffset, Length(r0 / scale, units), Length(r1 / scale, units),
-                    Length(inch ? tolerance.Inch : tolerance.Millimetre, units), ModalState.Num(tolerance.Relative * 100));
-            }
-            else
-            {
-                // The PMAC runs such an arc as a spiral from the start radius to the end radius, ending exactly at the
-                // programmed end point (Turbo SRM, CIRCLE1/CIRCLE2), as LinuxCNC does.
-                radii = (r0 / scale, r1 / scale);
-            }
+            radii = CheckRadii(plane, (s1, s2), (e1, e2), (c1, c2), tolerance, scale, diags, line, col);
         }
         else
         {
@@ -107,6 +71,67 @@ public static class ArcGeometry
             _ => new Point3(c1, c2, start.Z),
         };
         return (centre, len);
+    }
+
+    /// <summary>
+    /// An R arc's centre (plane coordinates) from its start and end; false, with E115 reported at
+    /// <paramref name="rColumn"/>, when R is short of half the chord by more than a rounding's worth.
+    /// </summary>
+    private static bool CentreFromRadius(bool cw, double radius, (double A, double B) s, (double A, double B) e, ArcTolerance tolerance, double scale,
+        List<Diagnostic>? diags, int line, int rColumn, out double c1, out double c2)
+    {
+        var inch = scale != 1.0;
+        var dx = e.A - s.A;
+        var dy = e.B - s.B;
+        var chord = Math.Sqrt((dx * dx) + (dy * dy));
+        var half = chord / 2;
+        var rr = Math.Abs(radius);
+        // rs274ngc's arc_data_r: R may fall short of half the chord by a rounding's worth; the arc is then the
+        // half circle on the chord (the centre at its middle), which the host sends as its centre.
+        var slack = tolerance.RadiusSlack(inch);
+        if (chord < 1e-12 || ((half - rr) / scale) - slack > 1e-12 * Math.Max(1, half))
+        {
+            if (diags != null)
+            {
+                var units = inch ? "in" : "mm";
+                diags.Add(new Diagnostic(Severity.Error, DiagnosticCodes.ArcRadiusMismatch, line, rColumn, DiagnosticText.Format(DiagnosticText.ArcRadiusKey,
+                    Length(rr / scale, units), Length(half / scale, units), Length(slack, units))));
+            }
+
+            (c1, c2) = (0, 0);
+            return false;
+        }
+
+        var hgt = Math.Sqrt(Math.Max(0, (rr * rr) - (half * half)));
+        var sign = (cw ? -1 : 1) * (radius < 0 ? -1 : 1);
+        c1 = s.A + (dx / 2) + (-dy / chord * hgt * sign);
+        c2 = s.B + (dy / 2) + (dx / chord * hgt * sign);
+        return true;
+    }
+
+    /// <summary>
+    /// A centre-format arc's start and end radii (program units) when it runs as the PMAC's spiral, (0, 0) with E115
+    /// reported when they differ by more than <paramref name="tolerance"/> (compared in the program's units, as
+    /// rs274ngc compares them: its tolerances are per unit system).
+    /// </summary>
+    private static (double Start, double End) CheckRadii(int plane, (double A, double B) s, (double A, double B) e, (double A, double B) c,
+        ArcTolerance tolerance, double scale, List<Diagnostic>? diags, int line, Span<int> col)
+    {
+        var inch = scale != 1.0;
+        var r0 = Math.Sqrt(((s.A - c.A) * (s.A - c.A)) + ((s.B - c.B) * (s.B - c.B)));
+        var r1 = Math.Sqrt(((e.A - c.A) * (e.A - c.A)) + ((e.B - c.B) * (e.B - c.B)));
+        if (tolerance.Refuses(r0 / scale, r1 / scale, inch))
+        {
+            var firstOffset = plane switch { 18 => Min(col['K' - 'A'], col['I' - 'A']), 19 => Min(col['J' - 'A'], col['K' - 'A']), _ => Min(col['I' - 'A'], col['J' - 'A']) };
+            var units = inch ? "in" : "mm";
+            Add(diags, DiagnosticCodes.ArcRadiusMismatch, line, firstOffset, Length(r0 / scale, units), Length(r1 / scale, units),
+                Length(inch ? tolerance.Inch : tolerance.Millimetre, units), ModalState.Num(tolerance.Relative * 100));
+            return default;
+        }
+
+        // The PMAC runs such an arc as a spiral from the start radius to the end radius, ending exactly at the
+        // programmed end point (Turbo SRM, CIRCLE1/CIRCLE2), as LinuxCNC does.
+        return (r0 / scale, r1 / scale);
     }
 
     /// <summary>The point's coordinates on the first and second axes of <paramref name="plane"/> (17, 18 or 19).</summary>

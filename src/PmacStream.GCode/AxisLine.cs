@@ -12,7 +12,7 @@ namespace PmacStream.GCode;
 /// <c>+</c> signs, blanks inside a word, lower case, more than 15 digits, a repeated letter) is a "no", and the line
 /// takes the full path; so the lane changes speed, never results.
 /// </summary>
-internal struct AxisLine
+public struct AxisLine
 {
     /// <summary>Bit of <see cref="Axes"/> for X; Y and Z follow.</summary>
     public const int XBit = 1;
@@ -280,7 +280,7 @@ internal struct AxisLine
 
 /// <summary>Three numbers, X Y Z, held inline (an <see cref="AxisLine"/> is a value copied per line).</summary>
 [InlineArray(3)]
-internal struct AxisTriple
+public struct AxisTriple
 {
     private int _first;
 }

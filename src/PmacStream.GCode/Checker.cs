@@ -94,7 +94,7 @@ public sealed class Checker
     /// <see cref="Interpreter.Last"/> and <see cref="Interpreter.State"/>): the store's path, without a record
     /// allocated per block.
     /// </summary>
-    internal CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<Interpreter> onInterpreted, CancellationToken cancellationToken) =>
+    public CheckSummary Check(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<Interpreter> onInterpreted, CancellationToken cancellationToken) =>
         CheckCore(stream, fileName, onDiagnostic, null, onInterpreted, cancellationToken);
 
     private CheckSummary CheckCore(Stream stream, string fileName, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
@@ -137,7 +137,7 @@ public sealed class Checker
 /// One check in progress, a line at a time: <see cref="Checker"/> feeds it from its reader, the splitter from its
 /// own (which takes simple lines through <see cref="TryAxisLine"/> without lexing them into a block).
 /// </summary>
-internal sealed class CheckRun
+public sealed class CheckRun
 {
     private readonly Action<Diagnostic> _onDiagnostic;
     private readonly Action<DecodedBlock>? _onBlock;
@@ -163,6 +163,11 @@ internal sealed class CheckRun
     private bool _reportedNul;
     private int _tapeEnd;
 
+    /// <summary>
+    /// A check to <paramref name="profile"/>: findings go to <paramref name="onDiagnostic"/> in line order, each block to
+    /// <paramref name="onBlock"/> as a record or the interpreter itself to <paramref name="onInterpreted"/> (either may be
+    /// null); <paramref name="measureMoves"/> false leaves straight moves unmeasured (see <see cref="Checker.MeasureMoves"/>).
+    /// </summary>
     public CheckRun(MachineProfile profile, bool measureMoves, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock,
         Action<Interpreter>? onInterpreted)
     {

@@ -1,7 +1,7 @@
 namespace PmacStream.GCode;
 
 /// <summary>What the interpreter does with a G code: the meaning milling dialects share for its number.</summary>
-internal enum GRole : byte
+public enum GRole : byte
 {
     /// <summary>A mode or setting the interpreter keeps but that does not change geometry (G40, G64, G94 ...).</summary>
     Mode,
@@ -32,7 +32,7 @@ internal enum GRole : byte
 /// The meaning of code numbers the interpreter relies on, shared by FANUC, Haas, LinuxCNC and grbl milling (a profile
 /// decides which of them it has and in which group; this decides what they do).
 /// </summary>
-internal static class CodeRoles
+public static class CodeRoles
 {
     /// <summary>The role of a G code by its key (number x 10).</summary>
     public static GRole OfG(int key) => key switch

@@ -8,10 +8,20 @@ namespace PmacStream.GCode;
 /// </summary>
 public sealed class GBlock
 {
-    internal byte[] Buffer = new byte[256];
-    internal readonly List<GWord> WordList = new(16);
-    internal readonly List<Diagnostic> DiagnosticList = new(2);
-    internal readonly List<(int Start, int Length)> CommentList = new(2);
+    // The lexer's storage for the line, refilled for the next one: the splitter's hot path reads (and, once it has
+    // taken the line, may compact) it in place instead of copying it.
+
+    /// <summary>The line's bytes (its first <see cref="Length"/>), as read.</summary>
+    public byte[] Buffer = new byte[256];
+
+    /// <summary>The line's words in order (<see cref="Words"/> copies them).</summary>
+    public readonly List<GWord> WordList = new(16);
+
+    /// <summary>The lexer's findings on the line (the first <see cref="FindingLimits.PerLine"/>; the rest counted).</summary>
+    public readonly List<Diagnostic> DiagnosticList = new(2);
+
+    /// <summary>The comments' spans in <see cref="Buffer"/>: start and length of each one's inner text.</summary>
+    public readonly List<(int Start, int Length)> CommentList = new(2);
 
     /// <summary>1-based source line number.</summary>
     public int LineNumber { get; internal set; }

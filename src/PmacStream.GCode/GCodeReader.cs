@@ -15,7 +15,7 @@ public sealed class GCodeReader : IDisposable
     public const int MaxLineLength = 1 << 20;
 
     /// <summary>Bytes readable after the line end of a line <see cref="ReadRaw"/> returns (wide loads need no bounds checks).</summary>
-    internal const int RawSlack = 16;
+    public const int RawSlack = 16;
 
     private readonly Stream _stream;
     private readonly bool _leaveOpen;
@@ -80,7 +80,7 @@ public sealed class GCodeReader : IDisposable
     }
 
     /// <summary>Lines read so far: the number of the line <see cref="ReadRaw"/> returned last.</summary>
-    internal int LineNumber => _lineNumber;
+    public int LineNumber => _lineNumber;
 
     /// <summary>
     /// Reads the next line without lexing it (the splitter's fast lane looks at the bytes first): it is
@@ -89,7 +89,7 @@ public sealed class GCodeReader : IDisposable
     /// <see cref="LexRaw"/> turns it into <see cref="Current"/>, exactly as <see cref="Read"/> would have. A line
     /// that lies whole in the read buffer is not copied.
     /// </summary>
-    internal bool ReadRaw(out byte[] data, out int start, out int length)
+    public bool ReadRaw(out byte[] data, out int start, out int length)
     {
         if (_ended)
         {
@@ -148,7 +148,7 @@ public sealed class GCodeReader : IDisposable
     /// itself and then takes the line with <see cref="TakeLine"/>. False when the next line must come from
     /// <see cref="ReadRaw"/> (the buffer is used up, or a CR at its end may still be followed by an LF).
     /// </summary>
-    internal bool PeekBuffer(out byte[] data, out int position, out int end)
+    public bool PeekBuffer(out byte[] data, out int position, out int end)
     {
         SkipLfAfterCr();
 
@@ -162,7 +162,7 @@ public sealed class GCodeReader : IDisposable
     /// Takes the next line, found by the caller in <see cref="PeekBuffer"/>'s bytes: <paramref name="length"/> bytes
     /// and the line end after them (CR or LF). It is then read, as if through <see cref="ReadRaw"/>; it is not lexed.
     /// </summary>
-    internal void TakeLine(int length)
+    public void TakeLine(int length)
     {
         var terminator = _chunk[_chunkPos + length];
         if ((uint)length > MaxLineLength || _chunkPos + length >= _chunkLen || terminator is not ((byte)'\n' or (byte)'\r'))
@@ -191,10 +191,10 @@ public sealed class GCodeReader : IDisposable
     }
 
     /// <summary>The line <see cref="ReadRaw"/> returned last lay whole in the read buffer (and was not copied).</summary>
-    internal bool LineWasInBuffer => _rawInChunk;
+    public bool LineWasInBuffer => _rawInChunk;
 
     /// <summary>Lexes the line <see cref="ReadRaw"/> returned last into <see cref="Current"/> and returns it.</summary>
-    internal GBlock LexRaw()
+    public GBlock LexRaw()
     {
         var b = _block;
         if (_rawInChunk)
@@ -303,7 +303,7 @@ public sealed class GCodeReader : IDisposable
     }
 
     /// <summary>Lexes a single line of text into <paramref name="into"/>, reusing its buffer and lists (a caller that copies what it keeps).</summary>
-    internal static GBlock LexLine(string text, int lineNumber, GBlock into)
+    public static GBlock LexLine(string text, int lineNumber, GBlock into)
     {
         var length = System.Text.Encoding.UTF8.GetByteCount(text);
         if (into.Buffer.Length < length)

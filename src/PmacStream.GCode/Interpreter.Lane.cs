@@ -11,7 +11,7 @@ public sealed partial class Interpreter
     /// (<see cref="Last"/> is not filled: nobody reads it without records); otherwise nothing changes and the answer
     /// is false.
     /// </summary>
-    internal bool TryStepAxisLine(in AxisLine a, byte[] text, int textStart)
+    public bool TryStepAxisLine(in AxisLine a, byte[] text, int textStart)
     {
         if (!_laneOpen || (a.HasG && a.G != _g[_motionGroup]))
         {
@@ -41,13 +41,13 @@ public sealed partial class Interpreter
     }
 
     /// <summary>Whether <see cref="TryStepAxisLine"/> can take a line at all now (false in G91, G02/G03, without a feed, in a cycle ...).</summary>
-    internal bool AxisLaneOpen => _laneOpen;
+    public bool AxisLaneOpen => _laneOpen;
 
     /// <summary>
     /// The caller is about to reuse <paramref name="text"/> (an <see cref="AxisLine"/>'s text array given to
     /// <see cref="TryStepAxisLine"/>): values still held there are read now.
     /// </summary>
-    internal void ReleaseText(byte[] text)
+    public void ReleaseText(byte[] text)
     {
         if (ReferenceEquals(text, _pendingText))
         {

@@ -40,10 +40,10 @@ public sealed partial class Interpreter
     internal bool HostBlock { get; private set; }
 
     /// <summary>The offset from program to machine coordinates in force (work offset, G52, G92, tool length).</summary>
-    internal Point3 ActiveOffset => _coords.Active;
+    public Point3 ActiveOffset => _coords.Active;
 
     /// <summary>The work coordinates (offsets, shifts, tool table) as the program left them.</summary>
-    internal WorkCoordinates Coordinates => _coords;
+    public WorkCoordinates Coordinates => _coords;
 
     /// <summary>Program length units to millimetres: 25.4 in G20, else 1.</summary>
     internal double UnitScale => _scale;
@@ -80,7 +80,7 @@ public sealed partial class Interpreter
     /// splitter's check) turns it off: a square root per block is a tenth of the checker's time. Arcs are always
     /// measured, because their geometry is checked.
     /// </summary>
-    internal bool MeasureMoves
+    public bool MeasureMoves
     {
         get => _measureMoves;
         set
@@ -95,7 +95,7 @@ public sealed partial class Interpreter
     /// the line, N and duration (the checker when nobody takes the decoded blocks): filling the record is a tenth
     /// of a block's interpretation.
     /// </summary>
-    internal bool RecordBlocks
+    public bool RecordBlocks
     {
         get => _recordBlocks;
         set
@@ -109,7 +109,7 @@ public sealed partial class Interpreter
     internal bool LastHadProgramNumber { get; private set; }
 
     /// <summary>The last interpreted block, without allocating (the checker's hot path when nothing is stored).</summary>
-    internal ref readonly LastBlock Last => ref _last;
+    public ref readonly LastBlock Last => ref _last;
 
     /// <summary>The last interpreted block as a record.</summary>
     internal DecodedBlock Materialize() => new()
@@ -129,9 +129,6 @@ public sealed partial class Interpreter
         DurationSeconds = _last.DurationSeconds,
     };
 
-    /// <summary>The holes of the last block when it was a cycle block (<see cref="MotionKind.Cycle"/>), else null (the preview draws them).</summary>
-    internal CycleHoles? LastCycleHoles => _last.Motion == MotionKind.Cycle ? _cycle.LastHoles : null;
-
     private ModalState Snapshot()
     {
         if (_dirty || _snapshot is null)
@@ -148,17 +145,40 @@ public sealed partial class Interpreter
         return _snapshot;
     }
 
-    /// <summary>The fields of a decoded block without the allocation.</summary>
-    internal struct LastBlock
+    /// <summary>The fields of a decoded block without the allocation (<see cref="DecodedBlock"/> names them alike).</summary>
+    public struct LastBlock
     {
+        /// <summary>The source line.</summary>
         public int Line;
+
+        /// <summary>The line's first byte in the source.</summary>
         public long ByteOffset;
+
+        /// <summary>The N word.</summary>
         public double? N;
+
+        /// <summary>The line starts with a block delete slash.</summary>
         public bool BlockDelete;
-        public double? X, Y, Z, I, J, K, R, F, S, T, H, D, P;
+
+        /// <summary>Axis words as written (program units).</summary>
+        public double? X, Y, Z;
+
+        /// <summary>Arc centre words and the radius as written.</summary>
+        public double? I, J, K, R;
+
+        /// <summary>Feed, spindle speed, tool, length offset, cutter compensation and P words as written.</summary>
+        public double? F, S, T, H, D, P;
+
+        /// <summary>What the block moved.</summary>
         public MotionKind Motion;
+
+        /// <summary>Where the block started and ended (machine coordinates, millimetres).</summary>
         public Point3 Start, End;
+
+        /// <summary>An arc's centre.</summary>
         public Point3? Center;
+
+        /// <summary>The path's length in millimetres and its time.</summary>
         public double Length, DurationSeconds;
     }
 }

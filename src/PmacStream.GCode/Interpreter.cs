@@ -57,6 +57,7 @@ public sealed partial class Interpreter
     private bool _laneOpen;        // an AxisLine would only move now (see UpdateLane)
     private bool _measureMoves = true;
     private bool _recordBlocks = true;
+    private MotionKind _blockKind; // the motion of the line taken last (None until it moves)
     // Axis values AxisLines set that nobody read yet: where their text is, converted into _pos only when the position
     // is read (a block on the full path, Position) or the text is about to be reused (ReleaseText). The work offset
     // cannot change meanwhile: only StepCore changes it.
@@ -129,7 +130,8 @@ public sealed partial class Interpreter
     /// </summary>
     public DecodedBlock? Step(GBlock block) => Step(block, null);
 
-    internal DecodedBlock? Step(GBlock block, List<Diagnostic>? diags) => StepCore(block, diags) ? Materialize() : null;
+    /// <summary><see cref="Step(GBlock)"/>, reporting the block's findings into <paramref name="diagnostics"/>.</summary>
+    public DecodedBlock? Step(GBlock block, List<Diagnostic>? diagnostics) => StepCore(block, diagnostics) ? Materialize() : null;
 
     /// <summary>
     /// Interprets one block for its canonical moves (<see cref="Canon"/>) and state only, without a record: the
@@ -137,15 +139,59 @@ public sealed partial class Interpreter
     /// </summary>
     public bool Execute(GBlock block) => StepCore(block, null);
 
-    /// <summary>Interprets a block into <see cref="Last"/>; false when the line holds no block.</summary>
+    /// <summary>
+    /// Interprets a block into <see cref="Last"/>, reporting its findings into <paramref name="diagnostics"/> (when
+    /// given) and its canonical moves to <see cref="Canon"/> (when set); false when the line holds no block.
+    /// </summary>
+    internal bool StepCore(GBlock block, List<Diagnostic>? diagnostics)
+    {
+        if (Canon is not { } canon)
+        {
+            return StepBlock(block, diagnostics);
+        }
+
+        var taken = StepBlock(block, diagnostics);
+        canon.EndBlock(Decided());
+        return taken;
+    }
+
+    /// <summary>What the interpreter decided for the line it took last, and the context it leaves (<see cref="ICanonicalMoves.EndBlock"/>).</summary>
+    private CanonBlock Decided() => new()
+    {
+        Host = HostBlock,
+        Position = _pos,
+        Offset = _coords.Active,
+        UnitScale = _scale,
+        Absolute = _absolute,
+        ArcCentresAbsolute = _arcAbsolute,
+        MotionCode = MotionMode(),
+        Plane = _plane,
+        FeedMode = _feedMode,
+        Feed = _feed,
+        InverseTimeLength = _inverseTimeLength,
+        SpindleSpeed = _speed,
+        LengthMode = _lengthMode,
+        LengthOffsetNumber = _h,
+        Tool = _tool,
+        ExactStop = _exactStopBlock,
+        Transforming = _transform != null,
+        Compensated = _compensated,
+        Corner = _corner,
+        ArcCentre = _arcCentre,
+        ArcClockwise = _arcClockwise,
+        Holes = _blockKind == MotionKind.Cycle ? _cycle.LastHoles : null,
+        Tables = _coords,
+    };
+
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
     // hundreds of milliseconds in unoptimized tier-0 code waiting for tiering.
     [MethodImpl(MethodImplOptions.AggressiveOptimization)]
     [SkipLocalsInit]
-    internal bool StepCore(GBlock block, List<Diagnostic>? diags)
+    private bool StepBlock(GBlock block, List<Diagnostic>? diags)
     {
         // Before anything here changes the mode or the work offset the lane's values were written under.
         Resolve();
+        _blockKind = MotionKind.None;
         Canon?.StartBlock(new CanonStart(_pos, _coords.Active, _tool));
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
@@ -524,6 +570,7 @@ public sealed partial class Interpreter
             kind == MotionKind.Cycle || (usedArcWords && _arcAbsolute) || (anyM && MHost(mIn, mCol)) || _compensated;
         _pos = end;
         UpdateLane();
+        _blockKind = kind;
         if (kind != MotionKind.None && Canon is { } sink)
         {
             sink.Motion(new CanonMotion(line, kind, start, end, center, length, seconds, _feed));

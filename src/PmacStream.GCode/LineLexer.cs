@@ -8,10 +8,10 @@ namespace PmacStream.GCode;
 /// <c>.5</c>/<c>5.</c>/<c>+5</c>, <c>( )</c> and <c>;</c> comments, <c>%</c> tape marks, <c>/</c> block skip at
 /// the start and inside a block, a leading <c>:</c> as the program number.
 /// </summary>
-internal static class LineLexer
+public static class LineLexer
 {
     /// <summary>Lexes <paramref name="b"/>'s line into its words, comments and findings.</summary>
-    public static void Lex(GBlock b)
+    internal static void Lex(GBlock b)
     {
         // A word takes two bytes at least: only a longer line can hold more words than are read. The two
         // instantiations are compiled apart, so a line of a program pays nothing for the word limit.
@@ -315,7 +315,7 @@ internal static class LineLexer
         double.TryParse(text, NumberStyles.Float, CultureInfo.InvariantCulture, out var v) ? v : double.NaN;
 
     /// <summary>The value the lexer gives a number of at most 15 digits: <paramref name="mantissa"/> (its digits) over 10^<paramref name="scale"/> (fraction digits).</summary>
-    internal static double ShortNumber(long mantissa, int scale, bool negative)
+    public static double ShortNumber(long mantissa, int scale, bool negative)
     {
         var value = scale == 0 ? mantissa : mantissa / Pow10[scale];
         return negative ? -value : value;
@@ -327,7 +327,7 @@ internal static class LineLexer
     ];
 
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.AggressiveInlining)]
-    public static int SkipBlanks(ReadOnlySpan<byte> line, int i)
+    internal static int SkipBlanks(ReadOnlySpan<byte> line, int i)
     {
         while (i < line.Length && (line[i] == (byte)' ' || line[i] == (byte)'\t' || line[i] == 0x0B || line[i] == 0x0C))
         {

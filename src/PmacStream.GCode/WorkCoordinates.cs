@@ -3,9 +3,10 @@ namespace PmacStream.GCode;
 /// <summary>
 /// Where program coordinates lie in machine coordinates: the selected work offset (G54..G59, the extended G54.1 P /
 /// G154 P ones) with the values G10 set, plus the local shift of G52 and the G92 shift. The interpreter's positions
-/// are machine coordinates, so a program coordinate is the machine one minus <see cref="Active"/>.
+/// are machine coordinates, so a program coordinate is the machine one minus <see cref="Active"/>. Only the
+/// interpreter changes them; its callers read them (<see cref="CanonBlock.Tables"/>).
 /// </summary>
-internal sealed class WorkCoordinates
+public sealed class WorkCoordinates
 {
     private readonly MachineProfile _profile;
     private Dictionary<int, Point3>? _set; // offsets G10 changed, by key (540 for G54, 5410+P for G54.1 Pn)
@@ -18,7 +19,7 @@ internal sealed class WorkCoordinates
     private Point3 _active;   // valid while _known: a Nullable<Point3> read stalled on store forwarding in the hot path
     private bool _known;
 
-    public WorkCoordinates(MachineProfile profile, int code)
+    internal WorkCoordinates(MachineProfile profile, int code)
     {
         _profile = profile;
         Selected = code * 10;
@@ -42,7 +43,7 @@ internal sealed class WorkCoordinates
     }
 
     /// <summary>Selects G54..G59 (<paramref name="key"/> 540..590) or an extended offset (G54.1 P, G154 P).</summary>
-    public void Select(int key, double? p)
+    internal void Select(int key, double? p)
     {
         var selected = key is 541 or 1540 && p is { } n ? 5410 + (int)n : key;
         if (selected != Selected)
@@ -58,7 +59,7 @@ internal sealed class WorkCoordinates
     /// <paramref name="extended"/>) on the given axes, to the values or, with <paramref name="fromPosition"/>, so that
     /// <paramref name="position"/> reads as the values.
     /// </summary>
-    public void SetOffset(int p, bool extended, bool fromPosition, double? x, double? y, double? z, Point3 position)
+    internal void SetOffset(int p, bool extended, bool fromPosition, double? x, double? y, double? z, Point3 position)
     {
         if (p == 0 && !extended && !fromPosition && _profile.ExternalWorkOffset)
         {
@@ -78,14 +79,14 @@ internal sealed class WorkCoordinates
     }
 
     /// <summary>G52: the local shift on the given axes (0 cancels it).</summary>
-    public void SetLocal(double? x, double? y, double? z)
+    internal void SetLocal(double? x, double? y, double? z)
     {
         _local = new Point3(x ?? _local.X, y ?? _local.Y, z ?? _local.Z);
         _known = false;
     }
 
     /// <summary>G92: shifts coordinates so that <paramref name="position"/> reads as the given values.</summary>
-    public void SetShift(double? x, double? y, double? z, Point3 position)
+    internal void SetShift(double? x, double? y, double? z, Point3 position)
     {
         var o = Offset(Selected) + _external + _local + new Point3(0, 0, _toolLength);
         _shift = new Point3(x is { } ax ? position.X - ax - o.X : _shift.X, y is { } ay ? position.Y - ay - o.Y : _shift.Y, z is { } az ? position.Z - az - o.Z : _shift.Z);
@@ -93,7 +94,7 @@ internal sealed class WorkCoordinates
     }
 
     /// <summary>G92.1/G92.2: the G92 shift is gone.</summary>
-    public void ClearShift()
+    internal void ClearShift()
     {
         _shift = default;
         _known = false;
@@ -121,7 +122,7 @@ internal sealed class WorkCoordinates
     public double ToolLength
     {
         get => _toolLength;
-        set
+        internal set
         {
             if (value != _toolLength)
             {
@@ -136,7 +137,7 @@ internal sealed class WorkCoordinates
         (_tools != null && _tools.TryGetValue(h, out var v) ? v : _profile.ToolLength(h)) + (_wear != null && _wear.TryGetValue(h, out var w) ? w : 0);
 
     /// <summary>G10 L1 / L10 (FANUC geometry): tool <paramref name="h"/>'s length; L11 (FANUC wear) with <paramref name="wear"/>.</summary>
-    public void SetToolLength(int h, double length, bool wear)
+    internal void SetToolLength(int h, double length, bool wear)
     {
         if (wear)
         {

@@ -142,6 +142,15 @@ public sealed record ChunkManifest(
         w.WriteString("tracking", Tracking == TrackingPlacement.Exact ? "exact" : "paper");
         w.WriteString("feed", Feed == FeedMode.Paper ? "paper" : "override");
         w.WriteString("feedVariable", FeedVariable);
+        WriteChunks(w);
+        WriteShape(w);
+        WriteCodes(w);
+        w.WriteEndObject();
+    }
+
+    /// <summary>The chunk table, row by row (a split's own table straight from its arrays).</summary>
+    private void WriteChunks(Utf8JsonWriter w)
+    {
         w.WriteStartArray("chunks");
         if (Chunks is ChunkTable table)
         {
@@ -157,6 +166,11 @@ public sealed record ChunkManifest(
         }
 
         w.WriteEndArray();
+    }
+
+    /// <summary>The chunk shape whole, then its fields as older manifests name them.</summary>
+    private void WriteShape(Utf8JsonWriter w)
+    {
         if (Shape == null)
         {
             w.WriteNull("shape");
@@ -172,26 +186,15 @@ public sealed record ChunkManifest(
         w.WriteNumber("rotWords", RotWords);
         w.WriteNumber("wordsPerBlock", WordsPerBlock);
         w.WriteNumber("maxChunkBytes", MaxChunkBytes);
-        if (ProgramTail == null)
-        {
-            w.WriteNull("programTail");
-        }
-        else
-        {
-            w.WriteString("programTail", ProgramTail);
-        }
-
+        WriteStringOrNull(w, "programTail", ProgramTail);
         w.WriteBoolean("keepN", KeepN);
         w.WriteBoolean("blockDelete", BlockDelete);
-        if (CheckedProfile == null)
-        {
-            w.WriteNull("checkedProfile");
-        }
-        else
-        {
-            w.WriteString("checkedProfile", CheckedProfile);
-        }
+    }
 
+    /// <summary>The checked profile and the codes the job gate and the stops read.</summary>
+    private void WriteCodes(Utf8JsonWriter w)
+    {
+        WriteStringOrNull(w, "checkedProfile", CheckedProfile);
         if (NotYetCodes == null)
         {
             w.WriteNull("notYetCodes");
@@ -199,23 +202,33 @@ public sealed record ChunkManifest(
         else
         {
             // In the order of first use (the splitter adds them as it reads).
-            w.WriteStartObject("notYetCodes");
-            foreach (var (code, line) in NotYetCodes)
-            {
-                w.WriteNumber(code, line);
-            }
-
-            w.WriteEndObject();
+            WriteCodeLines(w, "notYetCodes", NotYetCodes);
         }
 
-        w.WriteStartObject("stopCodes");
-        foreach (var (code, line) in StopCodes ?? new Dictionary<string, int>())
+        WriteCodeLines(w, "stopCodes", StopCodes ?? new Dictionary<string, int>());
+    }
+
+    private static void WriteCodeLines(Utf8JsonWriter w, string name, IReadOnlyDictionary<string, int> codes)
+    {
+        w.WriteStartObject(name);
+        foreach (var (code, line) in codes)
         {
             w.WriteNumber(code, line);
         }
 
         w.WriteEndObject();
-        w.WriteEndObject();
+    }
+
+    private static void WriteStringOrNull(Utf8JsonWriter w, string name, string? value)
+    {
+        if (value == null)
+        {
+            w.WriteNull(name);
+        }
+        else
+        {
+            w.WriteString(name, value);
+        }
     }
 
     internal static void WriteChunk(Utf8JsonWriter w, int index, ReadOnlySpan<char> fileName, int first, int last, int blocks,

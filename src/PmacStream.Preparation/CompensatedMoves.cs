@@ -11,18 +11,18 @@ namespace PmacStream.Preparation;
 internal static class CompensatedMoves
 {
     /// <summary>Appends the move's lines; <paramref name="start"/> is the machine position before the block.</summary>
-    public static void Write(List<string> lines, Interpreter interp, Point3 start, double? feed)
+    public static void Write(List<string> lines, in CanonBlock block, Point3 start, double? feed)
     {
-        var incremental = !interp.AbsoluteMode;
+        var incremental = !block.Absolute;
         if (incremental)
         {
             lines.Add("G90");
         }
 
-        var offset = interp.ActiveOffset;
-        var rapid = interp.MotionCode == 0;
+        var offset = block.Offset;
+        var rapid = block.MotionCode == 0;
         var f = feed is { } fv ? " F" + HostConversion.Num(fv) : string.Empty;
-        if (interp.LastCorner is { } corner)
+        if (block.Corner is { } corner)
         {
             var mid = corner.Mid - offset;
             if (corner.Arc)
@@ -38,12 +38,12 @@ internal static class CompensatedMoves
             }
         }
 
-        var end = interp.Position - offset;
-        if (interp.MotionCode is 2 or 3 && interp.LastArc is { Centre: { } c } arc)
+        var end = block.Position - offset;
+        if (block.MotionCode is 2 or 3 && block.ArcCentre is { } c)
         {
             // The offset arc about the programmed centre, from where the tool is (after the corner, if any).
-            var v = c - (interp.LastCorner?.Mid ?? start);
-            lines.Add($"{(arc.Clockwise ? "G02" : "G03")} X{HostConversion.Num(end.X)} Y{HostConversion.Num(end.Y)} Z{HostConversion.Num(end.Z)} I{HostConversion.Num(v.X)} J{HostConversion.Num(v.Y)}{f}");
+            var v = c - (block.Corner?.Mid ?? start);
+            lines.Add($"{(block.ArcClockwise ? "G02" : "G03")} X{HostConversion.Num(end.X)} Y{HostConversion.Num(end.Y)} Z{HostConversion.Num(end.Z)} I{HostConversion.Num(v.X)} J{HostConversion.Num(v.Y)}{f}");
         }
         else
         {

@@ -5,7 +5,7 @@ using PmacStream.GCode;
 namespace PmacStream.Preparation;
 
 /// <summary>
-/// Turns a block the interpreter marked as a host block (<see cref="Interpreter.HostBlock"/>) into the plain blocks a
+/// Turns a block the interpreter marked as a host block (<see cref="CanonBlock.Host"/>) into the plain blocks a
 /// Turbo PMAC with the generated library runs, all in millimetres and in the order the library's <c>READ</c> needs:
 /// modes first, then data settings (each on its own line, its words right after its code), then the move, then the
 /// stops. What is pure program syntax is converted here: inch values, absolute arc centres (G90.1), feed per
@@ -29,7 +29,6 @@ internal sealed class HostConversion
     /// <summary>The library's own exact stop (PROG 1000 N9900, DWELL0), for a profile without a G09 routine.</summary>
     public const string ExactStopCode = "G09.9";
 
-    private readonly Interpreter _interp;
     private readonly MachineProfile _profile;
     private readonly List<HostMove> _moves = [];
     private readonly List<string> _lines = [];
@@ -37,7 +36,8 @@ internal sealed class HostConversion
     private readonly double?[] _given = new double?[26]; // the block's words by letter: the first of each (a library routine's)
     private readonly double?[] _word = new double?[26];  // and the last of each (the move's)
     private readonly List<(char Letter, double Value)> _codes = []; // the block's G and M codes as written
-    private CanonStart _before;
+    private CanonStart _before;  // the state the line started from (ICanonicalMoves.StartBlock)
+    private CanonBlock _block;   // what the interpreter decided for it (ICanonicalMoves.EndBlock)
 
     // The words of the move line as written (an inch program converts every move), so it is not lexed again.
     private readonly WrittenWords _moveWords = new();
@@ -47,7 +47,6 @@ internal sealed class HostConversion
     /// <summary>Converts what <paramref name="interp"/> decides: it becomes the interpreter's canonical move sink.</summary>
     public HostConversion(Interpreter interp)
     {
-        _interp = interp;
         _profile = interp.Profile;
         interp.Canon = new Sink(this);
     }
@@ -58,7 +57,7 @@ internal sealed class HostConversion
     /// </summary>
     public IReadOnlyList<string>? Convert(GBlock block)
     {
-        if (!_interp.HostBlock)
+        if (!_block.Host)
         {
             return null;
         }
@@ -66,10 +65,10 @@ internal sealed class HostConversion
         _lines.Clear();
         _moveLine = -1;
         ReadWords(block);
-        var seen = SortCodes(_interp.UnitScale);
-        if (seen.LengthCode || (W('H').HasValue && _interp.LengthMode != 0))
+        var seen = SortCodes(_block.UnitScale);
+        if (seen.LengthCode || (W('H').HasValue && _block.LengthMode != 0))
         {
-            _data.Add(_interp.LengthMode == 0 ? "G49" : $"G{_interp.LengthMode} H{_interp.LengthOffsetNumber.ToString(CultureInfo.InvariantCulture)}");
+            _data.Add(_block.LengthMode == 0 ? "G49" : $"G{_block.LengthMode} H{_block.LengthOffsetNumber.ToString(CultureInfo.InvariantCulture)}");
         }
 
         if (W('S') is { } sv)
@@ -85,7 +84,7 @@ internal sealed class HostConversion
         Add(_stopsBefore);
         Add(_data);
         WriteMotion(seen, FeedPerMinute(W('F')));
-        if (_interp.ExactStopBlock)
+        if (_block.ExactStop)
         {
             // The library's G09 (DWELL0) after the move: the move decelerates to rest before the next one starts. A
             // profile without a G09 routine (grbl) has the library's own G09.9.
@@ -164,7 +163,7 @@ internal sealed class HostConversion
         if (key == 60)
         {
             // The tool change routine reads the tool it changes to.
-            _after.Add($"{m} T{_interp.Tool.ToString(CultureInfo.InvariantCulture)}");
+            _after.Add($"{m} T{_block.Tool.ToString(CultureInfo.InvariantCulture)}");
         }
         else if (key is 30 or 40 or 70 or 80 or 190 or 880)
         {
@@ -195,11 +194,11 @@ internal sealed class HostConversion
                 break;
             case 520:
                 seen.AxisData = true;
-                _data.Add("G52" + Axes(W('X'), W('Y'), W('Z'), scale, _interp.Coordinates.Local, all: false));
+                _data.Add("G52" + Axes(W('X'), W('Y'), W('Z'), scale, _block.Tables.Local, all: false));
                 break;
             case 920:
                 seen.AxisData = true;
-                _data.Add("G92" + Axes(W('X'), W('Y'), W('Z'), 1.0, _interp.Coordinates.Shift, all: false, fromResult: true));
+                _data.Add("G92" + Axes(W('X'), W('Y'), W('Z'), 1.0, _block.Tables.Shift, all: false, fromResult: true));
                 break;
             case 921 or 922:
                 _data.Add("G92.1");
@@ -237,7 +236,7 @@ internal sealed class HostConversion
     private void WriteMotion(in Seen seen, double? feed)
     {
         var hasAxes = W('X').HasValue || W('Y').HasValue || W('Z').HasValue || W('A').HasValue || W('B').HasValue || W('C').HasValue;
-        var arcByCentre = (seen.Motion is "G02" or "G03" || _interp.MotionCode is 2 or 3) && (W('I').HasValue || W('J').HasValue || W('K').HasValue);
+        var arcByCentre = (seen.Motion is "G02" or "G03" || _block.MotionCode is 2 or 3) && (W('I').HasValue || W('J').HasValue || W('K').HasValue);
         if (seen.Dwell)
         {
             _lines.Add("G04 P" + Num(DwellP(W('P'), W('X'))));
@@ -251,11 +250,11 @@ internal sealed class HostConversion
         {
             // The axis words were the data settings' values (G10, G52, G92).
         }
-        else if (_interp.CompensatedMove)
+        else if (_block.Compensated)
         {
-            CompensatedMoves.Write(_lines, _interp, _before.Position, feed);
+            CompensatedMoves.Write(_lines, _block, _before.Position, feed);
         }
-        else if (_interp.Transforming && !seen.Machine && (hasAxes || arcByCentre))
+        else if (_block.Transforming && !seen.Machine && (hasAxes || arcByCentre))
         {
             TransformedMove(W('A'), W('B'), W('C'), feed);
         }
@@ -276,7 +275,7 @@ internal sealed class HostConversion
     /// <summary>The move as written, in millimetres: G53 and the motion code, axes, the arc's centre or radius, the feed.</summary>
     private void PlainMove(in Seen seen, double? feed)
     {
-        var scale = _interp.UnitScale;
+        var scale = _block.UnitScale;
         _sb.Clear();
         _moveWords.Begin();
         if (seen.Machine)
@@ -293,24 +292,24 @@ internal sealed class HostConversion
         AppendWord('A', W('A'));
         AppendWord('B', W('B'));
         AppendWord('C', W('C'));
-        if (_interp.MotionCode is 2 or 3)
+        if (_block.MotionCode is 2 or 3)
         {
             var (i, j, k) = (W('I'), W('J'), W('K'));
             if (W('R') is { } rv && !ShortRadius(rv * scale))
             {
                 AppendWord('R', rv * scale);
             }
-            else if (W('R').HasValue && _interp.LastArc.Centre is { } mid)
+            else if (W('R').HasValue && _block.ArcCentre is { } mid)
             {
                 // An R a rounding short of half the chord runs as the half circle on the chord (rs274ngc's
                 // arc_data_r): its centre is sent, since a PMAC given the short R would spiral (Isx96).
                 var v = mid - _before.Position;
-                var plane = _interp.State.Plane;
+                var plane = _block.Plane;
                 AppendWord('I', plane is 17 or 18 ? v.X : null);
                 AppendWord('J', plane is 17 or 19 ? v.Y : null);
                 AppendWord('K', plane is 18 or 19 ? v.Z : null);
             }
-            else if (_interp.ArcCentresAbsolute)
+            else if (_block.ArcCentresAbsolute)
             {
                 // G90.1: the PMAC's centre vector is incremental from the start (its default INC(R)).
                 var startProgram = _before.Position - _before.Offset;
@@ -340,9 +339,9 @@ internal sealed class HostConversion
     }
 
     /// <summary>
-    /// The interpreter's canonical moves as the conversion needs them: the state each block starts from and the steps
-    /// of its cycle holes or reference return. The interpreter calls it for every block, so nothing depends on when
-    /// <see cref="Convert"/> is called.
+    /// The interpreter's canonical moves as the conversion needs them: the state each block starts from, the steps
+    /// of its cycle holes or reference return, and what it decided (<see cref="CanonBlock"/>). The interpreter calls it
+    /// for every line it takes, so <see cref="Convert"/> reads only these records, never the interpreter.
     /// </summary>
     private sealed class Sink(HostConversion host) : ICanonicalMoves
     {
@@ -356,8 +355,10 @@ internal sealed class HostConversion
 
         public void Motion(in CanonMotion motion)
         {
-            // The block's own motion is written from the interpreter's state in Convert.
+            // The block's own motion is written from its decisions (EndBlock) in Convert.
         }
+
+        public void EndBlock(in CanonBlock block) => host._block = block;
     }
 
     /// <summary>
@@ -366,19 +367,19 @@ internal sealed class HostConversion
     /// </summary>
     private void TransformedMove(double? a, double? b, double? c, double? feed)
     {
-        var incremental = !_interp.AbsoluteMode;
+        var incremental = !_block.Absolute;
         if (incremental)
         {
             _lines.Add("G90");
         }
 
-        var mode = _interp.MotionCode;
-        var end = _interp.Position - _interp.ActiveOffset;
+        var mode = _block.MotionCode;
+        var end = _block.Position - _block.Offset;
         _sb.Clear();
         var sent = mode;
-        if (mode is 2 or 3 && _interp.LastArc is { Centre: not null } arc)
+        if (mode is 2 or 3 && _block.ArcCentre is not null)
         {
-            sent = arc.Clockwise ? 2 : 3;
+            sent = _block.ArcClockwise ? 2 : 3;
         }
 
         if (sent is >= 0 and <= 3)
@@ -390,10 +391,10 @@ internal sealed class HostConversion
         AppendWord('A', a);
         AppendWord('B', b);
         AppendWord('C', c);
-        if (sent is 2 or 3 && _interp.LastArc.Centre is { } at)
+        if (sent is 2 or 3 && _block.ArcCentre is { } at)
         {
             var v = at - _before.Position;
-            var plane = _interp.State.Plane;
+            var plane = _block.Plane;
             AppendWord('I', plane is 17 or 18 ? v.X : null);
             AppendWord('J', plane is 17 or 19 ? v.Y : null);
             AppendWord('K', plane is 18 or 19 ? v.Z : null);
@@ -430,8 +431,8 @@ internal sealed class HostConversion
     /// <summary>A cycle's holes or a reference return as plain moves in work coordinates (absolute while they run).</summary>
     private void Expand(double? feed)
     {
-        var offset = _interp.ActiveOffset;
-        var incremental = !_interp.AbsoluteMode;
+        var offset = _block.Offset;
+        var incremental = !_block.Absolute;
         if (incremental)
         {
             _lines.Add("G90");
@@ -454,7 +455,7 @@ internal sealed class HostConversion
                     }
 
                     AppendAxes((m.Axes & 1) != 0 ? target.X : null, (m.Axes & 2) != 0 ? target.Y : null, (m.Axes & 4) != 0 ? target.Z : null, 1.0);
-                    if (code == 1 && !feedSent && (feed ?? FeedPerMinute(_interp.FeedValue)) is { } fv)
+                    if (code == 1 && !feedSent && (feed ?? FeedPerMinute(_block.Feed)) is { } fv)
                     {
                         AppendWord('F', fv);
                         feedSent = true;
@@ -494,9 +495,9 @@ internal sealed class HostConversion
         }
 
         // The controller's motion mode is modal: the program's own mode in force comes back after the expansion.
-        if (_interp.MotionCode is >= 0 and <= 3 && _interp.MotionCode != mode)
+        if (_block.MotionCode is >= 0 and <= 3 && _block.MotionCode != mode)
         {
-            _lines.Add("G0" + _interp.MotionCode.ToString(CultureInfo.InvariantCulture));
+            _lines.Add("G0" + _block.MotionCode.ToString(CultureInfo.InvariantCulture));
         }
     }
 
@@ -532,7 +533,7 @@ internal sealed class HostConversion
     /// <summary>G10 as the library takes it: the resulting table entry, absolute, in millimetres.</summary>
     private IEnumerable<string> TableSettings(double? l, double? p)
     {
-        var coords = _interp.Coordinates;
+        var coords = _block.Tables;
         switch (l)
         {
             case 2 when p is 0 && _profile.ExternalWorkOffset:
@@ -561,19 +562,19 @@ internal sealed class HostConversion
 
     private double? FeedPerMinute(double? f)
     {
-        var feed = f ?? (_interp.FeedMode != 94 ? _interp.FeedValue : null);
+        var feed = f ?? (_block.FeedMode != 94 ? _block.Feed : null);
         if (feed is not { } fv)
         {
             return null;
         }
 
-        return _interp.FeedMode switch
+        return _block.FeedMode switch
         {
             // Per revolution: at the spindle speed in force.
-            95 => fv * _interp.UnitScale * _interp.State.SpindleSpeed,
+            95 => fv * _block.UnitScale * _block.SpindleSpeed,
             // Inverse time: the move takes 1/F minutes, so its feed is its length times F.
-            93 => _interp.InverseTimeLength * fv,
-            _ => fv * _interp.UnitScale,
+            93 => _block.InverseTimeLength * fv,
+            _ => fv * _block.UnitScale,
         };
     }
 
@@ -654,13 +655,13 @@ internal sealed class HostConversion
     /// <summary>True when the interpreter placed this R arc's centre further from the start than R: R was short of half the chord.</summary>
     private bool ShortRadius(double radius)
     {
-        if (_interp.LastArc.Centre is not { } c)
+        if (_block.ArcCentre is not { } c)
         {
             return false;
         }
 
         var v = c - _before.Position;
-        var (a, b) = _interp.State.Plane switch { 18 => (v.Z, v.X), 19 => (v.Y, v.Z), _ => (v.X, v.Y) };
+        var (a, b) = _block.Plane switch { 18 => (v.Z, v.X), 19 => (v.Y, v.Z), _ => (v.X, v.Y) };
         return Math.Sqrt((a * a) + (b * b)) > Math.Abs(radius) + 1e-9;
     }
 }

@@ -133,7 +133,7 @@ public static partial class Splitter
                         }
                         else
                         {
-                            own?.StepCore(block, null);
+                            own?.Execute(block);
                         }
 
                         Take(block, host?.Convert(block));

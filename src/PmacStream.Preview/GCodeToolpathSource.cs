@@ -55,7 +55,8 @@ public sealed class GCodeToolpathSource : IToolpathSource
         _length = Math.Max(1, new FileInfo(_path).Length);
         _issues.Clear();
         IssueCount = 0;
-        var interpreter = new Interpreter(_profile);
+        var holes = new CycleHolesSink();
+        var interpreter = new Interpreter(_profile) { Canon = holes };
         var adapter = new DecodedBlockAdapter();
         var diags = new List<Diagnostic>(4);
         var segments = new List<PathSegment>(4);
@@ -91,7 +92,7 @@ public sealed class GCodeToolpathSource : IToolpathSource
                 AddIssue(d);
             }
 
-            if (decoded is not null && adapter.Convert(decoded, segments, interpreter.LastCycleHoles) > 0)
+            if (decoded is not null && adapter.Convert(decoded, segments, holes.Last) > 0)
             {
                 foreach (var segment in segments)
                 {
@@ -111,6 +112,24 @@ public sealed class GCodeToolpathSource : IToolpathSource
 
     /// <inheritdoc />
     public string RotaryAxes { get; private set; } = string.Empty;
+
+    /// <summary>The holes of the block the interpreter took last when it was a cycle block (its canonical record), else null.</summary>
+    private sealed class CycleHolesSink : ICanonicalMoves
+    {
+        public CycleHoles? Last { get; private set; }
+
+        public void StartBlock(in CanonStart start) => Last = null;
+
+        public void Step(in HostMove step)
+        {
+        }
+
+        public void Motion(in CanonMotion motion)
+        {
+        }
+
+        public void EndBlock(in CanonBlock block) => Last = block.Holes;
+    }
 
     /// <summary>Marks the rotary axes (A, B, C) a line's words name: the picture draws X, Y and Z only, and the legend says so.</summary>
     private static void NoteRotaryWords(GBlock block, bool[] rotary)

@@ -54,7 +54,7 @@ public sealed class ExpansionMap
     public long Lines { get; private set; }
 
     /// <summary>Also writes every file, frame and run to <paramref name="writer"/> (the side file of a split).</summary>
-    internal void WriteTo(TextWriter writer)
+    public void WriteTo(TextWriter writer)
     {
         _writer = writer;
         writer.Write(Magic);

@@ -446,26 +446,48 @@ public sealed partial class MacroExpander
                 // A definition met in the flow is skipped; it runs when called.
                 f.Pc = Forward(f, ln, c, "ENDSUB") + 1;
                 break;
-            case "ENDSUB":
-            case "RETURN":
-                if (f == _main)
-                {
-                    throw Refuse(ExpansionCodes.Flow, c.Column, $"o{c.Label} {c.Keyword.ToLowerInvariant()} outside a call", ln);
-                }
-
-                _evaluating = c;
-                _globalNames["_value_returned"] = c.OArgs.Length > 0 ? 1 : 0;
-                if (c.OArgs.Length > 0)
-                {
-                    _globalNames["_value"] = c.OArgs[0].Num(this);
-                }
-
-                _depth--;
-                _frame = f.Caller!;
+            case "ENDSUB" or "RETURN":
+                OReturn(c, f, ln);
                 break;
             case "CALL":
                 OCall(c, f, ln);
                 break;
+            case "IF" or "ELSEIF" or "ELSE" or "ENDIF":
+                OBranch(c, f, ln);
+                break;
+            case "WHILE":
+                OWhile(c, f, ln);
+                break;
+            default:
+                OLoop(c, f, ln);
+                break;
+        }
+    }
+
+    /// <summary>o-endsub and o-return: back to the caller, with the value returned (RS274/NGC's <c>_value</c>).</summary>
+    private void OReturn(MacroLine c, Frame f, int ln)
+    {
+        if (f == _main)
+        {
+            throw Refuse(ExpansionCodes.Flow, c.Column, $"o{c.Label} {c.Keyword.ToLowerInvariant()} outside a call", ln);
+        }
+
+        _evaluating = c;
+        _globalNames["_value_returned"] = c.OArgs.Length > 0 ? 1 : 0;
+        if (c.OArgs.Length > 0)
+        {
+            _globalNames["_value"] = c.OArgs[0].Num(this);
+        }
+
+        _depth--;
+        _frame = f.Caller!;
+    }
+
+    /// <summary>o-if, o-elseif, o-else, o-endif: the first branch whose condition holds runs, the others are passed.</summary>
+    private void OBranch(MacroLine c, Frame f, int ln)
+    {
+        switch (c.Keyword)
+        {
             case "IF":
                 if (Truth(c.Condition!))
                 {
@@ -488,12 +510,17 @@ public sealed partial class MacroExpander
             case "ELSE":
                 f.Pc = Forward(f, ln, c, "ENDIF") + 1; // the branch before ran
                 break;
-            case "ENDIF":
+            default: // ENDIF
                 f.Pc = ln + 1;
                 break;
-            case "WHILE":
-                OWhile(c, f, ln);
-                break;
+        }
+    }
+
+    /// <summary>The loop statements but o-while: endwhile, do, repeat, endrepeat, break, continue.</summary>
+    private void OLoop(MacroLine c, Frame f, int ln)
+    {
+        switch (c.Keyword)
+        {
             case "ENDWHILE":
             {
                 var l = FindLoop(f, c, ln, "WHILE");

@@ -234,9 +234,44 @@ internal static class MacroCompiler
     /// <summary>Compiles one line; throws <see cref="MacroEvalException"/> for what cannot be read.</summary>
     public static MacroLine Compile(string text, MacroDialect dialect)
     {
+        var s = Blanked(text, out var comment);
+        var line = new MacroLine { Comment = comment ?? string.Empty };
+        var p = new MacroParser(s, 0);
+        if (p.AtEnd)
+        {
+            return line;
+        }
+
+        if (p.Peek() == '%')
+        {
+            line.Kind = LineKind.TapeMark;
+            return line;
+        }
+
+        Prefix(ref p, line);
+        if (dialect == MacroDialect.LinuxCnc && p.Peek() == 'O' && p.PeekAt(1) is '<' or (>= '0' and <= '9'))
+        {
+            CompileOWord(ref p, line);
+            return line;
+        }
+
+        if (dialect == MacroDialect.Fanuc && FanucStatement(ref p, line, s) is { } statement)
+        {
+            return statement;
+        }
+
+        CompileBlock(ref p, line, dialect);
+        return line;
+    }
+
+    /// <summary>
+    /// The line in upper case with its comments as blanks (columns stay those of the source; names in #&lt;...&gt; are
+    /// kept as they are), and its first comment as written.
+    /// </summary>
+    private static string Blanked(string text, out string? comment)
+    {
+        comment = null;
         var chars = text.ToCharArray();
-        string? comment = null;
-        // Comments become blanks (columns stay those of the source); names in #<...> are kept as they are.
         for (var i = 0; i < chars.Length; i++)
         {
             var c = chars[i];
@@ -278,20 +313,12 @@ internal static class MacroCompiler
             }
         }
 
-        var s = new string(chars);
-        var line = new MacroLine { Comment = comment ?? string.Empty };
-        var p = new MacroParser(s, 0);
-        if (p.AtEnd)
-        {
-            return line;
-        }
+        return new string(chars);
+    }
 
-        if (p.Peek() == '%')
-        {
-            line.Kind = LineKind.TapeMark;
-            return line;
-        }
-
+    /// <summary>A block delete slash (with its number) and an N word before the statement; the statement's column.</summary>
+    private static void Prefix(ref MacroParser p, MacroLine line)
+    {
         if (p.Peek() == '/')
         {
             line.BlockDelete = true;
@@ -308,90 +335,87 @@ internal static class MacroCompiler
             line.N = p.Number();
         }
 
-        var at = p.Position + 1;
-        line.Column = at;
-        if (dialect == MacroDialect.LinuxCnc && p.Peek() == 'O' && p.PeekAt(1) is '<' or (>= '0' and <= '9'))
+        line.Column = p.Position + 1;
+    }
+
+    /// <summary>
+    /// FANUC's statements (program number, IF ... GOTO / THEN, GOTO, WHILE ... DO, DO, END): the compiled line, or
+    /// null when the line is a block (<see cref="CompileBlock"/>). <paramref name="s"/> is the blanked line.
+    /// </summary>
+    private static MacroLine? FanucStatement(ref MacroParser p, MacroLine line, string s)
+    {
+        if (p.Peek() is 'O' or ':' && p.PeekAt(1) is >= '0' and <= '9')
         {
-            CompileOWord(ref p, line);
-            return line;
+            p.Advance();
+            line.Kind = LineKind.ProgramNumber;
+            line.ProgramNumber = (int)p.Number();
+            return End(ref p, line);
         }
 
-        if (dialect == MacroDialect.Fanuc)
+        if (p.TryKeyword("IF"))
         {
-            if (p.Peek() is 'O' or ':' && p.PeekAt(1) is >= '0' and <= '9')
-            {
-                p.Advance();
-                line.Kind = LineKind.ProgramNumber;
-                line.ProgramNumber = (int)p.Number();
-                return End(ref p, line);
-            }
-
-            if (p.TryKeyword("IF"))
-            {
-                p.Expect('[');
-                line.Condition = p.Expression();
-                p.Expect(']');
-                if (p.TryKeyword("GOTO"))
-                {
-                    line.Kind = LineKind.IfGoto;
-                    line.Target = p.Primary();
-                }
-                else if (p.TryKeyword("THEN"))
-                {
-                    line.Kind = LineKind.IfThen;
-                    line.Then = Compile(new string(' ', p.Position) + s[p.Position..], dialect);
-                    line.Then.Comment = line.Comment;
-                    return line;
-                }
-                else
-                {
-                    throw new MacroEvalException(p.Position + 1, "IF [...] without GOTO or THEN");
-                }
-
-                return End(ref p, line);
-            }
-
+            p.Expect('[');
+            line.Condition = p.Expression();
+            p.Expect(']');
             if (p.TryKeyword("GOTO"))
             {
-                line.Kind = LineKind.Goto;
+                line.Kind = LineKind.IfGoto;
                 line.Target = p.Primary();
-                return End(ref p, line);
             }
-
-            if (p.TryKeyword("WHILE"))
+            else if (p.TryKeyword("THEN"))
             {
-                p.Expect('[');
-                line.Condition = p.Expression();
-                p.Expect(']');
-                if (!p.TryKeyword("DO"))
-                {
-                    throw new MacroEvalException(p.Position + 1, "WHILE [...] without DO");
-                }
-
-                line.Kind = LineKind.While;
-                line.LoopId = (int)p.Number();
-                return End(ref p, line);
+                line.Kind = LineKind.IfThen;
+                line.Then = Compile(new string(' ', p.Position) + s[p.Position..], MacroDialect.Fanuc);
+                line.Then.Comment = line.Comment;
+                return line;
             }
-
-            if (p.PeekLetters() == "DO")
+            else
             {
-                p.TryKeyword("DO");
-                line.Kind = LineKind.While;
-                line.LoopId = (int)p.Number();
-                return End(ref p, line);
+                throw new MacroEvalException(p.Position + 1, "IF [...] without GOTO or THEN");
             }
 
-            if (p.PeekLetters() == "END")
-            {
-                p.TryKeyword("END");
-                line.Kind = LineKind.End;
-                line.LoopId = (int)p.Number();
-                return End(ref p, line);
-            }
+            return End(ref p, line);
         }
 
-        CompileBlock(ref p, line, dialect);
-        return line;
+        if (p.TryKeyword("GOTO"))
+        {
+            line.Kind = LineKind.Goto;
+            line.Target = p.Primary();
+            return End(ref p, line);
+        }
+
+        if (p.TryKeyword("WHILE"))
+        {
+            p.Expect('[');
+            line.Condition = p.Expression();
+            p.Expect(']');
+            if (!p.TryKeyword("DO"))
+            {
+                throw new MacroEvalException(p.Position + 1, "WHILE [...] without DO");
+            }
+
+            line.Kind = LineKind.While;
+            line.LoopId = (int)p.Number();
+            return End(ref p, line);
+        }
+
+        if (p.PeekLetters() == "DO")
+        {
+            p.TryKeyword("DO");
+            line.Kind = LineKind.While;
+            line.LoopId = (int)p.Number();
+            return End(ref p, line);
+        }
+
+        if (p.PeekLetters() == "END")
+        {
+            p.TryKeyword("END");
+            line.Kind = LineKind.End;
+            line.LoopId = (int)p.Number();
+            return End(ref p, line);
+        }
+
+        return null;
     }
 
     private static MacroLine End(ref MacroParser p, MacroLine line)
@@ -501,38 +525,8 @@ internal static class MacroCompiler
             }
 
             p.Advance();
-            MacroExpr value;
-            var v = p.Peek();
-            if (v is '#' or '[')
-            {
-                value = p.Primary();
-                constant = false;
-            }
-            else if (v is '-' or '+' && p.PeekAt(1) is '#' or '[')
-            {
-                p.Advance();
-                var inner = p.Primary();
-                value = v == '-' ? new UnaryExpr('-', inner) { Column = inner.Column } : inner;
-                constant = false;
-            }
-            else
-            {
-                var sign = 1.0;
-                if (v is '-' or '+')
-                {
-                    sign = v == '-' ? -1 : 1;
-                    p.Advance();
-                }
-
-                if (p.Peek() is not (>= '0' and <= '9' or '.'))
-                {
-                    // Not a word this layer reads: left to the reader, which names it (E102 ...).
-                    throw new MacroEvalException(col, $"'{c}' without a value");
-                }
-
-                value = new ConstExpr(sign * p.Number()) { Column = col };
-            }
-
+            var value = WordValue(ref p, c, col, out var written);
+            constant &= written;
             words.Add(new MacroWord(c, value, value is ConstExpr));
         }
 
@@ -552,6 +546,43 @@ internal static class MacroCompiler
         }
 
         line.Kind = words.Count == 0 ? (assigns.Count > 0 ? LineKind.Assign : LineKind.Raw) : constant && assigns.Count == 0 ? LineKind.Raw : LineKind.Words;
+    }
+
+    /// <summary>
+    /// The value of word <paramref name="letter"/> (at column <paramref name="col"/>, the letter read): a variable or
+    /// bracketed expression, one with a sign, or a number (a <see cref="ConstExpr"/>, <paramref name="number"/> true).
+    /// </summary>
+    private static MacroExpr WordValue(ref MacroParser p, char letter, int col, out bool number)
+    {
+        var v = p.Peek();
+        number = false;
+        if (v is '#' or '[')
+        {
+            return p.Primary();
+        }
+
+        if (v is '-' or '+' && p.PeekAt(1) is '#' or '[')
+        {
+            p.Advance();
+            var inner = p.Primary();
+            return v == '-' ? new UnaryExpr('-', inner) { Column = inner.Column } : inner;
+        }
+
+        var sign = 1.0;
+        if (v is '-' or '+')
+        {
+            sign = v == '-' ? -1 : 1;
+            p.Advance();
+        }
+
+        if (p.Peek() is not (>= '0' and <= '9' or '.'))
+        {
+            // Not a word this layer reads: left to the reader, which names it (E102 ...).
+            throw new MacroEvalException(col, $"'{letter}' without a value");
+        }
+
+        number = true;
+        return new ConstExpr(sign * p.Number()) { Column = col };
     }
 
     /// <summary>FANUC calls and returns: true when the block is one (its other words are emitted before it).</summary>

@@ -91,6 +91,20 @@ public sealed class LayerDirectionTests
     }
 
     [Fact]
+    public void The_GCode_layer_opens_its_internals_to_tests_only()
+    {
+        // Every layer above takes the interpreter's decisions as canonical records (ICanonicalMoves, CanonBlock) and
+        // the public lexer, checker and lane API: none reads the interpreter's fields (issue 24, item 3).
+        var friends = Items("PmacStream.GCode", "InternalsVisibleTo").Select(i => i.Attribute("Include")!.Value).ToList();
+        friends.Should().NotBeEmpty("the GCode tests read its internals");
+        friends.Should().OnlyContain(f => f.EndsWith("Tests", StringComparison.Ordinal), "GCode opens its internals to test assemblies only");
+        typeof(global::PmacStream.GCode.Interpreter).Assembly.GetCustomAttributes(typeof(System.Runtime.CompilerServices.InternalsVisibleToAttribute), false)
+            .Cast<System.Runtime.CompilerServices.InternalsVisibleToAttribute>()
+            .Select(a => a.AssemblyName)
+            .Should().OnlyContain(n => n.EndsWith("Tests", StringComparison.Ordinal), "the built GCode assembly grants what its project says");
+    }
+
+    [Fact]
     public void The_check_fails_on_a_reference_that_skips_a_layer()
     {
         // The rule itself, on references that skip or reverse a layer.
