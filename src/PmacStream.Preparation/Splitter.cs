@@ -1,4 +1,3 @@
-using System.Text;
 using PmacStream.GCode;
 using Serilog;
 
@@ -163,94 +162,24 @@ public static partial class Splitter
     {
         private const int QueueDepth = 2;
 
-        private static readonly byte[] HeaderBytes = Encoding.ASCII.GetBytes(Header);
-        private static readonly byte[] FooterBytes = Encoding.ASCII.GetBytes(Footer);
-        private static readonly byte[] DwellZero = Encoding.ASCII.GetBytes("DWELL0");
-
         private readonly string _source;
         private readonly string _folder;
-        private readonly string _name;
         private readonly SplitOptions _o;
-        private readonly IProgress<SplitProgress>? _progress;
         private readonly CancellationToken _ct;
-        private readonly byte[] _feedVar;
-        private readonly byte[] _tail;
-        private readonly int _tailWords;
-        private readonly ByteLine _block = new(256); // the block set aside while its chunk is closed (once per chunk)
-        private readonly AsciiCounter _trackDigits = new();
-        private readonly byte[] _trackPrefix;     // "M0=="
-        private readonly ulong _trackPrefixWord;
-        private readonly byte[] _feedSuffix;      // " F(P500)"
-        private readonly ulong _feedSuffixWord;
-        private readonly ByteLine _chunk;
-        private readonly ChunkTable _chunks;
-        private long _totalBytes;
-        // Options read for every block, held in fields.
-        private readonly int _blocksPerChunk;
-        private readonly long _maxChunkBytes;
-        private readonly int _rotWords;
-        private readonly int _wordsPerBlock;
-        private readonly int _limitReserve;   // tail and footer bytes every chunk keeps room for
-        private readonly bool _exactTracking;
-        private readonly bool _paperFeed;
-        private readonly bool _toolChangeMoves; // M06's hook moves to the profile's tool change position
-        private long _position;
-        private ChunkFileWriter? _writer;
-
-        private readonly ProgramStopCodes _stops;
-        private readonly Dictionary<string, int> _stopCodes = new(StringComparer.Ordinal); // stop codes used, first line
-        private double _feedSet = double.NaN; // the feed the last P500= line set (paper feed mode)
-        private ReadOutcome? _read;           // the reading side's findings, once it finished
-
-        // Current chunk (splitting thread).
-        private int _chunkBlocks;
-        private int _chunkMotion;
-        private int _chunkWords;
-        private int _chunkFirst;
-        private int _chunkLast;
-        private int _totalBlocks;
-        private int _totalMotion;
-        private int _lastBlockStart;
-        private bool _lastBlockEndsProgram;
+        private readonly int _wordsPerBlock;       // read for every block, held in a field
+        private readonly ChunkLineWriter _lines;   // a block's chunk text
+        private readonly ChunkPacker _packer;      // the chunks, under the budgets
+        private ReadOutcome? _read;                // the reading side's findings, once it finished
 
         public SplitRun(string source, string folder, SplitOptions options, IProgress<SplitProgress>? progress, CancellationToken ct)
         {
             _source = source;
             _folder = folder;
-            _name = Path.GetFileNameWithoutExtension(source);
-            _chunks = new ChunkTable(_name);
             _o = options;
-            _progress = progress;
             _ct = ct;
-            _feedVar = Encoding.ASCII.GetBytes(options.FeedVariable);
-            var sync = SyncAssignment.Of(options);
-            _trackPrefix = sync.PrefixBytes();
-            _trackPrefixWord = Word8(_trackPrefix);
-            _feedSuffix = Encoding.ASCII.GetBytes($" F({options.FeedVariable})");
-            _feedSuffixWord = Word8(_feedSuffix);
-            var tail = new StringBuilder();
-            foreach (var line in options.ProgramTail.Split('\n'))
-            {
-                var t = line.Trim();
-                if (t.Length > 0)
-                {
-                    tail.Append(t).Append("\r\n");
-                    _tailWords += Math.Max(1, t.Split(' ', StringSplitOptions.RemoveEmptyEntries).Length);
-                }
-            }
-
-            _tail = Encoding.ASCII.GetBytes(tail.ToString());
-            _blocksPerChunk = options.BlocksPerChunk;
-            _maxChunkBytes = options.MaxChunkBytes;
-            _rotWords = options.RotWords;
             _wordsPerBlock = options.WordsPerBlock;
-            _limitReserve = _tail.Length + FooterBytes.Length;
-            _exactTracking = sync.Placement == TrackingPlacement.Exact;
-            _paperFeed = options.Feed == FeedMode.Paper;
-            _toolChangeMoves = options.CheckProfile?.ToolChangePosition != null;
-            _chunk = new ByteLine((int)Math.Min(options.MaxChunkBytes + 256, 1 << 20));
-            _chunk.Append(HeaderBytes);
-            _stops = ProgramStopCodes.Of(options.CheckProfile ?? MachineProfile.Default);
+            _lines = new ChunkLineWriter(options);
+            _packer = new ChunkPacker(source, folder, options, progress, ct);
         }
 
         /// <summary>The codes the program uses that the controller cannot run yet, with their first line (null without a profile).</summary>
@@ -270,7 +199,7 @@ public static partial class Splitter
 
         public (ChunkManifest Manifest, int Warnings) Execute()
         {
-            _totalBytes = new FileInfo(_source).Length;
+            var totalBytes = _packer.TotalBytes = new FileInfo(_source).Length;
             // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
             var sourceHash = Task.Run(() => (Sha: FileHash.Sha256Hex(_source, out var hashed), Size: hashed), _ct);
             using var stop = CancellationTokenSource.CreateLinkedTokenSource(_ct);
@@ -281,11 +210,11 @@ public static partial class Splitter
                 free.Add(new LineBatch());
             }
 
-            var source = new SourceReader(_source, _folder, _totalBytes, _o, full, free, stop.Token);
+            var source = new SourceReader(_source, _folder, totalBytes, _o, full, free, stop.Token);
             ReadOutcome read;
-            using (var writer = new ChunkFileWriter(_chunks, _o.AfterChunkWritten, _ct, (int)Math.Min(_o.MaxChunkBytes + 256, 1 << 20)))
+            using (var writer = new ChunkFileWriter(_packer.Chunks, _o.AfterChunkWritten, _ct, (int)Math.Min(_o.MaxChunkBytes + 256, 1 << 20)))
             {
-                _writer = writer;
+                _packer.WriteTo(writer);
                 var reading = Task.Factory.StartNew(source.Read, CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
                 try
                 {
@@ -325,13 +254,13 @@ public static partial class Splitter
                 throw new IOException($"{_source}: changed while it was being split ({read.Size} bytes read, {hashedSize} hashed)");
             }
 
-            var manifest = new ChunkManifest(_source, read.Size, sha, _totalBlocks, _totalMotion, _o.TrackVariable,
-                _o.Tracking, _o.Feed, _o.FeedVariable, _chunks)
+            var manifest = new ChunkManifest(_source, read.Size, sha, _packer.TotalBlocks, _packer.TotalMotion, _o.TrackVariable,
+                _o.Tracking, _o.Feed, _o.FeedVariable, _packer.Chunks)
             {
                 Shape = _o.ResolvedShape,
                 CheckedProfile = _o.CheckedProfile,
                 NotYetCodes = read.NotYet,
-                StopCodes = _stopCodes,
+                StopCodes = _lines.StopCodes,
             };
             return (manifest, read.Warnings);
         }

@@ -32,7 +32,7 @@ public sealed class MethodLengthTests
         ["ProgramLineSource.Scan"] = "hot loop: every byte of the opened program; bench/PmacStream.Benchmarks/Hmi/OpenLargeProgramBenchmark.cs WholeIndex",
 
         ["Splitter.SourceReader.Read"] = "hot loop: the splitter's reading thread, every line (the axis lane on the read buffer first); bench/scripts/split-bench.sh",
-        ["Splitter.SplitRun.Write"] = "hot loop: the splitter's writing thread, every line into its chunk; bench/scripts/split-bench.sh",
+        ["Splitter.ChunkLineWriter.Write"] = "hot loop: the splitter's writing thread, every line into its chunk; bench/scripts/split-bench.sh",
         ["MacroExpander.Execute"] = "hot loop: every line of an expanded program; bench/PmacStream.Benchmarks/GCode/MacroExpansionBench.cs (macro-expand)",
         ["Interpreter.CheckDialect"] = "hot loop: every block checked, allocation-free unless it warns; bench/PmacStream.Benchmarks/GCode/CheckBenchmarks.cs \"check 100k lines\"",
 

@@ -160,30 +160,7 @@ public class ExpansionProofTests(ITestOutputHelper output)
         await host.StopAsync();
         var executed = host.Simulator.ExecutedMoves.Where(m => !(m.Kind == MoveKind.Dwell && m.Duration == 0)).ToList();
         var expected = Expected(path, profile);
-        var groups = new List<(int Line, ExecutedMove Last)>();
-        foreach (var m in executed)
-        {
-            if (groups.Count > 0 && groups[^1].Line == m.SourceLine)
-            {
-                groups[^1] = (m.SourceLine, m);
-            }
-            else
-            {
-                groups.Add((m.SourceLine, m));
-            }
-        }
-
-        groups.Select(g => g.Line).Should().Equal(expected.Select(e => e.Line), $"{name}: every moving expanded block once, in order");
-        var largest = 0.0;
-        for (var i = 0; i < expected.Count; i++)
-        {
-            var (line, end) = expected[i];
-            var got = groups[i].Last;
-            var d = Math.Max(Math.Abs(got.X - end.X), Math.Max(Math.Abs(got.Y - end.Y), Math.Abs(got.Z - end.Z)));
-            largest = Math.Max(largest, d);
-            d.Should().BeLessThan(Tolerance, $"{name}: expanded line {line}: the controller ended at ({got.X}, {got.Y}, {got.Z}), the interpreter says ({end.X}, {end.Y}, {end.Z})");
-        }
-
+        var largest = BlockEndProof.Check(executed, expected, Tolerance, name, "moving expanded block", line => $"{name}: expanded line {line}");
         return new ProofReport(expected.Count, largest);
     }
 

@@ -477,30 +477,7 @@ public class PositionProofTests(ITestOutputHelper output)
             .Where(m => m.SourceLine >= (fromLine ?? 0)) // a start from a block: its preamble's approach is no block of the program
             .ToList();
         var expected = Expected(path, expectedFrom ?? profile).Where(e => e.Line >= (fromLine ?? 0)).ToList();
-        var groups = new List<(int Line, ExecutedMove Last)>();
-        foreach (var m in executed)
-        {
-            if (groups.Count > 0 && groups[^1].Line == m.SourceLine)
-            {
-                groups[^1] = (m.SourceLine, m);
-            }
-            else
-            {
-                groups.Add((m.SourceLine, m));
-            }
-        }
-
-        groups.Select(g => g.Line).Should().Equal(expected.Select(e => e.Line), $"{name}: every moving line once, in order");
-        var largest = 0.0;
-        for (var i = 0; i < expected.Count; i++)
-        {
-            var (line, end) = expected[i];
-            var got = groups[i].Last;
-            var d = Math.Max(Math.Abs(got.X - end.X), Math.Max(Math.Abs(got.Y - end.Y), Math.Abs(got.Z - end.Z)));
-            largest = Math.Max(largest, d);
-            d.Should().BeLessThan(Tolerance, $"{name}:{line}: the controller ended at ({got.X}, {got.Y}, {got.Z}), the interpreter says ({end.X}, {end.Y}, {end.Z})");
-        }
-
+        var largest = BlockEndProof.Check(executed, expected, Tolerance, name, "moving line", line => $"{name}:{line}");
         return new ProofReport(name, expected.Count, executed.Count, largest);
     }
 
