@@ -42,6 +42,13 @@ public sealed class Job : IAsyncDisposable
         Id = id;
     }
 
+    /// <summary>
+    /// The machine's axes whose alarms hold the job (<see cref="JobServiceOptions.Rules"/>): when the program stops and
+    /// a limit or a fault kill is the cause, the job ends faulted with an exact checkpoint instead of waiting at a
+    /// program stop. Null: not watched.
+    /// </summary>
+    internal IReadOnlyList<Machine.MachineAxis>? AlarmAxes { get; init; }
+
     /// <summary>The job record's id; null when the job is not recorded.</summary>
     public long? Id { get; }
 
@@ -186,6 +193,11 @@ public sealed class Job : IAsyncDisposable
         while (true)
         {
             await Session.TickAsync(CancellationToken.None).ConfigureAwait(false);
+            if (Session.State == SessionState.Stopped && AlarmAxes is { } axes)
+            {
+                await HaltOnAlarmAsync(axes).ConfigureAwait(false);
+            }
+
             var s = Session.Status;
             onTick?.Invoke(s);
             if (s.State is SessionState.Completed or SessionState.Faulted or SessionState.Aborted)
@@ -225,6 +237,27 @@ public sealed class Job : IAsyncDisposable
         Log.Information("Job {Job} {Outcome} at line {Line}: {Executed} of {Total} blocks", Id, outcome, Session.Status.CurrentLine,
             Session.Status.ExecutedBlocks, Session.Status.TotalBlocks);
         return outcome;
+    }
+
+    /// <summary>
+    /// The program stopped: when an alarm (a limit, a fault kill) of the machine's axes is why, the controller aborted
+    /// it, and the job ends faulted at its last executed block (a resume after the alarm is cleared restarts there).
+    /// </summary>
+    private async Task HaltOnAlarmAsync(IReadOnlyList<Machine.MachineAxis> axes)
+    {
+        try
+        {
+            var (_, alarms) = await Machine.MachineConsole.ReadinessAsync(Controller.Connection, axes, CancellationToken.None).ConfigureAwait(false);
+            if (alarms.Count > 0)
+            {
+                var line = Session.Status.CurrentLine;
+                await Session.HaltOnAlarmAsync($"alarm at line {line}: {string.Join("; ", alarms.Select(a => a.Text))}. Clear it (pmacstream alarms clear, jog off a limit), then resume: pmacstream resume --job {Id}", CancellationToken.None).ConfigureAwait(false);
+            }
+        }
+        catch (Exception e) when (e is PmacLinkException or PmacErrorException)
+        {
+            Log.Warning("Alarm status not read: {Message:l}", e.Message);
+        }
     }
 
     /// <summary>The run command at a program stop, from the tick loop; a link fault there faults the session (the loop then ends).</summary>
