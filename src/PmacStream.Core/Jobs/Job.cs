@@ -49,6 +49,9 @@ public sealed class Job : IAsyncDisposable
     /// </summary>
     internal IReadOnlyList<Machine.MachineAxis>? AlarmAxes { get; init; }
 
+    /// <summary>The machine profile the program was checked under (plans the block after an alarm's, see <see cref="HaltOnAlarmAsync"/>).</summary>
+    internal GCode.MachineProfile Profile { get; init; } = GCode.MachineProfile.Default;
+
     /// <summary>The job record's id; null when the job is not recorded.</summary>
     public long? Id { get; }
 
@@ -251,12 +254,45 @@ public sealed class Job : IAsyncDisposable
             if (alarms.Count > 0)
             {
                 var line = Session.Status.CurrentLine;
+                await MarkCompletedBlockAsync(axes, line).ConfigureAwait(false);
                 await Session.HaltOnAlarmAsync($"alarm at line {line}: {string.Join("; ", alarms.Select(a => a.Text))}. Clear it (pmacstream alarms clear, jog off a limit), then resume: pmacstream resume --job {Id}", CancellationToken.None).ConfigureAwait(false);
             }
         }
         catch (Exception e) when (e is PmacLinkException or PmacErrorException)
         {
             Log.Warning("Alarm status not read: {Message:l}", e.Message);
+        }
+    }
+
+    /// <summary>
+    /// The tracking variable names the block that started last; the alarm may have stopped the program after that
+    /// block's motion had ended (a dry buffer waiting for lines), and a restart there would run it twice. When the axes
+    /// stand exactly where the next block starts (work coordinates: motors less the displacement the library applies),
+    /// the block is done: the tracking variable is moved on to the next block, so the resume restarts there.
+    /// </summary>
+    private async Task MarkCompletedBlockAsync(IReadOnlyList<Machine.MachineAxis> axes, int line)
+    {
+        if (line <= 0 || Program.ProbesEveryLine)
+        {
+            return;
+        }
+
+        StartPlan next;
+        try
+        {
+            next = StartFromLine.Plan(Program.Manifest.SourcePath, line + 1, Settings.ToStartPlanOptions(Program.Manifest, Profile));
+        }
+        catch (ArgumentOutOfRangeException)
+        {
+            return; // the last block: its end is the job's end
+        }
+
+        var work = await Machine.MachineConsole.WorkPositionAsync(Controller.Connection, axes, new LibraryMap(), Session.Options.CoordinateSystem, CancellationToken.None).ConfigureAwait(false);
+        var start = next.Start.InMillimetres(next.State.Units);
+        if (work is { } w && Math.Abs(w.X - start.X) < 0.001 && Math.Abs(w.Y - start.Y) < 0.001 && Math.Abs(w.Z - start.Z) < 0.001 && Program.PositionOfBlock(next.Line) is not null)
+        {
+            Log.Information("Job {Job}: the block of line {Line} had ended when the alarm stopped the program (the axes stand at line {Next}'s start): {Variable}={Next}", Id, line, next.Line, Program.Sync.Variable);
+            await Controller.Connection.GetResponseAsync(string.Create(CultureInfo.InvariantCulture, $"{Program.Sync.Variable}={next.Line}"), CancellationToken.None).ConfigureAwait(false);
         }
     }
 

@@ -212,7 +212,7 @@ public sealed partial class JobService
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings, withShape: false),
                 (request.Profile.Source, request.Profile.Identity));
             var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
-            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id) { AlarmAxes = _options.Rules?.Axes };
+            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id) { AlarmAxes = _options.Rules?.Axes, Profile = request.Profile };
         }
         catch
         {
@@ -441,7 +441,7 @@ public sealed partial class JobService
                 return new ResumeResult(ResumeKind.Declined, null, outcome.Reason) { RestartLine = outcome.RestartLine };
             }
 
-            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id) { AlarmAxes = _options.Rules?.Axes }, outcome.Reason);
+            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id) { AlarmAxes = _options.Rules?.Axes, Profile = profile }, outcome.Reason);
         }
         catch
         {
@@ -484,7 +484,7 @@ public sealed partial class JobService
 
         var reloaded = cp is { Loaded: false, Started: false };
         Log.Information("Job {Job} resumed from its checkpoint at line {Line}{How:l}", record.Id, cp.LastExecutedLine, reloaded ? " (its start loaded again)" : string.Empty);
-        var continued = new Job(controller, session, request.Settings, null, request.FeedOverride, store, record.Id) { AlarmAxes = rules?.Axes };
+        var continued = new Job(controller, session, request.Settings, null, request.FeedOverride, store, record.Id) { AlarmAxes = rules?.Axes, Profile = request.Profile ?? GCode.MachineProfile.Default };
         if (request.FeedOverride is { } percent)
         {
             await continued.SetFeedOverrideAsync(percent, cancellationToken).ConfigureAwait(false);

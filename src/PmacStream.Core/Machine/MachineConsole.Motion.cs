@@ -120,8 +120,9 @@ public sealed partial class MachineConsole
 
     /// <summary>
     /// Clears the alarms that a clear can end: a killed motor (fatal following error, amplifier fault, or killed with
-    /// them) closes its loop where it stands (<c>J/</c>), which clears its fault bits (SRM p. 286). A hardware limit
-    /// stays until the axis is jogged off it: the result says so.
+    /// them) closes its loop where it stands (<c>J/</c>), which clears its fault bits (SRM p. 286), and, when no program
+    /// runs, <c>&amp;n A</c> closes the loop of the coordinate system's other killed motors. A hardware limit stays until
+    /// the axis is jogged off it: the result says so.
     /// </summary>
     public async Task<ConsoleResult> ClearAlarmsAsync(CancellationToken cancellationToken = default)
     {
@@ -134,6 +135,14 @@ public sealed partial class MachineConsole
                 await Connection.GetResponseAsync($"#{Options.Axes[i].Motor}J/", cancellationToken).ConfigureAwait(false);
                 cleared.Add(Options.Axes[i].Name);
             }
+        }
+
+        if (cleared.Count > 0 && CsWord.Parse(await Connection.GetResponseAsync(Cs + "??", cancellationToken).ConfigureAwait(false)) is not { ProgramRunning: true })
+        {
+            // A fault kill may have killed every motor of the coordinate system (Ixx24), some of them not the console's
+            // axes: the abort, with the program already stopped, closes the loop of all of them (SRM p. 275), so the
+            // next run command is not refused with ERR012.
+            await Connection.GetResponseAsync(Cs + "A", cancellationToken).ConfigureAwait(false);
         }
 
         var state = await ReadStateAsync(cancellationToken).ConfigureAwait(false);

@@ -81,6 +81,27 @@ public sealed partial class MachineConsole
         return (unhomed, alarms);
     }
 
+    /// <summary>
+    /// Where X, Y and Z stand in the running program's work coordinates: motor positions less the displacement the
+    /// library applied last (Q(n+14)..Q(n+16), its <c>ADIS</c>); null when the machine has no X, Y and Z.
+    /// </summary>
+    public static async Task<GCode.Point3?> WorkPositionAsync(IPmacConnection connection, IReadOnlyList<MachineAxis> axes, LibraryMap map, int coordinateSystem, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(connection);
+        ArgumentNullException.ThrowIfNull(axes);
+        ArgumentNullException.ThrowIfNull(map);
+        var xyz = new[] { "X", "Y", "Z" }.Select(n => axes.FirstOrDefault(a => a.Name == n)).ToList();
+        if (xyz.Any(a => a is null))
+        {
+            return null;
+        }
+
+        var p = Numbers(await connection.GetResponseAsync(string.Concat(xyz.Select(a => $"#{a!.Motor}P")), cancellationToken).ConfigureAwait(false));
+        var q = Numbers(await connection.GetResponseAsync($"&{coordinateSystem.ToString(CultureInfo.InvariantCulture)} {map.Q(14)} {map.Q(15)} {map.Q(16)}", cancellationToken).ConfigureAwait(false));
+        double W(int i) => (i < p.Count ? p[i] / xyz[i]!.CountsPerMm : 0) - (i < q.Count ? q[i] : 0);
+        return new GCode.Point3(W(0), W(1), W(2));
+    }
+
     /// <summary>The status words of the axes' motors, in order.</summary>
     internal static async Task<MotorWord[]> MotorWordsAsync(IPmacConnection connection, IReadOnlyList<MachineAxis> axes, CancellationToken cancellationToken)
     {
