@@ -9,7 +9,7 @@ internal static class JogCommand
     {
         var axis = new Argument<string>("axis") { Description = "The axis letter (X, Y, Z)." };
         var move = new Argument<string>("move") { Description = "+DIST or -DIST (mm, from the commanded position), or + or - with --for." };
-        var feed = new Option<double?>("--feed") { Description = "Jog speed, mm/min (default: the motor's jog speed Ixx22)." };
+        var feed = new Option<double?>("--feed") { Description = "Jog speed, mm/min (default 1000; set as the motor's jog speed Ixx22 for the move, then restored)." };
         var seconds = new Option<double?>("--for") { Description = "Continuous jog: run in the direction + or - for this many seconds, then stop." };
         var cmd = new Command("jog", "Jog an axis by a distance, or continuously for a time; returns when it is in position. Refused while a program runs or an alarm is active (jogging off a hardware limit, away from it, is always allowed).");
         cmd.Arguments.Add(axis);

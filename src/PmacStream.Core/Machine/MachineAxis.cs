@@ -63,6 +63,12 @@ public sealed record MachineConsoleOptions
     /// <summary>How often the console polls the controller while it waits for motion.</summary>
     public TimeSpan Poll { get; init; } = TimeSpan.FromMilliseconds(20);
 
+    /// <summary>
+    /// Jog speed when a jog gives none, mm/min (set as the motor's Ixx22 for the move, then restored); null: the motor's
+    /// own Ixx22. 1000 by default: the simulator's power-on Ixx22 (32 counts/ms at 1 count per mm) is 1.9 m/s.
+    /// </summary>
+    public double? DefaultJogFeed { get; init; } = 1000;
+
     /// <summary>Tools the <c>tools</c> list reads from the controller (1..this).</summary>
     public int ToolCount { get; init; } = 24;
 

@@ -159,6 +159,7 @@ public sealed partial class MachineConsole
             return NoAxis(axis);
         }
 
+        feed ??= Options.DefaultJogFeed;
         if (feed is { } f && (!double.IsFinite(f) || f <= 0 || f > MaxJogFeed))
         {
             return ConsoleResult.Refused(ConsoleRefusal.BadValue, string.Create(CultureInfo.InvariantCulture, $"--feed {f} is out of range (0 < feed <= {MaxJogFeed} mm/min)"));
