@@ -16,6 +16,13 @@ root.Subcommands.Add(Prog1000Command.Create());
 root.Subcommands.Add(MachineCommand.Create());
 root.Subcommands.Add(PlcCommand.Create());
 root.Subcommands.Add(PreviewCommand.Create());
+root.Subcommands.Add(StatusCommand.Create());
+root.Subcommands.Add(HomeCommand.Create());
+root.Subcommands.Add(JogCommand.Create());
+root.Subcommands.Add(MdiCommand.Create());
+root.Subcommands.Add(OffsetsCommand.Create());
+root.Subcommands.Add(ToolsCommand.Create());
+root.Subcommands.Add(AlarmsCommand.Create());
 BuildInfo.Apply(root);
 root.Subcommands.Add(ProfilesCommand.Create());
 

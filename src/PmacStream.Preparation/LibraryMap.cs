@@ -20,6 +20,18 @@ public sealed record LibraryMap
     public int ToolLengths { get; init; } = 7300;
 
     /// <summary>
+    /// P(n + D): cutter radius of offset D (D 0-199), as the operator's tool table sets it. The host's cutter
+    /// compensation reads it (the library does not); kept on the controller so the table survives with it.
+    /// </summary>
+    public int ToolRadii { get; init; } = 7500;
+
+    /// <summary>P(n + H): length wear of offset H. <see cref="ToolLengths"/> holds length plus wear (what G43 applies).</summary>
+    public int ToolLengthWear { get; init; } = 7700;
+
+    /// <summary>P(n + D): radius wear of offset D; the compensation uses radius plus wear.</summary>
+    public int ToolRadiusWear { get; init; } = 7900;
+
+    /// <summary>
     /// Q(n)..Q(n+16): the modal state. n work offset index; n+1..3 G52 shift; n+4..6 G92 shift; n+7 tool length
     /// applied; n+8 H; n+9 length mode (0, 43, 44); n+10 distance mode (90, 91); n+11 motion mode (0-3); n+12 tool in
     /// the spindle; n+13 1 while a block runs in machine coordinates; n+14..16 the displacement ADIS applies.

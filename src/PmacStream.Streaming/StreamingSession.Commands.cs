@@ -22,6 +22,35 @@ public sealed partial class StreamingSession
         CommandAsync(_cs.Abort, "abort", SessionState.Aborted, cancellationToken);
 
     /// <summary>
+    /// The controller stopped the job on an alarm (a limit, a fault kill aborted the program; the host sent nothing):
+    /// the session ends as <see cref="SessionState.Faulted"/> with <paramref name="message"/> and a durable checkpoint
+    /// at the last executed block, so a resume after the alarm is cleared restarts exactly there.
+    /// </summary>
+    public async Task HaltOnAlarmAsync(string message, CancellationToken cancellationToken = default)
+    {
+        await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
+        try
+        {
+            if (_state is SessionState.Completed or SessionState.Faulted)
+            {
+                return;
+            }
+
+            _state = SessionState.Faulted;
+            _log.Message = message;
+            Log.Error("Streaming stopped by a controller alarm: {Message}", message);
+            Raise(StreamingEventKind.Fault, message, _currentChunk);
+            SaveCheckpoint(durable: true);
+        }
+        finally
+        {
+            _gate.Release();
+        }
+
+        PublishStatus();
+    }
+
+    /// <summary>
     /// The optional-stop switch on or off (the variable the library's <c>M01</c> routine reads, <c>P502=1</c>): the
     /// next M01 the controller reaches stops or not. Sent between ticks, never into an open buffer; before a start it
     /// is only remembered (the start sends it).

@@ -56,7 +56,8 @@ internal static class CheckCommand
             throw new CliException($"{file}: no such file");
         }
 
-        var machine = CliProfiles.Load(profilePath);
+        // The tool table at the machine (the host's copy) over the profile's: G41 D1 reads tool 1's radius as set there.
+        var machine = Machine.ToolTableProfile.Apply(CliProfiles.Load(profilePath), Machine.MachineTables.Load(Machine.MachineTables.DefaultPath()));
 
         // Buffered: a program with an error on every line must not cost a write call per line.
         using var stdout = OutputOverride ?? new StreamWriter(Console.OpenStandardOutput(), new UTF8Encoding(false), 1 << 16) { AutoFlush = false };

@@ -17,6 +17,9 @@ internal enum JobFace
 
     /// <summary><c>demo</c>: the sample program on the built-in simulator.</summary>
     Demo,
+
+    /// <summary>The operator's console commands (<c>status</c>, <c>home</c>, <c>jog</c>, ...): a controller, the job store, the settings.</summary>
+    Console,
 }
 
 /// <summary>
@@ -60,6 +63,11 @@ internal sealed class JobOptions
         Description = "Download the PROG 1000/1001 library of the profile and the machine's tables before the job's first chunk, only while the coordinate system is idle (otherwise the controller must already run it: P7000/P7001 are checked; --force runs anyway).",
     };
 
+    private readonly Option<bool> _noHomeCheck = new("--no-home-check")
+    {
+        Description = "Start even if an axis is not homed (Home Complete clear): the operator knows the machine's position (absolute encoders). Without it a job on an unhomed machine is refused.",
+    };
+
     private readonly Option<double?> _clearance = new("--clearance") { Description = $"Added to the highest Z so far with --safe-z-mode highest (default {D.Clearance})." };
     private readonly Option<string> _simSpeed;
     private ChunkShapeOptions? _shape;
@@ -74,12 +82,20 @@ internal sealed class JobOptions
     {
         var o = new JobOptions(face);
         var options = new List<Option>();
-        if (face != JobFace.Demo)
+        if (face == JobFace.Console)
         {
-            options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop, o._loadLibrary]);
+            options.AddRange([o._sim, o._tcp, o._serial, o._jobDb, o._settings, o._simSpeed]);
+        }
+        else
+        {
+            if (face != JobFace.Demo)
+            {
+                options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop, o._loadLibrary, o._noHomeCheck]);
+            }
+
+            options.AddRange([o._settings, o._simSpeed, o._bufferWords, o._tickMs, o._window]);
         }
 
-        options.AddRange([o._settings, o._simSpeed, o._bufferWords, o._tickMs, o._window]);
         foreach (var option in options)
         {
             cmd.Options.Add(option);
@@ -93,6 +109,12 @@ internal sealed class JobOptions
     /// <summary>What the job does about the controller's library: load it (<c>--load-library</c>), only warn (<paramref name="forced"/>), else verify it.</summary>
     public LibraryPolicy Library(ParseResult parse, bool forced) =>
         parse.GetValue(_loadLibrary) ? LibraryPolicy.Load : forced ? LibraryPolicy.Force : LibraryPolicy.Verify;
+
+    /// <summary>True when the operator overrode the home check (<c>--no-home-check</c>).</summary>
+    public bool NoHomeCheck(ParseResult parse) => parse.GetValue(_noHomeCheck);
+
+    /// <summary>The settings file named with <c>--settings</c>, or null for the default.</summary>
+    public string? SettingsPath(ParseResult parse) => parse.GetValue(_settings);
 
     /// <summary>True when the operator confirmed starts from a line with <c>--yes</c>.</summary>
     public bool Yes(ParseResult parse) => parse.GetValue(_yes);

@@ -20,7 +20,10 @@ internal static class ResumeCommand
         cmd.SetAction(async (parse, ct) =>
         {
             using var sim = new CliSimulator(options.SimSpeed(parse));
-            var service = new JobService(new JobServiceOptions { JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync });
+            var service = new JobService(new JobServiceOptions
+            {
+                JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),
+            });
             var record = service.FindJob(parse.GetValue(jobOption));
             if (!record.Unfinished)
             {
@@ -29,7 +32,9 @@ internal static class ResumeCommand
             }
 
             var resumable = service.OpenResumable(record, ct);
-            var machine = JobService.ProfileOf(record, parse.GetValue(profileOption)); // the job's own profile, unchanged
+            // The job's own profile, unchanged, with the tool table at the machine over it as stream read it.
+            var tables = Machine.MachineTables.Load(Machine.MachineTables.DefaultPath(options.SettingsPath(parse)));
+            var machine = JobService.ProfileOf(record, parse.GetValue(profileOption), p => Machine.ToolTableProfile.Apply(p, tables));
             var forced = parse.GetValue(force);
             ProgramGate.EnsureRunnable(record.ProgramPath, resumable.Program.Manifest, machine, forced, ct); // before anything reaches the controller
             JobConsole.WarnForced(resumable.Program.Manifest, machine, forced);

@@ -40,11 +40,15 @@ internal static class StreamCommand
                 throw new CliException("--from-line must be 1 or more");
             }
 
-            var machine = CliProfiles.Load(parse.GetValue(profile));
+            // The tool table at the machine (the host's copy) over the profile's: G41 D1 reads tool 1's radius as set there.
+            var machine = Machine.ToolTableProfile.Apply(CliProfiles.Load(parse.GetValue(profile)), Machine.MachineTables.Load(Machine.MachineTables.DefaultPath(options.SettingsPath(parse))));
             var settings = options.Settings(parse);
             var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
             using var sim = new CliSimulator(options.SimSpeed(parse), machine.RapidRate);
-            var service = new JobService(new JobServiceOptions { JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync });
+            var service = new JobService(new JobServiceOptions
+            {
+                JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),
+            });
 
             // The gate: checked under the machine profile in the split's own pass and refused with every error, or with
             // every code the controller cannot run yet; nothing sent.

@@ -42,6 +42,16 @@ public sealed class Job : IAsyncDisposable
         Id = id;
     }
 
+    /// <summary>
+    /// The machine's axes whose alarms hold the job (<see cref="JobServiceOptions.Rules"/>): when the program stops and
+    /// a limit or a fault kill is the cause, the job ends faulted with an exact checkpoint instead of waiting at a
+    /// program stop. Null: not watched.
+    /// </summary>
+    internal IReadOnlyList<Machine.MachineAxis>? AlarmAxes { get; init; }
+
+    /// <summary>The machine profile the program was checked under (plans the block after an alarm's, see <see cref="HaltOnAlarmAsync"/>).</summary>
+    internal GCode.MachineProfile Profile { get; init; } = GCode.MachineProfile.Default;
+
     /// <summary>The job record's id; null when the job is not recorded.</summary>
     public long? Id { get; }
 
@@ -186,6 +196,11 @@ public sealed class Job : IAsyncDisposable
         while (true)
         {
             await Session.TickAsync(CancellationToken.None).ConfigureAwait(false);
+            if (Session.State == SessionState.Stopped && AlarmAxes is { } axes)
+            {
+                await HaltOnAlarmAsync(axes).ConfigureAwait(false);
+            }
+
             var s = Session.Status;
             onTick?.Invoke(s);
             if (s.State is SessionState.Completed or SessionState.Faulted or SessionState.Aborted)
@@ -225,6 +240,60 @@ public sealed class Job : IAsyncDisposable
         Log.Information("Job {Job} {Outcome} at line {Line}: {Executed} of {Total} blocks", Id, outcome, Session.Status.CurrentLine,
             Session.Status.ExecutedBlocks, Session.Status.TotalBlocks);
         return outcome;
+    }
+
+    /// <summary>
+    /// The program stopped: when an alarm (a limit, a fault kill) of the machine's axes is why, the controller aborted
+    /// it, and the job ends faulted at its last executed block (a resume after the alarm is cleared restarts there).
+    /// </summary>
+    private async Task HaltOnAlarmAsync(IReadOnlyList<Machine.MachineAxis> axes)
+    {
+        try
+        {
+            var (_, alarms) = await Machine.MachineConsole.ReadinessAsync(Controller.Connection, axes, CancellationToken.None).ConfigureAwait(false);
+            if (alarms.Count > 0)
+            {
+                var line = Session.Status.CurrentLine;
+                await MarkCompletedBlockAsync(axes, line).ConfigureAwait(false);
+                await Session.HaltOnAlarmAsync($"alarm at line {line}: {string.Join("; ", alarms.Select(a => a.Text))}. Clear it (pmacstream alarms clear, jog off a limit), then resume: pmacstream resume --job {Id}", CancellationToken.None).ConfigureAwait(false);
+            }
+        }
+        catch (Exception e) when (e is PmacLinkException or PmacErrorException)
+        {
+            Log.Warning("Alarm status not read: {Message:l}", e.Message);
+        }
+    }
+
+    /// <summary>
+    /// The tracking variable names the block that started last; the alarm may have stopped the program after that
+    /// block's motion had ended (a dry buffer waiting for lines), and a restart there would run it twice. When the axes
+    /// stand exactly where the next block starts (work coordinates: motors less the displacement the library applies),
+    /// the block is done: the tracking variable is moved on to the next block, so the resume restarts there.
+    /// </summary>
+    private async Task MarkCompletedBlockAsync(IReadOnlyList<Machine.MachineAxis> axes, int line)
+    {
+        if (line <= 0 || Program.ProbesEveryLine)
+        {
+            return;
+        }
+
+        StartPlan next;
+        try
+        {
+            next = StartFromLine.Plan(Program.Manifest.SourcePath, line + 1, Settings.ToStartPlanOptions(Program.Manifest, Profile));
+        }
+        catch (ArgumentOutOfRangeException)
+        {
+            return; // the last block: its end is the job's end
+        }
+
+        var work = await Machine.MachineConsole.WorkPositionAsync(Controller.Connection, axes, new LibraryMap(), Session.Options.CoordinateSystem, CancellationToken.None).ConfigureAwait(false);
+        var start = next.Start.InMillimetres(next.State.Units);
+        if (work is { } w && Math.Abs(w.X - start.X) < 0.001 && Math.Abs(w.Y - start.Y) < 0.001 && Math.Abs(w.Z - start.Z) < 0.001 && Program.PositionOfBlock(next.Line) is not null)
+        {
+            Log.Information("Job {Job}: the block of line {Line} had ended when the alarm stopped the program (the axes stand at line {Next}'s start): {Variable}={Next}", Id, line, next.Line, Program.Sync.Variable);
+            await Controller.Connection.GetResponseAsync(string.Create(CultureInfo.InvariantCulture, $"{Program.Sync.Variable}={next.Line}"), CancellationToken.None).ConfigureAwait(false);
+        }
     }
 
     /// <summary>The run command at a program stop, from the tick loop; a link fault there faults the session (the loop then ends).</summary>

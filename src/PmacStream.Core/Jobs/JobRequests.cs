@@ -96,7 +96,7 @@ public sealed record ResumeRequest(ResumableJob Job, RunSettings Settings, Func<
     /// <summary>The feed override in percent, set on the continued job at once or before the restart; null leaves the controller's.</summary>
     public double? FeedOverride { get; init; }
 
-    /// <summary>The machine profile the job ran under (<see cref="JobService.ProfileOf"/>); null: <see cref="MachineProfile.Default"/>.</summary>
+    /// <summary>The machine profile the job ran under (<see cref="JobService.ProfileOf(JobRecord, string?)"/>); null: <see cref="MachineProfile.Default"/>.</summary>
     public MachineProfile? Profile { get; init; }
 
     /// <summary>Resume although the program uses codes the controller cannot run yet, or its split was forced past errors.</summary>

@@ -19,6 +19,13 @@ public sealed record JobServiceOptions
 
     /// <summary>Clock of sessions on real controllers; null: the system clock.</summary>
     public TimeProvider? Time { get; init; }
+
+    /// <summary>
+    /// The machine's rules for jobs (the operator's console): refuse a start or resume on an unhomed machine (unless
+    /// <see cref="Machine.MachineRules.HomeCheck"/> is off) or with an alarm, and hold a job an alarm stops. Null: none (a
+    /// host that drives a bare controller).
+    /// </summary>
+    public Machine.MachineRules? Rules { get; init; }
 }
 
 /// <summary>
@@ -200,11 +207,12 @@ public sealed partial class JobService
             var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
                 with { OptionalStop = request.OptionalStop, CompletedJobLine = completed };
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, request.Library, ScopeOf(options, program, completed), cancellationToken).ConfigureAwait(false);
+            await EnsureMachineReadyAsync(controller, cancellationToken).ConfigureAwait(false);
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings, withShape: false),
                 (request.Profile.Source, request.Profile.Identity));
             var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
-            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id);
+            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id) { AlarmAxes = _options.Rules?.Axes, Profile = request.Profile };
         }
         catch
         {
@@ -242,6 +250,30 @@ public sealed partial class JobService
             .ConfigureAwait(false);
     }
 
+    /// <summary>
+    /// The machine's rules before a job's first line: no alarm that stops motion, and every axis homed unless the
+    /// rules say the machine needs no homing (absolute encoders) or the operator overrode it (<c>--no-home-check</c>).
+    /// </summary>
+    /// <exception cref="JobException">An alarm is active or an axis is not homed; nothing was sent.</exception>
+    private async Task EnsureMachineReadyAsync(ControllerLink controller, CancellationToken cancellationToken)
+    {
+        if (_options.Rules is not { } rules)
+        {
+            return;
+        }
+
+        var (unhomed, alarms) = await Machine.MachineConsole.ReadinessAsync(controller.Connection, rules.Axes, cancellationToken).ConfigureAwait(false);
+        if (alarms.Count > 0)
+        {
+            throw new JobException($"an alarm is active: {alarms[0].Text}; clear it first (pmacstream alarms clear)", JobErrorKind.Failed);
+        }
+
+        if (rules.HomeCheck && unhomed.Count > 0)
+        {
+            throw new JobException($"not homed: {string.Concat(unhomed)}; home the machine first (pmacstream home), or give --no-home-check if its position is known (absolute encoders)", JobErrorKind.Failed);
+        }
+    }
+
     /// <summary>The last line of the newest job on this controller when it completed (its rotary program may still wait for lines); else null.</summary>
     private static int? CompletedJobLine(JobStore? store, ControllerLink controller) =>
         store?.Latest(controller.Spec.ToString())?.Checkpoint is { State: SessionState.Completed } done ? done.LastExecutedLine : null;
@@ -273,7 +305,14 @@ public sealed partial class JobService
     /// the default.
     /// </summary>
     /// <exception cref="JobException">The profile cannot be read, or it is not the job's (<see cref="JobErrorKind.BadRequest"/>).</exception>
-    public static MachineProfile ProfileOf(JobRecord record, string? requested = null)
+    public static MachineProfile ProfileOf(JobRecord record, string? requested = null) => ProfileOf(record, requested, null);
+
+    /// <summary>
+    /// <see cref="ProfileOf(JobRecord, string?)"/> with <paramref name="adjust"/> applied to the profile read before it is
+    /// compared with the job's (the tool table at the machine over the profile's, as the start applied it).
+    /// </summary>
+    /// <exception cref="JobException">The profile cannot be read, or it is not the job's (<see cref="JobErrorKind.BadRequest"/>).</exception>
+    public static MachineProfile ProfileOf(JobRecord record, string? requested, Func<MachineProfile, MachineProfile>? adjust)
     {
         ArgumentNullException.ThrowIfNull(record);
         var source = requested ?? record.Profile;
@@ -281,6 +320,7 @@ public sealed partial class JobService
         try
         {
             profile = MachineProfile.Resolve(source);
+            profile = adjust?.Invoke(profile) ?? profile;
         }
         catch (Exception e) when (e is InvalidDataException or IOException or UnauthorizedAccessException)
         {
@@ -376,11 +416,12 @@ public sealed partial class JobService
                 with { OptionalStop = request.OptionalStop };
             var library = request.Library ?? (request.Force ? LibraryPolicy.Force : LibraryPolicy.Verify);
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, library, ScopeOf(options, job.Program, null), cancellationToken).ConfigureAwait(false);
+            await EnsureMachineReadyAsync(controller, cancellationToken).ConfigureAwait(false);
             StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
             var outcome = new ContinueOutcome(null, null, job.RestartLine);
             if (record.Checkpoint is { State: not SessionState.Aborted } && controller.Simulator?.Fresh != true)
             {
-                outcome = await ContinueAsync(controller, request, store, NewSession(), cancellationToken).ConfigureAwait(false);
+                outcome = await ContinueAsync(controller, request, store, NewSession(), _options.Rules, cancellationToken).ConfigureAwait(false);
                 if (outcome.Result is { } done)
                 {
                     if (done.Job is null)
@@ -400,7 +441,7 @@ public sealed partial class JobService
                 return new ResumeResult(ResumeKind.Declined, null, outcome.Reason) { RestartLine = outcome.RestartLine };
             }
 
-            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id), outcome.Reason);
+            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id) { AlarmAxes = _options.Rules?.Axes, Profile = profile }, outcome.Reason);
         }
         catch
         {
@@ -413,7 +454,7 @@ public sealed partial class JobService
     /// Continues a job the controller may still hold, from its record. The outcome is the result when the job runs on
     /// or the resume is refused; else (the controller stopped the job) why, and the line a restart starts at.
     /// </summary>
-    private static async Task<ContinueOutcome> ContinueAsync(ControllerLink controller, ResumeRequest request, JobStore store, StreamingSession session, CancellationToken cancellationToken)
+    private static async Task<ContinueOutcome> ContinueAsync(ControllerLink controller, ResumeRequest request, JobStore store, StreamingSession session, Machine.MachineRules? rules, CancellationToken cancellationToken)
     {
         var record = request.Job.Record;
         var cp = record.Checkpoint!;
@@ -443,7 +484,7 @@ public sealed partial class JobService
 
         var reloaded = cp is { Loaded: false, Started: false };
         Log.Information("Job {Job} resumed from its checkpoint at line {Line}{How:l}", record.Id, cp.LastExecutedLine, reloaded ? " (its start loaded again)" : string.Empty);
-        var continued = new Job(controller, session, request.Settings, null, request.FeedOverride, store, record.Id);
+        var continued = new Job(controller, session, request.Settings, null, request.FeedOverride, store, record.Id) { AlarmAxes = rules?.Axes, Profile = request.Profile ?? GCode.MachineProfile.Default };
         if (request.FeedOverride is { } percent)
         {
             await continued.SetFeedOverrideAsync(percent, cancellationToken).ConfigureAwait(false);

@@ -1,0 +1,105 @@
+using System.CommandLine;
+using PmacStream.Jobs;
+using PmacStream.Machine;
+
+namespace PmacStream.Cli.Commands;
+
+/// <summary>
+/// The options every console command shares (the controller as <c>stream</c> takes it, the job store, the settings, the
+/// profile, the tables file, the alarm language) and the console they open. The logic is in <see cref="MachineConsole"/>;
+/// the commands only bind and print.
+/// </summary>
+internal sealed class ConsoleOptions
+{
+    private readonly Option<string?> _tables = new("--tables") { Description = "The host's copy of the work offsets and tool table (JSON); default $PMACSTREAM_TABLES or tables.json beside the settings file." };
+    private readonly Option<string?> _language = new("--lang") { Description = "Language of alarm texts: en (the default) or zh-CN.", HelpName = "en|zh-CN" };
+    private readonly Option<string?> _profile = CliProfiles.Option();
+    private JobOptions _job = null!;
+
+    /// <summary>Adds the options to <paramref name="cmd"/>.</summary>
+    public static ConsoleOptions AddTo(Command cmd)
+    {
+        var o = new ConsoleOptions();
+        o._job = JobOptions.AddTo(cmd, JobFace.Console);
+        cmd.Options.Add(o._tables);
+        cmd.Options.Add(o._language);
+        cmd.Options.Add(o._profile);
+        return o;
+    }
+
+    /// <summary>The tables file.</summary>
+    public string TablesPath(ParseResult parse) => parse.GetValue(_tables) ?? MachineTables.DefaultPath(_job.SettingsPath(parse));
+
+    /// <summary>Opens the controller and the console on it.</summary>
+    public async Task<ConsoleSession> OpenAsync(ParseResult parse, CancellationToken cancellationToken)
+    {
+        var target = _job.Target(parse) ?? throw new CliException("say which controller: --sim, --tcp HOST[:PORT] or --serial DEV[,BAUD]");
+        var language = parse.GetValue(_language) ?? "en";
+        if (language is not ("en" or "zh-CN" or "zh"))
+        {
+            throw new CliException($"--lang {language}: expected en or zh-CN");
+        }
+
+        var tablesPath = TablesPath(parse);
+        var profile = ToolTableProfile.Apply(CliProfiles.Load(parse.GetValue(_profile)), MachineTables.Load(tablesPath));
+        var settings = _job.Settings(parse);
+        var sim = new CliSimulator(_job.SimSpeed(parse), profile.RapidRate);
+        var service = new JobService(new JobServiceOptions
+        {
+            JobDatabase = _job.JobDatabase(parse), Simulator = sim.OpenAsync, Rules = new MachineRules(MachineAxis.Default),
+        });
+        try
+        {
+            var controller = await service.ConnectAsync(target, profile, cancellationToken).ConfigureAwait(false);
+            var console = new MachineConsole(service, controller, new MachineConsoleOptions
+            {
+                Language = language, History = AlarmHistoryFile.Beside(service.JobDatabase), TablesPath = tablesPath,
+                StatePath = Path.Combine(Path.GetDirectoryName(service.JobDatabase)!, "console-state.json"), Profile = profile, Settings = settings,
+            });
+            if (controller.IsSimulator && File.Exists(tablesPath))
+            {
+                // The built-in simulator is a new controller each time: it starts with the host's copy of the tables.
+                await console.RestoreTablesAsync(cancellationToken).ConfigureAwait(false);
+            }
+
+            return new ConsoleSession(sim, controller, console);
+        }
+        catch
+        {
+            sim.Dispose();
+            throw;
+        }
+    }
+
+    /// <summary>Prints a result: done on stdout (exit 0), refused as an error with the reason (exit 1).</summary>
+    public static int Finish(ConsoleResult result)
+    {
+        if (!result.Done)
+        {
+            throw new CliException("refused: " + result.Message, CliGlobals.Failed);
+        }
+
+        Console.WriteLine(result.Message);
+        return CliGlobals.Ok;
+    }
+
+    /// <summary>A number option's text as an invariant double, or a usage error naming it.</summary>
+    public static double Number(string text, string what) =>
+        double.TryParse(text, System.Globalization.NumberStyles.Float, System.Globalization.CultureInfo.InvariantCulture, out var v) && double.IsFinite(v)
+            ? v
+            : throw new CliException($"{what}: '{text}' is not a number");
+}
+
+/// <summary>An open console: the controller (and the built-in simulator when asked for), closed together.</summary>
+internal sealed class ConsoleSession(CliSimulator sim, ControllerLink controller, MachineConsole console) : IAsyncDisposable
+{
+    /// <summary>The console.</summary>
+    public MachineConsole Console { get; } = console;
+
+    /// <inheritdoc />
+    public async ValueTask DisposeAsync()
+    {
+        await controller.DisposeAsync().ConfigureAwait(false);
+        sim.Dispose();
+    }
+}

@@ -1,0 +1,47 @@
+using System.CommandLine;
+
+namespace PmacStream.Cli.Commands;
+
+/// <summary>`pmacstream jog AXIS +DIST|-DIST [--feed MM_PER_MIN]` (incremental) or `pmacstream jog AXIS +|- --for SECONDS` (continuous).</summary>
+internal static class JogCommand
+{
+    public static Command Create()
+    {
+        var axis = new Argument<string>("axis") { Description = "The axis letter (X, Y, Z)." };
+        var move = new Argument<string>("move") { Description = "+DIST or -DIST (mm, from the commanded position), or + or - with --for." };
+        var feed = new Option<double?>("--feed") { Description = "Jog speed, mm/min (default 1000; set as the motor's jog speed Ixx22 for the move, then restored)." };
+        var seconds = new Option<double?>("--for") { Description = "Continuous jog: run in the direction + or - for this many seconds, then stop." };
+        var cmd = new Command("jog", "Jog an axis by a distance, or continuously for a time; returns when it is in position. Refused while a program runs or an alarm is active (jogging off a hardware limit, away from it, is always allowed).");
+        cmd.Arguments.Add(axis);
+        cmd.Arguments.Add(move);
+        cmd.Options.Add(feed);
+        cmd.Options.Add(seconds);
+        var options = ConsoleOptions.AddTo(cmd);
+        cmd.SetAction(async (parse, ct) =>
+        {
+            var text = parse.GetValue(move)!.Trim();
+            var name = parse.GetValue(axis)!;
+            var continuous = parse.GetValue(seconds);
+            if (continuous is { } s)
+            {
+                if (text is not ("+" or "-"))
+                {
+                    throw new CliException($"jog {name} {text} --for: give the direction alone, + or -");
+                }
+
+                await using var c = await options.OpenAsync(parse, ct).ConfigureAwait(false);
+                return ConsoleOptions.Finish(await c.Console.JogForAsync(name, text == "+" ? 1 : -1, TimeSpan.FromSeconds(s), parse.GetValue(feed), ct).ConfigureAwait(false));
+            }
+
+            if (text.Length < 2 || text[0] is not ('+' or '-'))
+            {
+                throw new CliException($"jog {name} {text}: give +DIST or -DIST in mm (or + / - with --for SECONDS)");
+            }
+
+            var distance = ConsoleOptions.Number(text, "jog distance");
+            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
+            return ConsoleOptions.Finish(await session.Console.JogAsync(name, distance, parse.GetValue(feed), ct).ConfigureAwait(false));
+        });
+        return cmd;
+    }
+}

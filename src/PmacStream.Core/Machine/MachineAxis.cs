@@ -1,0 +1,109 @@
+using System.Globalization;
+using System.Text.Json.Nodes;
+using PmacStream.GCode;
+using PmacStream.Jobs;
+using PmacStream.Preparation;
+
+namespace PmacStream.Machine;
+
+/// <summary>An axis of the machine and the motor that drives it.</summary>
+/// <param name="Name">The axis letter.</param>
+/// <param name="Motor">The motor number (<c>#n</c>).</param>
+/// <param name="CountsPerMm">Motor counts per millimetre: the scale of its axis definition (<c>#1->1000X</c> is 1000; the simulator's power-on definition is 1).</param>
+public sealed record MachineAxis(string Name, int Motor, double CountsPerMm = 1)
+{
+    /// <summary>X, Y, Z on motors 1, 2, 3 at scale 1: the simulator's power-on definition.</summary>
+    public static IReadOnlyList<MachineAxis> Default { get; } = [new("X", 1), new("Y", 2), new("Z", 3)];
+
+    /// <summary>The library's axis index (X 0, Y 1, Z 2), or -1 for an axis without work offsets.</summary>
+    public int TableAxis => Name switch { "X" => 0, "Y" => 1, "Z" => 2, _ => -1 };
+}
+
+/// <summary>
+/// The rules a job service applies before and during a job on a real machine (the command line's stream and resume):
+/// refuse to start on an unhomed machine or with an alarm, and hold the job when an alarm stops the program.
+/// </summary>
+/// <param name="Axes">The machine's axes.</param>
+/// <param name="HomeCheck">Refuse a job while an axis is not homed (off: absolute encoders, or <c>--no-home-check</c>).</param>
+public sealed record MachineRules(IReadOnlyList<MachineAxis> Axes, bool HomeCheck = true);
+
+/// <summary>What the console is set up with.</summary>
+public sealed record MachineConsoleOptions
+{
+    /// <summary>The machine's axes.</summary>
+    public IReadOnlyList<MachineAxis> Axes { get; init; } = MachineAxis.Default;
+
+    /// <summary>The coordinate system the programs run in.</summary>
+    public int CoordinateSystem { get; init; } = 1;
+
+    /// <summary>Where the library keeps its tables and modal state.</summary>
+    public LibraryMap Map { get; init; } = new();
+
+    /// <summary>Language of the alarm texts: <c>en</c> or <c>zh-CN</c>.</summary>
+    public string Language { get; init; } = "en";
+
+    /// <summary>The alarm history; null: none kept.</summary>
+    public IAlarmHistory? History { get; init; }
+
+    /// <summary>The host's copy of the tables; null: none kept.</summary>
+    public string? TablesPath { get; init; }
+
+    /// <summary>The file keeping MDI's modal state between calls (per controller); null: not carried.</summary>
+    public string? StatePath { get; init; }
+
+    /// <summary>The machine profile MDI blocks are checked and converted under.</summary>
+    public MachineProfile Profile { get; init; } = MachineProfile.Default;
+
+    /// <summary>Run settings of MDI's little jobs.</summary>
+    public RunSettings Settings { get; init; } = RunSettings.Default;
+
+    /// <summary>How long a motion may take before the console gives up waiting for it to end in position.</summary>
+    public TimeSpan MotionTimeout { get; init; } = TimeSpan.FromMinutes(10);
+
+    /// <summary>How often the console polls the controller while it waits for motion.</summary>
+    public TimeSpan Poll { get; init; } = TimeSpan.FromMilliseconds(20);
+
+    /// <summary>
+    /// Jog speed when a jog gives none, mm/min (set as the motor's Ixx22 for the move, then restored); null: the motor's
+    /// own Ixx22. 1000 by default: the simulator's power-on Ixx22 (32 counts/ms at 1 count per mm) is 1.9 m/s.
+    /// </summary>
+    public double? DefaultJogFeed { get; init; } = 1000;
+
+    /// <summary>Tools the <c>tools</c> list reads from the controller (1..this).</summary>
+    public int ToolCount { get; init; } = 24;
+
+    /// <summary>Refuse MDI (and jobs) while an axis is not homed; off for absolute encoders.</summary>
+    public bool HomeCheck { get; init; } = true;
+}
+
+/// <summary>The tool table in the machine profile the check and the host's cutter compensation read.</summary>
+public static class ToolTableProfile
+{
+    /// <summary>
+    /// <paramref name="profile"/> with the tool table's lengths and radii (plus wear) over its own, so a program's
+    /// <c>G41 D1</c> reads tool 1's radius as set at the machine. The profile itself when the table has no tools.
+    /// </summary>
+    public static MachineProfile Apply(MachineProfile profile, MachineTables tables)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        ArgumentNullException.ThrowIfNull(tables);
+        if (tables.Tools.Count == 0)
+        {
+            return profile;
+        }
+
+        var json = JsonNode.Parse(profile.ToJson())!.AsObject();
+        var lengths = (json["toolLengths"] as JsonObject)?.DeepClone().AsObject() ?? new JsonObject();
+        var radii = (json["toolRadii"] as JsonObject)?.DeepClone().AsObject() ?? new JsonObject();
+        foreach (var t in tables.Tools)
+        {
+            var key = t.Number.ToString(CultureInfo.InvariantCulture);
+            lengths[key] = t.EffectiveLength;
+            radii[key] = t.EffectiveRadius;
+        }
+
+        json["toolLengths"] = lengths;
+        json["toolRadii"] = radii;
+        return MachineProfile.Parse(json.ToJsonString(), profile.Source);
+    }
+}
