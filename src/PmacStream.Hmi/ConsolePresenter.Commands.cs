@@ -17,7 +17,14 @@ public sealed partial class ConsolePresenter
             return await _backend.JogAsync(axis, direction * step, _view.JogFeed, cancellationToken).ConfigureAwait(true);
         }
 
+        _jogHeld = true;
         var result = await _backend.StartJogAsync(axis, direction, cancellationToken).ConfigureAwait(true);
+        if (result.Done && !_jogHeld)
+        {
+            // Released while the start was on its way: the jog stops at once.
+            return await _backend.StopJogAsync(axis, cancellationToken).ConfigureAwait(true);
+        }
+
         _continuousAxis = result.Done ? axis : null;
         return result;
     }
@@ -25,6 +32,7 @@ public sealed partial class ConsolePresenter
     /// <summary>The jog button released: a continuous jog stops (an increment runs to its end).</summary>
     private void StopContinuousJog()
     {
+        _jogHeld = false;
         if (_continuousAxis is { } axis)
         {
             _continuousAxis = null;

@@ -36,6 +36,7 @@ public sealed partial class ConsolePresenter : IAsyncDisposable
     private string _alarmKey = string.Empty;
     private string? _continuousAxis;
     private bool _polling;
+    private bool _jogHeld;
     private bool _wasReady;
 
     /// <summary>
@@ -225,7 +226,13 @@ public sealed partial class ConsolePresenter : IAsyncDisposable
         _ => TextId.StateIdle,
     }, Language);
 
-    private void RefreshEnabled() => _view.ConsoleEnabled = _backend.ConsoleReady && _ops.Busy == 0;
+    private void RefreshEnabled()
+    {
+        _view.ConsoleEnabled = _backend.ConsoleReady && _ops.Busy == 0;
+
+        // A held jog button stays usable while its jog runs: its release must reach the presenter.
+        _view.JogEnabled = _backend.ConsoleReady;
+    }
 
     private void Failed(Exception e)
     {

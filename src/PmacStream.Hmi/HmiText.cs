@@ -421,7 +421,7 @@ public static class HmiText
         [TextId.ColLengthWear] = ("Length wear", "长度磨损"),
         [TextId.ColRadiusWear] = ("Radius wear", "半径磨损"),
         [TextId.JobRow] = ("{5:HH:mm:ss}  job {0}  {1}  {2}  {3}  line {4}", "{5:HH:mm:ss}  作业 {0}  {1}  {2}  {3}  第 {4} 行"),
-        [TextId.AlarmRow] = ("{0:HH:mm:ss}  {1}{2}", "{0:HH:mm:ss}  {1}{2}"),
+        [TextId.AlarmRow] = ("{0:HH:mm:ss}  alarm: {1}{2}", "{0:HH:mm:ss}  报警：{1}{2}"),
         [TextId.AlarmCleared] = ("  (cleared {0:HH:mm:ss})", "  （{0:HH:mm:ss} 已清除）"),
         [TextId.LibraryLoaded] = ("Library of {0} loaded", "已下载 {0} 的程序库"),
     };

@@ -119,6 +119,9 @@ public interface IConsoleView
     /// <summary>Whether the console's commands can be used (a controller is open, no console command under way).</summary>
     bool ConsoleEnabled { set; }
 
+    /// <summary>Whether the jog buttons can be used (a controller is open; a held button stays usable while its jog runs).</summary>
+    bool JogEnabled { set; }
+
     /// <summary>Asks the operator to confirm; true to go on.</summary>
     Task<bool> ConfirmAsync(string title, string text);
 }

@@ -39,6 +39,7 @@ internal sealed class FakeConsoleView : IConsoleView
     public IReadOnlyList<IReadOnlyList<string>> ToolRows { get; set; } = [];
     public string TablesMessage { get; set; } = string.Empty;
     public bool ConsoleEnabled { get; set; }
+    public bool JogEnabled { get; set; }
     public bool ConfirmAnswer { get; set; } = true;
     public List<string> Confirmations { get; } = [];
 
