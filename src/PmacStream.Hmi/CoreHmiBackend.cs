@@ -11,7 +11,7 @@ namespace PmacStream.Hmi;
 /// machine profile comes with each call: the operator chooses it on the screen. It holds the controller link the
 /// operator opened; splits and jobs pass through as the service's views.
 /// </summary>
-public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisposable
+public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IConsoleBackend, IAsyncDisposable
 {
     /// <summary>Diagnostics listed at most (the counts stay exact; a screen of 10,000 rows is already plenty).</summary>
     public const int MaxListedDiagnostics = 10_000;
@@ -34,6 +34,7 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisp
         }
 
         _link = await Service.ConnectAsync(settings.ToSpec(), profile, cancellationToken).ConfigureAwait(false);
+        _profile = profile;
         return _link.Description;
     }
 
@@ -43,6 +44,7 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisp
         if (_link is { } link)
         {
             _link = null;
+            _console = null;
             await link.DisposeAsync().ConfigureAwait(false);
         }
     }
@@ -59,6 +61,8 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisp
         {
             await Service.LoadLibraryAsync(link, profile, cancellationToken).ConfigureAwait(false);
         }
+
+        ProfileChosen(profile);
     }
 
     /// <inheritdoc />
@@ -95,7 +99,7 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisp
             Profile = request.Profile,
             OptionalStop = request.OptionalStop,
         }, cancellationToken).ConfigureAwait(false);
-        return new SessionJob(job);
+        return Track(new SessionJob(job), request.Program.SourcePath, request.Strategy);
     }
 
     /// <inheritdoc />
@@ -126,13 +130,13 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisp
         var resumed = result.Job!;
         if (result.Kind != ResumeKind.Restart)
         {
-            return new SessionJob(resumed);
+            return Track(new SessionJob(resumed), job.Program.SourcePath, job.Strategy);
         }
 
         try
         {
             await resumed.StartAsync(cancellationToken).ConfigureAwait(false);
-            return new SessionJob(resumed);
+            return Track(new SessionJob(resumed), job.Program.SourcePath, job.Strategy);
         }
         catch
         {
@@ -149,6 +153,8 @@ public sealed class CoreHmiBackend(JobService service) : IHmiBackend, IAsyncDisp
     /// <summary>A job as the presenter drives it.</summary>
     private sealed class SessionJob(Job job) : IHmiJob
     {
+        public long? Id => job.Id;
+
         public HmiJobStatus Status
         {
             get

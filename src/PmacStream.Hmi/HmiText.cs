@@ -177,6 +177,108 @@ public enum TextId
     LineColumn,
     /// <summary>Text column header.</summary>
     TextColumn,
+    /// <summary>The paper's screen's tab (console pages beside it).</summary>
+    TabProgram,
+    /// <summary>Console page: DRO, jog, home, MDI, alarms.</summary>
+    TabMachine,
+    /// <summary>Console page: work offsets.</summary>
+    TabOffsets,
+    /// <summary>Console page: tool table.</summary>
+    TabTools,
+    /// <summary>Console page: job and alarm history.</summary>
+    TabHistory,
+    /// <summary>DRO column: axis.</summary>
+    DroAxis,
+    /// <summary>DRO column: machine position.</summary>
+    DroMachine,
+    /// <summary>DRO column: work position.</summary>
+    DroWork,
+    /// <summary>DRO column: distance to go.</summary>
+    DroToGo,
+    /// <summary>DRO column: homed.</summary>
+    DroHomed,
+    /// <summary>Home all button.</summary>
+    HomeAll,
+    /// <summary>Home one axis button: {0} axis.</summary>
+    HomeAxis,
+    /// <summary>Jog panel.</summary>
+    JogGroup,
+    /// <summary>Jog increment label.</summary>
+    JogStep,
+    /// <summary>Jog increment: continuous.</summary>
+    JogContinuous,
+    /// <summary>Jog speed label.</summary>
+    JogSpeed,
+    /// <summary>MDI panel.</summary>
+    MdiGroup,
+    /// <summary>MDI send button.</summary>
+    MdiSend,
+    /// <summary>Clear alarms button.</summary>
+    ClearAlarms,
+    /// <summary>Touch-off button: {0} axis.</summary>
+    TouchOffAxis,
+    /// <summary>Touch-off value label.</summary>
+    TouchValue,
+    /// <summary>Load library button.</summary>
+    LoadLibrary,
+    /// <summary>Write the edited table button.</summary>
+    TablesApply,
+    /// <summary>Read the tables again button.</summary>
+    TablesReload,
+    /// <summary>Refresh the histories button.</summary>
+    HistoryRefresh,
+    /// <summary>Job history label.</summary>
+    JobHistoryLabel,
+    /// <summary>Alarm history label.</summary>
+    AlarmHistoryLabel,
+    /// <summary>Machine mode: stopped at a program stop.</summary>
+    ModeStopped,
+    /// <summary>Machine mode: alarm.</summary>
+    ModeAlarm,
+    /// <summary>Mode {0}, work offset {1}, feed {2} mm/min (programmed {3}), override {4} %, spindle {5}, job {6}.</summary>
+    MachineSummary,
+    /// <summary>Alarm banner: {0} the alarms.</summary>
+    AlarmBanner,
+    /// <summary>A console command done: {0}.</summary>
+    ConsoleDone,
+    /// <summary>A console command refused: {0}.</summary>
+    ConsoleRefused,
+    /// <summary>No controller open.</summary>
+    ConnectFirst,
+    /// <summary>A cell not a number: {0} row, {1} column, {2} text.</summary>
+    TableNumber,
+    /// <summary>A cell out of range: {0} row, {1} column, {2} value, {3} min, {4} max.</summary>
+    TableRange,
+    /// <summary>Validation failed: {0} the errors.</summary>
+    TableNotWritten,
+    /// <summary>Nothing differs from the controller.</summary>
+    TableNoChanges,
+    /// <summary>{0} entries written.</summary>
+    TableWritten,
+    /// <summary>Confirm writing tables.</summary>
+    ConfirmTablesTitle,
+    /// <summary>{0} the differences.</summary>
+    ConfirmTablesText,
+    /// <summary>Offsets column: table name.</summary>
+    ColTable,
+    /// <summary>Tools column: tool number.</summary>
+    ColTool,
+    /// <summary>Tools column: length.</summary>
+    ColLength,
+    /// <summary>Tools column: radius.</summary>
+    ColRadius,
+    /// <summary>Tools column: length wear.</summary>
+    ColLengthWear,
+    /// <summary>Tools column: radius wear.</summary>
+    ColRadiusWear,
+    /// <summary>Job history row: {0} id, {1} program, {2} strategy, {3} state, {4} line, {5} time.</summary>
+    JobRow,
+    /// <summary>Alarm history row: {0} raised, {1} text, {2} cleared or empty.</summary>
+    AlarmRow,
+    /// <summary>Alarm history: cleared at {0}.</summary>
+    AlarmCleared,
+    /// <summary>Library loaded under profile {0}.</summary>
+    LibraryLoaded,
 }
 
 /// <summary>The HMI's string table: English and Simplified Chinese for every <see cref="TextId"/>.</summary>
@@ -271,6 +373,57 @@ public static class HmiText
         [TextId.LineColumn] = ("Line", "行号"),
         [TextId.TextColumn] = ("Block", "程序段"),
         [TextId.ProgramHasErrors] = ("The program has errors and cannot be split: {0}", "程序有错误，无法拆分：{0}"),
+        [TextId.TabProgram] = ("Program", "程序"),
+        [TextId.TabMachine] = ("Machine", "机床"),
+        [TextId.TabOffsets] = ("Offsets", "工件坐标系"),
+        [TextId.TabTools] = ("Tools", "刀具表"),
+        [TextId.TabHistory] = ("History", "历史记录"),
+        [TextId.DroAxis] = ("Axis", "轴"),
+        [TextId.DroMachine] = ("Machine", "机床坐标"),
+        [TextId.DroWork] = ("Work", "工件坐标"),
+        [TextId.DroToGo] = ("To go", "剩余距离"),
+        [TextId.DroHomed] = ("Homed", "已回零"),
+        [TextId.HomeAll] = ("Home all", "全部回零"),
+        [TextId.HomeAxis] = ("Home {0}", "{0} 轴回零"),
+        [TextId.JogGroup] = ("Jog", "点动"),
+        [TextId.JogStep] = ("Step", "步距"),
+        [TextId.JogContinuous] = ("Continuous", "连续"),
+        [TextId.JogSpeed] = ("Speed mm/min", "速度 mm/min"),
+        [TextId.MdiGroup] = ("MDI", "MDI 手动输入"),
+        [TextId.MdiSend] = ("Send", "执行"),
+        [TextId.ClearAlarms] = ("Clear alarms", "清除报警"),
+        [TextId.TouchOffAxis] = ("Touch off {0}", "{0} 轴对零"),
+        [TextId.TouchValue] = ("Touch-off value", "对零值"),
+        [TextId.LoadLibrary] = ("Load library", "下载程序库"),
+        [TextId.TablesApply] = ("Apply", "写入控制器"),
+        [TextId.TablesReload] = ("Reload", "重新读取"),
+        [TextId.HistoryRefresh] = ("Refresh", "刷新"),
+        [TextId.JobHistoryLabel] = ("Jobs started here", "本机启动的作业"),
+        [TextId.AlarmHistoryLabel] = ("Alarm history", "报警历史"),
+        [TextId.ModeStopped] = ("Stopped", "已停止"),
+        [TextId.ModeAlarm] = ("Alarm", "报警"),
+        [TextId.MachineSummary] = ("{0} | {1} | Feed {2} mm/min (programmed {3}) | Override {4} % | Spindle {5} | {6}", "{0} | {1} | 进给 {2} mm/min（编程 {3}）| 倍率 {4} % | 主轴 {5} | {6}"),
+        [TextId.AlarmBanner] = ("ALARM: {0}", "报警：{0}"),
+        [TextId.ConsoleDone] = ("Done: {0}", "完成：{0}"),
+        [TextId.ConsoleRefused] = ("Refused: {0}", "被拒绝：{0}"),
+        [TextId.ConnectFirst] = ("Connect to a controller first.", "请先连接控制器。"),
+        [TextId.TableNumber] = ("{0} {1}: '{2}' is not a number", "{0} {1}：“{2}”不是数字"),
+        [TextId.TableRange] = ("{0} {1}: {2} is out of range ({3} to {4})", "{0} {1}：{2} 超出范围（{3} 至 {4}）"),
+        [TextId.TableNotWritten] = ("Not written: {0}", "未写入：{0}"),
+        [TextId.TableNoChanges] = ("No changes to write.", "没有需要写入的更改。"),
+        [TextId.TableWritten] = ("Written: {0}", "已写入：{0}"),
+        [TextId.ConfirmTablesTitle] = ("Write to the controller", "写入控制器"),
+        [TextId.ConfirmTablesText] = ("These values change on the controller:\n\n{0}\n\nWrite them?", "以下数值将写入控制器：\n\n{0}\n\n是否写入？"),
+        [TextId.ColTable] = ("Table", "坐标系"),
+        [TextId.ColTool] = ("Tool", "刀号"),
+        [TextId.ColLength] = ("Length", "长度"),
+        [TextId.ColRadius] = ("Radius", "半径"),
+        [TextId.ColLengthWear] = ("Length wear", "长度磨损"),
+        [TextId.ColRadiusWear] = ("Radius wear", "半径磨损"),
+        [TextId.JobRow] = ("{5:HH:mm:ss}  job {0}  {1}  {2}  {3}  line {4}", "{5:HH:mm:ss}  作业 {0}  {1}  {2}  {3}  第 {4} 行"),
+        [TextId.AlarmRow] = ("{0:HH:mm:ss}  alarm: {1}{2}", "{0:HH:mm:ss}  报警：{1}{2}"),
+        [TextId.AlarmCleared] = ("  (cleared {0:HH:mm:ss})", "  （{0:HH:mm:ss} 已清除）"),
+        [TextId.LibraryLoaded] = ("Library of {0} loaded", "已下载 {0} 的程序库"),
     };
 
     /// <summary>The text for an id in a language (English when a translation is missing).</summary>

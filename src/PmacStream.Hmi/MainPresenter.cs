@@ -106,6 +106,9 @@ public sealed class MainPresenter : IAsyncDisposable
     /// <summary>The running or last job's status.</summary>
     public HmiJobStatus? JobStatus => _lastStatus;
 
+    /// <summary>The machine profile the operator chose (the console's Load library downloads its library).</summary>
+    public MachineProfile Profile => _gate.Profile;
+
     /// <summary>The run settings the next job starts with (blocks per chunk and window as the controls last set them).</summary>
     public RunSettings Settings => _settings;
 

@@ -30,6 +30,20 @@ internal sealed partial class MainForm
         (nameof(btnStartFromLine), btnStartFromLine), (nameof(btnResumeInterrupted), btnResumeInterrupted),
         (nameof(grpStatus), grpStatus), (nameof(lblProgramLines), lblProgramLines), (nameof(cboProfile), cboProfile),
         (nameof(chkOptionalStop), chkOptionalStop), (nameof(lblProgramStop), lblProgramStop),
+        .. ConsoleControls(),
+    ];
+
+    /// <summary>The console pages' controls a test may read or press.</summary>
+    private IEnumerable<(string Name, Control Control)> ConsoleControls() =>
+    [
+        (nameof(lblAlarmBanner), lblAlarmBanner), (nameof(tabConsole), tabConsole), (nameof(btnHomeAll), btnHomeAll),
+        (nameof(btnLoadLibrary), btnLoadLibrary), (nameof(lblMachineSummary), lblMachineSummary), (nameof(cboJogAxis), cboJogAxis),
+        (nameof(cboJogStep), cboJogStep), (nameof(numJogSpeed), numJogSpeed), (nameof(btnJogPlus), btnJogPlus), (nameof(btnJogMinus), btnJogMinus),
+        (nameof(txtMdi), txtMdi), (nameof(btnMdiSend), btnMdiSend), (nameof(btnClearAlarms), btnClearAlarms),
+        (nameof(lblConsoleMessage), lblConsoleMessage), (nameof(txtTouchValue), txtTouchValue), (nameof(btnOffsetsApply), btnOffsetsApply),
+        (nameof(btnOffsetsReload), btnOffsetsReload), (nameof(lblOffsetsMessage), lblOffsetsMessage), (nameof(btnToolsApply), btnToolsApply),
+        (nameof(lblToolsMessage), lblToolsMessage), (nameof(btnHistoryRefresh), btnHistoryRefresh),
+        .. btnHomeAxis.Concat(btnTouchOff).Select(b => (b.Name, (Control)b)),
     ];
 
     /// <summary>What the screen shows now.</summary>
@@ -72,6 +86,7 @@ internal sealed partial class MainForm
             DialogTitle = _dialog?.Title,
             DialogText = _dialog?.Text,
             Errors = [.. _errorsShown],
+            Console = ConsoleSnapshot(),
             LastCommand = lastCommand,
             CommandError = commandError,
         };
@@ -133,6 +148,9 @@ internal sealed partial class MainForm
                 break;
             case "close":
                 Close();
+                break;
+            case "tab" or "jog-step" or "jog-axis" or "jog" or "mdi" or "cell" or "inject":
+                RunConsoleScripted(verb, argument);
                 break;
             default:
                 throw new ArgumentException($"unknown command '{command}'");

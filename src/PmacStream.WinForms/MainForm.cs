@@ -124,13 +124,14 @@ internal sealed partial class MainForm : Form, IMainView
         SuspendLayout();
         AutoScaleMode = AutoScaleMode.Dpi;
         AutoScaleDimensions = new SizeF(96f, 96f);
-        ClientSize = new Size(HmiLayout.ClientWidth, HmiLayout.ClientHeight + HmiLayout.StatusStripHeight);
+        ClientSize = new Size(ConsoleLayout.FormWidth, HmiLayout.ClientHeight + HmiLayout.StatusStripHeight);
         MinimumSize = Size;
         StartPosition = FormStartPosition.CenterScreen;
 
         PlaceConnectionGroup();
         PlaceProgramGroup();
         PlaceRunControls();
+        PlaceConsole();
         statusStrip.Items.AddRange(new ToolStripItem[] { stsState, stsConnection });
         Controls.Add(statusStrip);
 
@@ -287,6 +288,10 @@ internal sealed partial class MainForm : Form, IMainView
         {
             _ticks++;
             await _presenter.TickAsync();
+            if (_console is not null)
+            {
+                await _console.TickAsync();
+            }
         }
         catch (Exception ex)
         {
@@ -551,6 +556,7 @@ internal sealed partial class MainForm : Form, IMainView
 
         lblDiagnostics.Text = t[TextId.Diagnostics];
         lblLog.Text = t[TextId.Log];
+        ApplyConsoleTexts();
         ApplyTitle();
     }
 

@@ -1,5 +1,6 @@
 using PmacStream.Hmi;
 using PmacStream.Jobs;
+using PmacStream.Machine;
 using PmacStream.Pmac;
 using PmacStream.Sim;
 using Serilog;
@@ -50,13 +51,20 @@ internal static class Program
                 var connection = new InProcessConnection(simulator.OpenPort("hmi"), "simulator (in-process)");
                 return Task.FromResult(new SimulatorLink(connection, new SimTimeProvider(simulator)));
             },
+
+            // The operator's console rules: a job refuses to start unhomed or with an alarm, and an alarm holds it.
+            Rules = new MachineRules(MachineAxis.Default),
         });
 
         var settings = LoadSettings();
         using (var form = new MainForm())
         {
-            var presenter = new MainPresenter(form, new CoreHmiBackend(service), sink, settings: settings);
+            var backend = NewBackend(service, form.Language, settings);
+            var presenter = new MainPresenter(form, backend, sink, settings: settings);
             form.Attach(presenter);
+            var console = new ConsolePresenter(form, backend, backend, () => presenter.Profile);
+            form.Attach(console);
+            form.InjectFault = (kind, motor) => simulator?.InjectFault(FaultInjection.Parse($"{kind}:{motor}@0").Kind, motor);
             using var uiTest = uiTestDirectory is null ? null : new UiTestChannel(form, uiTestDirectory);
             Application.Run(form);
 
@@ -64,7 +72,11 @@ internal static class Program
             // without waiting forever for work that would have needed the loop.
             try
             {
-                Task.Run(() => presenter.DisposeAsync().AsTask()).Wait(TimeSpan.FromSeconds(3));
+                Task.Run(async () =>
+                {
+                    await console.DisposeAsync().ConfigureAwait(false);
+                    await presenter.DisposeAsync().ConfigureAwait(false);
+                }).Wait(TimeSpan.FromSeconds(3));
             }
             catch (AggregateException e)
             {
@@ -76,6 +88,19 @@ internal static class Program
         Log.CloseAndFlush();
         return 0;
     }
+
+    /// <summary>The job service's adapter with the console on the command line's files: one alarm history, one host copy of the tables, one MDI modal state.</summary>
+    private static CoreHmiBackend NewBackend(JobService service, HmiLanguage language, RunSettings settings) => new(service)
+    {
+        ConsoleOptions = new MachineConsoleOptions
+        {
+            History = AlarmHistoryFile.Beside(service.JobDatabase),
+            TablesPath = MachineTables.DefaultPath(),
+            StatePath = Path.Combine(Path.GetDirectoryName(service.JobDatabase)!, "console-state.json"),
+            Language = language == HmiLanguage.Chinese ? "zh-CN" : "en",
+            Settings = settings,
+        },
+    };
 
     /// <summary>The simulator's speed and the UI test folder from the command line; null (after saying why) when it is wrong.</summary>
     private static (SimSpeed SimSpeed, string? UiTestDirectory)? ParseArguments(string[] args)

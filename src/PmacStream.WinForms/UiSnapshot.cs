@@ -97,11 +97,56 @@ internal sealed record UiSnapshot
     /// <summary>Every error the form has shown.</summary>
     public List<string> Errors { get; init; } = [];
 
+    /// <summary>The console pages.</summary>
+    public UiConsole Console { get; init; } = new();
+
     /// <summary>Number of the last scripted command carried out (0 before any).</summary>
     public int LastCommand { get; init; }
 
     /// <summary>Why the last scripted command failed, null when it worked.</summary>
     public string? CommandError { get; init; }
+}
+
+/// <summary>One DRO row as shown.</summary>
+/// <param name="Axis">Axis letter.</param>
+/// <param name="Machine">Machine position text.</param>
+/// <param name="Work">Work position text.</param>
+/// <param name="ToGo">Distance to go text.</param>
+/// <param name="Homed">The homed mark is on.</param>
+internal sealed record UiDroRow(string Axis, string Machine, string Work, string ToGo, bool Homed);
+
+/// <summary>What the console pages show.</summary>
+internal sealed record UiConsole
+{
+    /// <summary>The console tab chosen (0 Machine, 1 Offsets, 2 Tools, 3 History).</summary>
+    public int SelectedTab { get; init; }
+
+    /// <summary>The chosen page's client origin on the screen, X (the console layout's page boxes are relative to it).</summary>
+    public int PageX { get; init; }
+
+    /// <summary>The chosen page's client origin on the screen, Y.</summary>
+    public int PageY { get; init; }
+
+    /// <summary>The DRO rows.</summary>
+    public List<UiDroRow> Dro { get; init; } = [];
+
+    /// <summary>Whether the alarm banner shows.</summary>
+    public bool AlarmBannerVisible { get; init; }
+
+    /// <summary>The MDI history rows.</summary>
+    public List<string> MdiHistory { get; init; } = [];
+
+    /// <summary>The job history rows.</summary>
+    public List<string> JobHistory { get; init; } = [];
+
+    /// <summary>The alarm history rows.</summary>
+    public List<string> AlarmHistory { get; init; } = [];
+
+    /// <summary>The first rows of the offsets grid (G54..G59.3).</summary>
+    public List<List<string>> Offsets { get; init; } = [];
+
+    /// <summary>The first rows of the tools grid.</summary>
+    public List<List<string>> Tools { get; init; } = [];
 }
 
 /// <summary>

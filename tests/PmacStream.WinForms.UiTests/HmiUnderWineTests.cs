@@ -81,7 +81,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         var s = screen.WaitFor("timer1 ticking", v => v.Ticks > 5, TimeSpan.FromMinutes(3));
         output.WriteLine($"  form up {clock.Elapsed.TotalSeconds:0.0} s after wine started");
         var window = screen.WaitForWindow(En[TextId.Title]);
-        (window.Width, window.Height).Should().Be((HmiLayout.ClientWidth, HmiLayout.ClientHeight + HmiLayout.StatusStripHeight), "the X window is the form's client area (no window manager, no frame)");
+        (window.Width, window.Height).Should().Be((ConsoleLayout.FormWidth, HmiLayout.ClientHeight + HmiLayout.StatusStripHeight), "the X window is the form's client area (no window manager, no frame)");
         (s.ClientX, s.ClientY).Should().Be((window.X, window.Y), "the form's client origin is where X put its window");
         s.Controls["btnConnect"].Enabled.Should().BeTrue();
         s.Controls["btnExecute"].Should().Be(new UiControl(En[TextId.Execute], false));

@@ -6,7 +6,7 @@ namespace PmacStream.WinForms.UiTests;
 internal sealed class XServer : IDisposable
 {
     /// <summary>Screen size: room for the 1280x982 form and a dialog beside it.</summary>
-    public const int Width = 1600, Height = 1080;
+    public const int Width = 1920, Height = 1080;
 
     private readonly Process _process;
 
