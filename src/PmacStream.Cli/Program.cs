@@ -18,5 +18,7 @@ root.Subcommands.Add(PlcCommand.Create());
 root.Subcommands.Add(PreviewCommand.Create());
 BuildInfo.Apply(root);
 root.Subcommands.Add(ProfilesCommand.Create());
+root.Subcommands.Add(ProgramsCommand.Create());
+root.Subcommands.Add(JobsCommand.Create());
 
 return await CliGlobals.RunAsync(root, args).ConfigureAwait(false);

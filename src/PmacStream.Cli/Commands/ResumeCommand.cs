@@ -20,7 +20,7 @@ internal static class ResumeCommand
         cmd.SetAction(async (parse, ct) =>
         {
             using var sim = new CliSimulator(options.SimSpeed(parse));
-            var service = new JobService(new JobServiceOptions { JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync });
+            var service = new JobService(new JobServiceOptions { Store = options.Store(parse), Simulator = sim.OpenAsync });
             var record = service.FindJob(parse.GetValue(jobOption));
             if (!record.Unfinished)
             {
@@ -101,5 +101,6 @@ internal static class ResumeCommand
             Force = forced,
             OptionalStop = options.OptionalStop(parse),
             Library = options.Library(parse, forced),
+            Station = options.Station(parse),
         }, ct);
 }

@@ -3,6 +3,7 @@ using System.Text.Json;
 using PmacStream.GCode;
 using PmacStream.Pmac;
 using PmacStream.Preparation;
+using PmacStream.Preparation.Store;
 using PmacStream.Streaming;
 using Serilog;
 
@@ -13,6 +14,9 @@ public sealed record JobServiceOptions
 {
     /// <summary>The SQLite job store; null: <see cref="JobStore.DefaultPath"/> (shared by the command line and the HMI).</summary>
     public string? JobDatabase { get; init; }
+
+    /// <summary>The store (<c>--store</c>); null: <see cref="JobDatabase"/>, else as <see cref="StoreLocation.Resolve"/> picks it.</summary>
+    public StoreLocation? Store { get; init; }
 
     /// <summary>Opens the built-in simulator (the host owns it); null: this host has none.</summary>
     public Func<CancellationToken, Task<SimulatorLink>>? Simulator { get; init; }
@@ -37,8 +41,12 @@ public sealed partial class JobService
     public JobService(JobServiceOptions? options = null)
     {
         _options = options ?? new JobServiceOptions();
-        JobDatabase = Path.GetFullPath(_options.JobDatabase ?? JobStore.DefaultPath);
+        Store = _options.Store ?? (_options.JobDatabase is { } db ? StoreLocation.Sqlite(db) : StoreLocation.Sqlite(JobStore.DefaultPath));
+        JobDatabase = Store.Engine == StoreEngine.Sqlite ? Store.Target : Store.Display;
     }
+
+    /// <summary>The store jobs are recorded in.</summary>
+    public StoreLocation Store { get; }
 
     /// <summary>The job store's file.</summary>
     public string JobDatabase { get; }
@@ -202,8 +210,10 @@ public sealed partial class JobService
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, request.Library, ScopeOf(options, program, completed), cancellationToken).ConfigureAwait(false);
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings, withShape: false),
-                (request.Profile.Source, request.Profile.Identity));
-            var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
+                (request.Profile.Source, request.Profile.Identity),
+                new JobHistoryStart(request.ProgramId, request.Station, request.Machine ?? MachineName(controller.Spec), program.Manifest.TotalMotionBlocks));
+            StreamingSession? session = null;
+            session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i, () => session?.Status.ExecutedBlocks) : null, times, TimeOf(controller));
             return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id);
         }
         catch
@@ -211,6 +221,27 @@ public sealed partial class JobService
             store?.Dispose();
             throw;
         }
+    }
+
+    /// <summary>The machine as the history names it when not told: its connection without the scheme (host:port, the serial device, sim).</summary>
+    public static string MachineName(ConnectionSpec spec)
+    {
+        ArgumentNullException.ThrowIfNull(spec);
+        var text = spec.ToString();
+        var scheme = text.IndexOf("://", StringComparison.Ordinal);
+        return scheme >= 0 ? text[(scheme + 3)..] : text.StartsWith("serial:", StringComparison.Ordinal) ? text["serial:".Length..].Split('@')[0] : text;
+    }
+
+    /// <summary>Every recorded job, newest first (the job history); empty when nothing was recorded yet.</summary>
+    public IReadOnlyList<JobRecord> ListJobs()
+    {
+        if (!File.Exists(JobDatabase))
+        {
+            return [];
+        }
+
+        using var store = JobStore.Open(JobDatabase);
+        return store.List();
     }
 
     /// <summary>A recorded job: by id, or the newest unfinished one.</summary>
@@ -376,7 +407,9 @@ public sealed partial class JobService
                 with { OptionalStop = request.OptionalStop };
             var library = request.Library ?? (request.Force ? LibraryPolicy.Force : LibraryPolicy.Verify);
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, library, ScopeOf(options, job.Program, null), cancellationToken).ConfigureAwait(false);
-            StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
+            store.RecordResume(record.Id, request.Station);
+            StreamingSession? current = null;
+            StreamingSession NewSession() => current = new(controller.Devices, job.Program, options, store.SinkFor(record.Id, () => current?.Status.ExecutedBlocks), times, TimeOf(controller));
             var outcome = new ContinueOutcome(null, null, job.RestartLine);
             if (record.Checkpoint is { State: not SessionState.Aborted } && controller.Simulator?.Fresh != true)
             {
