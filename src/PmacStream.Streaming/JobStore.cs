@@ -71,7 +71,7 @@ public sealed record JobHistoryStart(long? ProgramId, string? Station, string Ma
 /// write-ahead log lost after a crash) and moves a damaged set aside instead of using or replacing it; every field
 /// read is checked (<see cref="JobRecordReader"/>). Failures are <see cref="JobStoreException"/>s naming the file.
 /// </summary>
-public sealed class JobStore : IDisposable
+public sealed class JobStore : IJobStore
 {
     private static readonly ILogger Logger = Log.ForContext<JobStore>();
     private readonly SqliteConnection _db;

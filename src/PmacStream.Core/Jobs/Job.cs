@@ -27,13 +27,13 @@ public enum JobOutcome
 public sealed class Job : IAsyncDisposable
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<Job>();
-    private readonly JobStore? _store;
+    private readonly IJobStore? _store;
     private readonly double? _feedOverride;
     private volatile ProgramStop? _continueFrom; // the stop the operator's Enter was for
     private ProgramStop? _lastStop;
     private int _stops;
 
-    internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feedOverride, JobStore? store, long? id)
+    internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feedOverride, IJobStore? store, long? id)
     {
         Controller = controller;
         Session = session;

@@ -41,7 +41,7 @@ public sealed partial class JobService
     public JobService(JobServiceOptions? options = null)
     {
         _options = options ?? new JobServiceOptions();
-        Store = _options.Store ?? (_options.JobDatabase is { } db ? StoreLocation.Sqlite(db) : StoreLocation.Sqlite(JobStore.DefaultPath));
+        Store = _options.Store ?? StoreLocation.Resolve(jobDb: _options.JobDatabase);
         JobDatabase = Store.Engine == StoreEngine.Sqlite ? Store.Target : Store.Display;
     }
 
@@ -200,7 +200,7 @@ public sealed partial class JobService
         var program = request.Program;
         FeedOverrides.Validate(request.FeedOverride);
         var times = await MoveTimesAsync(program.Manifest.SourcePath, request.Profile, cancellationToken).ConfigureAwait(false);
-        var store = request.Record ? JobStore.Open(JobDatabase) : null;
+        var store = request.Record ? JobStores.Open(Store) : null;
         try
         {
             // The previous job here completed: its rotary program may still wait for lines (the start ends it).
@@ -235,12 +235,12 @@ public sealed partial class JobService
     /// <summary>Every recorded job, newest first (the job history); empty when nothing was recorded yet.</summary>
     public IReadOnlyList<JobRecord> ListJobs()
     {
-        if (!File.Exists(JobDatabase))
+        if (!JobStores.Exists(Store))
         {
             return [];
         }
 
-        using var store = JobStore.Open(JobDatabase);
+        using var store = JobStores.Open(Store);
         return store.List();
     }
 
@@ -264,7 +264,7 @@ public sealed partial class JobService
     {
         ArgumentNullException.ThrowIfNull(controller);
         int? completed;
-        using (var store = File.Exists(JobDatabase) ? JobStore.Open(JobDatabase) : null)
+        using (var store = JobStores.Exists(Store) ? JobStores.Open(Store) : null)
         {
             completed = CompletedJobLine(store, controller);
         }
@@ -274,19 +274,19 @@ public sealed partial class JobService
     }
 
     /// <summary>The last line of the newest job on this controller when it completed (its rotary program may still wait for lines); else null.</summary>
-    private static int? CompletedJobLine(JobStore? store, ControllerLink controller) =>
+    private static int? CompletedJobLine(IJobStore? store, ControllerLink controller) =>
         store?.Latest(controller.Spec.ToString())?.Checkpoint is { State: SessionState.Completed } done ? done.LastExecutedLine : null;
 
     /// <summary>The newest job recorded for a program, whoever started it, when it did not complete; else null.</summary>
     public ResumableJob? FindInterrupted(string sourcePath)
     {
-        if (!File.Exists(JobDatabase))
+        if (!JobStores.Exists(Store))
         {
             return null;
         }
 
         JobRecord? record;
-        using (var store = JobStore.Open(JobDatabase))
+        using (var store = JobStores.Open(Store))
         {
             var full = Path.GetFullPath(sourcePath);
             var comparison = OperatingSystem.IsWindows() ? StringComparison.OrdinalIgnoreCase : StringComparison.Ordinal;
@@ -446,7 +446,7 @@ public sealed partial class JobService
     /// Continues a job the controller may still hold, from its record. The outcome is the result when the job runs on
     /// or the resume is refused; else (the controller stopped the job) why, and the line a restart starts at.
     /// </summary>
-    private static async Task<ContinueOutcome> ContinueAsync(ControllerLink controller, ResumeRequest request, JobStore store, StreamingSession session, CancellationToken cancellationToken)
+    private static async Task<ContinueOutcome> ContinueAsync(ControllerLink controller, ResumeRequest request, IJobStore store, StreamingSession session, CancellationToken cancellationToken)
     {
         var record = request.Job.Record;
         var cp = record.Checkpoint!;
@@ -553,11 +553,11 @@ public sealed partial class JobService
 
     private TimeProvider? TimeOf(ControllerLink controller) => controller.Simulator?.Time ?? _options.Time;
 
-    private JobStore OpenExistingStore()
+    private IJobStore OpenExistingStore()
     {
         // Reading jobs must not leave an empty database (and its folders) behind a mistyped path.
-        return File.Exists(JobDatabase) || Directory.Exists(JobDatabase)
-            ? JobStore.Open(JobDatabase)
+        return JobStores.Exists(Store)
+            ? JobStores.Open(Store)
             : throw new JobException($"{JobDatabase}: no job database there; jobs are recorded when they start", JobErrorKind.BadRequest);
     }
 
