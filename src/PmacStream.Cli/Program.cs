@@ -25,5 +25,8 @@ root.Subcommands.Add(ToolsCommand.Create());
 root.Subcommands.Add(AlarmsCommand.Create());
 BuildInfo.Apply(root);
 root.Subcommands.Add(ProfilesCommand.Create());
+root.Subcommands.Add(ProgramsCommand.Create());
+root.Subcommands.Add(JobsCommand.Create());
+root.Subcommands.Add(StoreCommand.Create());
 
 return await CliGlobals.RunAsync(root, args).ConfigureAwait(false);

@@ -1,6 +1,6 @@
 using System.Globalization;
 using System.Text.RegularExpressions;
-using Microsoft.Data.Sqlite;
+using System.Data.Common;
 
 namespace PmacStream.Streaming;
 
@@ -14,9 +14,10 @@ internal static partial class JobRecordReader
 {
     /// <summary>The columns read, in order.</summary>
     public const string Columns = "id, created, program_path, program_sha256, manifest_path, strategy, connection, from_line, message, "
-        + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded, settings, profile, profile_identity";
+        + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded, settings, profile, profile_identity, "
+        + "program_id, station, machine, os_user, runner, ended, outcome, blocks_executed, blocks_total, stops, alarms, resumes";
 
-    public static JobRecord Read(SqliteDataReader r, string path)
+    public static JobRecord Read(DbDataReader r, string path)
     {
         var row = new Row(r, path);
         var id = row.Int(0, 1, long.MaxValue)!.Value;
@@ -84,8 +85,25 @@ internal static partial class JobRecordReader
             probe.Length > 0 ? probe : null,
             row.Text(21, nullable: true, empty: true),
             row.Text(22, nullable: true),
-            row.Text(23, nullable: true));
+            row.Text(23, nullable: true))
+        {
+            History = ReadHistory(row),
+        };
     }
+
+    private static JobHistory ReadHistory(Row row) => new(
+        row.Int(24, 1, long.MaxValue, nullable: true),
+        row.Text(25, nullable: true, empty: true),
+        row.Text(26, nullable: true, empty: true),
+        row.Text(27, nullable: true, empty: true),
+        row.Text(28, nullable: true, empty: true),
+        row.Text(29, nullable: true) is not null ? row.Time(29) : null,
+        row.Text(30, nullable: true),
+        row.Int(31, 0, long.MaxValue, nullable: true),
+        row.Int(32, 0, long.MaxValue, nullable: true),
+        (int)(row.Int(33, 0, int.MaxValue, nullable: true) ?? 0),
+        (int)(row.Int(34, 0, int.MaxValue, nullable: true) ?? 0),
+        (int)(row.Int(35, 0, int.MaxValue, nullable: true) ?? 0));
 
     [GeneratedRegex("^[0-9a-fA-F]{1,128}$")]
     private static partial Regex Sha256Hex();
@@ -93,7 +111,7 @@ internal static partial class JobRecordReader
     [GeneratedRegex("^[PQMI][0-9]{1,4}$")]
     private static partial Regex ProbeVariable();
 
-    private sealed class Row(SqliteDataReader r, string path)
+    private sealed class Row(DbDataReader r, string path)
     {
         private static readonly string[] Names = Columns.Split(", ");
 

@@ -24,7 +24,45 @@ public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256
 {
     /// <summary>True when the job has not completed (it can be resumed).</summary>
     public bool Unfinished => Checkpoint?.State is not SessionState.Completed;
+
+    /// <summary>What the history keeps of it (program revision, station, machine, user, end, outcome, counts).</summary>
+    public JobHistory History { get; init; } = new(null, null, null, null, null, null, null, null, null, 0, 0, 0);
+
+    /// <summary>
+    /// The outcome the history shows: <c>completed</c>, <c>aborted</c>, <c>alarm</c> (faulted), <c>interrupted</c> (it
+    /// stopped without an end: the process was ended, the link lost for good, the PC went down) or <c>running</c>.
+    /// A record of an older version says it through its checkpoint.
+    /// </summary>
+    public string Outcome
+    {
+        get
+        {
+            switch (Checkpoint?.State)
+            {
+                case SessionState.Completed:
+                    return "completed";
+                case SessionState.Aborted:
+                    return "aborted";
+                case SessionState.Faulted:
+                    return "alarm";
+            }
+
+            return History.Outcome switch
+            {
+                "running" when History.Ended is null && !JobHistory.RunnerGone(History.Runner) => "running",
+                "aborted" or "alarm" or "completed" => History.Outcome,
+                _ => "interrupted",
+            };
+        }
+    }
 }
+
+/// <summary>What the history records when a job starts.</summary>
+/// <param name="ProgramId">The program revision (the store's id), or null.</param>
+/// <param name="Station">The station; null: the host name.</param>
+/// <param name="Machine">The machine's name or its connection.</param>
+/// <param name="BlocksTotal">Motion blocks of the program.</param>
+public sealed record JobHistoryStart(long? ProgramId, string? Station, string Machine, long BlocksTotal);
 
 /// <summary>
 /// Jobs and their checkpoints in SQLite (WAL). A checkpoint is written every tick it changed with <c>synchronous=NORMAL</c>
@@ -33,45 +71,8 @@ public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256
 /// write-ahead log lost after a crash) and moves a damaged set aside instead of using or replacing it; every field
 /// read is checked (<see cref="JobRecordReader"/>). Failures are <see cref="JobStoreException"/>s naming the file.
 /// </summary>
-public sealed class JobStore : IDisposable
+public sealed class JobStore : IJobStore
 {
-    private const string Schema = """
-        CREATE TABLE IF NOT EXISTS jobs (
-          id INTEGER PRIMARY KEY AUTOINCREMENT,
-          created TEXT NOT NULL,
-          program_path TEXT NOT NULL,
-          program_sha256 TEXT NOT NULL,
-          manifest_path TEXT NOT NULL,
-          strategy TEXT NOT NULL,
-          connection TEXT NOT NULL,
-          from_line INTEGER,
-          message TEXT NOT NULL DEFAULT '',
-          cp_time TEXT,
-          cp_state TEXT,
-          cp_last_line INTEGER,
-          cp_chunk INTEGER,
-          cp_next_chunk INTEGER,
-          cp_next_line INTEGER,
-          cp_next_exact INTEGER,
-          cp_chunks_downloaded INTEGER,
-          cp_started INTEGER
-        );
-        """;
-
-    /// <summary>
-    /// Columns added after the first schema, with their definitions: added to older databases on open, so those stay
-    /// readable (their jobs read with the defaults: probe P501, no preamble, loaded checkpoints).
-    /// </summary>
-    private static readonly (string Name, string Definition)[] AddedColumns =
-    [
-        ("line_probe", "TEXT NOT NULL DEFAULT 'P501'"),
-        ("preamble", "TEXT"),
-        ("cp_loaded", "INTEGER"),
-        ("settings", "TEXT"),
-        ("profile", "TEXT"),
-        ("profile_identity", "TEXT"),
-    ];
-
     private static readonly ILogger Logger = Log.ForContext<JobStore>();
     private readonly SqliteConnection _db;
     private readonly object _lock = new();
@@ -92,11 +93,11 @@ public sealed class JobStore : IDisposable
     /// <summary>Checkpoints written (for tests and benchmarks).</summary>
     public long CheckpointWrites { get; private set; }
 
-    /// <summary>The default database: <c>$PMACSTREAM_JOB_DB</c>, else <c>~/.pmacstream/jobs.db</c>.</summary>
+    /// <summary>The default store file: <c>$PMACSTREAM_JOB_DB</c>, else <c>~/.pmacstream/store.db</c> (jobs.db's records are copied into it once).</summary>
     public static string DefaultPath =>
         Environment.GetEnvironmentVariable("PMACSTREAM_JOB_DB") is { Length: > 0 } env
             ? env
-            : System.IO.Path.Combine(Environment.GetFolderPath(Environment.SpecialFolder.UserProfile), ".pmacstream", "jobs.db");
+            : Preparation.Store.StoreLocation.DefaultSqlitePath;
 
     /// <summary>Opens (creating when needed) a job database in WAL mode, after checking it is sound.</summary>
     /// <exception cref="JobStoreException">
@@ -108,6 +109,11 @@ public sealed class JobStore : IDisposable
         try
         {
             Directory.CreateDirectory(System.IO.Path.GetDirectoryName(full)!);
+            if (!Directory.Exists(full))
+            {
+                Preparation.Store.StoreFiles.PrepareSqlite(full);
+            }
+
             if (Directory.Exists(full))
             {
                 throw new JobStoreException(full, JobStoreProblem.Unavailable, $"{full}: is a folder, not a job database");
@@ -145,13 +151,7 @@ public sealed class JobStore : IDisposable
                 throw Damaged(full, problem);
             }
 
-            using (var cmd = db.CreateCommand())
-            {
-                cmd.CommandText = Schema + JobStoreOpeners.Schema;
-                cmd.ExecuteNonQuery();
-            }
-
-            Migrate(db);
+            Preparation.Store.SqliteMigrations.Apply(db);
             if (!walExisted && JobStoreOpeners.Recorded(db) is { Count: > 0 } openers)
             {
                 db.Dispose();
@@ -216,46 +216,21 @@ public sealed class JobStore : IDisposable
     private static JobStoreException Unavailable(string full, string doing, SqliteException e) =>
         new(full, IsDamage(e) ? JobStoreProblem.Damaged : JobStoreProblem.Unavailable, $"{full}: cannot {doing} the job database: {e.Message}", e);
 
-    private static void Migrate(SqliteConnection db)
-    {
-        var have = new HashSet<string>(StringComparer.OrdinalIgnoreCase);
-        using (var info = db.CreateCommand())
-        {
-            info.CommandText = "PRAGMA table_info(jobs)";
-            using var r = info.ExecuteReader();
-            while (r.Read())
-            {
-                have.Add(r.GetString(1));
-            }
-        }
-
-        foreach (var (name, definition) in AddedColumns)
-        {
-            if (have.Contains(name))
-            {
-                continue;
-            }
-
-            using var alter = db.CreateCommand();
-            alter.CommandText = $"ALTER TABLE jobs ADD COLUMN {name} {definition}";
-            alter.ExecuteNonQuery();
-            Logger.Information("job database: column {Column} added", name);
-        }
-    }
-
     /// <summary>
     /// Records a new job and returns its id; <paramref name="lineProbe"/> is the line-probe variable its lines carry
     /// (null: none), <paramref name="settings"/> the run settings it starts with (JSON), <paramref name="profile"/> the
     /// machine profile it runs under (name or file, and its identity).
     /// </summary>
     public long CreateJob(string programPath, string programSha256, string manifestPath, StrategyKind strategy, string connection, int? fromLine, string? lineProbe = "P501", string? settings = null,
-        (string Source, string Identity)? profile = null)
+        (string Source, string Identity)? profile = null, JobHistoryStart? history = null)
     {
         lock (_lock)
         {
             try
             {
-                return Insert(programPath, programSha256, manifestPath, strategy, connection, fromLine, lineProbe, settings, profile);
+                var id = Insert(programPath, programSha256, manifestPath, strategy, connection, fromLine, lineProbe, settings, profile);
+                WriteHistoryStart(id, history ?? new JobHistoryStart(null, null, connection, 0));
+                return id;
             }
             catch (SqliteException e)
             {
@@ -289,13 +264,16 @@ public sealed class JobStore : IDisposable
     }
 
     /// <summary>Writes a job's checkpoint; durable ones are committed with <c>synchronous=FULL</c>.</summary>
-    public void SaveCheckpoint(long jobId, Checkpoint cp, bool durable)
+    public void SaveCheckpoint(long jobId, Checkpoint cp, bool durable) => SaveCheckpoint(jobId, cp, durable, null);
+
+    /// <summary>Writes a job's checkpoint with the blocks executed so far (for the history).</summary>
+    public void SaveCheckpoint(long jobId, Checkpoint cp, bool durable, long? executed)
     {
         lock (_lock)
         {
             try
             {
-                Update(jobId, cp, durable);
+                Update(jobId, cp, durable, executed);
             }
             catch (SqliteException e)
             {
@@ -304,7 +282,7 @@ public sealed class JobStore : IDisposable
         }
     }
 
-    private void Update(long jobId, Checkpoint cp, bool durable)
+    private void Update(long jobId, Checkpoint cp, bool durable, long? executed)
     {
         SetSynchronous(durable);
         _update ??= Prepare();
@@ -320,6 +298,7 @@ public sealed class JobStore : IDisposable
         p["$cd"].Value = cp.ChunksDownloaded;
         p["$sd"].Value = cp.Started ? 1 : 0;
         p["$ld"].Value = cp.Loaded ? 1 : 0;
+        p["$be"].Value = executed is { } x ? x : DBNull.Value;
         _update.ExecuteNonQuery();
         CheckpointWrites++;
         if (durable)
@@ -357,6 +336,68 @@ public sealed class JobStore : IDisposable
         SetSynchronous(false);
     }
 
+    private void WriteHistoryStart(long id, JobHistoryStart h)
+    {
+        using var cmd = _db.CreateCommand();
+        cmd.CommandText = "UPDATE jobs SET program_id=$pid, station=$st, machine=$m, os_user=$u, runner=$r, outcome='running', blocks_total=$bt, blocks_executed=0 WHERE id=$id";
+        cmd.Parameters.AddWithValue("$pid", (object?)h.ProgramId ?? DBNull.Value);
+        cmd.Parameters.AddWithValue("$st", h.Station ?? Environment.MachineName);
+        cmd.Parameters.AddWithValue("$m", h.Machine);
+        cmd.Parameters.AddWithValue("$u", Environment.UserName);
+        cmd.Parameters.AddWithValue("$r", JobHistory.ThisProcess);
+        cmd.Parameters.AddWithValue("$bt", h.BlocksTotal);
+        cmd.Parameters.AddWithValue("$id", id);
+        cmd.ExecuteNonQuery();
+    }
+
+    /// <summary>Records how a job ended (durably): its outcome, blocks executed, stops and alarms.</summary>
+    public void RecordEnd(long jobId, string outcome, long executed, long total, int stops, int alarms)
+    {
+        lock (_lock)
+        {
+            try
+            {
+                SetSynchronous(true);
+                using var cmd = _db.CreateCommand();
+                cmd.CommandText = "UPDATE jobs SET ended=$e, outcome=$o, blocks_executed=$x, blocks_total=$t, stops=stops+$s, alarms=alarms+$a WHERE id=$id";
+                cmd.Parameters.AddWithValue("$e", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
+                cmd.Parameters.AddWithValue("$o", outcome);
+                cmd.Parameters.AddWithValue("$x", executed);
+                cmd.Parameters.AddWithValue("$t", total);
+                cmd.Parameters.AddWithValue("$s", stops);
+                cmd.Parameters.AddWithValue("$a", alarms);
+                cmd.Parameters.AddWithValue("$id", jobId);
+                cmd.ExecuteNonQuery();
+                SetSynchronous(false);
+            }
+            catch (SqliteException e)
+            {
+                throw Unavailable(Path, "record the job's end in", e);
+            }
+        }
+    }
+
+    /// <summary>Records that a job is resumed by this process (at <paramref name="station"/>): running again, one more resume.</summary>
+    public void RecordResume(long jobId, string? station)
+    {
+        lock (_lock)
+        {
+            try
+            {
+                using var cmd = _db.CreateCommand();
+                cmd.CommandText = "UPDATE jobs SET resumes=resumes+1, outcome='running', ended=NULL, runner=$r, station=COALESCE($st, station) WHERE id=$id";
+                cmd.Parameters.AddWithValue("$r", JobHistory.ThisProcess);
+                cmd.Parameters.AddWithValue("$st", (object?)station ?? DBNull.Value);
+                cmd.Parameters.AddWithValue("$id", jobId);
+                cmd.ExecuteNonQuery();
+            }
+            catch (SqliteException e)
+            {
+                throw Unavailable(Path, "record the resume in", e);
+            }
+        }
+    }
+
     /// <summary>Sets the job's message (fault text, completion).</summary>
     public void SetMessage(long jobId, string message)
     {
@@ -378,7 +419,7 @@ public sealed class JobStore : IDisposable
     }
 
     /// <summary>A sink that writes one job's checkpoints.</summary>
-    public ICheckpointSink SinkFor(long jobId) => new Sink(this, jobId);
+    public ICheckpointSink SinkFor(long jobId, Func<long?>? executed = null) => new Sink(this, jobId, executed);
 
     /// <summary>A job by id, or null.</summary>
     public JobRecord? Get(long id) => Query("WHERE id=$id", ("$id", id)).FirstOrDefault();
@@ -438,9 +479,10 @@ public sealed class JobStore : IDisposable
         var cmd = _db.CreateCommand();
         cmd.CommandText = """
             UPDATE jobs SET cp_time=$t, cp_state=$st, cp_last_line=$l, cp_chunk=$c, cp_next_chunk=$nc, cp_next_line=$nl,
-              cp_next_exact=$ne, cp_chunks_downloaded=$cd, cp_started=$sd, cp_loaded=$ld WHERE id=$id
+              cp_next_exact=$ne, cp_chunks_downloaded=$cd, cp_started=$sd, cp_loaded=$ld,
+              blocks_executed=COALESCE($be, blocks_executed) WHERE id=$id
             """;
-        foreach (var n in new[] { "$id", "$t", "$st", "$l", "$c", "$nc", "$nl", "$ne", "$cd", "$sd", "$ld" })
+        foreach (var n in new[] { "$id", "$t", "$st", "$l", "$c", "$nc", "$nl", "$ne", "$cd", "$sd", "$ld", "$be" })
         {
             cmd.Parameters.Add(new SqliteParameter(n, null));
         }
@@ -478,9 +520,9 @@ public sealed class JobStore : IDisposable
         return list;
     }
 
-    private sealed class Sink(JobStore store, long jobId) : ICheckpointSink
+    private sealed class Sink(JobStore store, long jobId, Func<long?>? executed) : ICheckpointSink
     {
-        public void Save(Checkpoint checkpoint, bool durable) => store.SaveCheckpoint(jobId, checkpoint, durable);
+        public void Save(Checkpoint checkpoint, bool durable) => store.SaveCheckpoint(jobId, checkpoint, durable, executed?.Invoke());
 
         public void RecordStart(JobStart start) => store.RecordStart(jobId, start);
     }

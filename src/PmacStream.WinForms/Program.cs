@@ -94,9 +94,9 @@ internal static class Program
     {
         ConsoleOptions = new MachineConsoleOptions
         {
-            History = AlarmHistoryFile.Beside(service.JobDatabase),
+            History = new AlarmHistoryFile(Path.Combine(MachineConsoleOptions.StateFolder(service), "alarms.jsonl")),
             TablesPath = MachineTables.DefaultPath(),
-            StatePath = Path.Combine(Path.GetDirectoryName(service.JobDatabase)!, "console-state.json"),
+            StatePath = Path.Combine(MachineConsoleOptions.StateFolder(service), "console-state.json"),
             Language = language == HmiLanguage.Chinese ? "zh-CN" : "en",
             Settings = settings,
         },

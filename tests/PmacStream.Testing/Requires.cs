@@ -7,6 +7,20 @@ namespace PmacStream.Testing;
 /// </summary>
 public static class Requires
 {
+    /// <summary>
+    /// A PostgreSQL server for the store's tests: <c>PMACSTREAM_TEST_PG</c> (an Npgsql connection string of a station's
+    /// role) and, to create or migrate the schema first, <c>PMACSTREAM_TEST_PG_ADMIN</c> (the database owner's).
+    /// .ci/run starts a throwaway cluster and sets both (scripts/pg-throwaway.sh).
+    /// </summary>
+    public static (string Station, string? Admin) Postgres()
+    {
+        var station = Environment.GetEnvironmentVariable("PMACSTREAM_TEST_PG");
+        Skip.If(string.IsNullOrEmpty(station),
+            "PMACSTREAM_TEST_PG is not set: no PostgreSQL server for the store's tests (scripts/pg-throwaway.sh start DIR prints it; .ci/run starts one)");
+        var admin = Environment.GetEnvironmentVariable("PMACSTREAM_TEST_PG_ADMIN");
+        return (station!, string.IsNullOrEmpty(admin) ? null : admin);
+    }
+
     /// <summary>socat on PATH (it makes the pty pair the serial tests talk through); returns its full path.</summary>
     public static string Socat()
     {

@@ -46,15 +46,15 @@ internal sealed class ConsoleOptions
         var sim = new CliSimulator(_job.SimSpeed(parse), profile.RapidRate);
         var service = new JobService(new JobServiceOptions
         {
-            JobDatabase = _job.JobDatabase(parse), Simulator = sim.OpenAsync, Rules = new MachineRules(MachineAxis.Default),
+            Store = _job.Store(parse), Simulator = sim.OpenAsync, Rules = new MachineRules(MachineAxis.Default),
         });
         try
         {
             var controller = await service.ConnectAsync(target, profile, cancellationToken).ConfigureAwait(false);
             var console = new MachineConsole(service, controller, new MachineConsoleOptions
             {
-                Language = language, History = AlarmHistoryFile.Beside(service.JobDatabase), TablesPath = tablesPath,
-                StatePath = Path.Combine(Path.GetDirectoryName(service.JobDatabase)!, "console-state.json"), Profile = profile, Settings = settings,
+                Language = language, History = new AlarmHistoryFile(Path.Combine(MachineConsoleOptions.StateFolder(service), "alarms.jsonl")), TablesPath = tablesPath,
+                StatePath = Path.Combine(MachineConsoleOptions.StateFolder(service), "console-state.json"), Profile = profile, Settings = settings,
             });
             if (controller.IsSimulator && File.Exists(tablesPath))
             {

@@ -34,7 +34,10 @@ internal sealed class JobOptions
     private readonly Option<string?> _tcp = new("--tcp") { Description = "Stream to a controller over Ethernet: HOST[:PORT] (port 1025 by default), or PORT alone on 127.0.0.1." };
     private readonly Option<string?> _serial = new("--serial") { Description = "Stream over RS-232: DEV[,BAUD] (38400 by default)." };
     private readonly Option<bool> _yes = new("--yes", "-y") { Description = "Confirm a start from a line / restart without asking." };
-    private readonly Option<string?> _jobDb = new("--job-db") { Description = "Job database (SQLite) for crash-safe resume; default $PMACSTREAM_JOB_DB or ~/.pmacstream/jobs.db." };
+    private readonly Option<string?> _jobDb = new("--job-db") { Description = "The store as an SQLite file (the same as --store sqlite:PATH): jobs and checkpoints for crash-safe resume." };
+    private readonly Option<string?> _store = StoreOptions.Option();
+    private readonly Option<string?> _station = new("--station") { Description = "This station's name in the job history (default: the host name)." };
+    private readonly Option<string?> _machine = new("--machine") { Description = "The machine's name in the job history (default: its connection, host:port or the serial device)." };
     private readonly Option<string?> _settings = new("--settings") { Description = "Run settings file (JSON); default $PMACSTREAM_SETTINGS or ~/.pmacstream/settings.json when it exists." };
     private readonly Option<int?> _bufferWords = new("--buffer-words") { Description = $"Rotary buffer size in words (default {D.BufferWords}; the simulator's is defined to this)." };
     private readonly Option<int?> _tickMs = new("--tick-ms") { Description = $"Timer period of the streaming tick, milliseconds (default {D.TickPeriod.TotalMilliseconds:0})." };
@@ -84,13 +87,13 @@ internal sealed class JobOptions
         var options = new List<Option>();
         if (face == JobFace.Console)
         {
-            options.AddRange([o._sim, o._tcp, o._serial, o._jobDb, o._settings, o._simSpeed]);
+            options.AddRange([o._sim, o._tcp, o._serial, o._jobDb, o._store, o._settings, o._simSpeed]);
         }
         else
         {
             if (face != JobFace.Demo)
             {
-                options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop, o._loadLibrary, o._noHomeCheck]);
+                options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._store, o._station, o._machine, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop, o._loadLibrary, o._noHomeCheck]);
             }
 
             options.AddRange([o._settings, o._simSpeed, o._bufferWords, o._tickMs, o._window]);
@@ -173,6 +176,15 @@ internal sealed class JobOptions
 
     /// <summary>The job database named with <c>--job-db</c>, or null for the default.</summary>
     public string? JobDatabase(ParseResult parse) => parse.GetValue(_jobDb);
+
+    /// <summary>The store: <c>--store</c>, <c>--job-db</c>, <c>$PMACSTREAM_STORE</c>, or the default file.</summary>
+    public Preparation.Store.StoreLocation Store(ParseResult parse) => StoreOptions.Resolve(parse.GetValue(_store), parse.GetValue(_jobDb));
+
+    /// <summary>The station (<c>--station</c>), or null for the host name.</summary>
+    public string? Station(ParseResult parse) => parse.GetValue(_station);
+
+    /// <summary>The machine (<c>--machine</c>), or null for its connection.</summary>
+    public string? Machine(ParseResult parse) => parse.GetValue(_machine);
 
     /// <summary>The simulator's clock.</summary>
     public SimSpeed SimSpeed(ParseResult parse)

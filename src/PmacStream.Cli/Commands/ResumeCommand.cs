@@ -22,7 +22,7 @@ internal static class ResumeCommand
             using var sim = new CliSimulator(options.SimSpeed(parse));
             var service = new JobService(new JobServiceOptions
             {
-                JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),
+                Store = options.Store(parse), Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),
             });
             var record = service.FindJob(parse.GetValue(jobOption));
             if (!record.Unfinished)
@@ -106,5 +106,6 @@ internal static class ResumeCommand
             Force = forced,
             OptionalStop = options.OptionalStop(parse),
             Library = options.Library(parse, forced),
+            Station = options.Station(parse),
         }, ct);
 }

@@ -10,7 +10,8 @@ internal static class StreamCommand
 {
     public static Command Create()
     {
-        var file = new Argument<string>("file") { Description = "G-code program to run." };
+        var file = new Argument<string?>("file") { Description = "G-code program to run (imported into the store first).", Arity = ArgumentArity.ZeroOrOne };
+        var programId = new Option<long?>("--program") { Description = "Run the program revision with this id from the store (pmacstream programs)." };
         var strategy = new Option<string>("--strategy") { Description = "full (the default: a rotary buffer as large as the controller allows, kept full, so link stalls do not starve the motion), chunk (the paper's chunk method: the next chunk once, in the download window), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "full" };
         var fromLine = new Option<int?>("--from-line") { Description = "Start at the block of this source line, with a preamble restoring modal state and a safe approach." };
         var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped, as split --force does) or uses codes the controller cannot run yet (the PMAC skips such a code and runs the rest of its block), or on a controller that runs no library or another one than the program was checked against." };
@@ -21,6 +22,7 @@ internal static class StreamCommand
         cmd.Options.Add(fromLine);
         cmd.Options.Add(force);
         cmd.Options.Add(profile);
+        cmd.Options.Add(programId);
         var options = JobOptions.AddTo(cmd, JobFace.Stream);
         cmd.SetAction(async (parse, ct) =>
         {
@@ -45,14 +47,16 @@ internal static class StreamCommand
             var settings = options.Settings(parse);
             var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
             using var sim = new CliSimulator(options.SimSpeed(parse), machine.RapidRate);
+            var location = options.Store(parse);
             var service = new JobService(new JobServiceOptions
             {
-                JobDatabase = options.JobDatabase(parse), Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),
+                Store = location, Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),
             });
+            var (source, revision) = StoredPrograms.Source(location, parse.GetValue(file), parse.GetValue(programId), machine, ct);
 
             // The gate: checked under the machine profile in the split's own pass and refused with every error, or with
             // every code the controller cannot run yet; nothing sent.
-            var prepared = await service.PrepareAsync(new PrepareRequest(parse.GetValue(file)!, settings) { Profile = machine, Force = parse.GetValue(force) }, null, ct).ConfigureAwait(false);
+            var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { Profile = machine, Force = parse.GetValue(force) }, null, ct).ConfigureAwait(false);
             JobConsole.WarnForced(prepared.Program.Manifest, machine, parse.GetValue(force));
             var program = prepared.Program;
             StartPlan? plan = null;
@@ -71,6 +75,7 @@ internal static class StreamCommand
             {
                 Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(parse),
                 Library = options.Library(parse, parse.GetValue(force)),
+                ProgramId = revision, Station = options.Station(parse), Machine = options.Machine(parse),
             }, ct).ConfigureAwait(false);
             Console.WriteLine($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}");
             return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct, continueAtStops: continueAtStops).ConfigureAwait(false);

@@ -27,11 +27,13 @@ public enum JobOutcome
 public sealed class Job : IAsyncDisposable
 {
     private static readonly ILogger Log = Serilog.Log.ForContext<Job>();
-    private readonly JobStore? _store;
+    private readonly IJobStore? _store;
     private readonly double? _feedOverride;
     private volatile ProgramStop? _continueFrom; // the stop the operator's Enter was for
+    private ProgramStop? _lastStop;
+    private int _stops;
 
-    internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feedOverride, JobStore? store, long? id)
+    internal Job(ControllerLink controller, StreamingSession session, RunSettings settings, StartPlan? plan, double? feedOverride, IJobStore? store, long? id)
     {
         Controller = controller;
         Session = session;
@@ -203,6 +205,11 @@ public sealed class Job : IAsyncDisposable
 
             var s = Session.Status;
             onTick?.Invoke(s);
+            if (s.State == SessionState.Stopped && s.Stop is { } stop && stop != _lastStop)
+            {
+                _lastStop = stop;
+                _stops++;
+            }
             if (s.State is SessionState.Completed or SessionState.Faulted or SessionState.Aborted)
             {
                 outcome = s.State == SessionState.Completed ? JobOutcome.Completed : JobOutcome.Stopped;
@@ -310,10 +317,30 @@ public sealed class Job : IAsyncDisposable
         }
     }
 
-    /// <summary>Keeps the reason the job stopped with its record and closes the job store.</summary>
+    /// <summary>Keeps the reason the job stopped and how it ended with its record, and closes the job store.</summary>
     public ValueTask DisposeAsync()
     {
         SetMessage(Session.Status.Message);
+        if (_store is not null && Id is { } id)
+        {
+            var s = Session.Status;
+            var outcome = s.State switch
+            {
+                SessionState.Completed => "completed",
+                SessionState.Aborted => "aborted",
+                SessionState.Faulted => "alarm",
+                _ => "interrupted", // the face stopped it (Ctrl-C, closed) before the end: resumable
+            };
+            try
+            {
+                _store.RecordEnd(id, outcome, s.ExecutedBlocks, s.TotalBlocks, _stops, s.State == SessionState.Faulted ? 1 : 0);
+            }
+            catch (JobStoreException e)
+            {
+                Log.Warning("Job {Job}: its end could not be recorded: {Error:l}", id, e.Message);
+            }
+        }
+
         _store?.Dispose();
         return ValueTask.CompletedTask;
     }

@@ -73,6 +73,15 @@ public sealed record JobRequest(ChunkedProgram Program, StrategyKind Strategy)
 
     /// <summary>Record the job and its checkpoints in the job store (resumable); the demo does not.</summary>
     public bool Record { get; init; } = true;
+
+    /// <summary>The program revision in the store that runs (its id), or null.</summary>
+    public long? ProgramId { get; init; }
+
+    /// <summary>The station (this PC) as the history names it; null: the host name.</summary>
+    public string? Station { get; init; }
+
+    /// <summary>The machine as the history names it; null: its connection (host:port, serial device, sim).</summary>
+    public string? Machine { get; init; }
 }
 
 /// <summary>An unfinished job whose program is unchanged and whose split is readable.</summary>
@@ -107,6 +116,9 @@ public sealed record ResumeRequest(ResumableJob Job, RunSettings Settings, Func<
 
     /// <summary>The library check before anything reaches the controller; null: <see cref="LibraryPolicy.Force"/> when forced, else <see cref="LibraryPolicy.Verify"/>.</summary>
     public LibraryPolicy? Library { get; init; }
+
+    /// <summary>The station resuming it (the history records it); null: keep the recorded one.</summary>
+    public string? Station { get; init; }
 }
 
 /// <summary>How a resume goes on.</summary>

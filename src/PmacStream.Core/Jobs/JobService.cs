@@ -3,6 +3,7 @@ using System.Text.Json;
 using PmacStream.GCode;
 using PmacStream.Pmac;
 using PmacStream.Preparation;
+using PmacStream.Preparation.Store;
 using PmacStream.Streaming;
 using Serilog;
 
@@ -13,6 +14,9 @@ public sealed record JobServiceOptions
 {
     /// <summary>The SQLite job store; null: <see cref="JobStore.DefaultPath"/> (shared by the command line and the HMI).</summary>
     public string? JobDatabase { get; init; }
+
+    /// <summary>The store (<c>--store</c>); null: <see cref="JobDatabase"/>, else as <see cref="StoreLocation.Resolve"/> picks it.</summary>
+    public StoreLocation? Store { get; init; }
 
     /// <summary>Opens the built-in simulator (the host owns it); null: this host has none.</summary>
     public Func<CancellationToken, Task<SimulatorLink>>? Simulator { get; init; }
@@ -44,8 +48,12 @@ public sealed partial class JobService
     public JobService(JobServiceOptions? options = null)
     {
         _options = options ?? new JobServiceOptions();
-        JobDatabase = Path.GetFullPath(_options.JobDatabase ?? JobStore.DefaultPath);
+        Store = _options.Store ?? StoreLocation.Resolve(jobDb: _options.JobDatabase);
+        JobDatabase = Store.Engine == StoreEngine.Sqlite ? Store.Target : Store.Display;
     }
+
+    /// <summary>The store jobs are recorded in.</summary>
+    public StoreLocation Store { get; }
 
     /// <summary>The job store's file.</summary>
     public string JobDatabase { get; }
@@ -199,7 +207,7 @@ public sealed partial class JobService
         var program = request.Program;
         FeedOverrides.Validate(request.FeedOverride);
         var times = await MoveTimesAsync(program.Manifest.SourcePath, request.Profile, cancellationToken).ConfigureAwait(false);
-        var store = request.Record ? JobStore.Open(JobDatabase) : null;
+        var store = request.Record ? JobStores.Open(Store) : null;
         try
         {
             // The previous job here completed: its rotary program may still wait for lines (the start ends it).
@@ -210,15 +218,38 @@ public sealed partial class JobService
             await EnsureMachineReadyAsync(controller, cancellationToken).ConfigureAwait(false);
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings, withShape: false),
-                (request.Profile.Source, request.Profile.Identity));
-            var session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i) : null, times, TimeOf(controller));
-            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id) { AlarmAxes = _options.Rules?.Axes, Profile = request.Profile };
+                (request.Profile.Source, request.Profile.Identity),
+                new JobHistoryStart(request.ProgramId, request.Station, request.Machine ?? MachineName(controller.Spec), program.Manifest.TotalMotionBlocks));
+            StreamingSession? session = null;
+            session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i, () => session?.Status.ExecutedBlocks) : null, times, TimeOf(controller));
+            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id) { AlarmAxes = _options.Rules?.Axes };
         }
         catch
         {
             store?.Dispose();
             throw;
         }
+    }
+
+    /// <summary>The machine as the history names it when not told: its connection without the scheme (host:port, the serial device, sim).</summary>
+    public static string MachineName(ConnectionSpec spec)
+    {
+        ArgumentNullException.ThrowIfNull(spec);
+        var text = spec.ToString();
+        var scheme = text.IndexOf("://", StringComparison.Ordinal);
+        return scheme >= 0 ? text[(scheme + 3)..] : text.StartsWith("serial:", StringComparison.Ordinal) ? text["serial:".Length..].Split('@')[0] : text;
+    }
+
+    /// <summary>Every recorded job, newest first (the job history); empty when nothing was recorded yet.</summary>
+    public IReadOnlyList<JobRecord> ListJobs()
+    {
+        if (!JobStores.Exists(Store))
+        {
+            return [];
+        }
+
+        using var store = JobStores.Open(Store);
+        return store.List();
     }
 
     /// <summary>A recorded job: by id, or the newest unfinished one.</summary>
@@ -241,7 +272,7 @@ public sealed partial class JobService
     {
         ArgumentNullException.ThrowIfNull(controller);
         int? completed;
-        using (var store = File.Exists(JobDatabase) ? JobStore.Open(JobDatabase) : null)
+        using (var store = JobStores.Exists(Store) ? JobStores.Open(Store) : null)
         {
             completed = CompletedJobLine(store, controller);
         }
@@ -275,19 +306,19 @@ public sealed partial class JobService
     }
 
     /// <summary>The last line of the newest job on this controller when it completed (its rotary program may still wait for lines); else null.</summary>
-    private static int? CompletedJobLine(JobStore? store, ControllerLink controller) =>
+    private static int? CompletedJobLine(IJobStore? store, ControllerLink controller) =>
         store?.Latest(controller.Spec.ToString())?.Checkpoint is { State: SessionState.Completed } done ? done.LastExecutedLine : null;
 
     /// <summary>The newest job recorded for a program, whoever started it, when it did not complete; else null.</summary>
     public ResumableJob? FindInterrupted(string sourcePath)
     {
-        if (!File.Exists(JobDatabase))
+        if (!JobStores.Exists(Store))
         {
             return null;
         }
 
         JobRecord? record;
-        using (var store = JobStore.Open(JobDatabase))
+        using (var store = JobStores.Open(Store))
         {
             var full = Path.GetFullPath(sourcePath);
             var comparison = OperatingSystem.IsWindows() ? StringComparison.OrdinalIgnoreCase : StringComparison.Ordinal;
@@ -417,7 +448,9 @@ public sealed partial class JobService
             var library = request.Library ?? (request.Force ? LibraryPolicy.Force : LibraryPolicy.Verify);
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, library, ScopeOf(options, job.Program, null), cancellationToken).ConfigureAwait(false);
             await EnsureMachineReadyAsync(controller, cancellationToken).ConfigureAwait(false);
-            StreamingSession NewSession() => new(controller.Devices, job.Program, options, store.SinkFor(record.Id), times, TimeOf(controller));
+            store.RecordResume(record.Id, request.Station);
+            StreamingSession? current = null;
+            StreamingSession NewSession() => current = new(controller.Devices, job.Program, options, store.SinkFor(record.Id, () => current?.Status.ExecutedBlocks), times, TimeOf(controller));
             var outcome = new ContinueOutcome(null, null, job.RestartLine);
             if (record.Checkpoint is { State: not SessionState.Aborted } && controller.Simulator?.Fresh != true)
             {
@@ -454,7 +487,7 @@ public sealed partial class JobService
     /// Continues a job the controller may still hold, from its record. The outcome is the result when the job runs on
     /// or the resume is refused; else (the controller stopped the job) why, and the line a restart starts at.
     /// </summary>
-    private static async Task<ContinueOutcome> ContinueAsync(ControllerLink controller, ResumeRequest request, JobStore store, StreamingSession session, Machine.MachineRules? rules, CancellationToken cancellationToken)
+    private static async Task<ContinueOutcome> ContinueAsync(ControllerLink controller, ResumeRequest request, IJobStore store, StreamingSession session, Machine.MachineRules? rules, CancellationToken cancellationToken)
     {
         var record = request.Job.Record;
         var cp = record.Checkpoint!;
@@ -561,11 +594,11 @@ public sealed partial class JobService
 
     private TimeProvider? TimeOf(ControllerLink controller) => controller.Simulator?.Time ?? _options.Time;
 
-    private JobStore OpenExistingStore()
+    private IJobStore OpenExistingStore()
     {
         // Reading jobs must not leave an empty database (and its folders) behind a mistyped path.
-        return File.Exists(JobDatabase) || Directory.Exists(JobDatabase)
-            ? JobStore.Open(JobDatabase)
+        return JobStores.Exists(Store)
+            ? JobStores.Open(Store)
             : throw new JobException($"{JobDatabase}: no job database there; jobs are recorded when they start", JobErrorKind.BadRequest);
     }
 

@@ -57,6 +57,13 @@ public sealed record MachineConsoleOptions
     /// <summary>Run settings of MDI's little jobs.</summary>
     public RunSettings Settings { get; init; } = RunSettings.Default;
 
+    /// <summary>
+    /// The folder of the console's own files (alarm history, MDI modal state): beside an SQLite store; with a shop
+    /// database, this station's default folder (they belong to the station, not the shop).
+    /// </summary>
+    public static string StateFolder(JobService jobs) =>
+        Path.GetDirectoryName(jobs.Store.Engine == Preparation.Store.StoreEngine.Sqlite ? Path.GetFullPath(jobs.Store.Target) : Preparation.Store.StoreLocation.DefaultSqlitePath)!;
+
     /// <summary>How long a motion may take before the console gives up waiting for it to end in position.</summary>
     public TimeSpan MotionTimeout { get; init; } = TimeSpan.FromMinutes(10);
 

@@ -180,14 +180,14 @@ public sealed partial class MachineConsole
     /// <summary>The newest job recorded on this controller, or null.</summary>
     private JobRecord? LatestJob()
     {
-        if (!File.Exists(_jobs.JobDatabase))
+        if (!JobStores.Exists(_jobs.Store))
         {
             return null;
         }
 
         try
         {
-            using var store = JobStore.Open(_jobs.JobDatabase);
+            using var store = JobStores.Open(_jobs.Store);
             return store.Latest(Controller.Spec.ToString());
         }
         catch (JobStoreException e)

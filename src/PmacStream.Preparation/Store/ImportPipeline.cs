@@ -12,6 +12,16 @@ namespace PmacStream.Preparation.Store;
 /// </summary>
 internal static class ImportPipeline
 {
+    /// <summary>Where the pipeline's blocks and diagnostics go (one engine's writer), on the calling thread.</summary>
+    internal interface IBlockSink
+    {
+        /// <summary>Adds a block (in program order).</summary>
+        void Add(in Interpreter.LastBlock block, ModalState modal);
+
+        /// <summary>Adds a diagnostic.</summary>
+        void Add(Diagnostic diagnostic);
+    }
+
     /// <summary>Blocks per batch handed between the threads.</summary>
     internal const int BatchSize = 1024;
 
@@ -19,8 +29,8 @@ internal static class ImportPipeline
     internal const int QueueDepth = 4;
 
     /// <summary>Runs the check on a worker and stores every block and diagnostic through <paramref name="writer"/>.</summary>
-    public static CheckSummary Run(Stream source, string file, MachineProfile profile, ProgramWriter writer, Action<Diagnostic>? onDiagnostic,
-        CancellationToken cancellationToken)
+    public static CheckSummary Run(Stream source, string file, MachineProfile profile, IBlockSink writer, Action<Diagnostic>? onDiagnostic,
+        CancellationToken cancellationToken, Action? afterBatch = null)
     {
         using var stop = CancellationTokenSource.CreateLinkedTokenSource(cancellationToken);
         using var full = new BlockingCollection<Batch>(QueueDepth);
@@ -77,6 +87,7 @@ internal static class ImportPipeline
 
                 batch.Clear();
                 free.Add(batch);
+                afterBatch?.Invoke();
             }
         }
         catch

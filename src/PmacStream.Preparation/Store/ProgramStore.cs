@@ -21,6 +21,9 @@ namespace PmacStream.Preparation.Store;
 public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256, int Lines, long Blocks, int Errors, int Warnings,
     double EstimatedSeconds, string Profile, DateTimeOffset Created)
 {
+    /// <summary>The revision's name (the file name it was imported from); null for a program stored by <c>check --db</c>.</summary>
+    public string? Name { get; init; }
+
     /// <summary>The check summary as <c>N errors, M warnings, B blocks</c>.</summary>
     public string CheckSummary => $"{Errors} errors, {Warnings} warnings, {Blocks} blocks";
 }
@@ -36,16 +39,18 @@ public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256,
 /// block, selected blocks and continuous execution (and the preview) read from here. Inserts go through one prepared
 /// statement inside one transaction per program, so an interrupted import leaves nothing behind.
 /// </summary>
-public sealed class ProgramStore : IDisposable
+public sealed class ProgramStore : IProgramRevisions
 {
     private static readonly ILogger Logger = Log.ForContext<ProgramStore>();
+
+    internal const string ProgramColumns = "id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created, name";
 
     internal const string BlockColumns =
         "key, program_id, Lines, byte_offset, N, block_delete, GA, GB, GC, GD, GE, GF, GG, GH, GI, MA, MB, MC, " +
         "X, Y, Z, I, J, K, R, F, S, T, H, D, P, motion, start_x, start_y, start_z, end_x, end_y, end_z, " +
         "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f, group_state";
 
-    private const string Schema = """
+    internal const string BaseSchema = """
         CREATE TABLE IF NOT EXISTS programs (
             id INTEGER PRIMARY KEY,
             path TEXT NOT NULL,
@@ -154,7 +159,7 @@ public sealed class ProgramStore : IDisposable
         {
             connection.Open();
             using var cmd = connection.CreateCommand();
-            cmd.CommandText = pragmas + Schema;
+            cmd.CommandText = pragmas;
 
             // Every statement's result is stepped: after a PRAGMA that returns a row, ExecuteNonQuery runs the rest
             // while disposing its reader and drops their errors, so a full disk surfaced later as "no such table".
@@ -163,7 +168,7 @@ public sealed class ProgramStore : IDisposable
             {
             }
 
-            AddMissingColumns(connection);
+            SqliteMigrations.Apply(connection);
         }
         catch
         {
@@ -172,21 +177,6 @@ public sealed class ProgramStore : IDisposable
         }
 
         return new ProgramStore(connection) { Path = path };
-    }
-
-    /// <summary>A store written before profiles had any number of modal groups gets the columns that hold the others.</summary>
-    private static void AddMissingColumns(SqliteConnection connection)
-    {
-        foreach (var (table, column) in new[] { ("programs", "groups"), ("blocks", "group_state") })
-        {
-            using var cmd = connection.CreateCommand();
-            cmd.CommandText = $"SELECT COUNT(*) FROM pragma_table_info('{table}') WHERE name = '{column}'";
-            if ((long)cmd.ExecuteScalar()! == 0)
-            {
-                cmd.CommandText = $"ALTER TABLE {table} ADD COLUMN {column} {(column == "groups" ? "TEXT" : "INTEGER")}";
-                cmd.ExecuteNonQuery();
-            }
-        }
     }
 
     /// <summary>
@@ -216,11 +206,77 @@ public sealed class ProgramStore : IDisposable
         return (writer.ProgramId, summary);
     }
 
+    /// <summary>
+    /// Checks a file and stores it as a program revision in the same pass: every block and diagnostic, and the exact
+    /// source bytes (read once, hashed and stored as the check reads them). The same content under the same profile
+    /// is the same revision: that import is rolled back and the stored revision's id returned.
+    /// </summary>
+    public ProgramImport ImportRevision(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
+        var pieces = new SourcePieces();
+        using var hashing = new HashingReadStream(fs, pieces);
+        using var writer = BeginProgram(System.IO.Path.GetFullPath(file), fs.Length, profile);
+        void Store()
+        {
+            foreach (var piece in pieces.Drain())
+            {
+                writer.AddSource(piece);
+            }
+        }
+
+        var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken, Store);
+        pieces.Finish();
+        Store();
+        var sha = hashing.HashHex();
+        if (writer.ExistingRevision(sha, profile.Name) is { } existing)
+        {
+            Logger.Information("{File} is program {Id} already (same content, profile {Profile})", file, existing, profile.Name);
+            return new ProgramImport(existing, summary, true);
+        }
+
+        writer.Complete(summary, sha, System.IO.Path.GetFileName(file));
+        Logger.Information("Stored {File} as program revision {Id}: {Summary} in {Ms} ms", file, writer.ProgramId, summary.ToString(), (int)summary.Elapsed.TotalMilliseconds);
+        return new ProgramImport(writer.ProgramId, summary, false);
+    }
+
+    /// <summary>Program revisions (imported with their source), newest first.</summary>
+    public IReadOnlyList<ProgramInfo> ListRevisions()
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = $"SELECT {ProgramColumns} FROM programs WHERE revision = 1 ORDER BY id DESC";
+        return ReadPrograms(cmd);
+    }
+
+    /// <summary>Writes a revision's exact source bytes to <paramref name="output"/>; false when the program has no stored source.</summary>
+    public bool ExportSource(long programId, Stream output)
+    {
+        ArgumentNullException.ThrowIfNull(output);
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT revision FROM programs WHERE id = $p";
+        cmd.Parameters.AddWithValue("$p", programId);
+        if (cmd.ExecuteScalar() is not long rev || rev != 1)
+        {
+            return false;
+        }
+
+        cmd.CommandText = "SELECT data FROM program_source WHERE program_id = $p ORDER BY seq";
+        using var r = cmd.ExecuteReader();
+        while (r.Read())
+        {
+            using var piece = r.GetStream(0);
+            piece.CopyTo(output);
+        }
+
+        return true;
+    }
+
     /// <summary>All stored programs, newest first.</summary>
     public IReadOnlyList<ProgramInfo> ListPrograms()
     {
         using var cmd = _connection.CreateCommand();
-        cmd.CommandText = "SELECT id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created FROM programs ORDER BY id DESC";
+        cmd.CommandText = $"SELECT {ProgramColumns} FROM programs ORDER BY id DESC";
         return ReadPrograms(cmd);
     }
 
@@ -228,7 +284,7 @@ public sealed class ProgramStore : IDisposable
     public ProgramInfo? GetProgram(long id)
     {
         using var cmd = _connection.CreateCommand();
-        cmd.CommandText = "SELECT id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created FROM programs WHERE id = $id";
+        cmd.CommandText = $"SELECT {ProgramColumns} FROM programs WHERE id = $id";
         cmd.Parameters.AddWithValue("$id", id);
         return ReadPrograms(cmd).FirstOrDefault();
     }
@@ -237,7 +293,7 @@ public sealed class ProgramStore : IDisposable
     public ProgramInfo? FindBySha256(string sha256)
     {
         using var cmd = _connection.CreateCommand();
-        cmd.CommandText = "SELECT id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created FROM programs WHERE sha256 = $s ORDER BY id DESC LIMIT 1";
+        cmd.CommandText = $"SELECT {ProgramColumns} FROM programs WHERE sha256 = $s ORDER BY id DESC LIMIT 1";
         cmd.Parameters.AddWithValue("$s", sha256.ToLowerInvariant());
         return ReadPrograms(cmd).FirstOrDefault();
     }
@@ -330,7 +386,7 @@ public sealed class ProgramStore : IDisposable
         using var cmd = _connection.CreateCommand();
         cmd.Transaction = tx;
         cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; " +
-                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
+                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM program_source WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
         cmd.Parameters.AddWithValue("$p", programId);
         cmd.Parameters.AddWithValue("$a", Key(programId, 0));
         cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
@@ -344,7 +400,7 @@ public sealed class ProgramStore : IDisposable
     /// <summary>Row key of a block: program id in the high 32 bits, source line in the low ones (one block per line).</summary>
     internal static long Key(long programId, int line) => (programId << 32) | (uint)line;
 
-    private static List<ProgramInfo> ReadPrograms(SqliteCommand cmd)
+    internal static List<ProgramInfo> ReadPrograms(System.Data.Common.DbCommand cmd)
     {
         using var r = cmd.ExecuteReader();
         var list = new List<ProgramInfo>();
@@ -352,13 +408,13 @@ public sealed class ProgramStore : IDisposable
         {
             list.Add(new ProgramInfo(r.GetInt64(0), r.GetString(1), r.GetInt64(2), r.GetString(3), r.GetInt32(4), r.GetInt64(5),
                 r.GetInt32(6), r.GetInt32(7), r.GetDouble(8), r.GetString(9),
-                DateTimeOffset.Parse(r.GetString(10), CultureInfo.InvariantCulture, DateTimeStyles.AssumeUniversal)));
+                DateTimeOffset.Parse(r.GetString(10), CultureInfo.InvariantCulture, DateTimeStyles.AssumeUniversal)) { Name = r.IsDBNull(11) ? null : r.GetString(11) });
         }
 
         return list;
     }
 
-    private static DecodedBlock ReadBlock(SqliteDataReader r, StoredGroups groups)
+    internal static DecodedBlock ReadBlock(System.Data.Common.DbDataReader r, StoredGroups groups)
     {
         double? D(int i) => r.IsDBNull(i) ? null : r.GetDouble(i);
         var (g, m) = groups.Values(i => D(6 + i), i => D(15 + i), r.IsDBNull(48) ? null : r.GetInt64(48));
@@ -386,8 +442,14 @@ public sealed class ProgramStore : IDisposable
     }
 }
 
+/// <summary>What an import stored: the revision's id, the check's summary, and whether that revision was stored before.</summary>
+/// <param name="Id">The revision's id.</param>
+/// <param name="Summary">The check of this import.</param>
+/// <param name="Existing">True when the same content under the same profile was stored already (nothing new written).</param>
+public sealed record ProgramImport(long Id, CheckSummary Summary, bool Existing);
+
 /// <summary>Read-through stream that hashes what passes (SHA-256 of the file while checking it, without a second read).</summary>
-internal sealed class HashingReadStream(Stream inner) : Stream
+internal sealed class HashingReadStream(Stream inner, SourcePieces? pieces = null) : Stream
 {
     private readonly IncrementalHash _hash = IncrementalHash.CreateHash(HashAlgorithmName.SHA256);
 
@@ -407,6 +469,7 @@ internal sealed class HashingReadStream(Stream inner) : Stream
     {
         var n = inner.Read(buffer, offset, count);
         _hash.AppendData(buffer, offset, n);
+        pieces?.Append(buffer.AsSpan(offset, n));
         return n;
     }
 

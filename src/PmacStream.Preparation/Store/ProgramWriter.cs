@@ -9,7 +9,7 @@ namespace PmacStream.Preparation.Store;
 /// Stores one program's blocks and diagnostics inside one transaction through prepared statements bound directly
 /// with SQLite's C API (ADO.NET parameter objects would box every double and cap the rate well below 300,000 rows/s).
 /// </summary>
-public sealed class ProgramWriter : IDisposable
+public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
 {
     private readonly SqliteConnection _connection;
     private readonly SqliteTransaction _tx;
@@ -20,6 +20,7 @@ public sealed class ProgramWriter : IDisposable
     private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal); // distinct further-group states, by text
     private ModalState? _modal;
     private long _seq;
+    private long _sourceSeq;
     private bool _completed;
     private bool _disposed;
 
@@ -100,6 +101,9 @@ public sealed class ProgramWriter : IDisposable
         _seq++;
     }
 
+    /// <inheritdoc />
+    void ImportPipeline.IBlockSink.Add(in Interpreter.LastBlock block, ModalState modal) => Add(in block, modal);
+
     /// <summary>Adds a diagnostic.</summary>
     public void Add(Diagnostic d)
     {
@@ -113,14 +117,41 @@ public sealed class ProgramWriter : IDisposable
         Step(s);
     }
 
-    /// <summary>Writes the totals and commits everything.</summary>
-    public void Complete(CheckSummary summary, string sha256)
+    /// <summary>Stores the next piece of the program's exact source (a revision's, for export and execution).</summary>
+    public void AddSource(byte[] piece)
+    {
+        ArgumentNullException.ThrowIfNull(piece);
+        using var cmd = _connection.CreateCommand();
+        cmd.Transaction = _tx;
+        cmd.CommandText = "INSERT INTO program_source (program_id, seq, data) VALUES ($p, $s, $d)";
+        cmd.Parameters.AddWithValue("$p", ProgramId);
+        cmd.Parameters.AddWithValue("$s", _sourceSeq++);
+        cmd.Parameters.AddWithValue("$d", piece);
+        cmd.ExecuteNonQuery();
+    }
+
+    /// <summary>The id of a stored revision with this content under this profile, other than this one, or null.</summary>
+    public long? ExistingRevision(string sha256, string profile)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.Transaction = _tx;
+        cmd.CommandText = "SELECT id FROM programs WHERE sha256 = $s AND profile = $p AND revision = 1 AND id <> $id ORDER BY id LIMIT 1";
+        cmd.Parameters.AddWithValue("$s", sha256.ToLowerInvariant());
+        cmd.Parameters.AddWithValue("$p", profile);
+        cmd.Parameters.AddWithValue("$id", ProgramId);
+        return cmd.ExecuteScalar() is long id ? id : null;
+    }
+
+    /// <summary>Writes the totals and commits everything; a <paramref name="revisionName"/> marks it a program revision (its source stored).</summary>
+    public void Complete(CheckSummary summary, string sha256, string? revisionName = null)
     {
         using (var cmd = _connection.CreateCommand())
         {
             cmd.Transaction = _tx;
             cmd.CommandText = "UPDATE programs SET sha256 = $sha, lines = $lines, blocks = $blocks, errors = $e, warnings = $w, " +
-                              "estimated_seconds = $t, check_summary = $sum WHERE id = $id";
+                              "estimated_seconds = $t, check_summary = $sum, name = $name, revision = $rev WHERE id = $id";
+            cmd.Parameters.AddWithValue("$name", (object?)revisionName ?? DBNull.Value);
+            cmd.Parameters.AddWithValue("$rev", revisionName is null ? 0 : 1);
             cmd.Parameters.AddWithValue("$sha", sha256.ToLowerInvariant());
             cmd.Parameters.AddWithValue("$lines", summary.Lines);
             cmd.Parameters.AddWithValue("$blocks", _seq);

@@ -1,0 +1,48 @@
+using PmacStream.GCode;
+
+namespace PmacStream.Preparation.Store;
+
+/// <summary>
+/// The program library of a store, whatever its engine (<see cref="ProgramStore"/> on SQLite, <see cref="PgProgramStore"/>
+/// on PostgreSQL): revisions keyed by SHA-256 and profile, each with its decoded blocks, diagnostics and exact source.
+/// </summary>
+public interface IProgramRevisions : IDisposable
+{
+    /// <summary>Checks a file and stores it as a revision in the same pass (or returns the stored one with the same content and profile).</summary>
+    ProgramImport ImportRevision(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default);
+
+    /// <summary>Program revisions, newest first.</summary>
+    IReadOnlyList<ProgramInfo> ListRevisions();
+
+    /// <summary>A stored program by id, or null.</summary>
+    ProgramInfo? GetProgram(long id);
+
+    /// <summary>The stored diagnostics of a program in line order.</summary>
+    IReadOnlyList<Diagnostic> GetDiagnostics(long programId);
+
+    /// <summary>Writes a revision's exact source bytes; false when it has none.</summary>
+    bool ExportSource(long programId, Stream output);
+
+    /// <summary>Deletes a program with its blocks, diagnostics and source.</summary>
+    void DeleteProgram(long programId);
+
+    /// <summary>The first block at or after a source line, with its modal state as the interpreter had it, or null.</summary>
+    DecodedBlock? GetBlockAtOrAfterLine(long programId, int line);
+}
+
+/// <summary>Opens a store's program library by its location.</summary>
+public static class ProgramStores
+{
+    /// <summary>Opens (creating and migrating when needed) the program library at <paramref name="location"/>.</summary>
+    public static IProgramRevisions Open(StoreLocation location)
+    {
+        ArgumentNullException.ThrowIfNull(location);
+        if (location.Engine == StoreEngine.Postgres)
+        {
+            return PgProgramStore.Open(location);
+        }
+
+        StoreFiles.PrepareSqlite(location.Target);
+        return ProgramStore.Open(location.Target);
+    }
+}

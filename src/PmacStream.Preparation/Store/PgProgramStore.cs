@@ -1,0 +1,327 @@
+using System.Globalization;
+using Npgsql;
+using NpgsqlTypes;
+using PmacStream.GCode;
+using Serilog;
+
+namespace PmacStream.Preparation.Store;
+
+/// <summary>
+/// The program library on PostgreSQL: the same tables as <see cref="ProgramStore"/>. An import is one transaction;
+/// blocks go in by binary <c>COPY</c>, one per batch of the check's pipeline, so the rows never wait in memory; the
+/// source pieces and diagnostics between the batches. Every statement is parameterized.
+/// </summary>
+public sealed class PgProgramStore : IProgramRevisions
+{
+    private static readonly ILogger Logger = Log.ForContext<PgProgramStore>();
+
+    internal const string PgBlockColumns =
+        "program_id, line, byte_offset, n, block_delete, ga, gb, gc, gd, ge, gf, gg, gh, gi, ma, mb, mc, " +
+        "x, y, z, i, j, k, r, f, s, t, h, d, p, motion, start_x, start_y, start_z, end_x, end_y, end_z, " +
+        "center_x, center_y, center_z, length, duration, modal_t, modal_h, modal_d, modal_s, modal_f, group_state";
+
+    private readonly NpgsqlConnection _connection;
+    private readonly StoreLocation _location;
+
+    private PgProgramStore(NpgsqlConnection connection, StoreLocation location)
+    {
+        _connection = connection;
+        _location = location;
+    }
+
+    /// <summary>Opens the library at <paramref name="location"/> (migrating the schema when this role may).</summary>
+    public static PgProgramStore Open(StoreLocation location) => new(PgSchema.OpenMigrated(location), location);
+
+    /// <inheritdoc />
+    public ProgramImport ImportRevision(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
+        var pieces = new SourcePieces();
+        using var hashing = new HashingReadStream(fs, pieces);
+        using var tx = _connection.BeginTransaction();
+        long id;
+        using (var cmd = new NpgsqlCommand(
+                   "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups) " +
+                   "VALUES (@path, @size, '', 0, 0, 0, 0, 0, @profile, 'incomplete', @created, @groups) RETURNING id", _connection, tx))
+        {
+            cmd.Parameters.AddWithValue("path", Path.GetFullPath(file));
+            cmd.Parameters.AddWithValue("size", fs.Length);
+            cmd.Parameters.AddWithValue("profile", profile.Name);
+            cmd.Parameters.AddWithValue("created", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
+            cmd.Parameters.AddWithValue("groups", StoredGroups.Describe(profile));
+            id = (long)cmd.ExecuteScalar()!;
+        }
+
+        using var writer = new Writer(_connection, tx, id);
+        void Store()
+        {
+            writer.EndCopy();
+            foreach (var piece in pieces.Drain())
+            {
+                writer.AddSource(piece);
+            }
+        }
+
+        var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken, Store);
+        pieces.Finish();
+        Store();
+        var sha = hashing.HashHex();
+        using (var find = new NpgsqlCommand("SELECT id FROM programs WHERE sha256 = @s AND profile = @p AND revision = 1 ORDER BY id LIMIT 1", _connection, tx))
+        {
+            find.Parameters.AddWithValue("s", sha);
+            find.Parameters.AddWithValue("p", profile.Name);
+            if (find.ExecuteScalar() is long existing)
+            {
+                tx.Rollback();
+                return new ProgramImport(existing, summary, true);
+            }
+        }
+
+        using (var cmd = new NpgsqlCommand(
+                   "UPDATE programs SET sha256 = @sha, lines = @lines, blocks = @blocks, errors = @e, warnings = @w, estimated_seconds = @t, " +
+                   "check_summary = @sum, name = @name, revision = 1 WHERE id = @id", _connection, tx))
+        {
+            cmd.Parameters.AddWithValue("sha", sha);
+            cmd.Parameters.AddWithValue("lines", summary.Lines);
+            cmd.Parameters.AddWithValue("blocks", writer.Blocks);
+            cmd.Parameters.AddWithValue("e", summary.Errors);
+            cmd.Parameters.AddWithValue("w", summary.Warnings);
+            cmd.Parameters.AddWithValue("t", summary.EstimatedSeconds);
+            cmd.Parameters.AddWithValue("sum", summary.ToString());
+            cmd.Parameters.AddWithValue("name", Path.GetFileName(file));
+            cmd.Parameters.AddWithValue("id", id);
+            cmd.ExecuteNonQuery();
+        }
+
+        tx.Commit();
+        Logger.Information("Stored {File} as program revision {Id} in {Store}: {Summary}", file, id, _location.Display, summary.ToString());
+        return new ProgramImport(id, summary, false);
+    }
+
+    /// <inheritdoc />
+    public IReadOnlyList<ProgramInfo> ListRevisions()
+    {
+        using var cmd = new NpgsqlCommand($"SELECT {ProgramStore.ProgramColumns} FROM programs WHERE revision = 1 ORDER BY id DESC", _connection);
+        return ProgramStore.ReadPrograms(cmd);
+    }
+
+    /// <inheritdoc />
+    public ProgramInfo? GetProgram(long id)
+    {
+        using var cmd = new NpgsqlCommand($"SELECT {ProgramStore.ProgramColumns} FROM programs WHERE id = @id", _connection);
+        cmd.Parameters.AddWithValue("id", id);
+        return ProgramStore.ReadPrograms(cmd).FirstOrDefault();
+    }
+
+    /// <inheritdoc />
+    public IReadOnlyList<Diagnostic> GetDiagnostics(long programId)
+    {
+        using var cmd = new NpgsqlCommand("SELECT severity, code, line, col, message FROM diagnostics WHERE program_id = @p ORDER BY line, ctid", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        using var r = cmd.ExecuteReader();
+        var list = new List<Diagnostic>();
+        while (r.Read())
+        {
+            list.Add(new Diagnostic(r.GetString(0) == "error" ? Severity.Error : Severity.Warning, r.GetString(1), r.GetInt32(2), r.GetInt32(3), r.GetString(4)));
+        }
+
+        return list;
+    }
+
+    /// <inheritdoc />
+    public bool ExportSource(long programId, Stream output)
+    {
+        ArgumentNullException.ThrowIfNull(output);
+        using (var rev = new NpgsqlCommand("SELECT revision FROM programs WHERE id = @p", _connection))
+        {
+            rev.Parameters.AddWithValue("p", programId);
+            if (rev.ExecuteScalar() is not long r || r != 1)
+            {
+                return false;
+            }
+        }
+
+        using var cmd = new NpgsqlCommand("SELECT data FROM program_source WHERE program_id = @p ORDER BY seq", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        using var reader = cmd.ExecuteReader(System.Data.CommandBehavior.SequentialAccess);
+        while (reader.Read())
+        {
+            using var piece = reader.GetStream(0);
+            piece.CopyTo(output);
+        }
+
+        return true;
+    }
+
+    /// <inheritdoc />
+    public void DeleteProgram(long programId)
+    {
+        using var tx = _connection.BeginTransaction();
+        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source" })
+        {
+            using var cmd = new NpgsqlCommand($"DELETE FROM {table} WHERE program_id = @p", _connection, tx); // table names from the list above
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.ExecuteNonQuery();
+        }
+
+        using (var cmd = new NpgsqlCommand("DELETE FROM programs WHERE id = @p", _connection, tx))
+        {
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.ExecuteNonQuery();
+        }
+
+        tx.Commit();
+    }
+
+    /// <inheritdoc />
+    public DecodedBlock? GetBlockAtOrAfterLine(long programId, int line)
+    {
+        var groups = GroupsOf(programId);
+        // A leading 0 stands for SQLite's row key, so both engines' rows read with one reader.
+        using var cmd = new NpgsqlCommand($"SELECT 0::bigint, {PgBlockColumns} FROM blocks WHERE program_id = @p AND line >= @l ORDER BY line LIMIT 1", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        cmd.Parameters.AddWithValue("l", Math.Max(0, line));
+        using var r = cmd.ExecuteReader();
+        return r.Read() ? ProgramStore.ReadBlock(r, groups) : null;
+    }
+
+    private StoredGroups GroupsOf(long programId)
+    {
+        using var cmd = new NpgsqlCommand("SELECT groups FROM programs WHERE id = @id", _connection);
+        cmd.Parameters.AddWithValue("id", programId);
+        var names = cmd.ExecuteScalar() as string;
+        using var states = new NpgsqlCommand("SELECT id, more FROM group_states WHERE program_id = @id", _connection);
+        states.Parameters.AddWithValue("id", programId);
+        var map = new Dictionary<long, string>();
+        using (var r = states.ExecuteReader())
+        {
+            while (r.Read())
+            {
+                map[r.GetInt64(0)] = r.GetString(1);
+            }
+        }
+
+        return StoredGroups.Parse(names, map);
+    }
+
+    /// <inheritdoc />
+    public void Dispose() => _connection.Dispose();
+
+    /// <summary>One import's rows: blocks by binary COPY (opened on the first block of a batch, closed before any other statement).</summary>
+    private sealed class Writer(NpgsqlConnection connection, NpgsqlTransaction tx, long programId) : ImportPipeline.IBlockSink, IDisposable
+    {
+        private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal);
+        private NpgsqlBinaryImporter? _copy;
+        private long _sourceSeq;
+
+        public long Blocks { get; private set; }
+
+        public void Add(in Interpreter.LastBlock b, ModalState m)
+        {
+            var more = StoredGroups.MoreText(m);
+            long? state = null;
+            if (more is not null)
+            {
+                if (!_states.TryGetValue(more, out var sid))
+                {
+                    EndCopy();
+                    sid = _states.Count + 1;
+                    _states.Add(more, sid);
+                    using var cmd = new NpgsqlCommand("INSERT INTO group_states (program_id, id, more) VALUES (@p, @i, @m)", connection, tx);
+                    cmd.Parameters.AddWithValue("p", programId);
+                    cmd.Parameters.AddWithValue("i", sid);
+                    cmd.Parameters.AddWithValue("m", more);
+                    cmd.ExecuteNonQuery();
+                }
+
+                state = sid;
+            }
+
+            var c = _copy ??= connection.BeginBinaryImport($"COPY blocks ({PgBlockColumns}) FROM STDIN (FORMAT BINARY)");
+            c.StartRow();
+            c.Write(programId, NpgsqlDbType.Bigint);
+            c.Write(b.Line, NpgsqlDbType.Integer);
+            c.Write(b.ByteOffset, NpgsqlDbType.Bigint);
+            D(c, b.N);
+            c.Write(b.BlockDelete ? 1 : 0, NpgsqlDbType.Integer);
+            D(c, m.GA); D(c, m.GB); D(c, m.GC); D(c, m.GD); D(c, m.GE); D(c, m.GF); D(c, m.GG); D(c, m.GH); D(c, m.GI);
+            D(c, m.MA); D(c, m.MB); D(c, m.MC);
+            D(c, b.X); D(c, b.Y); D(c, b.Z); D(c, b.I); D(c, b.J); D(c, b.K); D(c, b.R); D(c, b.F); D(c, b.S); D(c, b.T); D(c, b.H); D(c, b.D); D(c, b.P);
+            c.Write((int)b.Motion, NpgsqlDbType.Integer);
+            D(c, b.Start.X); D(c, b.Start.Y); D(c, b.Start.Z);
+            D(c, b.End.X); D(c, b.End.Y); D(c, b.End.Z);
+            D(c, b.Center?.X); D(c, b.Center?.Y); D(c, b.Center?.Z);
+            D(c, b.Length);
+            D(c, b.DurationSeconds);
+            c.Write(m.Tool, NpgsqlDbType.Integer);
+            c.Write(m.LengthOffset, NpgsqlDbType.Integer);
+            c.Write(m.CutterComp, NpgsqlDbType.Integer);
+            D(c, m.SpindleSpeed);
+            D(c, m.Feed);
+            if (state is { } st)
+            {
+                c.Write(st, NpgsqlDbType.Bigint);
+            }
+            else
+            {
+                c.WriteNull();
+            }
+
+            Blocks++;
+        }
+
+        public void Add(Diagnostic d)
+        {
+            EndCopy();
+            using var cmd = new NpgsqlCommand("INSERT INTO diagnostics (program_id, severity, code, line, col, message) VALUES (@p, @s, @c, @l, @k, @m)", connection, tx);
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.Parameters.AddWithValue("s", d.Severity == Severity.Error ? "error" : "warning");
+            cmd.Parameters.AddWithValue("c", d.Code);
+            cmd.Parameters.AddWithValue("l", d.Line);
+            cmd.Parameters.AddWithValue("k", d.Column);
+            cmd.Parameters.AddWithValue("m", d.Message);
+            cmd.ExecuteNonQuery();
+        }
+
+        public void AddSource(byte[] piece)
+        {
+            EndCopy();
+            using var cmd = new NpgsqlCommand("INSERT INTO program_source (program_id, seq, data) VALUES (@p, @s, @d)", connection, tx);
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.Parameters.AddWithValue("s", _sourceSeq++);
+            cmd.Parameters.AddWithValue("d", piece);
+            cmd.ExecuteNonQuery();
+        }
+
+        /// <summary>Ends the open COPY (its rows go in with the transaction).</summary>
+        public void EndCopy()
+        {
+            if (_copy is { } c)
+            {
+                _copy = null;
+                c.Complete();
+                c.Dispose();
+            }
+        }
+
+        public void Dispose()
+        {
+            // Not completed: disposing cancels the COPY; the transaction rolls back with it.
+            _copy?.Dispose();
+            _copy = null;
+        }
+
+        private static void D(NpgsqlBinaryImporter c, double? v)
+        {
+            if (v is { } x)
+            {
+                c.Write(x, NpgsqlDbType.Double);
+            }
+            else
+            {
+                c.WriteNull();
+            }
+        }
+    }
+}

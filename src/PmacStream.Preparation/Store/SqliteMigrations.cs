@@ -1,0 +1,150 @@
+using System.Globalization;
+using Microsoft.Data.Sqlite;
+
+namespace PmacStream.Preparation.Store;
+
+/// <summary>
+/// The store's schema on SQLite, as numbered migrations recorded in <c>schema_version</c> and applied once, in order,
+/// each in its own transaction (the PostgreSQL ones in <c>PgSchema</c> keep the same numbers and tables). A file
+/// written before the table existed (a <c>check --db</c> store, an old <c>jobs.db</c>) is brought up with every
+/// migration: they create only what is missing, so its programs and jobs stay as they were (listed, and resumable).
+/// An alarm history (or any other record) is one more migration at the end of the list.
+/// </summary>
+public static class SqliteMigrations
+{
+    /// <summary>The newest schema version this build writes.</summary>
+    public static int Latest => Steps.Length;
+
+    /// <summary>The jobs table as first written (jobs.db), and who has the file open.</summary>
+    private const string JobsSchema = """
+        CREATE TABLE IF NOT EXISTS jobs (
+          id INTEGER PRIMARY KEY AUTOINCREMENT, created TEXT NOT NULL, program_path TEXT NOT NULL, program_sha256 TEXT NOT NULL,
+          manifest_path TEXT NOT NULL, strategy TEXT NOT NULL, connection TEXT NOT NULL, from_line INTEGER,
+          message TEXT NOT NULL DEFAULT '', cp_time TEXT, cp_state TEXT, cp_last_line INTEGER, cp_chunk INTEGER,
+          cp_next_chunk INTEGER, cp_next_line INTEGER, cp_next_exact INTEGER, cp_chunks_downloaded INTEGER, cp_started INTEGER);
+        CREATE TABLE IF NOT EXISTS openers (pid INTEGER NOT NULL, host TEXT NOT NULL, started TEXT NOT NULL, opened TEXT NOT NULL);
+        """;
+
+    /// <summary>Columns jobs.db gained over its versions (its records read with the defaults).</summary>
+    private static readonly (string Name, string Definition)[] JobsAddedColumns =
+    [
+        ("line_probe", "TEXT NOT NULL DEFAULT 'P501'"),
+        ("preamble", "TEXT"),
+        ("cp_loaded", "INTEGER"),
+        ("settings", "TEXT"),
+        ("profile", "TEXT"),
+        ("profile_identity", "TEXT"),
+    ];
+
+    /// <summary>What the history shows of a job; records of older versions read with nulls (outcome from the checkpoint).</summary>
+    internal static readonly (string Name, string Definition)[] JobHistoryColumns =
+    [
+        ("program_id", "INTEGER"),
+        ("station", "TEXT"),
+        ("machine", "TEXT"),
+        ("os_user", "TEXT"),
+        ("runner", "TEXT"),
+        ("ended", "TEXT"),
+        ("outcome", "TEXT"),
+        ("blocks_executed", "INTEGER"),
+        ("blocks_total", "INTEGER"),
+        ("stops", "INTEGER NOT NULL DEFAULT 0"),
+        ("alarms", "INTEGER NOT NULL DEFAULT 0"),
+        ("resumes", "INTEGER NOT NULL DEFAULT 0"),
+    ];
+
+    private static readonly (string Name, Action<SqliteConnection, SqliteTransaction> Apply)[] Steps =
+    [
+        ("programs and decoded blocks (check --db)", (c, t) => Run(c, t, ProgramStore.BaseSchema)),
+        ("program revisions: name, source bytes", (c, t) =>
+        {
+            AddColumn(c, t, "programs", "groups", "TEXT");
+            AddColumn(c, t, "blocks", "group_state", "INTEGER");
+            AddColumn(c, t, "programs", "name", "TEXT");
+            AddColumn(c, t, "programs", "revision", "INTEGER NOT NULL DEFAULT 0");
+            Run(c, t, """
+                CREATE TABLE IF NOT EXISTS program_source (program_id INTEGER NOT NULL, seq INTEGER NOT NULL, data BLOB NOT NULL, PRIMARY KEY (program_id, seq)) WITHOUT ROWID;
+                CREATE INDEX IF NOT EXISTS programs_revision ON programs(sha256, profile, revision);
+                """);
+        }),
+        ("jobs and checkpoints", (c, t) =>
+        {
+            Run(c, t, JobsSchema);
+            foreach (var (name, definition) in JobsAddedColumns)
+            {
+                AddColumn(c, t, "jobs", name, definition);
+            }
+        }),
+        ("job history", (c, t) =>
+        {
+            foreach (var (name, definition) in JobHistoryColumns)
+            {
+                AddColumn(c, t, "jobs", name, definition);
+            }
+        }),
+    ];
+
+    /// <summary>Applies the migrations the file has not had; returns how many ran.</summary>
+    public static int Apply(SqliteConnection connection)
+    {
+        ArgumentNullException.ThrowIfNull(connection);
+        Run(connection, null, "CREATE TABLE IF NOT EXISTS schema_version (version INTEGER PRIMARY KEY, name TEXT NOT NULL, applied TEXT NOT NULL)");
+        var have = Version(connection);
+        if (have > Latest)
+        {
+            throw new InvalidOperationException($"the store's schema is version {have}, newer than this pmacstream knows ({Latest}): update pmacstream");
+        }
+
+        for (var v = have + 1; v <= Latest; v++)
+        {
+            using var t = connection.BeginTransaction();
+            Steps[v - 1].Apply(connection, t);
+            using var cmd = connection.CreateCommand();
+            cmd.Transaction = t;
+            cmd.CommandText = "INSERT INTO schema_version (version, name, applied) VALUES ($v, $n, $a)";
+            cmd.Parameters.AddWithValue("$v", v);
+            cmd.Parameters.AddWithValue("$n", Steps[v - 1].Name);
+            cmd.Parameters.AddWithValue("$a", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
+            cmd.ExecuteNonQuery();
+            t.Commit();
+        }
+
+        return Latest - have;
+    }
+
+    /// <summary>The schema version recorded in the file (0: none yet).</summary>
+    public static int Version(SqliteConnection connection)
+    {
+        ArgumentNullException.ThrowIfNull(connection);
+        using var cmd = connection.CreateCommand();
+        cmd.CommandText = "SELECT COALESCE(MAX(version), 0) FROM schema_version";
+        return Convert.ToInt32(cmd.ExecuteScalar(), CultureInfo.InvariantCulture);
+    }
+
+    private static void Run(SqliteConnection c, SqliteTransaction? t, string sql)
+    {
+        using var cmd = c.CreateCommand();
+        cmd.Transaction = t;
+        cmd.CommandText = sql;
+        using var results = cmd.ExecuteReader();
+        while (results.NextResult())
+        {
+        }
+    }
+
+    private static void AddColumn(SqliteConnection c, SqliteTransaction t, string table, string column, string definition)
+    {
+        using var cmd = c.CreateCommand();
+        cmd.Transaction = t;
+        cmd.CommandText = "SELECT COUNT(*) FROM pragma_table_info($t) WHERE name = $c";
+        cmd.Parameters.AddWithValue("$t", table);
+        cmd.Parameters.AddWithValue("$c", column);
+        if ((long)cmd.ExecuteScalar()! == 0)
+        {
+            using var alter = c.CreateCommand();
+            alter.Transaction = t;
+            alter.CommandText = $"ALTER TABLE {table} ADD COLUMN {column} {definition}"; // names from the list above, never input
+            alter.ExecuteNonQuery();
+        }
+    }
+}
