@@ -89,7 +89,7 @@ run help 0 --help && same help help.out
 wire() { # NAME SIM_ARGS... -- STREAM_ARGS...
   local name=$1; shift
   local sim_args=() ; while [ "$1" != "--" ]; do sim_args+=("$1"); shift; done; shift
-  "$AOT" sim --speed instant "${sim_args[@]}" >"$WORK/$name.sim" 2>&1 &
+  "$AOT" sim --homed --speed instant "${sim_args[@]}" >"$WORK/$name.sim" 2>&1 &
   local sim=$!
   for _ in $(seq 50); do grep -q "listening\|serving" "$WORK/$name.sim" && break; sleep 0.1; done
   local port; port=$(grep -oE 'port [0-9]+' "$WORK/$name.sim" | head -1 | cut -d' ' -f2)

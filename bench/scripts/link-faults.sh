@@ -143,7 +143,7 @@ run_one() { # STRATEGY RATE
   ip -n "$NS_SIM" link set "$TUN_SIM" up
   ip -n "$NS_HOST" link set "$TUN_HOST" up
 
-  ip netns exec "$NS_SIM" "${CLI[@]}" sim --tcp "$SIM_ADDR:$PORT" --speed realtime --executed-log "$dir/executed.csv" \
+  ip netns exec "$NS_SIM" "${CLI[@]}" sim --tcp "$SIM_ADDR:$PORT" --homed --speed realtime --executed-log "$dir/executed.csv" \
     >"$dir/sim.log" 2>&1 &
   SIM_PID=$!
   for _ in $(seq 100); do grep -q "listening" "$dir/sim.log" 2>/dev/null && break; sleep 0.1; done

@@ -83,7 +83,7 @@ echo "cli: $PMACSTREAM_CLI; program: $LINES lines (surfacing, $(du -h "$WORK/par
 rss_kb() { grep VmRSS "/proc/$1/status" | awk '{print $2}'; }
 
 start_sim() { # LOG ARGS... -> sets SIM and PORT
-  "${CLI[@]}" sim --tcp 127.0.0.1:0 "${@:2}" >"$1" 2>&1 &
+  "${CLI[@]}" sim --tcp 127.0.0.1:0 --homed "${@:2}" >"$1" 2>&1 &
   SIM=$!
   for _ in $(seq 200); do grep -q "listening" "$1" 2>/dev/null && break; sleep 0.05; done
   PORT=$(grep -o "port [0-9]*" "$1" | grep -o "[0-9]*")
