@@ -26,12 +26,13 @@ failed=0
 for loss in $LOSSES; do
   for seed in $SEEDS; do
     # One result line per run, tagged with its loss; link-faults.sh's own verdict decides failure.
-    LOSS=$loss SEED=$seed STRATEGIES="$STRATEGIES" RATES="$RATES" bench/scripts/link-faults.sh | tee /dev/stderr \
+    LOSS=$loss SEED=$seed STRATEGIES="$STRATEGIES" RATES="$RATES" bench/scripts/link-faults.sh | tee -a /dev/stderr \
       | awk -v loss="$loss" '/blocks\/s/ { print loss, $0 }' >>"$out" || failed=1
   done
 done
 
 echo
+echo "load average at the end: $(cut -d" " -f1-3 /proc/loadavg) on $(nproc) cores (a starved simulator process counts as underruns too)"
 echo "no outage, ${DELAY_MS:-2} ms +- ${JITTER_MS:-1} ms each way, reorder ${REORDER:-0.05}, seeds: $SEEDS, $BLOCKS blocks a run"
 python3 - "$out" <<'PY'
 import re, sys
@@ -39,7 +40,7 @@ rows = {}
 for line in open(sys.argv[1]):
     f = line.split()
     loss, strategy, rate = f[0], f[1], int(f[2])
-    m = re.search(r"underruns (\S+) +worst lead (\S+) s", line)
+    m = re.search(r"underruns\s+(\S+)\s+worst lead\s+(\S+)\s+s", line)
     under = int(m.group(1)) if m and m.group(1).isdigit() else None
     lead = float(m.group(2)) if m and m.group(2) != "?" else None
     r = rows.setdefault((strategy, rate, loss), {"runs": 0, "max": 0, "sum": 0, "lead": None, "broken": 0})
