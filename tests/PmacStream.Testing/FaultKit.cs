@@ -149,4 +149,71 @@ public sealed class FaultyConnection(IPmacPortEndpoint port, Random random, Acti
     }
 }
 
+/// <summary>
+/// An in-process connection that breaks the link or kills the host at one chosen operation (a command or a batch
+/// download), counting operations from the first; a download cut by a fault delivers the first part of its lines
+/// (the scripted faults of a start or resume, where <see cref="FaultyConnection"/> seeds random ones).
+/// </summary>
+public sealed class ScriptedConnection(IPmacPortEndpoint port) : IPmacConnection
+{
+    private readonly InProcessConnection _inner = new(port, "scripted");
 
+    /// <summary>Operations so far.</summary>
+    public int Ops { get; private set; }
+
+    /// <summary>Operation whose link breaks (a command does not run; a download delivers half of its lines).</summary>
+    public int? BreakAt { get; set; }
+
+    /// <summary>Operation during which the host dies.</summary>
+    public int? KillAt { get; set; }
+
+    /// <summary>How much of the killed operation happens: 0 nothing, 0.5 half a download (a command runs), 1 all of it.</summary>
+    public double KillFraction { get; set; }
+
+    public List<string> Log { get; } = [];
+
+    public string Description => "scripted in-process";
+
+    public async Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default)
+    {
+        var op = ++Ops;
+        Log.Add($"{op} {command}");
+        if (op == BreakAt)
+        {
+            throw new PmacLinkException("link reset");
+        }
+
+        if (op == KillAt && KillFraction == 0)
+        {
+            throw new HostKilledException();
+        }
+
+        var reply = await _inner.GetResponseAsync(command, cancellationToken).ConfigureAwait(false);
+        return op == KillAt ? throw new HostKilledException() : reply;
+    }
+
+    public async Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default)
+    {
+        var op = ++Ops;
+        Log.Add($"{op} download {lines.Count}: {string.Join(" ; ", lines.Take(3))} ..");
+        if (op == BreakAt)
+        {
+            await _inner.DownloadAsync(lines.Take(lines.Count / 2).ToList(), cancellationToken).ConfigureAwait(false);
+            throw new PmacLinkException("link reset during download");
+        }
+
+        if (op == KillAt)
+        {
+            await _inner.DownloadAsync(lines.Take((int)(lines.Count * KillFraction)).ToList(), cancellationToken).ConfigureAwait(false);
+            throw new HostKilledException();
+        }
+
+        await _inner.DownloadAsync(lines, cancellationToken).ConfigureAwait(false);
+    }
+
+    public Task FlushAsync(CancellationToken cancellationToken = default) => _inner.FlushAsync(cancellationToken);
+
+    public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => _inner.ControlAsync(control, cancellationToken);
+
+    public ValueTask DisposeAsync() => ValueTask.CompletedTask;
+}
