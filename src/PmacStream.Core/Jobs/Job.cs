@@ -274,7 +274,8 @@ public sealed class Job : IAsyncDisposable
     /// <summary>
     /// The tracking variable names the block that started last; the alarm may have stopped the program after that
     /// block's motion had ended (a dry buffer waiting for lines), and a restart there would run it twice. When the axes
-    /// stand exactly where the next block starts (work coordinates: motors less the displacement the library applies),
+    /// are commanded exactly where the next block starts (work coordinates: motor positions plus following errors, as a
+    /// motor killed on a fault stands off by its error, less the displacement the library applies),
     /// the block is done: the tracking variable is moved on to the next block, so the resume restarts there.
     /// </summary>
     private async Task MarkCompletedBlockAsync(IReadOnlyList<Machine.MachineAxis> axes, int line)

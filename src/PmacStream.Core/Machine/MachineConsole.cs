@@ -82,8 +82,9 @@ public sealed partial class MachineConsole
     }
 
     /// <summary>
-    /// Where X, Y and Z stand in the running program's work coordinates: motor positions less the displacement the
-    /// library applied last (Q(n+14)..Q(n+16), its <c>ADIS</c>); null when the machine has no X, Y and Z.
+    /// Where X, Y and Z are commanded in the running program's work coordinates: motor positions plus following errors
+    /// (<c>P</c> + <c>F</c>), less the displacement the library applied last (Q(n+14)..Q(n+16), its <c>ADIS</c>); null
+    /// when the machine has no X, Y and Z.
     /// </summary>
     public static async Task<GCode.Point3?> WorkPositionAsync(IPmacConnection connection, IReadOnlyList<MachineAxis> axes, LibraryMap map, int coordinateSystem, CancellationToken cancellationToken = default)
     {
@@ -96,7 +97,10 @@ public sealed partial class MachineConsole
             return null;
         }
 
-        var p = Numbers(await connection.GetResponseAsync(string.Concat(xyz.Select(a => $"#{a!.Motor}P")), cancellationToken).ConfigureAwait(false));
+        // Commanded = actual plus following error: a motor killed on a fault stands off its trajectory by its error.
+        var actual = Numbers(await connection.GetResponseAsync(string.Concat(xyz.Select(a => $"#{a!.Motor}P")), cancellationToken).ConfigureAwait(false));
+        var error = Numbers(await connection.GetResponseAsync(string.Concat(xyz.Select(a => $"#{a!.Motor}F")), cancellationToken).ConfigureAwait(false));
+        var p = actual.Select((v, i) => v + (i < error.Count ? error[i] : 0)).ToList();
         var q = Numbers(await connection.GetResponseAsync($"&{coordinateSystem.ToString(CultureInfo.InvariantCulture)} {map.Q(14)} {map.Q(15)} {map.Q(16)}", cancellationToken).ConfigureAwait(false));
         double W(int i) => (i < p.Count ? p[i] / xyz[i]!.CountsPerMm : 0) - (i < q.Count ? q[i] : 0);
         return new GCode.Point3(W(0), W(1), W(2));
