@@ -45,6 +45,7 @@ public sealed class MachineProfile
         Description = dto.Description ?? string.Empty;
         ToolCount = dto.ToolCount ?? 24;
         RapidRate = dto.RapidRate ?? 15000;
+        AbsoluteEncoders = dto.AbsoluteEncoders ?? false;
         ArcTolerance = dto.ArcTolerance ?? ArcTolerance.LinuxCnc;
         DwellPInMilliseconds = dto.DwellPInMilliseconds ?? true;
         SlashInBlock = dto.SlashInBlock ?? false;
@@ -166,6 +167,12 @@ public sealed class MachineProfile
 
     /// <summary>Rapid traverse rate in millimetres per minute, for move-time estimates of G00.</summary>
     public double RapidRate { get; }
+
+    /// <summary>
+    /// The machine's encoders are absolute (<c>"absoluteEncoders": true</c>): its position is known at power-on, so a
+    /// job may start without homing. False (the default): incremental encoders, home first.
+    /// </summary>
+    public bool AbsoluteEncoders { get; }
 
     /// <summary>How far an arc's end may be off its circle, in the program's units (LinuxCNC's rule unless the profile says otherwise).</summary>
     public ArcTolerance ArcTolerance { get; }

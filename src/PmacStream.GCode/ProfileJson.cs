@@ -38,6 +38,12 @@ internal static class ProfileJson
             w.WriteString("description", p.Description);
             w.WriteNumber("toolCount", p.ToolCount);
             w.WriteNumber("rapidRate", p.RapidRate);
+            if (p.AbsoluteEncoders)
+            {
+                // Written only when set: the built-in profiles' JSON, and so their library identity, stay as they were.
+                w.WriteBoolean("absoluteEncoders", true);
+            }
+
             p.ArcTolerance.Write(w);
             w.WriteBoolean("dwellPInMilliseconds", p.DwellPInMilliseconds);
             w.WriteBoolean("slashInBlock", p.SlashInBlock);
@@ -208,6 +214,7 @@ internal static class ProfileJson
                     case "description": dto.Description = v.GetString(); break;
                     case "toolcount": dto.ToolCount = v.GetInt32(); break;
                     case "rapidrate": dto.RapidRate = v.GetDouble(); break;
+                    case "absoluteencoders": dto.AbsoluteEncoders = v.GetBoolean(); break;
                     case "arctolerance": dto.ArcTolerance = ArcTolerance.Read(v, source); break;
                     case "dwellpinmilliseconds": dto.DwellPInMilliseconds = v.GetBoolean(); break;
                     case "slashinblock": dto.SlashInBlock = v.GetBoolean(); break;
@@ -318,6 +325,8 @@ internal static class ProfileJson
         public int? ToolCount { get; set; }
 
         public double? RapidRate { get; set; }
+
+        public bool? AbsoluteEncoders { get; set; }
 
         public ArcTolerance? ArcTolerance { get; set; }
 

@@ -215,7 +215,7 @@ public sealed partial class JobService
             var options = request.Settings.ToStreamingOptions(request.Strategy, request.SingleBlock, defineBuffer: controller.IsSimulator, controller.Simulator?.ClockFactor ?? 1)
                 with { OptionalStop = request.OptionalStop, CompletedJobLine = completed };
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, request.Library, ScopeOf(options, program, completed), cancellationToken).ConfigureAwait(false);
-            await EnsureMachineReadyAsync(controller, cancellationToken).ConfigureAwait(false);
+            await EnsureMachineReadyAsync(controller, request.Profile, cancellationToken).ConfigureAwait(false);
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings, withShape: false),
                 (request.Profile.Source, request.Profile.Identity),
@@ -286,7 +286,7 @@ public sealed partial class JobService
     /// rules say the machine needs no homing (absolute encoders) or the operator overrode it (<c>--no-home-check</c>).
     /// </summary>
     /// <exception cref="JobException">An alarm is active or an axis is not homed; nothing was sent.</exception>
-    private async Task EnsureMachineReadyAsync(ControllerLink controller, CancellationToken cancellationToken)
+    private async Task EnsureMachineReadyAsync(ControllerLink controller, MachineProfile profile, CancellationToken cancellationToken)
     {
         if (_options.Rules is not { } rules)
         {
@@ -299,7 +299,8 @@ public sealed partial class JobService
             throw new JobException($"an alarm is active: {alarms[0].Text}; clear it first (pmacstream alarms clear)", JobErrorKind.Failed);
         }
 
-        if (rules.HomeCheck && unhomed.Count > 0)
+        // A machine with absolute encoders knows its position at power-on (the profile says so): no homing needed.
+        if (rules.HomeCheck && !profile.AbsoluteEncoders && unhomed.Count > 0)
         {
             throw new JobException($"not homed: {string.Concat(unhomed)}; home the machine first (pmacstream home), or give --no-home-check if its position is known (absolute encoders)", JobErrorKind.Failed);
         }
@@ -447,7 +448,7 @@ public sealed partial class JobService
                 with { OptionalStop = request.OptionalStop };
             var library = request.Library ?? (request.Force ? LibraryPolicy.Force : LibraryPolicy.Verify);
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, library, ScopeOf(options, job.Program, null), cancellationToken).ConfigureAwait(false);
-            await EnsureMachineReadyAsync(controller, cancellationToken).ConfigureAwait(false);
+            await EnsureMachineReadyAsync(controller, request.Profile, cancellationToken).ConfigureAwait(false);
             store.RecordResume(record.Id, request.Station);
             StreamingSession? current = null;
             StreamingSession NewSession() => current = new(controller.Devices, job.Program, options, store.SinkFor(record.Id, () => current?.Status.ExecutedBlocks), times, TimeOf(controller));

@@ -79,7 +79,7 @@ public sealed partial class MachineConsole
             return ConsoleResult.Refused(ConsoleRefusal.AlarmActive, $"an alarm is active: {alarms[0].Text}");
         }
 
-        return Options.HomeCheck && unhomed.Count > 0
+        return Options.HomeCheck && !Options.Profile.AbsoluteEncoders && unhomed.Count > 0
             ? ConsoleResult.Refused(ConsoleRefusal.NotHomed, $"not homed: {string.Concat(unhomed)} (pmacstream home)")
             : null;
     }

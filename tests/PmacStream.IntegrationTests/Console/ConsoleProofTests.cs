@@ -1,5 +1,6 @@
 using System.Globalization;
 using System.Text.Json;
+using System.Text.Json.Nodes;
 using PmacStream.GCode;
 using PmacStream.IntegrationTests.Transports;
 using Xunit.Abstractions;
@@ -108,6 +109,27 @@ public sealed class ConsoleProofTests(ITestOutputHelper output) : IDisposable
         var ends = File.ReadLines(log).Skip(1).Select(l => l.Split(',')).Select(f => (X: double.Parse(f[4], CultureInfo.InvariantCulture), Y: double.Parse(f[5], CultureInfo.InvariantCulture))).ToList();
         ends.Should().Contain(e => Math.Abs(e.X + 2.9) < 0.001 && Math.Abs(e.Y - 20) < 0.001, "the compensated first side runs 2.9 mm left of the programmed one");
         ends.Should().Contain(e => Math.Abs(e.X - 22.9) < 0.001, "the compensated third side runs 2.9 mm outside X20");
+    }
+
+    [Fact]
+    public void A_profile_with_absolute_encoders_runs_a_job_on_an_unhomed_machine()
+    {
+        using var sim = SimProcess.Start("--tcp", "0", "--speed", "50x");
+        var cli = new ConsoleCli(sim, _temp.Path);
+        var program = Path.Combine(_temp.Path, "absolute.nc");
+        File.WriteAllText(program, "G21 G90 G54\nG01 X2 Y1 F600\n");
+        cli.Run("stream", program, "--strategy", "chunk").Err.Should().Contain("not homed", "incremental encoders (the default profile) home first");
+
+        var json = JsonNode.Parse(MachineProfile.Default.ToJson())!.AsObject();
+        json["name"] = "absolute-mill";
+        json["absoluteEncoders"] = true;
+        var profile = Path.Combine(_temp.Path, "absolute.json");
+        File.WriteAllText(profile, json.ToJsonString());
+        MachineProfile.Parse(File.ReadAllText(profile), profile).AbsoluteEncoders.Should().BeTrue();
+        MachineProfile.Default.ToJson().Should().NotContain("absoluteEncoders", "written only when set: the built-in profiles' identity stays");
+
+        cli.Ok("stream", program, "--profile", profile, "--load-library", "--strategy", "chunk").Should().MatchRegex(@"executed (\d+) of \1 blocks");
+        cli.Status().GetProperty("homed").EnumerateObject().Should().OnlyContain(h => !h.Value.GetBoolean(), "the job ran without homing the machine");
     }
 
     private static async Task SameAsMotors(ConsoleCli cli, double x, double y, double z)
