@@ -45,6 +45,13 @@ internal static class StoredPrograms
             // The check's findings are the gate's to report (with the split): here the revision only records them.
             try
             {
+                // Hashing is a fraction of a check: a file streamed again is found by its content, not imported again.
+                var sha = FileHash.Sha256Hex(file, ct);
+                if (store.FindRevision(sha, profile.Name) is { } known)
+                {
+                    return (file, known.Id);
+                }
+
                 return (file, store.ImportRevision(file, profile, null, ct).Id);
             }
             catch (Exception e) when (e is Microsoft.Data.Sqlite.SqliteException or Npgsql.NpgsqlException or IOException)

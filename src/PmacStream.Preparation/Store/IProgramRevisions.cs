@@ -14,6 +14,10 @@ public interface IProgramRevisions : IDisposable
     /// <summary>Program revisions, newest first.</summary>
     IReadOnlyList<ProgramInfo> ListRevisions();
 
+    /// <summary>The revision with this content under this profile, or null (a file streamed again need not be imported again).</summary>
+    ProgramInfo? FindRevision(string sha256, string profile) =>
+        ListRevisions().FirstOrDefault(p => string.Equals(p.Sha256, sha256, StringComparison.OrdinalIgnoreCase) && p.Profile == profile);
+
     /// <summary>A stored program by id, or null.</summary>
     ProgramInfo? GetProgram(long id);
 
