@@ -448,7 +448,7 @@ public sealed partial class JobService
                 with { OptionalStop = request.OptionalStop };
             var library = request.Library ?? (request.Force ? LibraryPolicy.Force : LibraryPolicy.Verify);
             await ControllerLibrary.EnsureAsync(controller.Connection, request.Profile, library, ScopeOf(options, job.Program, null), cancellationToken).ConfigureAwait(false);
-            await EnsureMachineReadyAsync(controller, request.Profile, cancellationToken).ConfigureAwait(false);
+            await EnsureMachineReadyAsync(controller, profile, cancellationToken).ConfigureAwait(false);
             store.RecordResume(record.Id, request.Station);
             StreamingSession? current = null;
             StreamingSession NewSession() => current = new(controller.Devices, job.Program, options, store.SinkFor(record.Id, () => current?.Status.ExecutedBlocks), times, TimeOf(controller));
