@@ -189,6 +189,7 @@ run_one() { # STRATEGY RATE
   local verdict=ok
   if [ "$lost$repeated$breaks" != 000 ]; then
     verdict="BROKEN (first break: ${first//_/ }; lines run twice: $twice)"
+    KEEP=1 # a broken run's logs (executed moves, host and simulator output) are the evidence: never deleted
   elif [ -n "$MAX_UNDERRUNS" ] && [ "$strategy" = full ] && ! [ "$underruns" -le "$MAX_UNDERRUNS" ] 2>/dev/null; then
     verdict="STARVED ($underruns underruns, at most $MAX_UNDERRUNS allowed)"
   fi
