@@ -61,6 +61,16 @@ internal static class StoredPrograms
         }
     }
 
+    /// <summary>
+    /// The built-in profile a revision was imported with, or null (the default) when it was another (a profile file,
+    /// which the store keeps by name only) or the revision is not there (<see cref="Source"/> says so).
+    /// </summary>
+    public static string? ProfileOf(StoreLocation location, long programId)
+    {
+        using var store = ProgramsCommand.OpenStore(location);
+        return store.GetProgram(programId)?.Profile is { } name && MachineProfile.BuiltInNames.Contains(name, StringComparer.OrdinalIgnoreCase) ? name : null;
+    }
+
     private static string Materialize(IProgramRevisions store, ProgramInfo info)
     {
         var name = info.Name ?? Path.GetFileName(info.Path);

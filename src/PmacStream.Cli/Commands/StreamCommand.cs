@@ -43,11 +43,13 @@ internal static class StreamCommand
             }
 
             // The tool table at the machine (the host's copy) over the profile's: G41 D1 reads tool 1's radius as set there.
-            var machine = Machine.ToolTableProfile.Apply(CliProfiles.Load(parse.GetValue(profile)), Machine.MachineTables.Load(Machine.MachineTables.DefaultPath(options.SettingsPath(parse))));
+            // A stored revision runs under the profile it was checked and imported with, unless --profile says otherwise.
+            var location = options.Store(parse);
+            var profileName = parse.GetValue(profile) ?? (parse.GetValue(programId) is { } stored ? StoredPrograms.ProfileOf(location, stored) : null);
+            var machine = Machine.ToolTableProfile.Apply(CliProfiles.Load(profileName), Machine.MachineTables.Load(Machine.MachineTables.DefaultPath(options.SettingsPath(parse))));
             var settings = options.Settings(parse);
             var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
             using var sim = new CliSimulator(options.SimSpeed(parse), machine.RapidRate);
-            var location = options.Store(parse);
             var service = new JobService(new JobServiceOptions
             {
                 Store = location, Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),

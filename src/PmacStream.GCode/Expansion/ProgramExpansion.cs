@@ -46,6 +46,25 @@ public static class ProgramExpansion
     }
 
     /// <summary>
+    /// Checks a program through its expansion handing the interpreter to <paramref name="onInterpreted"/> after each
+    /// expanded block: the store's import, whose blocks are numbered as <c>M0==</c> numbers them.
+    /// </summary>
+    public static CheckSummary Check(Checker checker, string path, Action<Diagnostic> onDiagnostic, Action<Interpreter> onInterpreted,
+        ExpansionOptions? options, CancellationToken cancellationToken)
+    {
+        var expander = new MacroExpander(path, For(checker.Profile, options));
+        using var stream = new ExpandedStream(expander);
+        var summary = checker.Check(stream, path, d => onDiagnostic(ToSource(d, expander.Map)), onInterpreted, cancellationToken);
+        if (expander.Error is { } e)
+        {
+            onDiagnostic(ToDiagnostic(e, path));
+            summary = summary with { Errors = summary.Errors + 1 };
+        }
+
+        return summary;
+    }
+
+    /// <summary>
     /// A diagnostic of an expanded line, on the source line it came from: in the checked file, that line (with the
     /// call and iteration it ran in); in a subprogram file, the main program's calling line, naming the file's line.
     /// </summary>

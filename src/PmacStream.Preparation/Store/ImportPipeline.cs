@@ -45,22 +45,7 @@ internal static class ImportPipeline
             {
                 try
                 {
-                    var batch = free.Take(stop.Token);
-                    var summary = new Checker(profile).Check(source, file, d =>
-                    {
-                        batch.Diagnostics.Add(d);
-                        onDiagnostic?.Invoke(d);
-                    }, interp =>
-                    {
-                        batch.Add(in interp.Last, interp.State);
-                        if (batch.Count == BatchSize)
-                        {
-                            full.Add(batch, stop.Token);
-                            batch = free.Take(stop.Token);
-                        }
-                    }, stop.Token);
-                    full.Add(batch, stop.Token);
-                    return summary;
+                    return Produce(source, file, profile, onDiagnostic, full, free, stop.Token);
                 }
                 finally
                 {
@@ -107,6 +92,45 @@ internal static class ImportPipeline
 
         // The reader's own failure (I/O, cancellation, a throwing callback) surfaces here, unwrapped.
         return producer.GetAwaiter().GetResult();
+    }
+
+    /// <summary>The reading side: checks the program (through its expansion when it has one) and hands full batches on.</summary>
+    private static CheckSummary Produce(Stream source, string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic,
+        BlockingCollection<Batch> full, BlockingCollection<Batch> free, CancellationToken token)
+    {
+        var batch = free.Take(token);
+        void OnDiagnostic(Diagnostic d)
+        {
+            batch.Diagnostics.Add(d);
+            onDiagnostic?.Invoke(d);
+        }
+
+        void OnInterpreted(Interpreter interp)
+        {
+            batch.Add(in interp.Last, interp.State);
+            if (batch.Count == BatchSize)
+            {
+                full.Add(batch, token);
+                batch = free.Take(token);
+            }
+        }
+
+        var checker = new Checker(profile);
+        CheckSummary summary;
+        if (GCode.Expansion.ProgramExpansion.Applies(file, profile))
+        {
+            // Subprograms, macros or o-words: the blocks stored are the expansion's, as the controller gets
+            // them (M0== numbers those); the source bytes are still the file's, read here for their hash.
+            source.CopyTo(Stream.Null);
+            summary = GCode.Expansion.ProgramExpansion.Check(checker, file, OnDiagnostic, OnInterpreted, null, token);
+        }
+        else
+        {
+            summary = checker.Check(source, file, OnDiagnostic, OnInterpreted, token);
+        }
+
+        full.Add(batch, token);
+        return summary;
     }
 
     /// <summary>Decoded blocks (interpreter fields plus the shared, immutable modal state) and diagnostics.</summary>

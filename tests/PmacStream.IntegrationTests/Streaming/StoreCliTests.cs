@@ -91,6 +91,24 @@ public sealed class StoreCliTests : IDisposable
         stderr.Should().NotContain("s3cret-pw").And.Contain("postgres://station@127.0.0.1:1/nowhere");
     }
 
+    [Fact]
+    public void A_stored_revision_runs_under_the_profile_it_was_imported_with()
+    {
+        var store = Store("sqlite");
+        var source = Path.Combine(_folder.Path, "owords.ngc");
+        File.WriteAllText(source, "G21 G90 G17\n#1 = 0\no100 while [#1 LT 3]\nG01 X[#1] Y1 F600\n#1 = [#1 + 1]\no100 endwhile\nM2\n", new UTF8Encoding(false));
+        Run("programs", "import", source, "--store", store).Code.Should().Be(1, "o-words are not FANUC: refused under the default profile");
+
+        var (code, stdout, stderr) = Run("programs", "import", source, "--profile", "linuxcnc-mill", "--store", store);
+        code.Should().Be(0, stderr);
+        var id = stdout.Trim();
+        var run = Run("stream", "--program", id, "--sim", "--sim-speed", "instant", "--stops", "continue", "--store", store);
+        run.Code.Should().Be(0, "no --profile: the revision's own (linuxcnc-mill); " + run.Out + run.Err);
+        System.Text.RegularExpressions.Regex.Match(run.Out, @"executed (\d+) of \1 blocks").Success.Should().BeTrue(run.Out);
+        Run("stream", "--program", id, "--profile", "fanuc-mill", "--sim", "--sim-speed", "instant", "--stops", "continue", "--store", store)
+            .Code.Should().NotBe(0, "--profile still says which profile the gate checks under");
+    }
+
     private string Store(string engine)
     {
         if (engine == "sqlite")
