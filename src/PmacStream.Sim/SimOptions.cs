@@ -199,6 +199,9 @@ public sealed class SimOptions
     /// </summary>
     public bool FaultKillsCoordinateSystem { get; set; } = true;
 
+    /// <summary>Motors a Turbo PMAC has (numbered 1 to this).</summary>
+    public const int MotorCount = MotorMap.Count;
+
     /// <summary>Home switch and hardware limit positions per motor number (*assumed*: what the machine has); motors not listed have the defaults.</summary>
     public IDictionary<int, MotorSettings> MotorSettings { get; } = new Dictionary<int, MotorSettings>();
 

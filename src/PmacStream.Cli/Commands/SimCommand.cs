@@ -22,8 +22,9 @@ namespace PmacStream.Cli.Commands;
 /// <param name="Library">The library loaded at start: a profile, a library file or <c>none</c>.</param>
 /// <param name="Homed">Start with every motor homed (<c>--homed</c>); else unhomed, as incremental encoders start.</param>
 /// <param name="Inject">Faults to inject, <c>KIND:MOTOR@SECONDS</c> each.</param>
+/// <param name="Travel">Hardware overtravel limit switches at +-this many counts from each motor's power-on position (0: none).</param>
 internal sealed record SimArgs(string Tcp, string? Serial, int Baud, string Speed, int? RotWords, string? ExecutedLog, double IdleTimeout, int MaxClients, string Library,
-    bool Homed = false, IReadOnlyList<string>? Inject = null);
+    bool Homed = false, IReadOnlyList<string>? Inject = null, double Travel = 0);
 
 /// <summary>`pmacstream sim`: the simulated Turbo PMAC served over Ethernet (VR_PMAC) and/or a serial line.</summary>
 internal static class SimCommand
@@ -46,6 +47,14 @@ internal static class SimCommand
             HelpName = "KIND:MOTOR@SECONDS",
             AllowMultipleArgumentsPerToken = false,
         };
+        // A machine has ends of travel: without them a homing search started past the home switch (which captures on
+        // the flag's edge) or a runaway jog would never stop.
+        var travel = new Option<double>("--travel")
+        {
+            Description = "Hardware overtravel limit switches of every motor at +-this many counts (mm at the power-on scale) from where it stood at power-on; 0 = none. A motor that reaches one stops there (Stopped on Position Limit) until jogged off it.",
+            HelpName = "COUNTS",
+            DefaultValueFactory = _ => 2000,
+        };
         var library = new Option<string>("--library")
         {
             Description = "The PROG 1000/1001 library loaded at start, as on a configured controller: a profile (built-in name or JSON file) whose library and tables are loaded, a PMAC library file (e.g. from 'pmacstream prog1000'), or 'none' (a bare controller).",
@@ -53,14 +62,14 @@ internal static class SimCommand
             DefaultValueFactory = _ => MachineProfile.DefaultName,
         };
         var cmd = new Command("sim", "Run the simulated Turbo PMAC as a server until Ctrl-C or SIGTERM.");
-        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients, library, homed, inject })
+        foreach (var o in new Option[] { tcp, serial, baud, speed, rotWords, executedLog, idleTimeout, maxClients, library, homed, inject, travel })
         {
             cmd.Options.Add(o);
         }
 
         cmd.SetAction((parse, ct) => RunAsync(
             new SimArgs(parse.GetValue(tcp)!, parse.GetValue(serial), parse.GetValue(baud), parse.GetValue(speed)!, parse.GetValue(rotWords), parse.GetValue(executedLog),
-                parse.GetValue(idleTimeout), parse.GetValue(maxClients), parse.GetValue(library)!, parse.GetValue(homed), parse.GetValue(inject) ?? []),
+                parse.GetValue(idleTimeout), parse.GetValue(maxClients), parse.GetValue(library)!, parse.GetValue(homed), parse.GetValue(inject) ?? [], parse.GetValue(travel)),
             CliConsole.Standard,
             ct));
         return cmd;
@@ -125,6 +134,16 @@ internal static class SimCommand
     private static SimHostOptions HostOptions(SimArgs args)
     {
         var options = new SimOptions { RetainExecutedMoves = false, StartHomed = args.Homed, RapidFeed = RapidRate(args.Library) };
+        if (args.Travel < 0 || double.IsNaN(args.Travel))
+        {
+            throw new CliException($"--travel {args.Travel}: expected 0 (none) or a positive number of counts");
+        }
+
+        for (var m = 1; args.Travel > 0 && m <= SimOptions.MotorCount; m++)
+        {
+            options.MotorSettings[m] = new MotorSettings { PlusLimitPosition = args.Travel, MinusLimitPosition = -args.Travel };
+        }
+
         foreach (var spec in args.Inject ?? [])
         {
             try
