@@ -53,7 +53,7 @@ internal static class SimCommand
         {
             Description = "Hardware overtravel limit switches of every motor at +-this many counts (mm at the power-on scale) from where it stood at power-on; 0 = none. A motor that reaches one stops there (Stopped on Position Limit) until jogged off it.",
             HelpName = "COUNTS",
-            DefaultValueFactory = _ => 2000,
+            DefaultValueFactory = _ => 100_000,
         };
         var library = new Option<string>("--library")
         {
