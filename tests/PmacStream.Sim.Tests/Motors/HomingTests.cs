@@ -71,6 +71,28 @@ public class HomingTests
     }
 
     [Fact]
+    public void A_search_started_past_the_switch_stops_on_the_travel_limit_unhomed_and_homes_after_jogging_back()
+    {
+        // The flag's edge is never seen from beyond the switch: a real machine runs on to its overtravel switch.
+        var o = new SimOptions { StartHomed = false };
+        o.MotorSettings[1] = new MotorSettings { HomeSwitchPosition = 0, PlusLimitPosition = 3000, MinusLimitPosition = -3000 };
+        using var h = new SimHarness(o);
+        h.Ok("#1J:10");
+        h.Sim.RunUntilIdle();
+        h.Ok("#1HM");
+        h.Sim.RunUntilIdle();
+        h.Sim.Motor(1).Machine.Should().BeInRange(3000, 3100, "it stops just past the + limit switch (a servo step at the home speed), not for ever");
+        h.Sim.Motor(1).HomeComplete.Should().BeFalse("the switch was never found");
+        h.Sim.Motor(1).StoppedOnLimit.Should().BeTrue();
+        h.Ok("#1J:-3100");
+        h.Sim.RunUntilIdle();
+        h.Ok("#1HM");
+        h.Sim.RunUntilIdle();
+        h.Sim.Motor(1).HomeComplete.Should().BeTrue("approached from the search's side, the switch is found");
+        h.Sim.Motor(1).Machine.Should().BeApproximately(0, 1e-6);
+    }
+
+    [Fact]
     public void HMZ_declares_the_present_position_home_without_moving()
     {
         using var h = new SimHarness(new SimOptions { StartHomed = false });
