@@ -570,6 +570,11 @@ public sealed partial class StreamingSession
             case BufferVerdict.Underrun:
                 Raise(StreamingEventKind.Underrun, $"rotary buffer ran dry at line {_tracked}", _currentChunk);
                 break;
+            case BufferVerdict.Completed when !await _queries.MotionStoppedAsync(cancellationToken).ConfigureAwait(false):
+                // Nothing left in the rotary buffer is not the end: the last moves are still executing (the tracking
+                // variable's synchronous assignment names a move when it starts, and it stands still through a long
+                // one). The job ends when the motion has.
+                break;
             case BufferVerdict.Completed:
                 _state = SessionState.Completed;
                 Note($"completed: {Program.BlocksThrough(_tracked)} of {Program.Manifest.TotalMotionBlocks} blocks reached");
