@@ -87,7 +87,7 @@ internal sealed class JobOptions
         var options = new List<Option>();
         if (face == JobFace.Console)
         {
-            options.AddRange([o._sim, o._tcp, o._serial, o._jobDb, o._store, o._settings, o._simSpeed]);
+            options.AddRange([o._sim, o._tcp, o._serial, o._jobDb, o._store, o._station, o._machine, o._settings, o._simSpeed]);
         }
         else
         {

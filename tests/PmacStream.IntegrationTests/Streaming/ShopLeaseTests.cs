@@ -45,6 +45,25 @@ public sealed class ShopLeaseTests : IDisposable
         m.GetProperty("blocksExecuted").GetInt64().Should().Be(m.GetProperty("blocksTotal").GetInt64()).And.Be(301);
         m.GetProperty("line").GetInt64().Should().BeGreaterThan(300);
         (await RunAsync("shop", "--store", store)).Out.Should().Contain("mill-7").And.Contain("completed").And.Contain("free");
+
+        // Another station's live lease: stream and jog are refused, exit 1, and the controller hears nothing.
+        using (var db = new Microsoft.Data.Sqlite.SqliteConnection($"Data Source={store["sqlite:".Length..]};Pooling=False"))
+        {
+            db.Open();
+            using var cmd = db.CreateCommand();
+            cmd.CommandText = "INSERT INTO leases (machine, station, pid, runner, job_id, since_ms, heartbeat_ms, expiry_ms) "
+                + "VALUES ('mill-7', 'cell-9', 4242, 'otherhost:4242:1', NULL, CAST((julianday('now') - 2440587.5) * 86400000 AS INTEGER), CAST((julianday('now') - 2440587.5) * 86400000 AS INTEGER), 60000)";
+            cmd.ExecuteNonQuery();
+        }
+
+        var packets = rig.PacketsServed;
+        var refused = await RunAsync("stream", src, "--tcp", rig.Spec, "--machine", "mill-7", "--station", "cell-1", "--stops", "continue", "--store", store);
+        refused.Code.Should().Be(1, refused.Out + refused.Err);
+        refused.Err.Should().Contain("machine mill-7 is leased by station cell-9 (pid 4242) since ");
+        var jog = await RunAsync("jog", "X", "+1", "--tcp", rig.Spec, "--machine", "mill-7", "--store", store);
+        jog.Code.Should().Be(1, jog.Out + jog.Err);
+        jog.Err.Should().Contain("is leased by station cell-9");
+        rig.PacketsServed.Should().Be(packets, "refused before anything reached the controller");
     }
 
     [SkippableFact]
@@ -304,6 +323,8 @@ public sealed class ShopLeaseTests : IDisposable
         public PmacSimulator Sim { get; }
 
         public string Spec => $"127.0.0.1:{_server.Port}";
+
+        public long PacketsServed => _server.PacketsServed;
 
         public static async Task<Rig> StartAsync(SimSpeed speed)
         {
