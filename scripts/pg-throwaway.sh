@@ -4,7 +4,9 @@
 # pmacstream owned by an admin role, and a station role `station` with only what a station needs (connect, use the
 # schema, read and write the store's tables; no CREATE ROLE, no superuser). It prints the connection string of the
 # station role (PMACSTREAM_TEST_PG) and of the owner (PMACSTREAM_TEST_PG_ADMIN, which runs the migrations) as
-# `export` lines. Over TCP every role needs its password (scram-sha-256). `stop DIR` stops it and removes DIR.
+# `export` lines, and the cluster's data folder (PMACSTREAM_TEST_PG_DIR: the restart test stops and starts the server
+# with `pg_ctl -D` as the postgres user). Over TCP every role needs its password (scram-sha-256). `stop DIR` stops it
+# and removes DIR. PORT=N picks another port (engineers sharing a machine each take their own).
 set -euo pipefail
 cmd=${1:?start|stop DIR}; dir=${2:?DIR}; port=${PORT:-55432}
 bin=$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -1)
@@ -14,8 +16,11 @@ case $cmd in
 start)
   mkdir -p "$dir"; [ "$(id -u)" = 0 ] && chown postgres:postgres "$dir"
   as_pg "$bin/initdb" -D "$dir/data" -U postgres --auth-local=trust --auth-host=scram-sha-256 -E UTF8 >/dev/null
-  as_pg "$bin/pg_ctl" -D "$dir/data" -l "$dir/server.log" -w \
-    -o "-c listen_addresses=127.0.0.1 -p $port -k $dir -c fsync=off -c full_page_writes=off" start >/dev/null
+  # The server's address in its own configuration, so a plain `pg_ctl -D DIR/data start` (the restart test's) serves
+  # the same port and socket again.
+  printf "listen_addresses = '127.0.0.1'\nport = %s\nunix_socket_directories = '%s'\nfsync = off\nfull_page_writes = off\n" "$port" "$dir" \
+    | as_pg tee -a "$dir/data/postgresql.conf" >/dev/null
+  as_pg "$bin/pg_ctl" -D "$dir/data" -l "$dir/server.log" -w start >/dev/null
   psql_() { as_pg psql -h "$dir" -p "$port" -U postgres -v ON_ERROR_STOP=1 -q "$@"; }  # the unix socket: trusted, for the set-up only
   psql_ -d postgres -c "CREATE ROLE pmacstream_owner LOGIN PASSWORD 'owner-secret'" \
         -c "CREATE DATABASE pmacstream OWNER pmacstream_owner" \
@@ -26,6 +31,7 @@ start)
         -c "ALTER DEFAULT PRIVILEGES FOR ROLE pmacstream_owner IN SCHEMA public GRANT USAGE, SELECT ON SEQUENCES TO station"
   echo "export PMACSTREAM_TEST_PG='Host=127.0.0.1;Port=$port;Database=pmacstream;Username=station;Password=station-secret'"
   echo "export PMACSTREAM_TEST_PG_ADMIN='Host=127.0.0.1;Port=$port;Database=pmacstream;Username=pmacstream_owner;Password=owner-secret'"
+  echo "export PMACSTREAM_TEST_PG_DIR='$dir/data'"
   ;;
 stop)
   [ -d "$dir/data" ] && as_pg "$bin/pg_ctl" -D "$dir/data" -m fast -w stop >/dev/null || true

@@ -27,6 +27,7 @@ BuildInfo.Apply(root);
 root.Subcommands.Add(ProfilesCommand.Create());
 root.Subcommands.Add(ProgramsCommand.Create());
 root.Subcommands.Add(JobsCommand.Create());
+root.Subcommands.Add(ShopCommand.Create());
 root.Subcommands.Add(StoreCommand.Create());
 
 return await CliGlobals.RunAsync(root, args).ConfigureAwait(false);

@@ -30,10 +30,11 @@ internal sealed class ConsoleOptions
     /// <summary>The tables file.</summary>
     public string TablesPath(ParseResult parse) => parse.GetValue(_tables) ?? MachineTables.DefaultPath(_job.SettingsPath(parse));
 
-    /// <summary>Opens the controller and the console on it.</summary>
-    public async Task<ConsoleSession> OpenAsync(ParseResult parse, CancellationToken cancellationToken)
+    /// <summary>Opens the controller and the console on it; a command that moves the machine (<paramref name="lease"/>) leases it first.</summary>
+    public async Task<ConsoleSession> OpenAsync(ParseResult parse, CancellationToken cancellationToken, bool lease = false)
     {
         var target = _job.Target(parse) ?? throw new CliException("say which controller: --sim, --tcp HOST[:PORT] or --serial DEV[,BAUD]");
+        var held = lease ? _job.Lease(parse, target) : null; // before the controller hears anything
         var language = parse.GetValue(_language) ?? "en";
         if (language is not ("en" or "zh-CN" or "zh"))
         {
@@ -62,11 +63,16 @@ internal sealed class ConsoleOptions
                 await console.RestoreTablesAsync(cancellationToken).ConfigureAwait(false);
             }
 
-            return new ConsoleSession(sim, controller, console);
+            return new ConsoleSession(sim, controller, console) { Lease = held };
         }
         catch
         {
             sim.Dispose();
+            if (held is not null)
+            {
+                await held.DisposeAsync().ConfigureAwait(false);
+            }
+
             throw;
         }
     }
@@ -96,10 +102,17 @@ internal sealed class ConsoleSession(CliSimulator sim, ControllerLink controller
     /// <summary>The console.</summary>
     public MachineConsole Console { get; } = console;
 
+    /// <summary>The machine's lease this command holds (home, jog, mdi), or null.</summary>
+    public MachineLease? Lease { get; init; }
+
     /// <inheritdoc />
     public async ValueTask DisposeAsync()
     {
         await controller.DisposeAsync().ConfigureAwait(false);
         sim.Dispose();
+        if (Lease is not null)
+        {
+            await Lease.DisposeAsync().ConfigureAwait(false);
+        }
     }
 }

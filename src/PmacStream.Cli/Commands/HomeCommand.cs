@@ -13,7 +13,7 @@ internal static class HomeCommand
         var options = ConsoleOptions.AddTo(cmd);
         cmd.SetAction(async (parse, ct) =>
         {
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
+            await using var session = await options.OpenAsync(parse, ct, lease: true).ConfigureAwait(false);
             return ConsoleOptions.Finish(await session.Console.HomeAsync(parse.GetValue(axes), ct).ConfigureAwait(false));
         });
         return cmd;

@@ -87,7 +87,7 @@ internal sealed class JobOptions
         var options = new List<Option>();
         if (face == JobFace.Console)
         {
-            options.AddRange([o._sim, o._tcp, o._serial, o._jobDb, o._store, o._settings, o._simSpeed]);
+            options.AddRange([o._sim, o._tcp, o._serial, o._jobDb, o._store, o._station, o._machine, o._settings, o._simSpeed]);
         }
         else
         {
@@ -177,11 +177,40 @@ internal sealed class JobOptions
     /// <summary>The job database named with <c>--job-db</c>, or null for the default.</summary>
     public string? JobDatabase(ParseResult parse) => parse.GetValue(_jobDb);
 
-    /// <summary>The store: <c>--store</c>, <c>--job-db</c>, <c>$PMACSTREAM_STORE</c>, or the default file.</summary>
-    public Preparation.Store.StoreLocation Store(ParseResult parse) => StoreOptions.Resolve(parse.GetValue(_store), parse.GetValue(_jobDb));
+    /// <summary>The store: <c>--store</c>, <c>--job-db</c>, the settings file's <c>store</c>, <c>$PMACSTREAM_STORE</c>, or the default file.</summary>
+    public Preparation.Store.StoreLocation Store(ParseResult parse) => StoreOptions.Resolve(parse.GetValue(_store), parse.GetValue(_jobDb), SettingsPath(parse));
 
-    /// <summary>The station (<c>--station</c>), or null for the host name.</summary>
-    public string? Station(ParseResult parse) => parse.GetValue(_station);
+    /// <summary>The station: <c>--station</c>, else the settings file's <c>station</c>, else the host name.</summary>
+    public string Station(ParseResult parse) => StationSettings(parse).StationName(parse.GetValue(_station));
+
+    /// <summary>The settings file's station part (store, station, lease times).</summary>
+    public StationSettings StationSettings(ParseResult parse)
+    {
+        try
+        {
+            return Jobs.StationSettings.Load(SettingsPath(parse));
+        }
+        catch (Exception e) when (e is RunSettingsException or IOException)
+        {
+            throw new CliException(Preparation.Store.StoreLocation.Redact(e.Message));
+        }
+    }
+
+    /// <summary>
+    /// Takes the lease of the machine at <paramref name="target"/> for this station before anything is sent to it:
+    /// <c>--machine</c>, else <paramref name="recorded"/> (a resumed job's machine), else its connection. Null for the
+    /// built-in simulator (each process has its own). Refused (exit 1) with who holds it.
+    /// </summary>
+    public MachineLease? Lease(ParseResult parse, ConnectionSpec target, string? recorded = null, long? jobId = null)
+    {
+        if (target.IsSimulator)
+        {
+            return null;
+        }
+
+        var machine = Machine(parse) ?? recorded ?? JobService.MachineName(target);
+        return MachineLease.Take(Store(parse), machine, Station(parse), jobId, StationSettings(parse));
+    }
 
     /// <summary>The machine (<c>--machine</c>), or null for its connection.</summary>
     public string? Machine(ParseResult parse) => parse.GetValue(_machine);

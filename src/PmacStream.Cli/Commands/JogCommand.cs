@@ -29,7 +29,7 @@ internal static class JogCommand
                     throw new CliException($"jog {name} {text} --for: give the direction alone, + or -");
                 }
 
-                await using var c = await options.OpenAsync(parse, ct).ConfigureAwait(false);
+                await using var c = await options.OpenAsync(parse, ct, lease: true).ConfigureAwait(false);
                 return ConsoleOptions.Finish(await c.Console.JogForAsync(name, text == "+" ? 1 : -1, TimeSpan.FromSeconds(s), parse.GetValue(feed), ct).ConfigureAwait(false));
             }
 
@@ -39,7 +39,7 @@ internal static class JogCommand
             }
 
             var distance = ConsoleOptions.Number(text, "jog distance");
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
+            await using var session = await options.OpenAsync(parse, ct, lease: true).ConfigureAwait(false);
             return ConsoleOptions.Finish(await session.Console.JogAsync(name, distance, parse.GetValue(feed), ct).ConfigureAwait(false));
         });
         return cmd;

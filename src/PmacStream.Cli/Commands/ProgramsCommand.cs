@@ -264,7 +264,10 @@ internal static class ProgramsCommand
     }
 
     /// <summary>Writes one JSON document to standard output.</summary>
-    internal static void WriteJson(Action<Utf8JsonWriter> write)
+    internal static void WriteJson(Action<Utf8JsonWriter> write) => WriteJson(Console.Out, write);
+
+    /// <summary>Writes indented JSON (non-ASCII as is) to <paramref name="output"/>.</summary>
+    internal static void WriteJson(TextWriter output, Action<Utf8JsonWriter> write)
     {
         var buffer = new MemoryStream();
         using (var w = new Utf8JsonWriter(buffer, new JsonWriterOptions { Indented = true, Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
@@ -272,7 +275,7 @@ internal static class ProgramsCommand
             write(w);
         }
 
-        Console.Out.WriteLine(Encoding.UTF8.GetString(buffer.GetBuffer(), 0, (int)buffer.Length));
+        output.WriteLine(Encoding.UTF8.GetString(buffer.GetBuffer(), 0, (int)buffer.Length));
     }
 
     private static string Cut(string s, int n) => s.Length <= n ? s : s[..(n - 1)] + "~";

@@ -41,7 +41,9 @@ internal static class ResumeCommand
             var settings = options.Settings(parse, resumable.Settings); // the job's own settings unless told otherwise
             var program = resumable.Program;
             var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
-            await using var controller = await service.ConnectAsync(options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection), machine, ct).ConfigureAwait(false);
+            var target = options.Target(parse) ?? JobOptions.RecordedTarget(record.Connection);
+            await using var lease = options.Lease(parse, target, record.History.Machine, record.Id); // before the controller hears anything
+            await using var controller = await service.ConnectAsync(target, machine, ct).ConfigureAwait(false);
             var cp = record.Checkpoint;
             Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 

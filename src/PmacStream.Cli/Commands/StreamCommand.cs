@@ -72,6 +72,8 @@ internal static class StreamCommand
             }
 
             var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
+            // One station at a time drives a machine: the lease is taken before the controller hears anything.
+            await using var lease = options.Lease(parse, target);
             await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
             await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind)
             {
@@ -79,6 +81,7 @@ internal static class StreamCommand
                 Library = options.Library(parse, parse.GetValue(force)),
                 ProgramId = revision, Station = options.Station(parse), Machine = options.Machine(parse),
             }, ct).ConfigureAwait(false);
+            lease?.SetJob(job.Id);
             Console.WriteLine($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}");
             return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct, continueAtStops: continueAtStops).ConfigureAwait(false);
         });

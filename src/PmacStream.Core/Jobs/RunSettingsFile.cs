@@ -100,6 +100,12 @@ public static class RunSettingsFile
                     name = "blocksPerChunk";
                 }
 
+                if (StationSettings.Names.Contains(name))
+                {
+                    reader.Skip(); // the station's settings (store, station, leases): StationSettings reads them
+                    continue;
+                }
+
                 if (!RunNames.Contains(name))
                 {
                     // A property of the chunk shape, read by the shape's own JSON names and checked by its own rules.
@@ -107,7 +113,7 @@ public static class RunSettingsFile
                     try
                     {
                         var shape = s.Shape.WithJson(name, value) ?? throw Fault(source, bytes, at, UnknownCode,
-                            $"unknown setting '{name}' (known: {string.Join(", ", RunNames.Concat(ChunkShape.JsonNames))})");
+                            $"unknown setting '{name}' (known: {string.Join(", ", RunNames.Concat(ChunkShape.JsonNames).Concat(StationSettings.Names))})");
                         shape.Validate();
                         s = s with { Shape = shape };
                     }

@@ -63,6 +63,8 @@ public static class PgSchema
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS alarms BIGINT NOT NULL DEFAULT 0;
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS resumes BIGINT NOT NULL DEFAULT 0;
             """),
+        ("reserved", "SELECT 1"), // 5: the alarm history (another branch's step; replaced at merge)
+        ("machine leases", SqliteMigrations.LeaseSchema), // the same text runs on both engines
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>

@@ -82,7 +82,20 @@ public static class SqliteMigrations
                 AddColumn(c, t, "jobs", name, definition);
             }
         }),
+        ("reserved", (_, _) => { }), // 5: the alarm history (another branch's step; replaced at merge)
+        ("machine leases", (c, t) => Run(c, t, LeaseSchema)),
     ];
+
+    /// <summary>
+    /// One row per leased machine (migration 6): which station's process holds it, since when, its last heartbeat
+    /// and the expiry it was taken with (milliseconds since 1970, the database's clock: every station judges expiry
+    /// by the same clock).
+    /// </summary>
+    public const string LeaseSchema = """
+        CREATE TABLE IF NOT EXISTS leases (
+          machine TEXT PRIMARY KEY, station TEXT NOT NULL, pid BIGINT NOT NULL, runner TEXT NOT NULL, job_id BIGINT,
+          since_ms BIGINT NOT NULL, heartbeat_ms BIGINT NOT NULL, expiry_ms BIGINT NOT NULL);
+        """;
 
     /// <summary>Applies the migrations the file has not had; returns how many ran.</summary>
     public static int Apply(SqliteConnection connection)

@@ -50,8 +50,8 @@ public sealed record StoreLocation
 
     /// <summary>
     /// Picks the store: <paramref name="store"/> (<c>--store</c>), else <paramref name="jobDb"/> (<c>--job-db</c>, an
-    /// SQLite file), else <c>$PMACSTREAM_STORE</c>, else <paramref name="fromSettings"/> (the settings file's
-    /// <c>store</c>), else <c>$PMACSTREAM_JOB_DB</c> (an older way to name the SQLite file), else the default file.
+    /// SQLite file), else <paramref name="fromSettings"/> (the settings file's <c>store</c>), else
+    /// <c>$PMACSTREAM_STORE</c>, else <c>$PMACSTREAM_JOB_DB</c> (an older way to name the SQLite file), else the default file.
     /// </summary>
     /// <exception cref="FormatException">The location cannot be read.</exception>
     public static StoreLocation Resolve(string? store = null, string? jobDb = null, string? fromSettings = null)
@@ -66,14 +66,14 @@ public sealed record StoreLocation
             return Sqlite(jobDb);
         }
 
-        if (Environment.GetEnvironmentVariable(EnvironmentVariable) is { Length: > 0 } env)
-        {
-            return Parse(env);
-        }
-
         if (fromSettings is { Length: > 0 })
         {
             return Parse(fromSettings);
+        }
+
+        if (Environment.GetEnvironmentVariable(EnvironmentVariable) is { Length: > 0 } env)
+        {
+            return Parse(env);
         }
 
         return Environment.GetEnvironmentVariable("PMACSTREAM_JOB_DB") is { Length: > 0 } legacy ? Sqlite(legacy) : Sqlite(DefaultSqlitePath);

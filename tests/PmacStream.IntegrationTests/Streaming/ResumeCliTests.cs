@@ -22,7 +22,7 @@ public sealed class ResumeCliTests : IDisposable
 
     public ResumeCliTests() => _folder = _temp.Path;
 
-    private string Db => Path.Combine(_folder, "jobs.db");
+    public static TheoryData<string> Engines => new() { "sqlite", "postgres" };
 
     public void Dispose() => _temp.Dispose();
 
@@ -41,11 +41,11 @@ public sealed class ResumeCliTests : IDisposable
     }
 
     /// <summary>Streams to the simulator over TCP and kills the host (SIGKILL: no last checkpoint) once M0 reaches <paramref name="line"/>.</summary>
-    private static async Task KillStreamAtAsync(PmacSimulator sim, int port, string src, string db, int line)
+    private static async Task<long> KillStreamAtAsync(PmacSimulator sim, int port, string src, string store, int line)
     {
         // The chunk strategy, the default when these positions were worked out: the full strategy (now the default)
         // has sent the whole job long before M0 reaches the line, so no checkpoint could be ahead of the controller.
-        using var p = Process.Start(CliProcess.Info("stream", src, "--tcp", $"127.0.0.1:{port}", "--strategy", "chunk", "--lines", "250", "--job-db", db))!;
+        using var p = Process.Start(CliProcess.Info("stream", src, "--tcp", $"127.0.0.1:{port}", "--strategy", "chunk", "--lines", "250", "--store", store))!;
         p.StandardInput.Close();
         var sw = Stopwatch.StartNew();
         while (sim.ReadVariable('M', 0) < line && sw.Elapsed < TimeSpan.FromSeconds(60) && !p.HasExited)
@@ -56,14 +56,37 @@ public sealed class ResumeCliTests : IDisposable
         p.HasExited.Should().BeFalse("the job was still streaming");
         p.Kill();
         await p.WaitForExitAsync();
+
+        // The killed job: the newest on this connection (a shared PostgreSQL store holds other runs' jobs too).
+        using var jobs = JobStores.Open(Preparation.Store.StoreLocation.Parse(store));
+        return jobs.List().First(j => j.Connection.EndsWith($"127.0.0.1:{port}", StringComparison.Ordinal)).Id;
     }
 
-    /// <summary>Rewrites job 1's checkpoint as a damaged or restored job store would hold it.</summary>
-    private void EditCheckpoint(Func<Checkpoint, Checkpoint> edit)
+    /// <summary>Rewrites a job's checkpoint as a damaged or restored job store would hold it.</summary>
+    private static void EditCheckpoint(string store, long id, Func<Checkpoint, Checkpoint> edit)
     {
-        using var store = JobStore.Open(Db);
-        var cp = store.Get(1)!.Checkpoint!;
-        store.SaveCheckpoint(1, edit(cp), durable: true);
+        using var jobs = JobStores.Open(Preparation.Store.StoreLocation.Parse(store));
+        var cp = jobs.Get(id)!.Checkpoint!;
+        jobs.SaveCheckpoint(id, edit(cp), durable: true, executed: null);
+    }
+
+    /// <summary>This test's SQLite file, or the PostgreSQL server (migrated by its owner; SKIPPED without one).</summary>
+    private string Store(string engine)
+    {
+        if (engine == "sqlite")
+        {
+            return "sqlite:" + Path.Combine(_folder, "jobs.db");
+        }
+
+        var (station, admin) = Requires.Postgres();
+        if (admin is not null)
+        {
+            using (Preparation.Store.PgSchema.OpenMigrated(Preparation.Store.StoreLocation.Parse(admin)))
+            {
+            }
+        }
+
+        return station;
     }
 
     private static async Task<(PmacSimulator Sim, PmacTcpServer Server)> ControllerAsync()
@@ -77,19 +100,21 @@ public sealed class ResumeCliTests : IDisposable
         return (sim, server);
     }
 
-    [Fact]
-    public async Task Resume_yes_of_a_checkpoint_rewound_to_chunk_1_runs_every_block_once_in_order()
+    [SkippableTheory]
+    [MemberData(nameof(Engines))]
+    public async Task Resume_yes_of_a_checkpoint_rewound_to_chunk_1_runs_every_block_once_in_order(string engine)
     {
+        var store = Store(engine);
         var src = Program();
         var (sim, server) = await ControllerAsync();
         using var disposeSim = sim;
         await using var disposeServer = server;
         using var stopClock = new StopClockOnDispose(sim);
 
-        await KillStreamAtAsync(sim, server.Port, src, Db, line: 800);
-        EditCheckpoint(cp => cp with { LastExecutedLine = 0, CurrentChunk = 1, Next = new StreamPosition(2, 0), NextExact = true, ChunksDownloaded = 1 });
+        var id = await KillStreamAtAsync(sim, server.Port, src, store, line: 800);
+        EditCheckpoint(store, id, cp => cp with { LastExecutedLine = 0, CurrentChunk = 1, Next = new StreamPosition(2, 0), NextExact = true, ChunksDownloaded = 1 });
 
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", Db, "--yes");
+        var (code, stdout, stderr) = CliProcess.Run("resume", "--job", id.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes");
 
         code.Should().Be(0, stderr + stdout);
         stdout.Should().Contain("executed 1501 of 1501 blocks");
@@ -99,23 +124,25 @@ public sealed class ResumeCliTests : IDisposable
         MoveLines.Blocks(sim.ExecutedMoves).Should().Equal(expected, "every block once, in order, whatever the record said");
     }
 
-    [Fact]
-    public async Task Resume_yes_of_a_checkpoint_advanced_past_the_controller_exits_1_with_both_positions_and_sends_nothing()
+    [SkippableTheory]
+    [MemberData(nameof(Engines))]
+    public async Task Resume_yes_of_a_checkpoint_advanced_past_the_controller_exits_1_with_both_positions_and_sends_nothing(string engine)
     {
+        var store = Store(engine);
         var src = Program();
         var (sim, server) = await ControllerAsync();
         using var disposeSim = sim;
         await using var disposeServer = server;
         using var stopClock = new StopClockOnDispose(sim);
 
-        await KillStreamAtAsync(sim, server.Port, src, Db, line: 500);
-        EditCheckpoint(cp => cp with { LastExecutedLine = 1400, CurrentChunk = 6, Next = new StreamPosition(7, 0), NextExact = true });
+        var id = await KillStreamAtAsync(sim, server.Port, src, store, line: 500);
+        EditCheckpoint(store, id, cp => cp with { LastExecutedLine = 1400, CurrentChunk = 6, Next = new StreamPosition(7, 0), NextExact = true });
         var received = sim.Counters.LinesReceived;
 
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", Db, "--yes");
+        var (code, stdout, stderr) = CliProcess.Run("resume", "--job", id.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes");
 
         code.Should().Be(1, stdout);
-        stderr.Should().MatchRegex(@"pmacstream resume: cannot resume job 1: the controller (executes|stopped at) line \d+, before line 1400 that the record says had already executed\. The controller: M0=\d+")
+        stderr.Should().MatchRegex($@"pmacstream resume: cannot resume job {id}: the controller (executes|stopped at) line \d+, before line 1400 that the record says had already executed\. The controller: M0=\d+")
             .And.Contain("The job record: line 1400 executed, sending had reached chunk 7 line 0.")
             .And.Contain("so nothing was sent")
             .And.Contain($"to start again from a line: pmacstream stream {src} --from-line");

@@ -77,11 +77,13 @@ public sealed class StreamCliTests : IDisposable
         CliProcess.Run("resume", "--job-db", Path.Combine(_temp.Path, "empty.db")).Code.Should().Be(2);
     }
 
-    [Fact]
-    public async Task Host_killed_mid_job_then_resume_over_tcp_loses_and_repeats_nothing()
+    [SkippableTheory]
+    [InlineData("sqlite")]
+    [InlineData("postgres")]
+    public async Task Host_killed_mid_job_then_resume_over_tcp_loses_and_repeats_nothing(string engine)
     {
         var src = Program(1500, feed: 6000);
-        var db = Path.Combine(_temp.Path, "jobs.db");
+        var store = Store(engine);
         using var sim = new PmacSimulator(new SimOptions { Speed = SimSpeed.Factor(20) });
         var lib = new InProcessConnection(sim.OpenPort("setup"));
         await lib.DownloadAsync(SimRig.Library);
@@ -96,7 +98,7 @@ public sealed class StreamCliTests : IDisposable
         var spec = $"127.0.0.1:{server.Port}";
 
         // First host: killed once execution is well into the job (past the first chunk boundary).
-        using (var first = Process.Start(CliProcess.Info("stream", src, "--tcp", spec, "--load-library", "--lines", "250", "--job-db", db))!)
+        using (var first = Process.Start(CliProcess.Info("stream", src, "--tcp", spec, "--load-library", "--lines", "250", "--store", store))!)
         {
             var sw = Stopwatch.StartNew();
             while (sim.ReadVariable('M', 0) < 400 && sw.Elapsed < TimeSpan.FromSeconds(60))
@@ -111,7 +113,10 @@ public sealed class StreamCliTests : IDisposable
         var killedAt = (int)sim.ReadVariable('M', 0);
         killedAt.Should().BeGreaterThan(300, "the job ran before the kill");
 
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes");
+        // The killed job on this connection (a shared PostgreSQL store holds other runs' jobs too).
+        using var jobs = System.Text.Json.JsonDocument.Parse(CliProcess.Run("jobs", "--json", "--store", store).Out);
+        var killed = jobs.RootElement.EnumerateArray().First(j => j.GetProperty("connection").GetString()!.EndsWith(spec, StringComparison.Ordinal)).GetProperty("id").GetInt64();
+        var (code, stdout, stderr) = CliProcess.Run("resume", "--job", killed.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes");
         code.Should().Be(0, stderr + stdout);
         stdout.Should().Contain("controller still holds the job");
         sim.StopClock();
@@ -130,6 +135,25 @@ public sealed class StreamCliTests : IDisposable
         var expected = ChunkedProgram.Open(Path.Combine(Splitter.DefaultOutDir(src), ChunkManifest.FileName)).TrackedLines().ToList();
         expected.Should().HaveCount(manifest.TotalMotionBlocks);
         executed.Should().Equal(expected, "no block lost, repeated or reordered across the host kill");
+    }
+
+    /// <summary>The store of a test on <paramref name="engine"/>: this test's SQLite file, or the PostgreSQL server (migrated by its owner).</summary>
+    private string Store(string engine)
+    {
+        if (engine == "sqlite")
+        {
+            return "sqlite:" + Path.Combine(_temp.Path, "jobs.db");
+        }
+
+        var (station, admin) = Requires.Postgres();
+        if (admin is not null)
+        {
+            using (Preparation.Store.PgSchema.OpenMigrated(Preparation.Store.StoreLocation.Parse(admin)))
+            {
+            }
+        }
+
+        return station;
     }
 
     [Fact]
