@@ -113,6 +113,13 @@ public readonly record struct CanonBlock
     /// <summary>The corner a compensated move went around first; null when it went straight.</summary>
     public CompensationCorner? Corner { get; init; }
 
+    /// <summary>
+    /// An inside corner under compensation: the compensated move before this one ends here, not where it was reported
+    /// to end (rs274ngc's one queued move); this move starts here. Whoever sends or draws moves holds the last
+    /// compensated one until the next move is known. Null for any other block.
+    /// </summary>
+    public Point3? AmendedEnd { get; init; }
+
     /// <summary>The last arc's centre (a mirror may have reversed its direction: <see cref="ArcClockwise"/>).</summary>
     public Point3? ArcCentre { get; init; }
 

@@ -20,7 +20,11 @@ internal enum CompensationFault : byte
     /// <summary>The first XY move after G41/G42 is not longer than the cutter radius.</summary>
     EntryTooShort,
 
-    /// <summary>An inside corner: the end of the move before would have to move back (not computed here).</summary>
+    /// <summary>
+    /// An inside corner the tool cannot fit: the two offset paths do not cross (rs274ngc: "... makes a corner the
+    /// compensated tool can't fit in without gouging"), they run back on each other, or the move before is not the
+    /// one held (a move without XY motion, or more than <see cref="CutterCompensation.MaxHeldBlocks"/> blocks between).
+    /// </summary>
     ConcaveCorner,
 
     /// <summary>An arc as the first move after G41/G42 (rs274ngc refuses it too).</summary>
@@ -37,8 +41,10 @@ internal enum CompensationFault : byte
 /// Cutter radius compensation of lines and arcs in the XY plane, computed by the host as RS274/NGC does it: the first
 /// XY move after G41/G42 (a line) ends one radius off its programmed end, square to the move; each move after it ends
 /// one radius off its programmed end, square to itself, on the side G41 (left) or G42 (right) names (an arc keeps its
-/// centre); an outside corner first goes around the programmed corner on an arc of the radius. An inside corner would move the end of the move
-/// before (which is already sent), so it is refused rather than cut with a gouge. Machine coordinates throughout (work
+/// centre); an outside corner first goes around the programmed corner on an arc of the radius. An inside corner moves the
+/// end of the move before back to where the two offset paths cross (line and line, line and arc, arc and arc), and
+/// the move starts there: rs274ngc's one queued move (<c>move_endpoint_and_flush</c>). The move before is therefore
+/// held by whoever sends it until the next move is known (<see cref="Amend"/>). Machine coordinates throughout (work
 /// offsets shift, they do not turn, so the geometry is the same).
 /// </summary>
 internal sealed class CutterCompensation
@@ -47,8 +53,28 @@ internal sealed class CutterCompensation
     // TOLERANCE_CONCAVE_CORNER).
     private const double CornerTolerance = 0.05;
 
+    /// <summary>Blocks between the move held and the next move beyond which an inside corner is refused: the sender holds at most this many.</summary>
+    public const int MaxHeldBlocks = 256;
+
     private double _programX;
     private double _programY;
+    private HeldKind _held;       // the last compensated XY move, whose end an inside corner may move back
+    private double _heldCentreX;  // an arc's centre (its offset circle runs through the tool)
+    private double _heldCentreY;
+    private int _heldBlocks;      // blocks since it
+
+    private enum HeldKind : byte
+    {
+        None,
+        Line,
+        Arc,
+    }
+
+    /// <summary>
+    /// The last move's inside corner: where the move before it ends instead of where it was reported to end (the two
+    /// offset paths cross there; the move itself starts there); null when the last move had none.
+    /// </summary>
+    public Point3? Amend { get; private set; }
 
     /// <summary>41 (cutter left of the path), 42 (right), 0 when off.</summary>
     public int Side { get; private set; }
@@ -69,6 +95,14 @@ internal sealed class CutterCompensation
     public void Set(int side, double radius)
     {
         (Side, Radius, Entered, Lost) = (side, side == 0 ? 0 : radius, false, false);
+        (_held, Amend) = (HeldKind.None, null);
+    }
+
+    /// <summary>A block was taken: the move held is one block further back (and an amendment is the last block's only).</summary>
+    public void NextBlock()
+    {
+        Amend = null;
+        _heldBlocks++;
     }
 
     /// <summary>A move was refused: the moves after it are not judged again (one fault, one report) until G40.</summary>
@@ -97,12 +131,15 @@ internal sealed class CutterCompensation
 
             var end = new Point3(target.X - (sign * Radius * dy / distance), target.Y + (sign * Radius * dx / distance), target.Z);
             Remember(target);
+            Hold(HeldKind.Line, 0, 0);
             return (end, null, CompensationFault.None);
         }
 
         if (target.X == _programX && target.Y == _programY)
         {
-            // No XY motion: the tool stays off the programmed point where it is.
+            // No XY motion: the tool stays off the programmed point where it is; the move before is no longer the
+            // last, so an inside corner after this one cannot move it back.
+            _held = HeldKind.None;
             return (new Point3(tool.X, tool.Y, target.Z), null, CompensationFault.None);
         }
 
@@ -110,9 +147,18 @@ internal sealed class CutterCompensation
         var (nx, ny) = Normal(alpha);
         var lineEnd = new Point3(target.X + nx, target.Y + ny, target.Z);
         var (corner, concave) = Corner(tool, alpha, rapid);
+        var fault = CompensationFault.None;
+        if (concave)
+        {
+            // The offset line of this move: through the programmed corner's offset point, in its direction.
+            var meet = Meet(tool, new Offset(false, _programX + nx, _programY + ny, Math.Cos(alpha), Math.Sin(alpha), 0));
+            fault = meet is { } ? CompensationFault.None : CompensationFault.ConcaveCorner;
+            Amend = meet is { } q ? new Point3(q.X, q.Y, tool.Z) : null;
+        }
+
         Remember(target);
-        // An inside corner is refused; the moves after it are judged as if it ended beside its programmed end.
-        return (lineEnd, corner, concave ? CompensationFault.ConcaveCorner : CompensationFault.None);
+        Hold(HeldKind.Line, 0, 0);
+        return (lineEnd, corner, fault);
     }
 
     /// <summary>
@@ -143,11 +189,108 @@ internal sealed class CutterCompensation
         // The arc's direction where it starts: square to the radius, ahead in the arc's sense.
         var toCentre = Math.Atan2(centre.Y - _programY, centre.X - _programX);
         var alpha = toCentre + (clockwise ? Math.PI / 2 : -Math.PI / 2);
-        var scale = (arcRadius + (inside ? -Radius : Radius)) / arcRadius;
+        var offsetRadius = arcRadius + (inside ? -Radius : Radius);
+        var scale = offsetRadius / arcRadius;
         var end = new Point3(centre.X + ((target.X - centre.X) * scale), centre.Y + ((target.Y - centre.Y) * scale), target.Z);
         var (corner, concave) = Corner(tool, alpha, rapid: false);
+        var fault = CompensationFault.None;
+        if (concave)
+        {
+            var meet = Meet(tool, new Offset(true, centre.X, centre.Y, 0, 0, offsetRadius));
+            fault = meet is { } ? CompensationFault.None : CompensationFault.ConcaveCorner;
+            Amend = meet is { } q ? new Point3(q.X, q.Y, tool.Z) : null;
+        }
+
         Remember(target);
-        return (end, corner, concave ? CompensationFault.ConcaveCorner : CompensationFault.None);
+        Hold(HeldKind.Arc, centre.X, centre.Y);
+        return (end, corner, fault);
+    }
+
+    /// <summary>The next move's offset path: a line through (X, Y) in direction (Dx, Dy), or a circle about (X, Y) of radius R.</summary>
+    private readonly record struct Offset(bool Circle, double X, double Y, double Dx, double Dy, double R);
+
+    /// <summary>
+    /// Where the held move's offset path (a line through the tool square to the programmed corner, or its arc's
+    /// circle through the tool) crosses <paramref name="next"/>'s, the crossing nearest the tool; null when they do not
+    /// cross, or when no move is held.
+    /// </summary>
+    private (double X, double Y)? Meet(Point3 tool, Offset next)
+    {
+        if (_held == HeldKind.None || _heldBlocks > MaxHeldBlocks)
+        {
+            return null;
+        }
+
+        if (_held == HeldKind.Line)
+        {
+            // The held line's direction: square to the way from the programmed corner to the tool (rs274ngc's theta).
+            var theta = Math.Atan2(tool.Y - _programY, tool.X - _programX);
+            var gamma = theta + (Side == 41 ? -Math.PI / 2 : Math.PI / 2);
+            var (dx, dy) = (Math.Cos(gamma), Math.Sin(gamma));
+            return next.Circle ? LineCircle(tool.X, tool.Y, dx, dy, next, tool) : LineLine(tool.X, tool.Y, dx, dy, next);
+        }
+
+        var radius = Math.Sqrt(((tool.X - _heldCentreX) * (tool.X - _heldCentreX)) + ((tool.Y - _heldCentreY) * (tool.Y - _heldCentreY)));
+        var held = new Offset(true, _heldCentreX, _heldCentreY, 0, 0, radius);
+        if (!next.Circle)
+        {
+            return LineCircle(next.X, next.Y, next.Dx, next.Dy, held, tool);
+        }
+
+        return CircleCircle(held, next, tool);
+    }
+
+    private static (double X, double Y)? LineLine(double x, double y, double dx, double dy, Offset b)
+    {
+        var cross = (dx * b.Dy) - (dy * b.Dx);
+        if (Math.Abs(cross) < 1e-12)
+        {
+            return null; // parallel: a zero-degree corner
+        }
+
+        var t = (((b.X - x) * b.Dy) - ((b.Y - y) * b.Dx)) / cross;
+        return (x + (t * dx), y + (t * dy));
+    }
+
+    private static (double X, double Y)? LineCircle(double x, double y, double dx, double dy, Offset c, Point3 near)
+    {
+        // |(x, y) + t (dx, dy) - centre| = R, (dx, dy) a unit vector.
+        var (fx, fy) = (x - c.X, y - c.Y);
+        var b = (fx * dx) + (fy * dy);
+        var disc = (b * b) - ((fx * fx) + (fy * fy) - (c.R * c.R));
+        if (disc < 0)
+        {
+            return null;
+        }
+
+        var root = Math.Sqrt(disc);
+        var (t1, t2) = (-b - root, -b + root);
+        var p1 = (X: x + (t1 * dx), Y: y + (t1 * dy));
+        var p2 = (X: x + (t2 * dx), Y: y + (t2 * dy));
+        return Nearer(p1, p2, near);
+    }
+
+    private static (double X, double Y)? CircleCircle(Offset a, Offset b, Point3 near)
+    {
+        var (dx, dy) = (b.X - a.X, b.Y - a.Y);
+        var d = Math.Sqrt((dx * dx) + (dy * dy));
+        if (d < 1e-12 || d > a.R + b.R || d < Math.Abs(a.R - b.R))
+        {
+            return null;
+        }
+
+        var along = ((a.R * a.R) - (b.R * b.R) + (d * d)) / (2 * d);
+        var h = Math.Sqrt(Math.Max(0, (a.R * a.R) - (along * along)));
+        var (mx, my) = (a.X + (along * dx / d), a.Y + (along * dy / d));
+        return Nearer((mx - (h * dy / d), my + (h * dx / d)), (mx + (h * dy / d), my - (h * dx / d)), near);
+    }
+
+    private static (double X, double Y) Nearer((double X, double Y) p1, (double X, double Y) p2, Point3 near) =>
+        ((p1.X - near.X) * (p1.X - near.X)) + ((p1.Y - near.Y) * (p1.Y - near.Y)) <= ((p2.X - near.X) * (p2.X - near.X)) + ((p2.Y - near.Y) * (p2.Y - near.Y)) ? p1 : p2;
+
+    private void Hold(HeldKind kind, double centreX, double centreY)
+    {
+        (_held, _heldCentreX, _heldCentreY, _heldBlocks) = (kind, centreX, centreY, 0);
     }
 
     // One radius square to direction alpha, on the compensation's side.

@@ -14,6 +14,13 @@ public sealed partial class Interpreter
     private int _compRequest = -1;  // 40, 41 or 42 when the block's G code changes the compensation
     private CompensationCorner? _corner;
     private bool _compensated;
+    private Point3? _amended; // the block's inside corner: where the move before it ends instead (CanonBlock.AmendedEnd)
+
+    /// <summary>Blocks after a compensated move within which an inside corner still moves its end back (a sender holds it that long at most).</summary>
+    public const int MaxHeldCompensationBlocks = CutterCompensation.MaxHeldBlocks;
+
+    /// <summary>The last block's inside corner under compensation: where the compensated move before it ends instead of its reported end; null for other blocks.</summary>
+    public Point3? AmendedEnd => _amended;
 
     /// <summary>The last block's move was compensated: the host sends the interpreter's positions, not the block's words.</summary>
     internal bool CompensatedMove => _compensated;
@@ -129,10 +136,11 @@ public sealed partial class Interpreter
                 return (target, 0);
             case CompensationFault.ConcaveCorner:
                 Add(diags, DiagnosticCodes.CompensationConcaveCorner, line, column);
+                _comp.Lose();
                 return (end, 0);
         }
 
-        (_corner, _compensated) = (corner, true);
+        (_corner, _compensated, _amended) = (corner, true, _comp.Amend);
         return corner is { } c ? (end, _comp.CornerLength(start, c) + c.Mid.DistanceTo(end) - start.DistanceTo(end)) : (end, 0);
     }
 
@@ -174,17 +182,33 @@ public sealed partial class Interpreter
             else
             {
                 Add(diags, DiagnosticCodes.CompensationNotRunnable, line, column, code, en, zh);
-                _comp.Lose();
             }
 
+            _comp.Lose();
             return (fault == CompensationFault.ConcaveCorner ? end : target, length);
         }
 
-        (_corner, _compensated) = (corner, true);
+        (_corner, _compensated, _amended) = (corner, true, _comp.Amend);
         var programmedRadius = Math.Sqrt(((target.X - c.X) * (target.X - c.X)) + ((target.Y - c.Y) * (target.Y - c.Y)));
         var compensatedRadius = Math.Sqrt(((end.X - c.X) * (end.X - c.X)) + ((end.Y - c.Y) * (end.Y - c.Y)));
         var arc = programmedRadius > 0 ? length * compensatedRadius / programmedRadius : length;
+        if (_amended is { } from)
+        {
+            // From the crossing of the offset paths: the same circle, a shorter (or longer) sweep.
+            arc = Sweep(from, end, c, clockwise, length / Math.Max(programmedRadius, 1e-12)) * compensatedRadius;
+        }
+
         return (end, corner is { } k ? _comp.CornerLength(start, k) + arc : arc);
+    }
+
+    /// <summary>The sweep from <paramref name="from"/> to <paramref name="to"/> about <paramref name="centre"/> in the arc's sense, the nearest to <paramref name="programmed"/> radians (a full turn more or less).</summary>
+    private static double Sweep(Point3 from, Point3 to, Point3 centre, bool clockwise, double programmed)
+    {
+        var a0 = Math.Atan2(from.Y - centre.Y, from.X - centre.X);
+        var a1 = Math.Atan2(to.Y - centre.Y, to.X - centre.X);
+        var sweep = clockwise ? a0 - a1 : a1 - a0;
+        sweep += sweep < 0 ? 2 * Math.PI : 0;
+        return Math.Abs(sweep + (2 * Math.PI) - programmed) < Math.Abs(sweep - programmed) ? sweep + (2 * Math.PI) : sweep;
     }
 
     /// <summary>A move compensation does not take (a cycle, a reference return, G53) while it is on.</summary>

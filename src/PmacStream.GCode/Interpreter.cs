@@ -177,6 +177,7 @@ public sealed partial class Interpreter
         Transforming = _transform != null,
         Compensated = _compensated,
         Corner = _corner,
+        AmendedEnd = _amended,
         ArcCentre = _arcCentre,
         ArcClockwise = _arcClockwise,
         Holes = _blockKind == MotionKind.Cycle ? _cycle.LastHoles : null,
@@ -322,7 +323,12 @@ public sealed partial class Interpreter
         var codes = new BlockCodes();
         var exactStopOnce = false;
         var compColumn = 0;
-        (_corner, _compensated) = (null, false);
+        (_corner, _compensated, _amended) = (null, false, null);
+        if (_comp.Active)
+        {
+            _comp.NextBlock();
+        }
+
         for (var gi = 0; anyG && gi < _gCount; gi++)
         {
             if (gCol[gi] != 0)
@@ -468,6 +474,7 @@ public sealed partial class Interpreter
                 if (mode is not (2 or 3))
                 {
                     (end, cornerLength) = Compensate(start, end, mode, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);
+                    start = _amended ?? start; // an inside corner: the move starts where the offset paths cross
                 }
             }
             else
@@ -509,6 +516,7 @@ public sealed partial class Interpreter
                     if (_comp.Active)
                     {
                         (end, length) = CompensateArc(start, end, center, cw, length, (col['A' - 'A'] | col['B' - 'A'] | col['C' - 'A']) != 0, diags, line, modeCol);
+                        start = _amended ?? start;
                     }
 
                     (_arcCentre, _arcClockwise) = (center, cw);

@@ -10,9 +10,14 @@ namespace PmacStream.Preparation;
 /// </summary>
 internal static class CompensatedMoves
 {
-    /// <summary>Appends the move's lines; <paramref name="start"/> is the machine position before the block.</summary>
-    public static void Write(List<string> lines, in CanonBlock block, Point3 start, double? feed)
+    /// <summary>
+    /// Appends the move's lines; <paramref name="start"/> is the machine position before the block (or, after an
+    /// inside corner, <see cref="CanonBlock.AmendedEnd"/>: where the offset paths cross). Returns the index of the line
+    /// that ends the move: the line an inside corner at the next move rewrites (<see cref="MoveEndTo"/>).
+    /// </summary>
+    public static int Write(List<string> lines, in CanonBlock block, Point3 start, double? feed)
     {
+        start = block.AmendedEnd ?? start;
         var incremental = !block.Absolute;
         if (incremental)
         {
@@ -39,6 +44,7 @@ internal static class CompensatedMoves
         }
 
         var end = block.Position - offset;
+        var moveLine = lines.Count;
         if (block.MotionCode is 2 or 3 && block.ArcCentre is { } c)
         {
             // The offset arc about the programmed centre, from where the tool is (after the corner, if any).
@@ -58,5 +64,30 @@ internal static class CompensatedMoves
         {
             lines.Add("G91");
         }
+
+        return moveLine;
+    }
+
+    /// <summary>
+    /// A move line <see cref="Write"/> wrote, ending at <paramref name="end"/> (work coordinates) on X and Y instead:
+    /// an inside corner moved the end back to where the offset paths cross. The rest of the line (Z, an arc's centre
+    /// vector from its start, the feed) stays.
+    /// </summary>
+    public static string MoveEndTo(string line, Point3 end)
+    {
+        var words = line.Split(' ');
+        for (var i = 0; i < words.Length; i++)
+        {
+            if (words[i].StartsWith('X'))
+            {
+                words[i] = "X" + HostConversion.Num(end.X);
+            }
+            else if (words[i].StartsWith('Y'))
+            {
+                words[i] = "Y" + HostConversion.Num(end.Y);
+            }
+        }
+
+        return string.Join(' ', words);
     }
 }

@@ -42,6 +42,25 @@ internal sealed class HostConversion
     // The words of the move line as written (an inch program converts every move), so it is not lexed again.
     private readonly WrittenWords _moveWords = new();
     private int _moveLine = -1;
+    private int _heldLine = -1;  // the line of the converted block that ends its compensated move
+    private Point3 _heldOffset;  // the work offset that move was written in
+
+    /// <summary>
+    /// The index, in the lines <see cref="Convert"/> returned last, of the line ending a compensated move: the sender
+    /// holds it until the next move is known, since an inside corner there moves its end back (<see cref="AmendedLine"/>);
+    /// -1 when the block has none.
+    /// </summary>
+    public int HeldMoveLine => _heldLine;
+
+    /// <summary>
+    /// When the block taken last has an inside corner under compensation: <paramref name="held"/> (the line
+    /// <see cref="HeldMoveLine"/> named for the compensated move before it) rewritten to end where the offset paths
+    /// cross; null for any other block.
+    /// </summary>
+    public string? AmendedLine(string held) =>
+        _block.AmendedEnd is { } end ? CompensatedMoves.MoveEndTo(held, end - _heldOffsetBefore) : null;
+
+    private Point3 _heldOffsetBefore; // the offset of the move held before this block (AmendedLine)
     private readonly List<string> _modes = [], _data = [], _stopsBefore = [], _after = []; // a block's parts, reused
 
     /// <summary>Converts what <paramref name="interp"/> decides: it becomes the interpreter's canonical move sink.</summary>
@@ -64,6 +83,7 @@ internal sealed class HostConversion
 
         _lines.Clear();
         _moveLine = -1;
+        _heldLine = -1;
         ReadWords(block);
         var seen = SortCodes(_block.UnitScale);
         if (seen.LengthCode || (W('H').HasValue && _block.LengthMode != 0))
@@ -252,7 +272,8 @@ internal sealed class HostConversion
         }
         else if (_block.Compensated)
         {
-            CompensatedMoves.Write(_lines, _block, _before.Position, feed);
+            _heldLine = CompensatedMoves.Write(_lines, _block, _before.Position, feed);
+            _heldOffset = _block.Offset;
         }
         else if (_block.Transforming && !seen.Machine && (hasAxes || arcByCentre))
         {
@@ -349,6 +370,7 @@ internal sealed class HostConversion
         {
             host._moves.Clear();
             host._before = start;
+            host._heldOffsetBefore = host._heldOffset;
         }
 
         public void Step(in HostMove step) => host._moves.Add(step);

@@ -120,6 +120,25 @@ internal sealed class LineBatch
         Take(lineNumber, length, words, continues);
     }
 
+    /// <summary>The text of line <paramref name="index"/> (a held host line, to be rewritten).</summary>
+    public string TextAt(int index) =>
+        System.Text.Encoding.UTF8.GetString(_text, _lines[index].TextStart, _lines[index].TextLength);
+
+    /// <summary>
+    /// Line <paramref name="index"/> becomes <paramref name="block"/>'s text and words (its line number and place
+    /// stay): a compensated move whose end an inside corner moved back. The old text stays unused in the batch.
+    /// </summary>
+    public void Replace(int index, GBlock block)
+    {
+        var words = CollectionsMarshal.AsSpan(block.WordList);
+        Reserve(block.Length, words.Length);
+        block.Buffer.AsSpan(0, block.Length).CopyTo(_text.AsSpan(TextLength));
+        words.CopyTo(_words.AsSpan(WordCount));
+        _lines[index] = _lines[index] with { TextStart = TextLength, TextLength = block.Length, WordStart = WordCount, WordCount = words.Length };
+        TextLength += block.Length;
+        WordCount += words.Length;
+    }
+
     private void Reserve(int textLength, int words)
     {
         if (TextLength + textLength > _text.Length)

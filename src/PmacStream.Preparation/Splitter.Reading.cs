@@ -38,6 +38,8 @@ public static partial class Splitter
         private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
         private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
         private HostConversion? _host;
+        private int _heldMove = -1;  // the batch line ending the last compensated move (an inside corner after it moves its end)
+        private int _heldBlocks;     // blocks taken since
         private GBlock? _hostLine; // the host's converted lines are lexed into this one block (the batch copies them)
         private bool _started;              // the power-on call went before the first block
         private readonly Dictionary<string, int>? _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null; // codes the controller cannot run yet, first line
@@ -203,6 +205,7 @@ public static partial class Splitter
         /// <summary>Hands the full batch over and takes an empty one.</summary>
         private void Hand(long endPosition)
         {
+            _heldMove = -1;
             // The splitting thread reuses the batch's text once done with it: axis values still left there are read now.
             var batch = _batch!;
             _check?.ReleaseText(batch.Text);
@@ -261,6 +264,7 @@ public static partial class Splitter
 
             if (converted != null)
             {
+                Amend();
                 // One source block, several controller blocks: all carry its line, and they stay in one chunk.
                 for (var i = 0; i < converted.Count; i++)
                 {
@@ -280,10 +284,39 @@ public static partial class Splitter
                 _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue, _unused, continues: first);
             }
 
-            if (_batch!.IsFull)
+            if (converted != null && _host!.HeldMoveLine >= 0)
+            {
+                (_heldMove, _heldBlocks) = (_batch!.Count - converted.Count + _host.HeldMoveLine, 0);
+            }
+            else if (_heldMove >= 0 && ++_heldBlocks > Interpreter.MaxHeldCompensationBlocks + 1)
+            {
+                _heldMove = -1; // the interpreter no longer moves it back
+            }
+
+            // A compensated move stays in the batch until the next move is known (bounded: the interpreter moves an end
+            // back only within MaxHeldBlocks blocks).
+            if (_batch!.IsFull && (_heldMove < 0 || _batch.Count > 4 * LineBatch.MaxLines))
             {
                 Hand(b.ByteOffset + b.Length);
             }
+        }
+
+        /// <summary>
+        /// Before a converted block's lines: an inside corner moves the end of the compensated move held in the batch
+        /// back to where the offset paths cross (the interpreter already started this block's move there).
+        /// </summary>
+        private void Amend()
+        {
+            if (_heldMove >= 0 && _host!.AmendedLine(_batch!.TextAt(_heldMove)) is { } amended)
+            {
+                _batch.Replace(_heldMove, GCodeReader.LexLine(amended, _batch.Lines[_heldMove].LineNumber, _hostLine ??= new GBlock()));
+            }
+            else if (_host!.AmendedLine(string.Empty) is not null)
+            {
+                throw new InvalidOperationException("an inside corner moves back the end of a move already handed over");
+            }
+
+            _heldMove = -1;
         }
 
         /// <summary>A line of only O and N words (a program number, a label): nothing for the controller.</summary>

@@ -85,7 +85,7 @@ public class CheckerDiagnosticTests
         { DiagnosticCodes.NoCutterRadius, "O1\nG00 G41 D1 X1", 2, 5 },
         { DiagnosticCodes.CompensationNotRunnable, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G02 X10. Y-10. R10. F100", 4, 8 },
         { DiagnosticCodes.CompensationEntryTooShort, "O1\nG10 L12 P1 R5.\nG00 X0 Y-4.\nG41 D1 G01 X0 Y0 F100", 4, 8 },
-        { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nX-30.", 5, 1 },
+        { DiagnosticCodes.CompensationConcaveCorner, "O1\nG10 L12 P1 R5.\nG00 X0 Y-20.\nG41 D1 G01 X0 Y0 F100\nG03 X12. Y-2. I6. J-1.", 5, 1 },
         { DiagnosticCodes.ArcRoundedOffCircle, "O1\nF100\nG02 X20.010 Y0 I10.000 J0", 3, 1 },
         { DiagnosticCodes.DialectG10L20, "O1\nG10 L20 P1 X0 Y0 Z50.\nG54\nG00 X10.", 4, 1 },
         { DiagnosticCodes.DialectDwellUnits, "O1\nG04 P0.5", 2, 5 },

@@ -41,8 +41,8 @@ public class CorpusUnderDefaultProfileTests(ITestOutputHelper output)
             "O100 as a program number and 'sub' as three addresses without values; no profile here reads o-words (the message says so)."),
         ["enier290188__cnc__mill_hp_2.nc"] = ("E132x1",
             "G41 D01 (line 27) names a cutter radius the default profile has no table for: a machine's profile gives toolRadii. " +
-            "With one, the host still refuses it: its entry (line 27) is followed by an inside corner (E135, line 28), which " +
-            "rs274ngc takes by moving the entry's end back and the host does not compute."),
+            "With one it checks clean: its entry (line 27) is followed by an inside corner (line 28), which the host takes as " +
+            "rs274ngc does, moving the entry's end back."),
         ["danheeks__voxelcut__gr105.tap"] = ("E101x4, E104x4, E115x92, E116x3, E124x7",
             "an older ISO dialect, not FANUC: 'T1//15.98' tool-table lines (E101, named so), G71 for millimetres (E104: FANUC milling has " +
             "G21), and G74 meaning single-quadrant arcs whose I/J are unsigned, so FANUC's incremental signed centres miss the end " +

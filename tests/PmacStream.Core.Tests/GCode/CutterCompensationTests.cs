@@ -102,6 +102,44 @@ public class CutterCompensationTests
     }
 
     [Fact]
+    public void An_inside_corner_moves_the_end_of_the_move_before_back_to_where_the_offset_paths_cross_and_starts_the_move_there()
+    {
+        // A pocket, counter-clockwise under G41: every corner is an inside one.
+        var interp = new Interpreter(Fanuc);
+        var ends = new List<(Point3 End, Point3? Amended)>();
+        foreach (var line in "G21 G90 G17\nG00 X50. Y25.\nG41 D1 G01 X50. Y0 F100\nX100.\nY50.\nG03 X0 Y50. R60.\nG01 Y0\nG40 X50. Y25.".Split('\n'))
+        {
+            if (interp.Step(GCodeReader.LexLine(line, ends.Count + 1)) is { } d)
+            {
+                ends.Add((d.End, interp.AmendedEnd));
+                if (interp.AmendedEnd is { } a)
+                {
+                    d.Start.Should().Be(a, "the move starts where the offset paths cross");
+                }
+            }
+        }
+
+        ends[2].End.Should().Be(new Point3(55, 0, 0), "the entry ends square to itself until the next move is known");
+        ends[3].Amended.Should().Be(new Point3(55, 5, 0), "line to line: the entry's end moves back");
+        ends[4].Amended!.Value.X.Should().BeApproximately(95, 1e-9);
+        ends[5].Amended!.Value.Y.Should().BeApproximately(48.4565, 1e-4, "line to arc: the offset line meets the arc's offset circle (rs274: 95, 48.4565)");
+        ends[6].Amended!.Value.Y.Should().BeApproximately(48.4565, 1e-4, "arc to line");
+        ends[7].Amended.Should().BeNull("G40 ends the compensation: no corner");
+    }
+
+    [Fact]
+    public void The_splitter_holds_a_compensated_move_until_the_next_and_sends_its_end_moved_back()
+    {
+        using var dir = new TestFolder("comp");
+        var src = Path.Combine(dir.Path, "pocket.nc");
+        File.WriteAllText(src, "O1\nG21 G90 G17\nG00 X50. Y25. Z5.\nG01 Z-1. F100\nG41 D1 X50. Y0\nX100.\nY50.\nX0\nY0\nX50.\nG40 X50. Y25.\nM30\n");
+        var result = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(dir.Path, "chunks"), CheckProfile = Fanuc });
+        var text = string.Concat(result.ChunkPaths.Select(File.ReadAllText));
+        text.Should().ContainAll("X55 Y5 Z-1", "X95 Y5 Z-1", "X95 Y45 Z-1", "X5 Y45 Z-1", "X5 Y5 Z-1");
+        text.Should().NotContain("X55 Y0 Z-1", "the entry's end was moved back before it was sent");
+    }
+
+    [Fact]
     public void The_radius_comes_from_G10_L12_and_L13_under_FANUC_and_from_the_spindle_tool_under_RS274NGC()
     {
         var b = Run("G21 G90 G17\nG10 L12 P7 R3.\nG10 L13 P7 R-0.5\nG00 X0 Y-20.\nG41 D7 G01 X0 Y0 F100", Fanuc);
@@ -117,7 +155,7 @@ public class CutterCompensationTests
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G02 X10 Y-10 R10 F100", 2, 8 },
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG03 X-4 Y4 R4", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG02 I10 J0", 3, 1 },
-        { DiagnosticCodes.CompensationConcaveCorner, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG03 X-10 Y-10 I0 J-10", 3, 1 },
+        { DiagnosticCodes.CompensationConcaveCorner, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG03 X12 Y-2 I6 J-1", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G18\nG0 X0 Y-20\nG41 D1 G01 X0 Y0 F100", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG18", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG42 D1 X10", 3, 1 },
@@ -127,7 +165,7 @@ public class CutterCompensationTests
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG53 G00 Z0", 3, 1 },
         { DiagnosticCodes.CompensationNotRunnable, "G0 X0 Y-20\nG68 X0 Y0 R30\nG41 D1 G01 X0 Y0 F100", 3, 1 },
         { DiagnosticCodes.CompensationEntryTooShort, "G0 X0 Y-4\nG41 D1 G01 X0 Y0 F100", 2, 8 },
-        { DiagnosticCodes.CompensationConcaveCorner, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nX-30", 3, 1 },
+        { DiagnosticCodes.CompensationConcaveCorner, "G0 X0 Y-20\nG41 D1 G01 X0 Y0 F100\nG02 X10 Y-10 R10\nG03 X16 Y-4 R6", 4, 1 },
     };
 
     [Theory]

@@ -9,11 +9,15 @@ namespace PmacStream.IntegrationTests.Streaming;
 internal sealed class CanonBlockEnds : ICanonicalMoves
 {
     private readonly List<(int Line, Point3 End, MotionKind Kind)> _ends = [];
+    private bool _amend = true;
 
-    /// <summary>The motions of the program at <paramref name="path"/>, in order.</summary>
-    public static List<(int Line, Point3 End, MotionKind Kind)> Of(string path, MachineProfile profile, bool blockDelete = false)
+    /// <summary>
+    /// The motions of the program at <paramref name="path"/>, in order; <paramref name="amend"/> false leaves a move
+    /// before an inside corner where it was reported before the next move was known (to show a comparison can fail).
+    /// </summary>
+    public static List<(int Line, Point3 End, MotionKind Kind)> Of(string path, MachineProfile profile, bool blockDelete = false, bool amend = true)
     {
-        var ends = new CanonBlockEnds();
+        var ends = new CanonBlockEnds { _amend = amend };
         var interp = new Interpreter(profile) { BlockDeleteEnabled = blockDelete, Canon = ends };
         using var reader = GCodeReader.Open(path);
         while (reader.Read())
@@ -33,4 +37,14 @@ internal sealed class CanonBlockEnds : ICanonicalMoves
     }
 
     public void Motion(in CanonMotion motion) => _ends.Add((motion.Line, motion.End, motion.Kind));
+
+    /// <summary>An inside corner under compensation moves the end of the move before this block's back (the one move held).</summary>
+    public void EndBlock(in CanonBlock block)
+    {
+        if (_amend && block.AmendedEnd is { } end && _ends.Count >= 2)
+        {
+            var held = _ends[^2];
+            _ends[^2] = (held.Line, end, held.Kind);
+        }
+    }
 }

@@ -308,6 +308,54 @@ public class PositionProofTests(ITestOutputHelper output)
         (await sentPlain.Should().ThrowAsync<Exception>()).Which.Message.Should().Contain("the interpreter says");
     }
 
+    /// <summary>Pockets whose corners are all inside ones: line to line (the entry's end too), line to arc, arc to line, arc to arc, an incremental entry under G42.</summary>
+    public const string Pockets = """
+        %
+        O2001 (POCKETS UNDER CUTTER RADIUS COMPENSATION)
+        G90 G17 G21 G40 G49 G80
+        G55
+        T2 M06
+        G43 H2
+        G00 X50. Y25. Z5.
+        G01 Z-1. F500.
+        G41 D1 X50. Y0
+        X100.
+        Y50.
+        X0
+        Y0
+        X50.
+        G40 X50. Y25.
+        G41 D1 X100. Y25.
+        Y50.
+        G03 X0 Y50. R60.
+        G01 Y0
+        G02 X50. Y0 R40.
+        G02 X100. Y0 I25. J-31.225
+        G01 Y25.
+        G40 X50. Y25.
+        G91 G42 D2 X-50. Y-25.
+        X-40.
+        G90 G02 X-50. Y10. I0 J10.
+        G01 Y40.
+        G40 X50. Y25.
+        G00 Z10.
+        M30
+        %
+        """;
+
+    [Fact]
+    public async Task A_pocket_under_cutter_radius_compensation_ends_each_block_where_the_interpreter_moved_it_back_to()
+    {
+        using var dir = new TestFolder("proof");
+        var path = Path.Combine(dir.Path, "pockets.nc");
+        await File.WriteAllTextAsync(path, Pockets);
+        var (_, profile) = WithRadii();
+        new Checker(profile).CheckText(Pockets).Diagnostics.Where(d => d.Severity == Severity.Error).Should().BeEmpty("inside corners are computed");
+        var report = await ProveAsync(path, profile, force: false);
+        output.WriteLine($"{report.Lines} moving lines, {report.Moves} moves, largest difference {report.Largest:0.######} mm");
+        report.Lines.Should().BeGreaterThan(20);
+    }
+
     [Theory]
     [InlineData(13)]
     [InlineData(16)]
