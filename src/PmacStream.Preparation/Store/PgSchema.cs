@@ -63,6 +63,21 @@ public static class PgSchema
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS alarms BIGINT NOT NULL DEFAULT 0;
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS resumes BIGINT NOT NULL DEFAULT 0;
             """),
+        ("reserved", "SELECT 1"), // 5: the alarm history (another branch's step takes this number)
+        ("reserved", "SELECT 1"), // 6: leases and the shop (another branch's step takes this number)
+        ("execution states and stored preparations", """
+            ALTER TABLE programs ADD COLUMN IF NOT EXISTS profile_identity TEXT;
+            CREATE TABLE IF NOT EXISTS exec_states (
+              program_id BIGINT NOT NULL, line INTEGER NOT NULL, offset_x DOUBLE PRECISION NOT NULL, offset_y DOUBLE PRECISION NOT NULL,
+              offset_z DOUBLE PRECISION NOT NULL, highest_z DOUBLE PRECISION, controller TEXT NOT NULL, selection TEXT,
+              PRIMARY KEY (program_id, line));
+            CREATE TABLE IF NOT EXISTS preparations (
+              id BIGSERIAL PRIMARY KEY, program_id BIGINT NOT NULL, inputs_key TEXT NOT NULL, inputs TEXT NOT NULL,
+              manifest TEXT NOT NULL, created TEXT NOT NULL, UNIQUE (program_id, inputs_key));
+            CREATE TABLE IF NOT EXISTS preparation_files (
+              preparation_id BIGINT NOT NULL, seq INTEGER NOT NULL, name TEXT NOT NULL, data BYTEA NOT NULL,
+              PRIMARY KEY (preparation_id, seq));
+            """),
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>
