@@ -1,6 +1,7 @@
 using System.Globalization;
 using System.Text.RegularExpressions;
 using PmacStream.GCode;
+using PmacStream.Preparation.Store;
 
 namespace PmacStream.Preparation;
 
@@ -139,6 +140,42 @@ public static class StartFromLine
     }
 
     /// <summary>
+    /// Plans a start at the first motion block at or after <paramref name="line"/> of a stored revision, from what the
+    /// import stored instead of interpreting from the top: the modal state and end of the block before it, the
+    /// execution state in force there (<see cref="StoredExecState"/>: offsets, shifts, tables, highest Z). Gives the
+    /// plan <see cref="Plan(string, int, StartPlanOptions, CancellationToken)"/> gives for the revision's source.
+    /// </summary>
+    /// <exception cref="ArgumentOutOfRangeException">No motion block at or after the line.</exception>
+    /// <exception cref="StoredStateMissingException">The revision was stored without its execution states (before schema 7).</exception>
+    public static StartPlan Plan(IProgramRevisions store, long programId, int line, StartPlanOptions options)
+    {
+        ArgumentNullException.ThrowIfNull(store);
+        ArgumentNullException.ThrowIfNull(options);
+        var start = store.GetStart(programId, line)
+            ?? throw new ArgumentOutOfRangeException(nameof(line), $"program {programId}: no motion block at or after line {line}");
+        var exec = start.State ?? throw new StoredStateMissingException(programId);
+        ModalState before;
+        Point3 position;
+        if (start.Previous is { } previous)
+        {
+            (before, position) = (previous.Modal, previous.End);
+        }
+        else
+        {
+            var fresh = new Interpreter(options.Profile ?? MachineProfile.Default);
+            (before, position) = (fresh.State, fresh.Position);
+        }
+
+        var offset = exec.Offset;
+        var safeZ = options.SafeZMode == SafeZMode.HighestSoFar && exec.HighestZ is { } highest
+            ? highest - offset.Z + options.Clearance
+            : options.SafeZ;
+        var block = start.Block;
+        var feedState = block.Modal.Feed is { } blockFeed && blockFeed != before.Feed ? before with { Feed = blockFeed } : before;
+        return BuildCore(block.Line, before, feedState, position - offset, safeZ, options.FeedMode, options.FeedVariable, (exec.Controller, exec.Selection));
+    }
+
+    /// <summary>
     /// Builds the preamble for a known state and start point (work coordinates): the modal state (units, plane, work
     /// offset, tool and length offset, spindle direction and speed, coolant), retract to the safe Z, rapid in XY,
     /// feed down to the block's Z, then distance mode, motion mode and feed.
@@ -208,4 +245,12 @@ public static class StartFromLine
     }
 
     private static string Num(double v) => Math.Round(v, 4).ToString("0.####", CultureInfo.InvariantCulture);
+}
+
+/// <summary>A revision stored before its execution states were (schema 7): a start from it must re-interpret the source.</summary>
+public sealed class StoredStateMissingException(long programId)
+    : InvalidOperationException($"program {programId} was stored without the execution states a start reads (imported before schema 7)")
+{
+    /// <summary>The revision.</summary>
+    public long ProgramId { get; } = programId;
 }

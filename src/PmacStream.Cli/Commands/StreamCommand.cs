@@ -64,7 +64,8 @@ internal static class StreamCommand
             StartPlan? plan = null;
             if (parse.GetValue(fromLine) is { } line)
             {
-                plan = service.PlanStart(program, line, settings, prepared.Profile, ct);
+                // A stored revision's start reads the block's state from the store (every stream names its revision).
+                plan = service.PlanStartFor(revision, program, line, settings, prepared.Profile, ct);
                 if (!JobConsole.Confirm(plan, options.Yes(parse)))
                 {
                     return CliGlobals.UsageOrIo;

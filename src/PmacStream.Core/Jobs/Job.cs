@@ -54,6 +54,9 @@ public sealed class Job : IAsyncDisposable
     /// <summary>The machine profile the program was checked under (plans the block after an alarm's, see <see cref="HaltOnAlarmAsync"/>).</summary>
     internal GCode.MachineProfile Profile { get; init; } = GCode.MachineProfile.Default;
 
+    /// <summary>Plans a start at a line (from the store for a stored revision); null: re-interpret the source with <see cref="Profile"/>.</summary>
+    internal Func<int, StartPlan>? Planner { get; init; }
+
     /// <summary>The job record's id; null when the job is not recorded.</summary>
     public long? Id { get; }
 
@@ -288,7 +291,7 @@ public sealed class Job : IAsyncDisposable
         StartPlan next;
         try
         {
-            next = StartFromLine.Plan(Program.Manifest.SourcePath, line + 1, Settings.ToStartPlanOptions(Program.Manifest, Profile));
+            next = Planner is { } plan ? plan(line + 1) : StartFromLine.Plan(Program.Manifest.SourcePath, line + 1, Settings.ToStartPlanOptions(Program.Manifest, Profile));
         }
         catch (ArgumentOutOfRangeException)
         {

@@ -17,6 +17,15 @@ public sealed partial class JobService
     public IReadOnlyList<string> PreambleOf(SplitView program, int line, RunSettings settings, MachineProfile? profile = null, CancellationToken cancellationToken = default) =>
         PlanStart(ProgramOf(program), line, settings, profile, cancellationToken).GCode;
 
+    /// <summary>
+    /// The restore preamble of a start at the block of <paramref name="line"/> of a program prepared from the stored
+    /// revision <paramref name="programId"/> (<see cref="PlanStartFromStore"/>: the block's state read from the store);
+    /// null: <see cref="PreambleOf"/>.
+    /// </summary>
+    /// <exception cref="JobException">The line is out of the program or has no block after it.</exception>
+    public IReadOnlyList<string> PreambleFor(SplitView program, long? programId, int line, RunSettings settings, MachineProfile? profile = null, CancellationToken cancellationToken = default) =>
+        PlanStartFor(programId, ProgramOf(program), line, settings, profile, cancellationToken).GCode;
+
     /// <summary>Which rows of chunk <paramref name="chunk"/> (1-based) carry a block's tracked line, as the session reads the chunk.</summary>
     public ChunkRows RowsOf(SplitView program, int chunk)
     {
@@ -34,7 +43,7 @@ public sealed partial class JobService
         ArgumentNullException.ThrowIfNull(request);
         var program = ProgramOf(request.Program);
         var plan = request.FromLine is { } from
-            ? await Task.Run(() => PlanStart(program, from, request.Settings, request.Profile, cancellationToken), cancellationToken).ConfigureAwait(false)
+            ? await Task.Run(() => PlanStartFor(request.ProgramId, program, from, request.Settings, request.Profile, cancellationToken), cancellationToken).ConfigureAwait(false)
             : null;
         var strategy = string.IsNullOrWhiteSpace(request.Strategy) ? StrategyKind.Chunk : StreamingStrategies.Parse(request.Strategy);
         var job = await CreateJobAsync(controller, new JobRequest(program, strategy)
@@ -45,6 +54,7 @@ public sealed partial class JobService
             FeedOverride = request.FeedOverride,
             Profile = request.Profile,
             OptionalStop = request.OptionalStop,
+            ProgramId = request.ProgramId,
         }, cancellationToken).ConfigureAwait(false);
         try
         {

@@ -222,7 +222,10 @@ public sealed partial class JobService
                 new JobHistoryStart(request.ProgramId, request.Station, request.Machine ?? MachineName(controller.Spec), program.Manifest.TotalMotionBlocks));
             StreamingSession? session = null;
             session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i, () => session?.Status.ExecutedBlocks) : null, times, TimeOf(controller));
-            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id) { AlarmAxes = _options.Rules?.Axes };
+            return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id)
+            {
+                AlarmAxes = _options.Rules?.Axes, Planner = PlannerOf(request.ProgramId, program, request.Settings, request.Profile),
+            };
         }
         catch
         {
@@ -467,7 +470,7 @@ public sealed partial class JobService
                 }
             }
 
-            var plan = outcome.RestartLine is { } line ? PlanStart(job.Program, line, request.Settings, request.Profile, cancellationToken) : null;
+            var plan = outcome.RestartLine is { } line ? PlanStartFor(record.History.ProgramId, job.Program, line, request.Settings, request.Profile, cancellationToken) : null;
             if (!await request.ConfirmRestart(new RestartProposal(outcome.RestartLine, plan, outcome.Reason)).ConfigureAwait(false))
             {
                 Log.Information("Restart of job {Job} declined", record.Id);
@@ -475,7 +478,10 @@ public sealed partial class JobService
                 return new ResumeResult(ResumeKind.Declined, null, outcome.Reason) { RestartLine = outcome.RestartLine };
             }
 
-            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id) { AlarmAxes = _options.Rules?.Axes, Profile = profile }, outcome.Reason);
+            return new ResumeResult(ResumeKind.Restart, new Job(controller, NewSession(), request.Settings, plan, request.FeedOverride, store, record.Id)
+            {
+                AlarmAxes = _options.Rules?.Axes, Profile = profile, Planner = PlannerOf(record.History.ProgramId, job.Program, request.Settings, profile),
+            }, outcome.Reason);
         }
         catch
         {

@@ -129,4 +129,7 @@ public sealed record SplitJobRequest(SplitView Program, string Strategy)
 
     /// <summary>Optional stop on: the controller stops at M01.</summary>
     public bool OptionalStop { get; init; } = true;
+
+    /// <summary>The stored revision the program was prepared from (its start from a line reads the store), or null.</summary>
+    public long? ProgramId { get; init; }
 }

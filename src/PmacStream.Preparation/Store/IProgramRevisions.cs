@@ -32,6 +32,13 @@ public interface IProgramRevisions : IDisposable
 
     /// <summary>The first block at or after a source line, with its modal state as the interpreter had it, or null.</summary>
     DecodedBlock? GetBlockAtOrAfterLine(long programId, int line);
+
+    /// <summary>
+    /// Where a start at <paramref name="line"/> begins (the first motion block at or after it), the block before that
+    /// one, and the stored execution state in force there (null when the revision was stored without one); null when
+    /// no motion block follows the line.
+    /// </summary>
+    StoredStart? GetStart(long programId, int line);
 }
 
 /// <summary>Opens a store's program library by its location.</summary>

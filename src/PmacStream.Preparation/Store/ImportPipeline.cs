@@ -20,6 +20,9 @@ internal static class ImportPipeline
 
         /// <summary>Adds a diagnostic.</summary>
         void Add(Diagnostic diagnostic);
+
+        /// <summary>Adds the execution state a start needs, each time it changed (line 0 first: the power-on state).</summary>
+        void Add(StoredExecState state);
     }
 
     /// <summary>Blocks per batch handed between the threads.</summary>
@@ -70,6 +73,11 @@ internal static class ImportPipeline
                     writer.Add(d);
                 }
 
+                foreach (var s in batch.States)
+                {
+                    writer.Add(s);
+                }
+
                 batch.Clear();
                 free.Add(batch);
                 afterBatch?.Invoke();
@@ -99,6 +107,8 @@ internal static class ImportPipeline
         BlockingCollection<Batch> full, BlockingCollection<Batch> free, CancellationToken token)
     {
         var batch = free.Take(token);
+        var states = new ExecStateTracker(profile);
+        batch.States.Add(states.Initial);
         void OnDiagnostic(Diagnostic d)
         {
             batch.Diagnostics.Add(d);
@@ -108,6 +118,11 @@ internal static class ImportPipeline
         void OnInterpreted(Interpreter interp)
         {
             batch.Add(in interp.Last, interp.State);
+            if (states.After(interp) is { } changed)
+            {
+                batch.States.Add(changed);
+            }
+
             if (batch.Count == BatchSize)
             {
                 full.Add(batch, token);
@@ -139,6 +154,7 @@ internal static class ImportPipeline
         public readonly Interpreter.LastBlock[] Blocks = new Interpreter.LastBlock[BatchSize];
         public readonly ModalState?[] Modals = new ModalState?[BatchSize];
         public readonly List<Diagnostic> Diagnostics = [];
+        public readonly List<StoredExecState> States = [];
 
         public int Count { get; private set; }
 
@@ -153,6 +169,7 @@ internal static class ImportPipeline
         {
             Count = 0;
             Diagnostics.Clear();
+            States.Clear();
         }
     }
 }

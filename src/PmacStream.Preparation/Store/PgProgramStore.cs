@@ -42,14 +42,15 @@ public sealed class PgProgramStore : IProgramRevisions
         using var tx = _connection.BeginTransaction();
         long id;
         using (var cmd = new NpgsqlCommand(
-                   "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups) " +
-                   "VALUES (@path, @size, '', 0, 0, 0, 0, 0, @profile, 'incomplete', @created, @groups) RETURNING id", _connection, tx))
+                   "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups, profile_identity) " +
+                   "VALUES (@path, @size, '', 0, 0, 0, 0, 0, @profile, 'incomplete', @created, @groups, @identity) RETURNING id", _connection, tx))
         {
             cmd.Parameters.AddWithValue("path", Path.GetFullPath(file));
             cmd.Parameters.AddWithValue("size", fs.Length);
             cmd.Parameters.AddWithValue("profile", profile.Name);
             cmd.Parameters.AddWithValue("created", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
             cmd.Parameters.AddWithValue("groups", StoredGroups.Describe(profile));
+            cmd.Parameters.AddWithValue("identity", profile.Identity);
             id = (long)cmd.ExecuteScalar()!;
         }
 
@@ -158,7 +159,13 @@ public sealed class PgProgramStore : IProgramRevisions
     public void DeleteProgram(long programId)
     {
         using var tx = _connection.BeginTransaction();
-        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source" })
+        using (var prepared = new NpgsqlCommand("DELETE FROM preparation_files WHERE preparation_id IN (SELECT id FROM preparations WHERE program_id = @p)", _connection, tx))
+        {
+            prepared.Parameters.AddWithValue("p", programId);
+            prepared.ExecuteNonQuery();
+        }
+
+        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "preparations" })
         {
             using var cmd = new NpgsqlCommand($"DELETE FROM {table} WHERE program_id = @p", _connection, tx); // table names from the list above
             cmd.Parameters.AddWithValue("p", programId);
@@ -184,6 +191,43 @@ public sealed class PgProgramStore : IProgramRevisions
         cmd.Parameters.AddWithValue("l", Math.Max(0, line));
         using var r = cmd.ExecuteReader();
         return r.Read() ? ProgramStore.ReadBlock(r, groups) : null;
+    }
+
+    /// <inheritdoc />
+    public StoredStart? GetStart(long programId, int line)
+    {
+        var groups = GroupsOf(programId);
+        DecodedBlock block;
+        using (var cmd = new NpgsqlCommand($"SELECT 0::bigint, {PgBlockColumns} FROM blocks WHERE program_id = @p AND line >= @l AND motion <> 0 ORDER BY line LIMIT 1", _connection))
+        {
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.Parameters.AddWithValue("l", Math.Max(0, line));
+            using var r = cmd.ExecuteReader();
+            if (!r.Read())
+            {
+                return null;
+            }
+
+            block = ProgramStore.ReadBlock(r, groups);
+        }
+
+        DecodedBlock? previous = null;
+        using (var cmd = new NpgsqlCommand($"SELECT 0::bigint, {PgBlockColumns} FROM blocks WHERE program_id = @p AND line < @l ORDER BY line DESC LIMIT 1", _connection))
+        {
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.Parameters.AddWithValue("l", block.Line);
+            using var r = cmd.ExecuteReader();
+            if (r.Read())
+            {
+                previous = ProgramStore.ReadBlock(r, groups);
+            }
+        }
+
+        using var state = new NpgsqlCommand($"SELECT {ProgramWriter.ExecStateColumns} FROM exec_states WHERE program_id = @p AND line < @l ORDER BY line DESC LIMIT 1", _connection);
+        state.Parameters.AddWithValue("p", programId);
+        state.Parameters.AddWithValue("l", block.Line);
+        using var s = state.ExecuteReader();
+        return new StoredStart(block, previous, s.Read() ? ProgramStore.ReadExecState(s) : null);
     }
 
     private StoredGroups GroupsOf(long programId)
@@ -212,6 +256,7 @@ public sealed class PgProgramStore : IProgramRevisions
     private sealed class Writer(NpgsqlConnection connection, NpgsqlTransaction tx, long programId) : ImportPipeline.IBlockSink, IDisposable
     {
         private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal);
+        private readonly List<StoredExecState> _execStates = [];
         private NpgsqlBinaryImporter? _copy;
         private long _sourceSeq;
 
@@ -294,7 +339,10 @@ public sealed class PgProgramStore : IProgramRevisions
             cmd.ExecuteNonQuery();
         }
 
-        /// <summary>Ends the open COPY (its rows go in with the transaction).</summary>
+        /// <summary>Keeps an execution state for the COPY that follows the batch's blocks.</summary>
+        public void Add(StoredExecState state) => _execStates.Add(state);
+
+        /// <summary>Ends the open COPY (its rows go in with the transaction), then copies the execution states waiting.</summary>
         public void EndCopy()
         {
             if (_copy is { } c)
@@ -303,6 +351,38 @@ public sealed class PgProgramStore : IProgramRevisions
                 c.Complete();
                 c.Dispose();
             }
+
+            if (_execStates.Count == 0)
+            {
+                return;
+            }
+
+            using (var states = connection.BeginBinaryImport($"COPY exec_states ({ProgramWriter.ExecStateColumns}) FROM STDIN (FORMAT BINARY)"))
+            {
+                foreach (var e in _execStates)
+                {
+                    states.StartRow();
+                    states.Write(programId, NpgsqlDbType.Bigint);
+                    states.Write(e.Line, NpgsqlDbType.Integer);
+                    states.Write(e.Offset.X, NpgsqlDbType.Double);
+                    states.Write(e.Offset.Y, NpgsqlDbType.Double);
+                    states.Write(e.Offset.Z, NpgsqlDbType.Double);
+                    D(states, e.HighestZ);
+                    states.Write(e.ControllerText, NpgsqlDbType.Text);
+                    if (e.Selection is { } sel)
+                    {
+                        states.Write(sel, NpgsqlDbType.Text);
+                    }
+                    else
+                    {
+                        states.WriteNull();
+                    }
+                }
+
+                states.Complete();
+            }
+
+            _execStates.Clear();
         }
 
         public void Dispose()

@@ -65,6 +65,19 @@ public static class PgSchema
             """),
         ("reserved", "SELECT 1"), // 5: the alarm history (another branch's step; replaced at merge)
         ("machine leases", SqliteMigrations.LeaseSchema), // the same text runs on both engines
+        ("execution states and stored preparations", """
+            ALTER TABLE programs ADD COLUMN IF NOT EXISTS profile_identity TEXT;
+            CREATE TABLE IF NOT EXISTS exec_states (
+              program_id BIGINT NOT NULL, line INTEGER NOT NULL, offset_x DOUBLE PRECISION NOT NULL, offset_y DOUBLE PRECISION NOT NULL,
+              offset_z DOUBLE PRECISION NOT NULL, highest_z DOUBLE PRECISION, controller TEXT NOT NULL, selection TEXT,
+              PRIMARY KEY (program_id, line));
+            CREATE TABLE IF NOT EXISTS preparations (
+              id BIGSERIAL PRIMARY KEY, program_id BIGINT NOT NULL, inputs_key TEXT NOT NULL, inputs TEXT NOT NULL,
+              manifest TEXT NOT NULL, created TEXT NOT NULL, UNIQUE (program_id, inputs_key));
+            CREATE TABLE IF NOT EXISTS preparation_files (
+              preparation_id BIGINT NOT NULL, seq INTEGER NOT NULL, name TEXT NOT NULL, data BYTEA NOT NULL,
+              PRIMARY KEY (preparation_id, seq));
+            """),
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>

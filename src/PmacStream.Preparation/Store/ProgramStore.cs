@@ -24,6 +24,12 @@ public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256,
     /// <summary>The revision's name (the file name it was imported from); null for a program stored by <c>check --db</c>.</summary>
     public string? Name { get; init; }
 
+    /// <summary>
+    /// The identity of the profile the blocks were interpreted under (<see cref="MachineProfile.Identity"/>: its tool
+    /// table and work offsets are in the stored positions); null for revisions stored before schema 7.
+    /// </summary>
+    public string? ProfileIdentity { get; init; }
+
     /// <summary>The check summary as <c>N errors, M warnings, B blocks</c>.</summary>
     public string CheckSummary => $"{Errors} errors, {Warnings} warnings, {Blocks} blocks";
 }
@@ -43,7 +49,7 @@ public sealed class ProgramStore : IProgramRevisions
 {
     private static readonly ILogger Logger = Log.ForContext<ProgramStore>();
 
-    internal const string ProgramColumns = "id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created, name";
+    internal const string ProgramColumns = "id, path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, created, name, profile_identity";
 
     internal const string BlockColumns =
         "key, program_id, Lines, byte_offset, N, block_delete, GA, GB, GC, GD, GE, GF, GG, GH, GI, MA, MB, MC, " +
@@ -188,7 +194,7 @@ public sealed class ProgramStore : IProgramRevisions
 
     /// <summary>Starts storing a program checked against <paramref name="profile"/> (its modal groups are recorded).</summary>
     public ProgramWriter BeginProgram(string sourcePath, long size, MachineProfile profile) =>
-        new(_connection, sourcePath, size, profile.Name, StoredGroups.Describe(profile));
+        new(_connection, sourcePath, size, profile.Name, StoredGroups.Describe(profile), profile.Identity);
 
     /// <summary>
     /// Checks a file and stores every block and diagnostic in one pass (hashing as it reads). Returns the program id
@@ -321,6 +327,51 @@ public sealed class ProgramStore : IProgramRevisions
         return r.Read() ? ReadBlock(r, groups) : null;
     }
 
+    /// <inheritdoc />
+    public StoredStart? GetStart(long programId, int line)
+    {
+        var groups = GroupsOf(programId);
+        using var cmd = _connection.CreateCommand();
+        // Motion blocks are most blocks: the scan from the line's key stops at the first one.
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key >= $a AND key <= $b AND motion <> 0 ORDER BY key LIMIT 1";
+        cmd.Parameters.AddWithValue("$a", Key(programId, Math.Max(0, line)));
+        cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
+        DecodedBlock block;
+        using (var r = cmd.ExecuteReader())
+        {
+            if (!r.Read())
+            {
+                return null;
+            }
+
+            block = ReadBlock(r, groups);
+        }
+
+        cmd.CommandText = $"SELECT {BlockColumns} FROM blocks WHERE key >= $a AND key < $b ORDER BY key DESC LIMIT 1";
+        cmd.Parameters["$a"].Value = Key(programId, 0);
+        cmd.Parameters["$b"].Value = Key(programId, block.Line);
+        DecodedBlock? previous = null;
+        using (var r = cmd.ExecuteReader())
+        {
+            if (r.Read())
+            {
+                previous = ReadBlock(r, groups);
+            }
+        }
+
+        cmd.CommandText = $"SELECT {ProgramWriter.ExecStateColumns} FROM exec_states WHERE program_id = $p AND line < $l ORDER BY line DESC LIMIT 1";
+        cmd.Parameters.Clear();
+        cmd.Parameters.AddWithValue("$p", programId);
+        cmd.Parameters.AddWithValue("$l", block.Line);
+        using var s = cmd.ExecuteReader();
+        return new StoredStart(block, previous, s.Read() ? ReadExecState(s) : null);
+    }
+
+    /// <summary>An <c>exec_states</c> row (its columns in <see cref="ProgramWriter.ExecStateColumns"/> order), either engine.</summary>
+    internal static StoredExecState ReadExecState(System.Data.Common.DbDataReader r) =>
+        new(r.GetInt32(1), new Point3(r.GetDouble(2), r.GetDouble(3), r.GetDouble(4)), r.IsDBNull(5) ? null : r.GetDouble(5),
+            r.GetString(6).Split('\n'), r.IsDBNull(7) ? null : r.GetString(7));
+
     /// <summary>The blocks whose source lines lie in [<paramref name="fromLine"/>, <paramref name="toLine"/>] (selected-block execution).</summary>
     public IReadOnlyList<DecodedBlock> GetRange(long programId, int fromLine, int toLine) => ReadBlocks(programId, fromLine, toLine).ToList();
 
@@ -386,7 +437,9 @@ public sealed class ProgramStore : IProgramRevisions
         using var cmd = _connection.CreateCommand();
         cmd.Transaction = tx;
         cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; " +
-                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM program_source WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
+                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM program_source WHERE program_id = $p; DELETE FROM exec_states WHERE program_id = $p; " +
+                          "DELETE FROM preparation_files WHERE preparation_id IN (SELECT id FROM preparations WHERE program_id = $p); " +
+                          "DELETE FROM preparations WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
         cmd.Parameters.AddWithValue("$p", programId);
         cmd.Parameters.AddWithValue("$a", Key(programId, 0));
         cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
@@ -408,7 +461,7 @@ public sealed class ProgramStore : IProgramRevisions
         {
             list.Add(new ProgramInfo(r.GetInt64(0), r.GetString(1), r.GetInt64(2), r.GetString(3), r.GetInt32(4), r.GetInt64(5),
                 r.GetInt32(6), r.GetInt32(7), r.GetDouble(8), r.GetString(9),
-                DateTimeOffset.Parse(r.GetString(10), CultureInfo.InvariantCulture, DateTimeStyles.AssumeUniversal)) { Name = r.IsDBNull(11) ? null : r.GetString(11) });
+                DateTimeOffset.Parse(r.GetString(10), CultureInfo.InvariantCulture, DateTimeStyles.AssumeUniversal)) { Name = r.IsDBNull(11) ? null : r.GetString(11), ProfileIdentity = r.IsDBNull(12) ? null : r.GetString(12) });
         }
 
         return list;

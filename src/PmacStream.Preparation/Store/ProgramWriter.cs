@@ -17,6 +17,7 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
     private readonly sqlite3_stmt _diag;
     private readonly (BindState State, double Value)[] _bound = new (BindState, double)[64];
     private readonly sqlite3_stmt _state;
+    private readonly sqlite3_stmt _exec;
     private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal); // distinct further-group states, by text
     private ModalState? _modal;
     private long _seq;
@@ -24,15 +25,16 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
     private bool _completed;
     private bool _disposed;
 
-    internal ProgramWriter(SqliteConnection connection, string sourcePath, long size, string profile, string? groups)
+    internal ProgramWriter(SqliteConnection connection, string sourcePath, long size, string profile, string? groups, string? profileIdentity = null)
     {
         _connection = connection;
         _tx = connection.BeginTransaction();
         using (var cmd = connection.CreateCommand())
         {
             cmd.Transaction = _tx;
-            cmd.CommandText = "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups) " +
-                              "VALUES ($path, $size, '', 0, 0, 0, 0, 0, $profile, 'incomplete', $created, $groups); SELECT last_insert_rowid();";
+            cmd.CommandText = "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups, profile_identity) " +
+                              "VALUES ($path, $size, '', 0, 0, 0, 0, 0, $profile, 'incomplete', $created, $groups, $identity); SELECT last_insert_rowid();";
+            cmd.Parameters.AddWithValue("$identity", (object?)profileIdentity ?? DBNull.Value);
             cmd.Parameters.AddWithValue("$path", sourcePath);
             cmd.Parameters.AddWithValue("$size", size);
             cmd.Parameters.AddWithValue("$profile", profile);
@@ -46,7 +48,11 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
         Check(raw.sqlite3_prepare_v2(db, $"INSERT INTO blocks ({ProgramStore.BlockColumns}) VALUES ({placeholders})", out _block), db);
         Check(raw.sqlite3_prepare_v2(db, "INSERT INTO diagnostics (program_id, severity, code, line, col, message) VALUES (?, ?, ?, ?, ?, ?)", out _diag), db);
         Check(raw.sqlite3_prepare_v2(db, "INSERT INTO group_states (program_id, id, more) VALUES (?, ?, ?)", out _state), db);
+        Check(raw.sqlite3_prepare_v2(db, $"INSERT INTO exec_states ({ExecStateColumns}) VALUES (?, ?, ?, ?, ?, ?, ?, ?)", out _exec), db);
     }
+
+    /// <summary>The columns of <c>exec_states</c> (both engines).</summary>
+    internal const string ExecStateColumns = "program_id, line, offset_x, offset_y, offset_z, highest_z, controller, selection";
 
     /// <summary>The new program's id.</summary>
     public long ProgramId { get; }
@@ -116,6 +122,40 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
         raw.sqlite3_bind_text(s, 6, d.Message);
         Step(s);
     }
+
+    /// <summary>Adds the execution state a start needs after a block (<see cref="StoredExecState"/>).</summary>
+    internal void Add(StoredExecState e)
+    {
+        var s = _exec;
+        raw.sqlite3_bind_int64(s, 1, ProgramId);
+        raw.sqlite3_bind_int(s, 2, e.Line);
+        raw.sqlite3_bind_double(s, 3, e.Offset.X);
+        raw.sqlite3_bind_double(s, 4, e.Offset.Y);
+        raw.sqlite3_bind_double(s, 5, e.Offset.Z);
+        if (e.HighestZ is { } z)
+        {
+            raw.sqlite3_bind_double(s, 6, z);
+        }
+        else
+        {
+            raw.sqlite3_bind_null(s, 6);
+        }
+
+        raw.sqlite3_bind_text(s, 7, e.ControllerText);
+        if (e.Selection is { } sel)
+        {
+            raw.sqlite3_bind_text(s, 8, sel);
+        }
+        else
+        {
+            raw.sqlite3_bind_null(s, 8);
+        }
+
+        Step(s);
+    }
+
+    /// <inheritdoc />
+    void ImportPipeline.IBlockSink.Add(StoredExecState state) => Add(state);
 
     /// <summary>Stores the next piece of the program's exact source (a revision's, for export and execution).</summary>
     public void AddSource(byte[] piece)
@@ -191,6 +231,7 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
         _block.Dispose();
         _diag.Dispose();
         _state.Dispose();
+        _exec.Dispose();
     }
 
     private void Step(sqlite3_stmt s)

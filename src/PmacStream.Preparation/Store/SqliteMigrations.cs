@@ -84,6 +84,11 @@ public static class SqliteMigrations
         }),
         ("reserved", (_, _) => { }), // 5: the alarm history (another branch's step; replaced at merge)
         ("machine leases", (c, t) => Run(c, t, LeaseSchema)),
+        ("execution states and stored preparations", (c, t) =>
+        {
+            AddColumn(c, t, "programs", "profile_identity", "TEXT");
+            Run(c, t, ExecutionSchema);
+        }),
     ];
 
     /// <summary>
@@ -95,6 +100,22 @@ public static class SqliteMigrations
         CREATE TABLE IF NOT EXISTS leases (
           machine TEXT PRIMARY KEY, station TEXT NOT NULL, pid BIGINT NOT NULL, runner TEXT NOT NULL, job_id BIGINT,
           since_ms BIGINT NOT NULL, heartbeat_ms BIGINT NOT NULL, expiry_ms BIGINT NOT NULL);
+        """;
+
+    /// <summary>
+    /// Version 7: what a start from a block needs beyond the blocks' modal state (<see cref="StoredExecState"/>, once per
+    /// change), and the preparations of a revision (chunk files and manifest, keyed by every input the split read).
+    /// </summary>
+    private const string ExecutionSchema = """
+        CREATE TABLE IF NOT EXISTS exec_states (
+            program_id INTEGER NOT NULL, line INTEGER NOT NULL, offset_x REAL NOT NULL, offset_y REAL NOT NULL, offset_z REAL NOT NULL,
+            highest_z REAL, controller TEXT NOT NULL, selection TEXT, PRIMARY KEY (program_id, line)) WITHOUT ROWID;
+        CREATE TABLE IF NOT EXISTS preparations (
+            id INTEGER PRIMARY KEY, program_id INTEGER NOT NULL, inputs_key TEXT NOT NULL, inputs TEXT NOT NULL,
+            manifest TEXT NOT NULL, created TEXT NOT NULL, UNIQUE (program_id, inputs_key));
+        CREATE TABLE IF NOT EXISTS preparation_files (
+            preparation_id INTEGER NOT NULL, seq INTEGER NOT NULL, name TEXT NOT NULL, data BLOB NOT NULL,
+            PRIMARY KEY (preparation_id, seq)) WITHOUT ROWID;
         """;
 
     /// <summary>Applies the migrations the file has not had; returns how many ran.</summary>
