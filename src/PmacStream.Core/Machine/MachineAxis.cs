@@ -76,6 +76,14 @@ public sealed record MachineConsoleOptions
     /// </summary>
     public double? DefaultJogFeed { get; init; } = 1000;
 
+    /// <summary>
+    /// The suffix of the M-variable that points at each motor's target (end) position register: 63 reads M163 for motor 1
+    /// (Delta Tau's suggested definitions, <c>M163-&gt;D:$0000C7</c>); its commanded position is read from Mxx61. An axis
+    /// whose variables are not defined on the controller (<c>*</c>) shows distance to go of the console's own moves
+    /// only; null: never read them.
+    /// </summary>
+    public int? TargetVariable { get; init; } = 63;
+
     /// <summary>Tools the <c>tools</c> list reads from the controller (1..this).</summary>
     public int ToolCount { get; init; } = 24;
 

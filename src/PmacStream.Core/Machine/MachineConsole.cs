@@ -49,11 +49,11 @@ public sealed partial class MachineConsole
         var words = await MotorWordsAsync(Connection, Options.Axes, cancellationToken).ConfigureAwait(false);
         var machine = await PositionsAsync(cancellationToken).ConfigureAwait(false);
         var shift = await WorkShiftAsync(cancellationToken).ConfigureAwait(false);
+        var toGo = await ToGoAsync(machine, cancellationToken).ConfigureAwait(false);
         var axes = Options.Axes.Select((a, i) =>
         {
             var work = machine[i] - (a.TableAxis >= 0 ? shift.Shift[a.TableAxis] : 0);
-            var toGo = _targets.TryGetValue(a.Name, out var t) ? t - machine[i] : 0;
-            return new AxisState(a.Name, a.Motor, Round(machine[i]), Round(work), Round(toGo), words[i].HomeComplete);
+            return new AxisState(a.Name, a.Motor, Round(machine[i]), Round(work), Round(toGo[i]), words[i].HomeComplete);
         }).ToList();
         var alarms = Options.Axes.SelectMany((a, i) => AlarmText.Decode(words[i], a.Motor, a.Name, Options.Language)).ToList();
         Options.History?.Observe(alarms, DateTimeOffset.Now);

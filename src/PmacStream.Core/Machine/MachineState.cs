@@ -34,7 +34,7 @@ public enum AlarmSeverity
 /// <param name="Motor">The motor that drives it.</param>
 /// <param name="Machine">Actual position in machine coordinates, mm.</param>
 /// <param name="Work">Actual position in work coordinates, mm: machine minus the active work offset, G52/G92 shift and (Z) tool length.</param>
-/// <param name="ToGo">Distance to go of the console's own move (jog, home), mm; 0 when the console commanded none.</param>
+/// <param name="ToGo">Distance to go of the move the motor makes (a job's block, a jog), mm: its target (end) position register less its commanded position; 0 in position.</param>
 /// <param name="Homed">The motor's Home Complete bit.</param>
 public sealed record AxisState(string Name, int Motor, double Machine, double Work, double ToGo, bool Homed);
 
