@@ -201,7 +201,7 @@ public sealed partial class ConsolePresenter : IAsyncDisposable
             _ => HmiText.Get(TextId.StateIdle, Language),
         };
         return T(TextId.MachineSummary, mode, s.WorkOffset, Num(s.ActualFeed), s.ProgrammedFeed is { } f ? Num(f) : "–", Num(s.FeedOverride),
-            s.SpindleSpeed is { } sp ? Num(sp) : "–", s.Job ?? "–");
+            s.Spindle is { } sp ? T(TextId.SpindleReadout, Num(sp.Actual), Num(sp.Programmed)) : s.SpindleSpeed is { } ss ? Num(ss) : "–", s.Job ?? "–");
     }
 
     /// <summary>An alarm in the operator's language (the console decodes in its own; the code is stable).</summary>

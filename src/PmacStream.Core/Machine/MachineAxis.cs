@@ -84,6 +84,28 @@ public sealed record MachineConsoleOptions
     /// </summary>
     public int? TargetVariable { get; init; } = 63;
 
+    /// <summary>
+    /// The coordinate-system Q-variable the programmed spindle speed is in: <c>Q127</c>, where a motion program's
+    /// <c>S{data}</c> puts it (Turbo SRM p. 469); the host sends each block's S as such a line.
+    /// </summary>
+    public string SpindleSpeedVariable { get; init; } = "Q127";
+
+    /// <summary>The library's spindle-on output (M03/M04 set it, M05 clears it): <see cref="Preparation.Prog1000Options.SpindleOn"/>.</summary>
+    public string SpindleOnVariable { get; init; } = new Preparation.Prog1000Options().SpindleOn;
+
+    /// <summary>The library's spindle-reverse output (M04 sets it, M03 clears it).</summary>
+    public string SpindleReverseVariable { get; init; } = new Preparation.Prog1000Options().SpindleReverse;
+
+    /// <summary>
+    /// A motor whose velocity is the spindle's (a spindle with an encoder, or its drive's speed read back as a motor);
+    /// null (the default): the library drives the spindle open loop, so the actual speed shown is the programmed one
+    /// while the spindle-on output is set, 0 when it is off (*assumed*: no feedback to read).
+    /// </summary>
+    public int? SpindleMotor { get; init; }
+
+    /// <summary>Counts per spindle revolution of <see cref="SpindleMotor"/>.</summary>
+    public double SpindleCountsPerRev { get; init; } = 1;
+
     /// <summary>Tools the <c>tools</c> list reads from the controller (1..this).</summary>
     public int ToolCount { get; init; } = 24;
 

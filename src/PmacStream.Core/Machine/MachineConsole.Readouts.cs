@@ -2,7 +2,7 @@ using System.Globalization;
 
 namespace PmacStream.Machine;
 
-/// <summary>What the DRO reads beyond positions: distance to go from the motors' target registers.</summary>
+/// <summary>What the DRO reads beyond positions: distance to go from the motors' target registers, the spindle.</summary>
 public sealed partial class MachineConsole
 {
     // Per axis: true when its Mxx61 and Mxx63 point at memory (Delta Tau's suggested definitions); read once.
@@ -60,5 +60,32 @@ public sealed partial class MachineConsole
     {
         var reply = (await Connection.GetResponseAsync(string.Create(CultureInfo.InvariantCulture, $"M{m}->"), cancellationToken).ConfigureAwait(false)).Trim().TrimEnd('\u0006').Trim();
         return reply.Contains(':', StringComparison.Ordinal);
+    }
+
+    /// <summary>
+    /// The spindle: programmed speed from the coordinate system's Q127 (where <c>S{data}</c> puts it), the library's
+    /// spindle-on and reverse outputs, and the actual speed from the spindle motor's velocity when there is one (rpm from
+    /// counts per servo cycle), else the programmed speed while the spindle is on.
+    /// </summary>
+    private async Task<SpindleReadout> SpindleAsync(CancellationToken cancellationToken)
+    {
+        var o = Options;
+        var v = Numbers(await Connection.GetResponseAsync($"{Cs} {o.SpindleSpeedVariable} {o.SpindleOnVariable} {o.SpindleReverseVariable}", cancellationToken).ConfigureAwait(false));
+        double V(int i) => i < v.Count ? v[i] : 0;
+        var programmed = V(0);
+        var on = V(1) != 0;
+        double actual;
+        if (o.SpindleMotor is { } motor)
+        {
+            _servoCycleMs ??= await NumberAsync("I10", cancellationToken).ConfigureAwait(false) / 8_388_608.0;
+            var counts = await NumberAsync($"#{motor}V", cancellationToken).ConfigureAwait(false);
+            actual = _servoCycleMs > 0 && o.SpindleCountsPerRev > 0 ? Math.Abs(counts) / _servoCycleMs.Value * 60_000 / o.SpindleCountsPerRev : 0;
+        }
+        else
+        {
+            actual = on ? programmed : 0;
+        }
+
+        return new SpindleReadout(Round(programmed), Math.Round(actual, 1), on, V(2) != 0);
     }
 }

@@ -63,8 +63,9 @@ public sealed partial class MachineConsole
         var executing = (int)await NumberAsync(Options.Settings.TrackVariable, cancellationToken).ConfigureAwait(false);
         var programmed = Options.Settings.Shape.Feed == FeedMode.Paper ? await NumberAsync(Options.Settings.Shape.FeedVariable, cancellationToken).ConfigureAwait(false) : (double?)null;
         var actual = await ActualFeedAsync(cancellationToken).ConfigureAwait(false);
+        var spindle = await SpindleAsync(cancellationToken).ConfigureAwait(false);
         var (mode, job) = Mode(alarms, cs, feedOverride);
-        return new MachineState(mode, axes, alarms, MachineTables.NameOf(shift.Index), feedOverride, programmed, Round(actual), null, executing, job);
+        return new MachineState(mode, axes, alarms, MachineTables.NameOf(shift.Index), feedOverride, programmed, Round(actual), spindle.Programmed, executing, job) { Spindle = spindle };
     }
 
     /// <summary>

@@ -93,4 +93,32 @@ public sealed class MachineConsoleReadoutTests : IAsyncLifetime
         var target = double.Parse((await SendAsync("M163")).Trim().TrimEnd('\u0006').Trim(), CultureInfo.InvariantCulture);
         target.Should().Be(100 * 96 * 32); // 100 counts in 1/(Ixx08*32) counts, Ixx08 = 96
     }
+
+    [Fact]
+    public async Task The_programmed_S_and_the_spindle_output_give_the_programmed_and_actual_spindle_speed()
+    {
+        (await _console.ReadStateAsync()).Spindle.Should().Be(new SpindleReadout(0, 0, false, false));
+        await StartMoveAsync("S1200 M902=1 M903=1 LINEAR ABS F600 X10");
+        _sim.Advance(TimeSpan.FromSeconds(2));
+        var on = await _console.ReadStateAsync();
+        on.Spindle.Should().Be(new SpindleReadout(1200, 1200, true, true));
+        on.SpindleSpeed.Should().Be(1200);
+
+        await StartMoveAsync("M902=0 LINEAR ABS F600 X0");
+        _sim.Advance(TimeSpan.FromSeconds(2));
+        (await _console.ReadStateAsync()).Spindle.Should().Be(new SpindleReadout(1200, 0, false, true));
+    }
+
+    [Fact]
+    public async Task A_spindle_motor_gives_the_actual_speed_from_its_velocity()
+    {
+        await CloseAsync();
+        await OpenAsync(new SimOptions(), new MachineConsoleOptions { SpindleMotor = 4, SpindleCountsPerRev = 1000 });
+        await SendAsync("#4J+");
+        _sim.Advance(TimeSpan.FromSeconds(1));
+        var s = await _console.ReadStateAsync();
+        // Ixx22 = 32 counts/ms is 1920 rpm; V is reported to 0.1 count per servo cycle (0.44 ms), so within 0.5 %.
+        s.Spindle!.Actual.Should().BeApproximately(32 * 60_000 / 1000.0, 10);
+        s.Spindle.Programmed.Should().Be(0);
+    }
 }
