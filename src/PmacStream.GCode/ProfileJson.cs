@@ -44,27 +44,7 @@ internal static class ProfileJson
                 w.WriteBoolean("absoluteEncoders", true);
             }
 
-            if (p.Axes.Count > 0)
-            {
-                // Written only when set, as absoluteEncoders: the built-in profiles (X Y Z on motors 1-3) stay as they were.
-                w.WriteNumber("coordinateSystem", p.CoordinateSystem);
-                w.WriteStartArray("axes");
-                foreach (var a in p.Axes)
-                {
-                    w.WriteStartObject();
-                    w.WriteString("name", a.Name);
-                    w.WriteNumber("motor", a.Motor);
-                    w.WriteNumber("countsPerUnit", a.CountsPerUnit);
-                    if (a.Rotary)
-                    {
-                        w.WriteBoolean("rotary", true);
-                    }
-
-                    w.WriteEndObject();
-                }
-
-                w.WriteEndArray();
-            }
+            WriteAxes(w, p);
 
             p.ArcTolerance.Write(w);
             w.WriteBoolean("dwellPInMilliseconds", p.DwellPInMilliseconds);
@@ -334,6 +314,36 @@ internal static class ProfileJson
         }
 
         return list;
+    }
+
+    /// <summary>
+    /// The machine's axes and coordinate system, written only when the profile lists axes (as absoluteEncoders): the
+    /// built-in profiles (X Y Z on motors 1-3) stay as they were.
+    /// </summary>
+    private static void WriteAxes(Utf8JsonWriter w, MachineProfile p)
+    {
+        if (p.Axes.Count == 0)
+        {
+            return;
+        }
+
+        w.WriteNumber("coordinateSystem", p.CoordinateSystem);
+        w.WriteStartArray("axes");
+        foreach (var a in p.Axes)
+        {
+            w.WriteStartObject();
+            w.WriteString("name", a.Name);
+            w.WriteNumber("motor", a.Motor);
+            w.WriteNumber("countsPerUnit", a.CountsPerUnit);
+            if (a.Rotary)
+            {
+                w.WriteBoolean("rotary", true);
+            }
+
+            w.WriteEndObject();
+        }
+
+        w.WriteEndArray();
     }
 
     /// <summary>The machine's axes: <c>[{"name": "A", "motor": 4, "countsPerUnit": 100, "rotary": true}, ...]</c>.</summary>

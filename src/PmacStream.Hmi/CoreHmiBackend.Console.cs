@@ -24,7 +24,12 @@ public sealed partial class CoreHmiBackend
     public bool ConsoleReady => _link is not null;
 
     /// <summary>The console on the open link (made on first use, again after a profile change).</summary>
-    private MachineConsole Console => _console ??= new MachineConsole(Service, Link, ConsoleOptions with { Profile = _profile });
+    private MachineConsole Console => _console ??= new MachineConsole(Service, Link, ConsoleOptions with
+    {
+        Profile = _profile,
+        Axes = _profile.Axes.Count > 0 ? MachineAxis.Of(_profile) : ConsoleOptions.Axes,
+        CoordinateSystem = _profile.Axes.Count > 0 ? _profile.CoordinateSystem : ConsoleOptions.CoordinateSystem,
+    });
 
     /// <inheritdoc />
     public Task<MachineState> ReadStateAsync(CancellationToken cancellationToken = default) => Console.ReadStateAsync(cancellationToken);

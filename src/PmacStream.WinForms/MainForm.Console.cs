@@ -298,6 +298,7 @@ internal sealed partial class MainForm : IConsoleView
             for (var r = 0; r < 3; r++)
             {
                 var row = r < value.Count ? value[r] : null;
+                lblDro[r, 0].Text = row?.Axis ?? AxisLetters[r]; // the machine's axes (the profile's); three rows shown
                 lblDro[r, 1].Text = row?.Machine ?? string.Empty;
                 lblDro[r, 2].Text = row?.Work ?? string.Empty;
                 lblDro[r, 3].Text = row?.ToGo ?? string.Empty;

@@ -46,7 +46,7 @@ internal sealed class ConsoleOptions
         var sim = new CliSimulator(_job.SimSpeed(parse), profile.RapidRate);
         var service = new JobService(new JobServiceOptions
         {
-            Store = _job.Store(parse), Simulator = sim.OpenAsync, Rules = new MachineRules(MachineAxis.Default),
+            Store = _job.Store(parse), Simulator = sim.OpenAsync, Rules = new MachineRules(MachineAxis.Of(profile)),
         });
         try
         {
@@ -55,6 +55,7 @@ internal sealed class ConsoleOptions
             {
                 Language = language, History = new AlarmHistoryFile(Path.Combine(MachineConsoleOptions.StateFolder(service), "alarms.jsonl")), TablesPath = tablesPath,
                 StatePath = Path.Combine(MachineConsoleOptions.StateFolder(service), "console-state.json"), Profile = profile, Settings = settings,
+                Axes = MachineAxis.Of(profile), CoordinateSystem = profile.CoordinateSystem,
             });
             if (controller.IsSimulator && File.Exists(tablesPath))
             {

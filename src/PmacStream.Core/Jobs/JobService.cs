@@ -293,7 +293,7 @@ public sealed partial class JobService
             return;
         }
 
-        var (unhomed, alarms) = await Machine.MachineConsole.ReadinessAsync(controller.Connection, rules.Axes, cancellationToken).ConfigureAwait(false);
+        var (unhomed, alarms) = await Machine.MachineConsole.ReadinessAsync(controller.Connection, AxesOf(profile) ?? rules.Axes, cancellationToken).ConfigureAwait(false);
         if (alarms.Count > 0)
         {
             throw new JobException($"an alarm is active: {alarms[0].Text}; clear it first (pmacstream alarms clear)", JobErrorKind.Failed);
@@ -305,6 +305,10 @@ public sealed partial class JobService
             throw new JobException($"not homed: {string.Concat(unhomed)}; home the machine first (pmacstream home), or give --no-home-check if its position is known (absolute encoders)", JobErrorKind.Failed);
         }
     }
+
+    /// <summary>The machine's axes: the profile's when it lists them, else the rules' (X Y Z on motors 1-3); null without rules.</summary>
+    private IReadOnlyList<Machine.MachineAxis>? AxesOf(MachineProfile? profile) =>
+        _options.Rules is null ? null : profile is { Axes.Count: > 0 } ? Machine.MachineAxis.Of(profile) : _options.Rules.Axes;
 
     /// <summary>The last line of the newest job on this controller when it completed (its rotary program may still wait for lines); else null.</summary>
     private static int? CompletedJobLine(IJobStore? store, ControllerLink controller) =>

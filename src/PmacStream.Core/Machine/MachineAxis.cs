@@ -9,11 +9,22 @@ namespace PmacStream.Machine;
 /// <summary>An axis of the machine and the motor that drives it.</summary>
 /// <param name="Name">The axis letter.</param>
 /// <param name="Motor">The motor number (<c>#n</c>).</param>
-/// <param name="CountsPerMm">Motor counts per millimetre: the scale of its axis definition (<c>#1->1000X</c> is 1000; the simulator's power-on definition is 1).</param>
-public sealed record MachineAxis(string Name, int Motor, double CountsPerMm = 1)
+/// <param name="CountsPerMm">Motor counts per millimetre (per degree on a rotary axis): the scale of its axis definition (<c>#1->1000X</c> is 1000; the simulator's power-on definition is 1).</param>
+/// <param name="Rotary">A rotary axis: its positions are degrees (<paramref name="CountsPerMm"/> is then counts per degree).</param>
+public sealed record MachineAxis(string Name, int Motor, double CountsPerMm = 1, bool Rotary = false)
 {
     /// <summary>X, Y, Z on motors 1, 2, 3 at scale 1: the simulator's power-on definition.</summary>
     public static IReadOnlyList<MachineAxis> Default { get; } = [new("X", 1), new("Y", 2), new("Z", 3)];
+
+    /// <summary>The axes a machine profile lists (<c>"axes"</c>), or <see cref="Default"/> when it lists none.</summary>
+    public static IReadOnlyList<MachineAxis> Of(MachineProfile profile)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        return profile.Axes.Count == 0 ? Default : profile.Axes.Select(a => new MachineAxis(a.Name, a.Motor, a.CountsPerUnit, a.Rotary)).ToList();
+    }
+
+    /// <summary>The unit of its positions: <c>mm</c>, or <c>deg</c> for a rotary axis.</summary>
+    public string Unit => Rotary ? "deg" : "mm";
 
     /// <summary>The library's axis index (X 0, Y 1, Z 2), or -1 for an axis without work offsets.</summary>
     public int TableAxis => Name switch { "X" => 0, "Y" => 1, "Z" => 2, _ => -1 };
