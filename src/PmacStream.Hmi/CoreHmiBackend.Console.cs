@@ -27,6 +27,7 @@ public sealed partial class CoreHmiBackend
     private MachineConsole Console => _console ??= new MachineConsole(Service, Link, ConsoleOptions with
     {
         Profile = _profile,
+        History = ConsoleOptions.History is StoreAlarmHistory h ? h.On(Link.Spec.ToString()) : ConsoleOptions.History,
         Axes = _profile.Axes.Count > 0 ? MachineAxis.Of(_profile) : ConsoleOptions.Axes,
         CoordinateSystem = _profile.Axes.Count > 0 ? _profile.CoordinateSystem : ConsoleOptions.CoordinateSystem,
     });
@@ -70,7 +71,7 @@ public sealed partial class CoreHmiBackend
         Console.SetToolAsync(number, length, radius, lengthWear, radiusWear, cancellationToken);
 
     /// <inheritdoc />
-    public IReadOnlyList<AlarmRecord> AlarmHistory() => ConsoleOptions.History?.List() ?? [];
+    public IReadOnlyList<AlarmRecord> AlarmHistory() => (_link is null ? ConsoleOptions.History : Console.Options.History)?.List() ?? [];
 
     /// <inheritdoc />
     public IReadOnlyList<HmiJobEntry> JobHistory()

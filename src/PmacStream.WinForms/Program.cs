@@ -94,7 +94,8 @@ internal static class Program
     {
         ConsoleOptions = new MachineConsoleOptions
         {
-            History = new AlarmHistoryFile(Path.Combine(MachineConsoleOptions.StateFolder(service), "alarms.jsonl")),
+            // The store's alarm history, for the controller the operator connects to (CoreHmiBackend names it).
+            History = StoreAlarmHistory.Of(service, "sim"),
             TablesPath = MachineTables.DefaultPath(),
             StatePath = Path.Combine(MachineConsoleOptions.StateFolder(service), "console-state.json"),
             Language = language == HmiLanguage.Chinese ? "zh-CN" : "en",

@@ -53,7 +53,8 @@ internal sealed class ConsoleOptions
             var controller = await service.ConnectAsync(target, profile, cancellationToken).ConfigureAwait(false);
             var console = new MachineConsole(service, controller, new MachineConsoleOptions
             {
-                Language = language, History = new AlarmHistoryFile(Path.Combine(MachineConsoleOptions.StateFolder(service), "alarms.jsonl")), TablesPath = tablesPath,
+                Language = language, TablesPath = tablesPath,
+                History = StoreAlarmHistory.Of(service, controller.Spec.ToString()),
                 StatePath = Path.Combine(MachineConsoleOptions.StateFolder(service), "console-state.json"), Profile = profile, Settings = settings,
                 Axes = MachineAxis.Of(profile), CoordinateSystem = profile.CoordinateSystem,
             });

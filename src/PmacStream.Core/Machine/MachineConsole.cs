@@ -56,7 +56,8 @@ public sealed partial class MachineConsole
             return new AxisState(a.Name, a.Motor, Round(machine[i]), Round(work), Round(toGo[i]), words[i].HomeComplete);
         }).ToList();
         var alarms = Options.Axes.SelectMany((a, i) => AlarmText.Decode(words[i], a.Motor, a.Name, Options.Language)).ToList();
-        Options.History?.Observe(alarms, DateTimeOffset.Now);
+        var record = LatestJob();
+        Options.History?.Observe(alarms, DateTimeOffset.Now, record?.Checkpoint?.State is SessionState.Completed ? null : record?.Id);
 
         var cs = CsWord.Parse(await Connection.GetResponseAsync(Cs + "??", cancellationToken).ConfigureAwait(false));
         var feedOverride = await NumberAsync(Cs + "%", cancellationToken).ConfigureAwait(false);
@@ -64,7 +65,7 @@ public sealed partial class MachineConsole
         var programmed = Options.Settings.Shape.Feed == FeedMode.Paper ? await NumberAsync(Options.Settings.Shape.FeedVariable, cancellationToken).ConfigureAwait(false) : (double?)null;
         var actual = await ActualFeedAsync(cancellationToken).ConfigureAwait(false);
         var spindle = await SpindleAsync(cancellationToken).ConfigureAwait(false);
-        var (mode, job) = Mode(alarms, cs, feedOverride);
+        var (mode, job) = Mode(alarms, cs, feedOverride, record);
         return new MachineState(mode, axes, alarms, MachineTables.NameOf(shift.Index), feedOverride, programmed, Round(actual), spindle.Programmed, executing, job) { Spindle = spindle };
     }
 
@@ -160,9 +161,8 @@ public sealed partial class MachineConsole
         return _servoCycleMs > 0 ? Math.Sqrt(sum) / _servoCycleMs.Value * 60_000 : 0;
     }
 
-    private (MachineMode Mode, string? Job) Mode(IReadOnlyList<MachineAlarm> alarms, CsWord? cs, double feedOverride)
+    private static (MachineMode Mode, string? Job) Mode(IReadOnlyList<MachineAlarm> alarms, CsWord? cs, double feedOverride, JobRecord? record)
     {
-        var record = LatestJob();
         var job = record is null ? null : $"job {record.Id} {(record.Checkpoint?.State ?? SessionState.Idle).ToString().ToLowerInvariant()}";
         if (alarms.Any(a => a.Severity == AlarmSeverity.Alarm))
         {

@@ -63,6 +63,9 @@ public static class PgSchema
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS alarms BIGINT NOT NULL DEFAULT 0;
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS resumes BIGINT NOT NULL DEFAULT 0;
             """),
+
+        // 5 (reserved for it): a table of its own, created only when missing.
+        ("alarm history", AlarmStores.PgSchemaSql),
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>

@@ -82,6 +82,9 @@ public static class SqliteMigrations
                 AddColumn(c, t, "jobs", name, definition);
             }
         }),
+
+        // 5 (reserved for it): a table of its own, created only when missing, so it applies whatever came before.
+        ("alarm history", (c, t) => Run(c, t, AlarmStores.SqliteSchema)),
     ];
 
     /// <summary>Applies the migrations the file has not had; returns how many ran.</summary>
