@@ -84,6 +84,18 @@ public sealed partial class CoreHmiBackend
         }
     }
 
+    /// <inheritdoc />
+    public string StoreDisplay => Service.StoreDisplay;
+
+    /// <inheritdoc />
+    IReadOnlyList<Jobs.JobHistoryView> IStoreBackend.JobHistory() => Service.JobHistory();
+
+    /// <inheritdoc />
+    public IReadOnlyList<Jobs.StoredProgramView> StoredPrograms() => Service.StoredPrograms();
+
+    /// <inheritdoc />
+    public (string Path, string? Profile) StoredProgramFile(long id) => Service.StoredProgramFile(id);
+
     /// <summary>The operator chose another profile: MDI is checked under it from now on.</summary>
     private void ProfileChosen(MachineProfile profile)
     {

@@ -63,6 +63,7 @@ internal sealed partial class MainForm : IConsoleView
     private readonly Button btnHistoryRefresh = new();
 
     private ConsolePresenter? _console;
+    private StorePresenter? _store;
 
     public event EventHandler? HomeAllRequested;
     public event EventHandler<string>? HomeAxisRequested;
@@ -80,6 +81,9 @@ internal sealed partial class MainForm : IConsoleView
 
     /// <summary>Attaches the console pages' presenter; the form's timer ticks it after the job's presenter.</summary>
     public void Attach(ConsolePresenter console) => _console = console;
+
+    /// <summary>Attaches the Store page's presenter.</summary>
+    public void Attach(StorePresenter store) => _store = store;
 
     /// <summary>The alarm banner and the tab control with its four pages.</summary>
     private void PlaceConsole()
@@ -110,6 +114,7 @@ internal sealed partial class MainForm : IConsoleView
         gridTools.Columns[0].ReadOnly = true;
         cboJogAxis.Items.AddRange(AxisLetters);
         cboJogAxis.SelectedIndex = 0;
+        PlaceStore();
         WireConsole();
     }
 

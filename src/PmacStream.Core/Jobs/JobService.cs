@@ -18,6 +18,12 @@ public sealed record JobServiceOptions
     /// <summary>The store (<c>--store</c>); null: <see cref="JobDatabase"/>, else as <see cref="StoreLocation.Resolve"/> picks it.</summary>
     public StoreLocation? Store { get; init; }
 
+    /// <summary>
+    /// The store as a face spells it (<c>sqlite:PATH</c>, <c>postgres://...</c>, an Npgsql connection string) when
+    /// <see cref="Store"/> is not given: the HMI's <c>--store</c>; null: <c>$PMACSTREAM_STORE</c>, else the default.
+    /// </summary>
+    public string? StoreUri { get; init; }
+
     /// <summary>Opens the built-in simulator (the host owns it); null: this host has none.</summary>
     public Func<CancellationToken, Task<SimulatorLink>>? Simulator { get; init; }
 
@@ -48,7 +54,7 @@ public sealed partial class JobService
     public JobService(JobServiceOptions? options = null)
     {
         _options = options ?? new JobServiceOptions();
-        Store = _options.Store ?? StoreLocation.Resolve(jobDb: _options.JobDatabase);
+        Store = _options.Store ?? StoreLocation.Resolve(store: _options.StoreUri, jobDb: _options.JobDatabase);
         JobDatabase = Store.Engine == StoreEngine.Sqlite ? Store.Target : Store.Display;
     }
 
