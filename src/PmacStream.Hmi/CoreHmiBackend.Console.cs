@@ -43,8 +43,8 @@ public sealed partial class CoreHmiBackend
         Console.JogAsync(axis, distance, feed, cancellationToken);
 
     /// <inheritdoc />
-    public Task<ConsoleResult> StartJogAsync(string axis, int direction, CancellationToken cancellationToken = default) =>
-        Console.StartJogAsync(axis, direction, cancellationToken);
+    public Task<ConsoleResult> StartJogAsync(string axis, int direction, double? feed, CancellationToken cancellationToken = default) =>
+        Console.StartJogAsync(axis, direction, feed, cancellationToken);
 
     /// <inheritdoc />
     public Task<ConsoleResult> StopJogAsync(string axis, CancellationToken cancellationToken = default) => Console.StopJogAsync(axis, cancellationToken);

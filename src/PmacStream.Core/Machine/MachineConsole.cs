@@ -20,6 +20,9 @@ public sealed partial class MachineConsole
     private static readonly ILogger Log = Serilog.Log.ForContext<MachineConsole>();
     private readonly JobService _jobs;
     private readonly Dictionary<string, double> _targets = new(StringComparer.Ordinal);
+
+    // Motors jogging continuously at the panel's speed: their own Ixx22, given back when the jog stops.
+    private readonly Dictionary<int, double> _heldJogSpeeds = [];
     private double? _servoCycleMs;
 
     /// <summary>A console on an open controller.</summary>

@@ -110,6 +110,17 @@ public sealed class MachineConsoleReadoutTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task A_continuous_jog_runs_at_the_speed_given_and_the_motor_gets_its_own_jog_speed_back()
+    {
+        (await _console.StartJogAsync("X", +1, feed: 600)).Done.Should().BeTrue();
+        _sim.Advance(TimeSpan.FromSeconds(2));
+        (await _console.ReadStateAsync()).Axes[0].Machine.Should().BeInRange(18, 20.1, "2 s at 10 mm/s (600 mm/min), less the acceleration");
+        (await _console.StopJogAsync("X")).Done.Should().BeTrue();
+        (await SendAsync("I122")).Trim().TrimEnd('\u0006').Trim().Should().Be("32", "the motor's own jog speed is back");
+        (await _console.StartJogAsync("X", +1, feed: 0)).Refusal.Should().Be(ConsoleRefusal.BadValue);
+    }
+
+    [Fact]
     public async Task A_spindle_motor_gives_the_actual_speed_from_its_velocity()
     {
         await CloseAsync();
