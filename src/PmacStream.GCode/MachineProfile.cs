@@ -46,6 +46,12 @@ public sealed class MachineProfile
         ToolCount = dto.ToolCount ?? 24;
         RapidRate = dto.RapidRate ?? 15000;
         AbsoluteEncoders = dto.AbsoluteEncoders ?? false;
+        Axes = dto.Axes ?? [];
+        CoordinateSystem = dto.CoordinateSystem ?? 1;
+        if (CoordinateSystem is < 1 or > 16)
+        {
+            throw Bad(source, $"coordinateSystem: {CoordinateSystem} is not 1-16");
+        }
         ArcTolerance = dto.ArcTolerance ?? ArcTolerance.LinuxCnc;
         DwellPInMilliseconds = dto.DwellPInMilliseconds ?? true;
         SlashInBlock = dto.SlashInBlock ?? false;
@@ -173,6 +179,15 @@ public sealed class MachineProfile
     /// job may start without homing. False (the default): incremental encoders, home first.
     /// </summary>
     public bool AbsoluteEncoders { get; }
+
+    /// <summary>
+    /// The machine's axes and the motors that drive them (<c>"axes"</c>), for the operator's console (DRO, home, jog);
+    /// empty (the built-in profiles): X, Y, Z on motors 1-3 at one count per millimetre.
+    /// </summary>
+    public IReadOnlyList<ProfileAxis> Axes { get; }
+
+    /// <summary>The coordinate system the axes are in (<c>"coordinateSystem"</c>, 1 when not set).</summary>
+    public int CoordinateSystem { get; }
 
     /// <summary>How far an arc's end may be off its circle, in the program's units (LinuxCNC's rule unless the profile says otherwise).</summary>
     public ArcTolerance ArcTolerance { get; }
@@ -452,3 +467,10 @@ public sealed class MachineProfile
 
     internal static InvalidDataException Bad(string source, string why) => new($"{source}: invalid machine profile: {why}");
 }
+
+/// <summary>An axis of a machine profile: its letter, the motor that drives it and the motor's scale.</summary>
+/// <param name="Name">The axis letter (X Y Z A B C U V W).</param>
+/// <param name="Motor">The motor number, 1-32.</param>
+/// <param name="CountsPerUnit">Motor counts per millimetre (per degree for a rotary axis): the scale of its axis definition.</param>
+/// <param name="Rotary">A rotary axis: its unit is the degree.</param>
+public sealed record ProfileAxis(string Name, int Motor, double CountsPerUnit = 1, bool Rotary = false);

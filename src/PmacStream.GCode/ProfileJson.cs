@@ -44,6 +44,8 @@ internal static class ProfileJson
                 w.WriteBoolean("absoluteEncoders", true);
             }
 
+            WriteAxes(w, p);
+
             p.ArcTolerance.Write(w);
             w.WriteBoolean("dwellPInMilliseconds", p.DwellPInMilliseconds);
             w.WriteBoolean("slashInBlock", p.SlashInBlock);
@@ -215,6 +217,8 @@ internal static class ProfileJson
                     case "toolcount": dto.ToolCount = v.GetInt32(); break;
                     case "rapidrate": dto.RapidRate = v.GetDouble(); break;
                     case "absoluteencoders": dto.AbsoluteEncoders = v.GetBoolean(); break;
+                    case "coordinatesystem": dto.CoordinateSystem = v.GetInt32(); break;
+                    case "axes": dto.Axes = ReadAxes(v, source); break;
                     case "arctolerance": dto.ArcTolerance = ArcTolerance.Read(v, source); break;
                     case "dwellpinmilliseconds": dto.DwellPInMilliseconds = v.GetBoolean(); break;
                     case "slashinblock": dto.SlashInBlock = v.GetBoolean(); break;
@@ -312,6 +316,66 @@ internal static class ProfileJson
         return list;
     }
 
+    /// <summary>
+    /// The machine's axes and coordinate system, written only when the profile lists axes (as absoluteEncoders): the
+    /// built-in profiles (X Y Z on motors 1-3) stay as they were.
+    /// </summary>
+    private static void WriteAxes(Utf8JsonWriter w, MachineProfile p)
+    {
+        if (p.Axes.Count == 0)
+        {
+            return;
+        }
+
+        w.WriteNumber("coordinateSystem", p.CoordinateSystem);
+        w.WriteStartArray("axes");
+        foreach (var a in p.Axes)
+        {
+            w.WriteStartObject();
+            w.WriteString("name", a.Name);
+            w.WriteNumber("motor", a.Motor);
+            w.WriteNumber("countsPerUnit", a.CountsPerUnit);
+            if (a.Rotary)
+            {
+                w.WriteBoolean("rotary", true);
+            }
+
+            w.WriteEndObject();
+        }
+
+        w.WriteEndArray();
+    }
+
+    /// <summary>The machine's axes: <c>[{"name": "A", "motor": 4, "countsPerUnit": 100, "rotary": true}, ...]</c>.</summary>
+    private static List<ProfileAxis> ReadAxes(JsonElement v, string source)
+    {
+        var list = new List<ProfileAxis>();
+        foreach (var e in v.EnumerateArray())
+        {
+            var name = Text(e, "name").Trim().ToUpperInvariant();
+            if (name.Length != 1 || !"XYZABCUVW".Contains(name[0], StringComparison.Ordinal))
+            {
+                throw MachineProfile.Bad(source, $"axes: '{Text(e, "name")}' is not an axis letter (X Y Z A B C U V W)");
+            }
+
+            var motor = e.TryGetProperty("motor", out var m) ? m.GetInt32() : 0;
+            var scale = e.TryGetProperty("countsPerUnit", out var c) ? c.GetDouble() : 1;
+            if (motor is < 1 or > 32 || !double.IsFinite(scale) || scale <= 0)
+            {
+                throw MachineProfile.Bad(source, $"axes: {name} needs a motor 1-32 and countsPerUnit > 0");
+            }
+
+            if (list.Any(a => a.Name == name || a.Motor == motor))
+            {
+                throw MachineProfile.Bad(source, $"axes: {name} (motor {motor}) is listed twice");
+            }
+
+            list.Add(new ProfileAxis(name, motor, scale, e.TryGetProperty("rotary", out var r) && r.GetBoolean()));
+        }
+
+        return list;
+    }
+
     private static string Text(JsonElement e, string name) =>
         e.TryGetProperty(name, out var v) && v.ValueKind == JsonValueKind.String ? v.GetString() ?? string.Empty : string.Empty;
 
@@ -327,6 +391,10 @@ internal static class ProfileJson
         public double? RapidRate { get; set; }
 
         public bool? AbsoluteEncoders { get; set; }
+
+        public int? CoordinateSystem { get; set; }
+
+        public List<ProfileAxis>? Axes { get; set; }
 
         public ArcTolerance? ArcTolerance { get; set; }
 

@@ -107,4 +107,25 @@ public static class ConsoleLayout
     public static readonly LayoutBox AlarmHistoryList = new(6, 442, 570, 380);
     /// <summary>Refresh button.</summary>
     public static readonly LayoutBox RefreshButton = new(6, 830, 110, 28);
+
+    /// <summary>Store page: where the store is.</summary>
+    public static readonly LayoutBox StoreLocationLabel = new(6, 8, 570, 20);
+
+    /// <summary>Store page: the store's job history.</summary>
+    public static readonly LayoutBox StoreJobsGrid = new(6, 30, 570, 380);
+
+    /// <summary>Store page: the programs label.</summary>
+    public static readonly LayoutBox StoreProgramsLabel = new(6, 418, 300, 20);
+
+    /// <summary>Store page: the store's program revisions.</summary>
+    public static readonly LayoutBox StoreProgramsGrid = new(6, 440, 570, 360);
+
+    /// <summary>Store page: read the lists again.</summary>
+    public static readonly LayoutBox StoreRefreshButton = new(6, 808, 110, 28);
+
+    /// <summary>Store page: open the selected revision.</summary>
+    public static readonly LayoutBox StoreOpenButton = new(124, 808, 150, 28);
+
+    /// <summary>Store page: what the last action did.</summary>
+    public static readonly LayoutBox StoreMessageLabel = new(282, 808, 294, 52);
 }

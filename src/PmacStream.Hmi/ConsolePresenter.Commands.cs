@@ -18,7 +18,8 @@ public sealed partial class ConsolePresenter
         }
 
         _jogHeld = true;
-        var result = await _backend.StartJogAsync(axis, direction, cancellationToken).ConfigureAwait(true);
+        // The panel's speed holds for a continuous jog too (the motor's own jog speed is given back when it stops).
+        var result = await _backend.StartJogAsync(axis, direction, _view.JogFeed, cancellationToken).ConfigureAwait(true);
         if (result.Done && !_jogHeld)
         {
             // Released while the start was on its way: the jog stops at once.

@@ -33,6 +33,7 @@ public sealed partial class ConsolePresenter : IAsyncDisposable
     private readonly Stopwatch _sincePoll = new();
     private readonly List<string> _mdiHistory = [];
     private MachineTables? _tables;
+    private IReadOnlyList<string> _axes = ["X", "Y", "Z"];
     private string _alarmKey = string.Empty;
     private string? _continuousAxis;
     private bool _polling;
@@ -52,7 +53,7 @@ public sealed partial class ConsolePresenter : IAsyncDisposable
         _log = logger ?? Serilog.Log.ForContext<ConsolePresenter>();
         _ops = new ViewOperations(_life.Token, RefreshEnabled, Failed);
         Wire();
-        view.ConsoleAxes = ["X", "Y", "Z"];
+        view.ConsoleAxes = _axes;
         view.JogAxis = "X";
         view.JogIncrement = 1;
         view.JogFeed = DefaultJogFeed;
@@ -180,6 +181,14 @@ public sealed partial class ConsolePresenter : IAsyncDisposable
         }
 
         _view.Dro = s.Axes.Select(a => new DroRow(a.Name, Mm(a.Machine), Mm(a.Work), Mm(a.ToGo), a.Homed)).ToList();
+        if (!s.Axes.Select(a => a.Name).SequenceEqual(_axes))
+        {
+            // The machine's axes (the profile's, X Y Z by default): the jog panel offers them.
+            var jogAxis = _view.JogAxis;
+            _axes = s.Axes.Select(a => a.Name).ToList();
+            _view.ConsoleAxes = _axes;
+            _view.JogAxis = _axes.Contains(jogAxis) ? jogAxis : _axes.FirstOrDefault() ?? "X";
+        }
         _view.MachineSummary = Summary(s);
         _view.AlarmBanner = s.Alarms.Count == 0 ? string.Empty : T(TextId.AlarmBanner, string.Join("; ", s.Alarms.Select(AlarmLine)));
         var key = string.Join(",", s.Alarms.Select(a => a.Code + a.Motor));
@@ -201,7 +210,7 @@ public sealed partial class ConsolePresenter : IAsyncDisposable
             _ => HmiText.Get(TextId.StateIdle, Language),
         };
         return T(TextId.MachineSummary, mode, s.WorkOffset, Num(s.ActualFeed), s.ProgrammedFeed is { } f ? Num(f) : "–", Num(s.FeedOverride),
-            s.SpindleSpeed is { } sp ? Num(sp) : "–", s.Job ?? "–");
+            s.Spindle is { } sp ? T(TextId.SpindleReadout, Num(sp.Actual), Num(sp.Programmed)) : s.SpindleSpeed is { } ss ? Num(ss) : "–", s.Job ?? "–");
     }
 
     /// <summary>An alarm in the operator's language (the console decodes in its own; the code is stable).</summary>

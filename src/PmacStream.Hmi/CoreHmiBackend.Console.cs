@@ -24,7 +24,13 @@ public sealed partial class CoreHmiBackend
     public bool ConsoleReady => _link is not null;
 
     /// <summary>The console on the open link (made on first use, again after a profile change).</summary>
-    private MachineConsole Console => _console ??= new MachineConsole(Service, Link, ConsoleOptions with { Profile = _profile });
+    private MachineConsole Console => _console ??= new MachineConsole(Service, Link, ConsoleOptions with
+    {
+        Profile = _profile,
+        History = ConsoleOptions.History is StoreAlarmHistory h ? h.On(Link.Spec.ToString()) : ConsoleOptions.History,
+        Axes = _profile.Axes.Count > 0 ? MachineAxis.Of(_profile) : ConsoleOptions.Axes,
+        CoordinateSystem = _profile.Axes.Count > 0 ? _profile.CoordinateSystem : ConsoleOptions.CoordinateSystem,
+    });
 
     /// <inheritdoc />
     public Task<MachineState> ReadStateAsync(CancellationToken cancellationToken = default) => Console.ReadStateAsync(cancellationToken);
@@ -37,8 +43,8 @@ public sealed partial class CoreHmiBackend
         Console.JogAsync(axis, distance, feed, cancellationToken);
 
     /// <inheritdoc />
-    public Task<ConsoleResult> StartJogAsync(string axis, int direction, CancellationToken cancellationToken = default) =>
-        Console.StartJogAsync(axis, direction, cancellationToken);
+    public Task<ConsoleResult> StartJogAsync(string axis, int direction, double? feed, CancellationToken cancellationToken = default) =>
+        Console.StartJogAsync(axis, direction, feed, cancellationToken);
 
     /// <inheritdoc />
     public Task<ConsoleResult> StopJogAsync(string axis, CancellationToken cancellationToken = default) => Console.StopJogAsync(axis, cancellationToken);
@@ -65,7 +71,7 @@ public sealed partial class CoreHmiBackend
         Console.SetToolAsync(number, length, radius, lengthWear, radiusWear, cancellationToken);
 
     /// <inheritdoc />
-    public IReadOnlyList<AlarmRecord> AlarmHistory() => ConsoleOptions.History?.List() ?? [];
+    public IReadOnlyList<AlarmRecord> AlarmHistory() => (_link is null ? ConsoleOptions.History : Console.Options.History)?.List() ?? [];
 
     /// <inheritdoc />
     public IReadOnlyList<HmiJobEntry> JobHistory()
@@ -77,6 +83,18 @@ public sealed partial class CoreHmiBackend
                 .Reverse().ToList();
         }
     }
+
+    /// <inheritdoc />
+    public string StoreDisplay => Service.StoreDisplay;
+
+    /// <inheritdoc />
+    IReadOnlyList<Jobs.JobHistoryView> IStoreBackend.JobHistory() => Service.JobHistory();
+
+    /// <inheritdoc />
+    public IReadOnlyList<Jobs.StoredProgramView> StoredPrograms() => Service.StoredPrograms();
+
+    /// <inheritdoc />
+    public (string Path, string? Profile) StoredProgramFile(long id) => Service.StoredProgramFile(id);
 
     /// <summary>The operator chose another profile: MDI is checked under it from now on.</summary>
     private void ProfileChosen(MachineProfile profile)

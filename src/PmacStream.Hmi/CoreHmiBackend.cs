@@ -11,7 +11,7 @@ namespace PmacStream.Hmi;
 /// machine profile comes with each call: the operator chooses it on the screen. It holds the controller link the
 /// operator opened; splits and jobs pass through as the service's views.
 /// </summary>
-public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IConsoleBackend, IAsyncDisposable
+public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IConsoleBackend, IStoreBackend, IAsyncDisposable
 {
     /// <summary>Diagnostics listed at most (the counts stay exact; a screen of 10,000 rows is already plenty).</summary>
     public const int MaxListedDiagnostics = 10_000;

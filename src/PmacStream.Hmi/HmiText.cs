@@ -237,6 +237,8 @@ public enum TextId
     ModeAlarm,
     /// <summary>Mode {0}, work offset {1}, feed {2} mm/min (programmed {3}), override {4} %, spindle {5}, job {6}.</summary>
     MachineSummary,
+    /// <summary>The spindle on the summary line: actual rpm, then programmed.</summary>
+    SpindleReadout,
     /// <summary>Alarm banner: {0} the alarms.</summary>
     AlarmBanner,
     /// <summary>A console command done: {0}.</summary>
@@ -402,6 +404,7 @@ public static class HmiText
         [TextId.AlarmHistoryLabel] = ("Alarm history", "报警历史"),
         [TextId.ModeStopped] = ("Stopped", "已停止"),
         [TextId.ModeAlarm] = ("Alarm", "报警"),
+        [TextId.SpindleReadout] = ("{0} rpm (S{1})", "{0} 转/分（编程 S{1}）"),
         [TextId.MachineSummary] = ("{0} | {1} | Feed {2} mm/min (programmed {3}) | Override {4} % | Spindle {5} | {6}", "{0} | {1} | 进给 {2} mm/min（编程 {3}）| 倍率 {4} % | 主轴 {5} | {6}"),
         [TextId.AlarmBanner] = ("ALARM: {0}", "报警：{0}"),
         [TextId.ConsoleDone] = ("Done: {0}", "完成：{0}"),

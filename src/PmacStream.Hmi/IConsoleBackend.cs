@@ -30,8 +30,8 @@ public interface IConsoleBackend
     /// <summary>Incremental jog of <paramref name="distance"/> mm at <paramref name="feed"/> mm/min (null: the motor's jog speed).</summary>
     Task<ConsoleResult> JogAsync(string axis, double distance, double? feed, CancellationToken cancellationToken = default);
 
-    /// <summary>Starts a continuous jog (the button pressed).</summary>
-    Task<ConsoleResult> StartJogAsync(string axis, int direction, CancellationToken cancellationToken = default);
+    /// <summary>Starts a continuous jog (the button pressed) at <paramref name="feed"/> mm/min (null: the motor's jog speed).</summary>
+    Task<ConsoleResult> StartJogAsync(string axis, int direction, double? feed, CancellationToken cancellationToken = default);
 
     /// <summary>Stops a continuous jog (the button released).</summary>
     Task<ConsoleResult> StopJogAsync(string axis, CancellationToken cancellationToken = default);

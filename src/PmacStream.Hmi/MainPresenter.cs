@@ -186,6 +186,21 @@ public sealed class MainPresenter : IAsyncDisposable
         }
     }
 
+    /// <summary>
+    /// Opens a stored revision's source (the Store page) under the built-in profile it was imported with (null: the
+    /// chosen one), as <c>stream --program ID</c> runs it.
+    /// </summary>
+    public async Task OpenStoredAsync(string path, string? profile)
+    {
+        if (profile is not null && _job is null && !string.Equals(profile, _gate.Profile.Name, StringComparison.OrdinalIgnoreCase))
+        {
+            _view.SelectedProfile = profile;
+            await ProfileChangedAsync().ConfigureAwait(true);
+        }
+
+        await OpenAsync(path).ConfigureAwait(true);
+    }
+
     /// <summary>Opens a program: indexes its lines in the background and shows the first screen at once.</summary>
     public async Task OpenAsync(string path)
     {

@@ -489,6 +489,15 @@ internal sealed class CoordinateSystem : IVariableAccess
         var stmts = _pc.Buffer[_pc.Line].Statements;
         while (_pc.Stmt < stmts.Length && stmts[_pc.Stmt] is WordStmt w)
         {
+            if (w.Letter == 'S')
+            {
+                // S{data}: "the value in {data} is loaded in variable Q127 for the coordinate system executing the
+                // motion program. It takes no other action" (Turbo SRM p. 469): the programmed spindle speed.
+                _sim.Memory.SetQ(Number, 127, w.Value.Eval(this));
+                _pc.Stmt++;
+                continue;
+            }
+
             _moves.SetWord(w.Letter, w.Value.Eval(this));
             _pc.Stmt++;
         }

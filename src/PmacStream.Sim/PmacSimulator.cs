@@ -50,6 +50,7 @@ public sealed class PmacSimulator : IDisposable
 
         _motors = new MotorMap();
         _motorSet = new MotorSet(_cs, _motors, Memory, Options, () => _time!.Now);
+        Memory.Register = _motorSet.Register;
         _buffers = new ProgramBuffers(_cs, _plcs, Options, Matrices);
         _commands = new OnlineCommands(this, _cs, _buffers, _plcs, _motors, _motorSet);
         _time = new VirtualClock(_cs, _plcs, _log, Memory, Options, () => MoveExecuted is not null, PlcError, _motorSet);

@@ -75,6 +75,12 @@ internal sealed class SimMemory
 
     public void SetQ(int cs, int n, double v) => _q[cs][n] = v;
 
+    /// <summary>
+    /// Registers the firmware computes (a motor's commanded, actual and target position): a D:/L: address it answers,
+    /// or null for plain memory.
+    /// </summary>
+    public Func<char, int, double?>? Register { get; set; }
+
     public MDefinition GetDefinition(int n) => _mDef[n];
 
     public void Define(int n, MDefinition def) => _mDef[n] = def;
@@ -89,7 +95,7 @@ internal sealed class SimMemory
 
         if (!d.IsBitField)
         {
-            return _wholeValues.GetValueOrDefault(Key(d.Space, d.Address));
+            return Register?.Invoke(d.Space, d.Address) ?? _wholeValues.GetValueOrDefault(Key(d.Space, d.Address));
         }
 
         var word = GetWord(d.Space, d.Address);

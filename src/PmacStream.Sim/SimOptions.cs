@@ -205,6 +205,14 @@ public sealed class SimOptions
     /// <summary>Home switch and hardware limit positions per motor number (*assumed*: what the machine has); motors not listed have the defaults.</summary>
     public IDictionary<int, MotorSettings> MotorSettings { get; } = new Dictionary<int, MotorSettings>();
 
+    /// <summary>
+    /// At power-on, motors 1-32 have Delta Tau's suggested definitions of their move registers where none is set:
+    /// <c>Mxx61-&gt;D:</c> commanded, <c>Mxx62</c> actual and <c>Mxx63</c> target (end) position, in 1/(Ixx08*32) counts
+    /// (<c>M163-&gt;D:$0000C7</c>; the motors' registers $80 apart, *assumed*). Default true: a controller set up with the
+    /// suggested M-variable file, which the console reads distance to go from (docs/console.md).
+    /// </summary>
+    public bool SuggestedMVariables { get; set; } = true;
+
     /// <summary>Faults to inject, each at its time after a motion program first starts running (<c>pmacstream sim --inject</c>).</summary>
     public IList<FaultInjection> Faults { get; } = new List<FaultInjection>();
 }

@@ -63,6 +63,7 @@ internal sealed partial class MainForm : IConsoleView
     private readonly Button btnHistoryRefresh = new();
 
     private ConsolePresenter? _console;
+    private StorePresenter? _store;
 
     public event EventHandler? HomeAllRequested;
     public event EventHandler<string>? HomeAxisRequested;
@@ -80,6 +81,9 @@ internal sealed partial class MainForm : IConsoleView
 
     /// <summary>Attaches the console pages' presenter; the form's timer ticks it after the job's presenter.</summary>
     public void Attach(ConsolePresenter console) => _console = console;
+
+    /// <summary>Attaches the Store page's presenter.</summary>
+    public void Attach(StorePresenter store) => _store = store;
 
     /// <summary>The alarm banner and the tab control with its four pages.</summary>
     private void PlaceConsole()
@@ -110,6 +114,7 @@ internal sealed partial class MainForm : IConsoleView
         gridTools.Columns[0].ReadOnly = true;
         cboJogAxis.Items.AddRange(AxisLetters);
         cboJogAxis.SelectedIndex = 0;
+        PlaceStore();
         WireConsole();
     }
 
@@ -298,6 +303,7 @@ internal sealed partial class MainForm : IConsoleView
             for (var r = 0; r < 3; r++)
             {
                 var row = r < value.Count ? value[r] : null;
+                lblDro[r, 0].Text = row?.Axis ?? AxisLetters[r]; // the machine's axes (the profile's); three rows shown
                 lblDro[r, 1].Text = row?.Machine ?? string.Empty;
                 lblDro[r, 2].Text = row?.Work ?? string.Empty;
                 lblDro[r, 3].Text = row?.ToGo ?? string.Empty;

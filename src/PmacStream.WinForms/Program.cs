@@ -10,6 +10,7 @@ namespace PmacStream.WinForms;
 /// <summary>
 /// Entry point of the HMI: composes the form, the presenter and the core.
 /// Options: <c>--sim-speed realtime|Nx</c> (the built-in simulator's clock, realtime by default) and
+/// <c>--store URI</c> (the program and job store, as the command line's <c>--store</c>; else <c>$PMACSTREAM_STORE</c>) and
 /// <c>--ui-test DIR</c> (the automated UI test's snapshot and command folder).
 /// </summary>
 internal static class Program
@@ -22,7 +23,7 @@ internal static class Program
             return 2;
         }
 
-        var (simSpeed, uiTestDirectory) = options;
+        var (simSpeed, uiTestDirectory, store) = options;
 
         // What the WinForms SDK's generated ApplicationConfiguration.Initialize() does, written out so the project also
         // compiles against the runtime pack (no generator there).
@@ -52,6 +53,9 @@ internal static class Program
                 return Task.FromResult(new SimulatorLink(connection, new SimTimeProvider(simulator)));
             },
 
+            // The store as the command line takes it: --store, else $PMACSTREAM_STORE, else ~/.pmacstream/store.db.
+            StoreUri = store,
+
             // The operator's console rules: a job refuses to start unhomed or with an alarm, and an alarm holds it.
             Rules = new MachineRules(MachineAxis.Default),
         });
@@ -64,6 +68,7 @@ internal static class Program
             form.Attach(presenter);
             var console = new ConsolePresenter(form, backend, backend, () => presenter.Profile);
             form.Attach(console);
+            form.Attach(new StorePresenter(form, backend, presenter.OpenStoredAsync));
             form.InjectFault = (kind, motor) => simulator?.InjectFault(FaultInjection.Parse($"{kind}:{motor}@0").Kind, motor);
             using var uiTest = uiTestDirectory is null ? null : new UiTestChannel(form, uiTestDirectory);
             Application.Run(form);
@@ -94,7 +99,8 @@ internal static class Program
     {
         ConsoleOptions = new MachineConsoleOptions
         {
-            History = new AlarmHistoryFile(Path.Combine(MachineConsoleOptions.StateFolder(service), "alarms.jsonl")),
+            // The store's alarm history, for the controller the operator connects to (CoreHmiBackend names it).
+            History = StoreAlarmHistory.Of(service, "sim"),
             TablesPath = MachineTables.DefaultPath(),
             StatePath = Path.Combine(MachineConsoleOptions.StateFolder(service), "console-state.json"),
             Language = language == HmiLanguage.Chinese ? "zh-CN" : "en",
@@ -103,10 +109,11 @@ internal static class Program
     };
 
     /// <summary>The simulator's speed and the UI test folder from the command line; null (after saying why) when it is wrong.</summary>
-    private static (SimSpeed SimSpeed, string? UiTestDirectory)? ParseArguments(string[] args)
+    private static (SimSpeed SimSpeed, string? UiTestDirectory, string? Store)? ParseArguments(string[] args)
     {
         var simSpeed = SimSpeed.Realtime;
         string? uiTestDirectory = null;
+        string? store = null;
         for (var i = 0; i < args.Length; i++)
         {
             var value = i + 1 < args.Length ? args[i + 1] : null;
@@ -129,13 +136,17 @@ internal static class Program
                     uiTestDirectory = value;
                     i++;
                     break;
+                case "--store" when value is not null:
+                    store = value;
+                    i++;
+                    break;
                 default:
-                    Console.Error.WriteLine($"PmacStream.WinForms: unknown option '{args[i]}' (use --sim-speed realtime|Nx, --ui-test DIR)");
+                    Console.Error.WriteLine($"PmacStream.WinForms: unknown option '{args[i]}' (use --sim-speed realtime|Nx, --store URI, --ui-test DIR)");
                     return null;
             }
         }
 
-        return (simSpeed, uiTestDirectory);
+        return (simSpeed, uiTestDirectory, store);
     }
 
     /// <summary>The run settings the command line reads too (~/.pmacstream/settings.json when it exists).</summary>

@@ -11,7 +11,7 @@ internal static class AlarmsCommand
 {
     public static Command Create()
     {
-        var json = new Option<bool>("--json") { Description = "JSON: {\"alarms\": [{code, motor, axis, text}]}, with --history {\"history\": [{code, motor, axis, text, raised, cleared}]}." };
+        var json = new Option<bool>("--json") { Description = "JSON: {\"alarms\": [{code, motor, axis, text}]}, with --history {\"history\": [{code, motor, axis, text, raised, jobId, cleared}]} from the store's alarm history." };
         var history = new Option<bool>("--history") { Description = "Every alarm seen (raised and cleared), newest first, not only the active ones." };
         var cmd = new Command("alarms", "Show the controller's active alarms (limits, fatal following error, amplifier fault, killed motors), or their history.");
         cmd.Options.Add(json);
@@ -80,6 +80,15 @@ internal static class AlarmsCommand
             w.WriteString("axis", r.Axis);
             w.WriteString("text", r.Text);
             w.WriteString("raised", r.Raised.ToString("O", CultureInfo.InvariantCulture));
+            if (r.JobId is { } job)
+            {
+                w.WriteNumber("jobId", job);
+            }
+            else
+            {
+                w.WriteNull("jobId");
+            }
+
             if (r.Cleared is { } c)
             {
                 w.WriteString("cleared", c.ToString("O", CultureInfo.InvariantCulture));
@@ -104,7 +113,7 @@ internal static class AlarmsCommand
         var t = new StringBuilder(records.Count == 0 ? "no alarms recorded\n" : string.Empty);
         foreach (var r in records)
         {
-            t.Append(CultureInfo.InvariantCulture, $"{r.Raised:yyyy-MM-dd HH:mm:ss}  {(r.Cleared is { } c ? c.ToString("HH:mm:ss", CultureInfo.InvariantCulture) : "active"),-8}  {r.Code} ({r.Axis}, motor {r.Motor}): {r.Text}\n");
+            t.Append(CultureInfo.InvariantCulture, $"{r.Raised.ToLocalTime():yyyy-MM-dd HH:mm:ss}  {(r.Cleared is { } c ? c.ToString("HH:mm:ss", CultureInfo.InvariantCulture) : "active"),-8}  {r.Code} ({r.Axis}, motor {r.Motor}): {r.Text}\n");
         }
 
         return t.ToString();

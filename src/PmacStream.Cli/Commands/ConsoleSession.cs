@@ -47,15 +47,17 @@ internal sealed class ConsoleOptions
         var sim = new CliSimulator(_job.SimSpeed(parse), profile.RapidRate);
         var service = new JobService(new JobServiceOptions
         {
-            Store = _job.Store(parse), Simulator = sim.OpenAsync, Rules = new MachineRules(MachineAxis.Default),
+            Store = _job.Store(parse), Simulator = sim.OpenAsync, Rules = new MachineRules(MachineAxis.Of(profile)),
         });
         try
         {
             var controller = await service.ConnectAsync(target, profile, cancellationToken).ConfigureAwait(false);
             var console = new MachineConsole(service, controller, new MachineConsoleOptions
             {
-                Language = language, History = new AlarmHistoryFile(Path.Combine(MachineConsoleOptions.StateFolder(service), "alarms.jsonl")), TablesPath = tablesPath,
+                Language = language, TablesPath = tablesPath,
+                History = StoreAlarmHistory.Of(service, controller.Spec.ToString()),
                 StatePath = Path.Combine(MachineConsoleOptions.StateFolder(service), "console-state.json"), Profile = profile, Settings = settings,
+                Axes = MachineAxis.Of(profile), CoordinateSystem = profile.CoordinateSystem,
             });
             if (controller.IsSimulator && File.Exists(tablesPath))
             {

@@ -12,7 +12,7 @@ internal static class StatusCommand
     public static Command Create()
     {
         var watch = new Option<bool>("--watch") { Description = "Sample again every --interval until Ctrl-C (without it: one sample and exit)." };
-        var json = new Option<bool>("--json") { Description = "One JSON object per line per sample: state, homed, alarms, axes (machine, work, toGo in mm), and the feeds." };
+        var json = new Option<bool>("--json") { Description = "One JSON object per line per sample: state, homed, alarms, axes (machine, work, toGo in mm), the feeds and override, spindle {programmed, actual} (rpm)." };
         var interval = new Option<double>("--interval") { Description = "Seconds between samples with --watch.", DefaultValueFactory = _ => 0.5 };
         var cmd = new Command("status", "Show the machine: axes in machine and work coordinates and distance to go, homed axes, feed, alarms.");
         cmd.Options.Add(watch);
@@ -89,6 +89,16 @@ internal static class StatusCommand
             }
 
             w.WriteNumber("actualFeed", s.ActualFeed);
+            if (s.Spindle is { } sp)
+            {
+                w.WriteStartObject("spindle");
+                w.WriteNumber("programmed", sp.Programmed);
+                w.WriteNumber("actual", sp.Actual);
+                w.WriteBoolean("on", sp.On);
+                w.WriteString("direction", sp.On ? (sp.Reverse ? "ccw" : "cw") : "off");
+                w.WriteEndObject();
+            }
+
             w.WriteNumber("line", s.ExecutingLine);
             if (s.Job is { } job)
             {
@@ -107,7 +117,9 @@ internal static class StatusCommand
         var t = new StringBuilder();
         t.Append(CultureInfo.InvariantCulture, $"state {s.ModeName}   work offset {s.WorkOffset}   feed {s.ActualFeed:0.#} mm/min");
         t.Append(s.ProgrammedFeed is { } f ? string.Create(CultureInfo.InvariantCulture, $" (programmed {f:0.#})") : string.Empty);
-        t.Append(CultureInfo.InvariantCulture, $"   override {s.FeedOverride:0.#}%   line {s.ExecutingLine}{(s.Job is { } j ? "   " + j : string.Empty)}\n");
+        t.Append(CultureInfo.InvariantCulture, $"   override {s.FeedOverride:0.#}%");
+        t.Append(s.Spindle is { } sp ? string.Create(CultureInfo.InvariantCulture, $"   spindle {sp.Actual:0.#} rpm (programmed {sp.Programmed:0.#}{(sp.On ? sp.Reverse ? ", ccw" : ", cw" : ", off")})") : string.Empty);
+        t.Append(CultureInfo.InvariantCulture, $"   line {s.ExecutingLine}{(s.Job is { } j ? "   " + j : string.Empty)}\n");
         t.Append("axis  homed     machine        work       to go\n");
         foreach (var a in s.Axes)
         {

@@ -18,6 +18,12 @@ public sealed record JobServiceOptions
     /// <summary>The store (<c>--store</c>); null: <see cref="JobDatabase"/>, else as <see cref="StoreLocation.Resolve"/> picks it.</summary>
     public StoreLocation? Store { get; init; }
 
+    /// <summary>
+    /// The store as a face spells it (<c>sqlite:PATH</c>, <c>postgres://...</c>, an Npgsql connection string) when
+    /// <see cref="Store"/> is not given: the HMI's <c>--store</c>; null: <c>$PMACSTREAM_STORE</c>, else the default.
+    /// </summary>
+    public string? StoreUri { get; init; }
+
     /// <summary>Opens the built-in simulator (the host owns it); null: this host has none.</summary>
     public Func<CancellationToken, Task<SimulatorLink>>? Simulator { get; init; }
 
@@ -48,7 +54,7 @@ public sealed partial class JobService
     public JobService(JobServiceOptions? options = null)
     {
         _options = options ?? new JobServiceOptions();
-        Store = _options.Store ?? StoreLocation.Resolve(jobDb: _options.JobDatabase);
+        Store = _options.Store ?? StoreLocation.Resolve(store: _options.StoreUri, jobDb: _options.JobDatabase);
         JobDatabase = Store.Engine == StoreEngine.Sqlite ? Store.Target : Store.Display;
     }
 
@@ -296,7 +302,7 @@ public sealed partial class JobService
             return;
         }
 
-        var (unhomed, alarms) = await Machine.MachineConsole.ReadinessAsync(controller.Connection, rules.Axes, cancellationToken).ConfigureAwait(false);
+        var (unhomed, alarms) = await Machine.MachineConsole.ReadinessAsync(controller.Connection, AxesOf(profile) ?? rules.Axes, cancellationToken).ConfigureAwait(false);
         if (alarms.Count > 0)
         {
             throw new JobException($"an alarm is active: {alarms[0].Text}; clear it first (pmacstream alarms clear)", JobErrorKind.Failed);
@@ -308,6 +314,10 @@ public sealed partial class JobService
             throw new JobException($"not homed: {string.Concat(unhomed)}; home the machine first (pmacstream home), or give --no-home-check if its position is known (absolute encoders)", JobErrorKind.Failed);
         }
     }
+
+    /// <summary>The machine's axes: the profile's when it lists them, else the rules' (X Y Z on motors 1-3); null without rules.</summary>
+    private IReadOnlyList<Machine.MachineAxis>? AxesOf(MachineProfile? profile) =>
+        _options.Rules is null ? null : profile is { Axes.Count: > 0 } ? Machine.MachineAxis.Of(profile) : _options.Rules.Axes;
 
     /// <summary>The last line of the newest job on this controller when it completed (its rotary program may still wait for lines); else null.</summary>
     private static int? CompletedJobLine(IJobStore? store, ControllerLink controller) =>

@@ -11,7 +11,11 @@ namespace PmacStream.Machine;
 /// <param name="Text">Clear text when it was raised.</param>
 /// <param name="Raised">When the console first saw it.</param>
 /// <param name="Cleared">When the console saw it gone (cleared, or moved off), or null while active.</param>
-public sealed record AlarmRecord(string Code, int Motor, string Axis, string Text, DateTimeOffset Raised, DateTimeOffset? Cleared);
+public sealed record AlarmRecord(string Code, int Motor, string Axis, string Text, DateTimeOffset Raised, DateTimeOffset? Cleared)
+{
+    /// <summary>The job on the machine when it was raised, or null (none, or not recorded).</summary>
+    public long? JobId { get; init; }
+}
 
 /// <summary>
 /// Where the console keeps the alarms it has seen. Small on purpose: the stores are being moved behind one store
@@ -25,12 +29,16 @@ public interface IAlarmHistory
     /// </summary>
     void Observe(IReadOnlyList<MachineAlarm> active, DateTimeOffset now);
 
+    /// <summary>As <see cref="Observe(IReadOnlyList{MachineAlarm}, DateTimeOffset)"/>, naming the job on the machine (recorded with an alarm raised now).</summary>
+    void Observe(IReadOnlyList<MachineAlarm> active, DateTimeOffset now, long? jobId) => Observe(active, now);
+
     /// <summary>Every record, newest first.</summary>
     IReadOnlyList<AlarmRecord> List();
 }
 
 /// <summary>
-/// The alarm history as a JSON-lines file beside the job store (<c>alarms.jsonl</c>): one line per raise or clear,
+/// The alarm history as a JSON-lines file beside the job store (before the store kept it: <see cref="StoreAlarmHistory"/>
+/// reads such a file in once; tests without a store use it) (<c>alarms.jsonl</c>): one line per raise or clear,
 /// appended, so a crash loses at most the line being written.
 /// </summary>
 public sealed class AlarmHistoryFile : IAlarmHistory

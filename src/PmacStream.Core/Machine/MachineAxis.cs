@@ -9,11 +9,22 @@ namespace PmacStream.Machine;
 /// <summary>An axis of the machine and the motor that drives it.</summary>
 /// <param name="Name">The axis letter.</param>
 /// <param name="Motor">The motor number (<c>#n</c>).</param>
-/// <param name="CountsPerMm">Motor counts per millimetre: the scale of its axis definition (<c>#1->1000X</c> is 1000; the simulator's power-on definition is 1).</param>
-public sealed record MachineAxis(string Name, int Motor, double CountsPerMm = 1)
+/// <param name="CountsPerMm">Motor counts per millimetre (per degree on a rotary axis): the scale of its axis definition (<c>#1->1000X</c> is 1000; the simulator's power-on definition is 1).</param>
+/// <param name="Rotary">A rotary axis: its positions are degrees (<paramref name="CountsPerMm"/> is then counts per degree).</param>
+public sealed record MachineAxis(string Name, int Motor, double CountsPerMm = 1, bool Rotary = false)
 {
     /// <summary>X, Y, Z on motors 1, 2, 3 at scale 1: the simulator's power-on definition.</summary>
     public static IReadOnlyList<MachineAxis> Default { get; } = [new("X", 1), new("Y", 2), new("Z", 3)];
+
+    /// <summary>The axes a machine profile lists (<c>"axes"</c>), or <see cref="Default"/> when it lists none.</summary>
+    public static IReadOnlyList<MachineAxis> Of(MachineProfile profile)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        return profile.Axes.Count == 0 ? Default : profile.Axes.Select(a => new MachineAxis(a.Name, a.Motor, a.CountsPerUnit, a.Rotary)).ToList();
+    }
+
+    /// <summary>The unit of its positions: <c>mm</c>, or <c>deg</c> for a rotary axis.</summary>
+    public string Unit => Rotary ? "deg" : "mm";
 
     /// <summary>The library's axis index (X 0, Y 1, Z 2), or -1 for an axis without work offsets.</summary>
     public int TableAxis => Name switch { "X" => 0, "Y" => 1, "Z" => 2, _ => -1 };
@@ -75,6 +86,36 @@ public sealed record MachineConsoleOptions
     /// own Ixx22. 1000 by default: the simulator's power-on Ixx22 (32 counts/ms at 1 count per mm) is 1.9 m/s.
     /// </summary>
     public double? DefaultJogFeed { get; init; } = 1000;
+
+    /// <summary>
+    /// The suffix of the M-variable that points at each motor's target (end) position register: 63 reads M163 for motor 1
+    /// (Delta Tau's suggested definitions, <c>M163-&gt;D:$0000C7</c>); its commanded position is read from Mxx61. An axis
+    /// whose variables are not defined on the controller (<c>*</c>) shows distance to go of the console's own moves
+    /// only; null: never read them.
+    /// </summary>
+    public int? TargetVariable { get; init; } = 63;
+
+    /// <summary>
+    /// The coordinate-system Q-variable the programmed spindle speed is in: <c>Q127</c>, where a motion program's
+    /// <c>S{data}</c> puts it (Turbo SRM p. 469); the host sends each block's S as such a line.
+    /// </summary>
+    public string SpindleSpeedVariable { get; init; } = "Q127";
+
+    /// <summary>The library's spindle-on output (M03/M04 set it, M05 clears it): <see cref="Preparation.Prog1000Options.SpindleOn"/>.</summary>
+    public string SpindleOnVariable { get; init; } = new Preparation.Prog1000Options().SpindleOn;
+
+    /// <summary>The library's spindle-reverse output (M04 sets it, M03 clears it).</summary>
+    public string SpindleReverseVariable { get; init; } = new Preparation.Prog1000Options().SpindleReverse;
+
+    /// <summary>
+    /// A motor whose velocity is the spindle's (a spindle with an encoder, or its drive's speed read back as a motor);
+    /// null (the default): the library drives the spindle open loop, so the actual speed shown is the programmed one
+    /// while the spindle-on output is set, 0 when it is off (*assumed*: no feedback to read).
+    /// </summary>
+    public int? SpindleMotor { get; init; }
+
+    /// <summary>Counts per spindle revolution of <see cref="SpindleMotor"/>.</summary>
+    public double SpindleCountsPerRev { get; init; } = 1;
 
     /// <summary>Tools the <c>tools</c> list reads from the controller (1..this).</summary>
     public int ToolCount { get; init; } = 24;

@@ -89,12 +89,20 @@ public sealed partial class MachineConsole
         }, cancellationToken).ConfigureAwait(false);
     }
 
-    /// <summary>Starts a continuous jog (a jog button pressed); <see cref="StopJogAsync"/> ends it. Refused as <see cref="JogAsync"/> is.</summary>
-    public async Task<ConsoleResult> StartJogAsync(string axis, int direction, CancellationToken cancellationToken = default)
+    /// <summary>
+    /// Starts a continuous jog (a jog button pressed) at <paramref name="feed"/> mm/min (the motor's Ixx22 until
+    /// <see cref="StopJogAsync"/> ends it and restores it; null: the motor's own jog speed). Refused as <see cref="JogAsync"/> is.
+    /// </summary>
+    public async Task<ConsoleResult> StartJogAsync(string axis, int direction, double? feed = null, CancellationToken cancellationToken = default)
     {
         if (Axis(axis) is not { } a)
         {
             return NoAxis(axis);
+        }
+
+        if (feed is { } f && (!double.IsFinite(f) || f <= 0 || f > MaxJogFeed))
+        {
+            return ConsoleResult.Refused(ConsoleRefusal.BadValue, string.Create(CultureInfo.InvariantCulture, $"jog speed {f} is out of range (0 < speed <= {MaxJogFeed} mm/min)"));
         }
 
         if (await RefuseMotionAsync(a, Math.Sign(direction), cancellationToken).ConfigureAwait(false) is { } refused)
@@ -102,11 +110,22 @@ public sealed partial class MachineConsole
             return refused;
         }
 
+        if (feed is { } speed)
+        {
+            var variable = $"I{a.Motor}22";
+            if (!_heldJogSpeeds.ContainsKey(a.Motor) && (await NumbersAsync(variable, cancellationToken).ConfigureAwait(false)) is [var old, ..])
+            {
+                _heldJogSpeeds[a.Motor] = old;
+            }
+
+            await Connection.GetResponseAsync(string.Create(CultureInfo.InvariantCulture, $"{variable}={speed * a.CountsPerMm / 60_000:0.######}"), cancellationToken).ConfigureAwait(false);
+        }
+
         await StartJogAsync(a, direction, cancellationToken).ConfigureAwait(false);
         return ConsoleResult.Ok($"jogging {a.Name}{(direction > 0 ? '+' : '-')}");
     }
 
-    /// <summary>Stops a continuous jog (<c>J/</c>) and waits until the axis is in position.</summary>
+    /// <summary>Stops a continuous jog (<c>J/</c>), waits until the axis is in position and gives the motor its own jog speed back.</summary>
     public async Task<ConsoleResult> StopJogAsync(string axis, CancellationToken cancellationToken = default)
     {
         if (Axis(axis) is not { } a)
@@ -114,8 +133,18 @@ public sealed partial class MachineConsole
             return NoAxis(axis);
         }
 
-        await Connection.GetResponseAsync($"#{a.Motor}J/", cancellationToken).ConfigureAwait(false);
-        return await WaitAsync([a], _ => true, cancellationToken).ConfigureAwait(false) ?? ConsoleResult.Ok($"{a.Name} stopped");
+        try
+        {
+            await Connection.GetResponseAsync($"#{a.Motor}J/", cancellationToken).ConfigureAwait(false);
+            return await WaitAsync([a], _ => true, cancellationToken).ConfigureAwait(false) ?? ConsoleResult.Ok($"{a.Name} stopped");
+        }
+        finally
+        {
+            if (_heldJogSpeeds.Remove(a.Motor, out var old))
+            {
+                await Connection.GetResponseAsync(string.Create(CultureInfo.InvariantCulture, $"I{a.Motor}22={old:0.######}"), CancellationToken.None).ConfigureAwait(false);
+            }
+        }
     }
 
     /// <summary>

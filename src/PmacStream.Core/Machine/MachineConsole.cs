@@ -20,6 +20,9 @@ public sealed partial class MachineConsole
     private static readonly ILogger Log = Serilog.Log.ForContext<MachineConsole>();
     private readonly JobService _jobs;
     private readonly Dictionary<string, double> _targets = new(StringComparer.Ordinal);
+
+    // Motors jogging continuously at the panel's speed: their own Ixx22, given back when the jog stops.
+    private readonly Dictionary<int, double> _heldJogSpeeds = [];
     private double? _servoCycleMs;
 
     /// <summary>A console on an open controller.</summary>
@@ -49,22 +52,24 @@ public sealed partial class MachineConsole
         var words = await MotorWordsAsync(Connection, Options.Axes, cancellationToken).ConfigureAwait(false);
         var machine = await PositionsAsync(cancellationToken).ConfigureAwait(false);
         var shift = await WorkShiftAsync(cancellationToken).ConfigureAwait(false);
+        var toGo = await ToGoAsync(machine, cancellationToken).ConfigureAwait(false);
         var axes = Options.Axes.Select((a, i) =>
         {
             var work = machine[i] - (a.TableAxis >= 0 ? shift.Shift[a.TableAxis] : 0);
-            var toGo = _targets.TryGetValue(a.Name, out var t) ? t - machine[i] : 0;
-            return new AxisState(a.Name, a.Motor, Round(machine[i]), Round(work), Round(toGo), words[i].HomeComplete);
+            return new AxisState(a.Name, a.Motor, Round(machine[i]), Round(work), Round(toGo[i]), words[i].HomeComplete);
         }).ToList();
         var alarms = Options.Axes.SelectMany((a, i) => AlarmText.Decode(words[i], a.Motor, a.Name, Options.Language)).ToList();
-        Options.History?.Observe(alarms, DateTimeOffset.Now);
+        var record = LatestJob();
+        Options.History?.Observe(alarms, DateTimeOffset.Now, record?.Checkpoint?.State is SessionState.Completed ? null : record?.Id);
 
         var cs = CsWord.Parse(await Connection.GetResponseAsync(Cs + "??", cancellationToken).ConfigureAwait(false));
         var feedOverride = await NumberAsync(Cs + "%", cancellationToken).ConfigureAwait(false);
         var executing = (int)await NumberAsync(Options.Settings.TrackVariable, cancellationToken).ConfigureAwait(false);
         var programmed = Options.Settings.Shape.Feed == FeedMode.Paper ? await NumberAsync(Options.Settings.Shape.FeedVariable, cancellationToken).ConfigureAwait(false) : (double?)null;
         var actual = await ActualFeedAsync(cancellationToken).ConfigureAwait(false);
-        var (mode, job) = Mode(alarms, cs, feedOverride);
-        return new MachineState(mode, axes, alarms, MachineTables.NameOf(shift.Index), feedOverride, programmed, Round(actual), null, executing, job);
+        var spindle = await SpindleAsync(cancellationToken).ConfigureAwait(false);
+        var (mode, job) = Mode(alarms, cs, feedOverride, record);
+        return new MachineState(mode, axes, alarms, MachineTables.NameOf(shift.Index), feedOverride, programmed, Round(actual), spindle.Programmed, executing, job) { Spindle = spindle };
     }
 
     /// <summary>
@@ -159,9 +164,8 @@ public sealed partial class MachineConsole
         return _servoCycleMs > 0 ? Math.Sqrt(sum) / _servoCycleMs.Value * 60_000 : 0;
     }
 
-    private (MachineMode Mode, string? Job) Mode(IReadOnlyList<MachineAlarm> alarms, CsWord? cs, double feedOverride)
+    private static (MachineMode Mode, string? Job) Mode(IReadOnlyList<MachineAlarm> alarms, CsWord? cs, double feedOverride, JobRecord? record)
     {
-        var record = LatestJob();
         var job = record is null ? null : $"job {record.Id} {(record.Checkpoint?.State ?? SessionState.Idle).ToString().ToLowerInvariant()}";
         if (alarms.Any(a => a.Severity == AlarmSeverity.Alarm))
         {

@@ -34,7 +34,7 @@ public enum AlarmSeverity
 /// <param name="Motor">The motor that drives it.</param>
 /// <param name="Machine">Actual position in machine coordinates, mm.</param>
 /// <param name="Work">Actual position in work coordinates, mm: machine minus the active work offset, G52/G92 shift and (Z) tool length.</param>
-/// <param name="ToGo">Distance to go of the console's own move (jog, home), mm; 0 when the console commanded none.</param>
+/// <param name="ToGo">Distance to go of the move the motor makes (a job's block, a jog), mm: its target (end) position register less its commanded position; 0 in position.</param>
 /// <param name="Homed">The motor's Home Complete bit.</param>
 public sealed record AxisState(string Name, int Motor, double Machine, double Work, double ToGo, bool Homed);
 
@@ -45,6 +45,13 @@ public sealed record AxisState(string Name, int Motor, double Machine, double Wo
 /// <param name="Text">Clear text in the console's language.</param>
 /// <param name="Severity">Whether motion is stopped by it.</param>
 public sealed record MachineAlarm(string Code, int Motor, string Axis, string Text, AlarmSeverity Severity);
+
+/// <summary>The spindle as the controller reports it.</summary>
+/// <param name="Programmed">The programmed speed (S), rpm: the coordinate system's Q127.</param>
+/// <param name="Actual">The actual speed, rpm: a spindle motor's velocity, else the programmed speed while the spindle-on output is set and 0 when it is off.</param>
+/// <param name="On">The library's spindle-on output is set (M03/M04).</param>
+/// <param name="Reverse">The spindle-reverse output is set (M04).</param>
+public sealed record SpindleReadout(double Programmed, double Actual, bool On, bool Reverse);
 
 /// <summary>
 /// One sample of the machine, for a presenter to poll (<see cref="MachineConsole.ReadStateAsync"/>) and the command
@@ -57,7 +64,7 @@ public sealed record MachineAlarm(string Code, int Motor, string Axis, string Te
 /// <param name="FeedOverride">Feed override of the coordinate system, percent.</param>
 /// <param name="ProgrammedFeed">The feed the executing block programmed, mm/min (P500 in paper mode), or null.</param>
 /// <param name="ActualFeed">Vector speed of the axes now, mm/min.</param>
-/// <param name="SpindleSpeed">Programmed spindle speed (the library's S), or null when the controller does not say.</param>
+/// <param name="SpindleSpeed">Programmed spindle speed (S, the coordinate system's Q127), or null when the controller does not say; <see cref="Spindle"/> has the actual speed too.</param>
 /// <param name="ExecutingLine">Source line the tracking variable names (M0), 0 before a program.</param>
 /// <param name="Job">The newest job on this controller and its state, or null.</param>
 public sealed record MachineState(
@@ -72,6 +79,9 @@ public sealed record MachineState(
     int ExecutingLine,
     string? Job)
 {
+    /// <summary>The spindle's programmed and actual speed, or null when the controller was not asked.</summary>
+    public SpindleReadout? Spindle { get; init; }
+
     /// <summary>True when every axis is homed.</summary>
     public bool AllHomed => Axes.All(a => a.Homed);
 

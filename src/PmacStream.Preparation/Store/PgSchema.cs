@@ -63,7 +63,7 @@ public static class PgSchema
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS alarms BIGINT NOT NULL DEFAULT 0;
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS resumes BIGINT NOT NULL DEFAULT 0;
             """),
-        ("reserved", "SELECT 1"), // 5: the alarm history (another branch's step; replaced at merge)
+        ("alarm history", AlarmStores.PgSchemaSql), // 5: a table of its own, created only when missing
         ("machine leases", SqliteMigrations.LeaseSchema), // the same text runs on both engines
         ("execution states and stored preparations", """
             ALTER TABLE programs ADD COLUMN IF NOT EXISTS profile_identity TEXT;

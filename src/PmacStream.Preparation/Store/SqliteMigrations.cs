@@ -82,7 +82,7 @@ public static class SqliteMigrations
                 AddColumn(c, t, "jobs", name, definition);
             }
         }),
-        ("reserved", (_, _) => { }), // 5: the alarm history (another branch's step; replaced at merge)
+        ("alarm history", (c, t) => Run(c, t, AlarmStores.SqliteSchema)), // 5: a table of its own, created only when missing
         ("machine leases", (c, t) => Run(c, t, LeaseSchema)),
         ("execution states and stored preparations", (c, t) =>
         {

@@ -86,6 +86,7 @@ internal sealed class MotorSet
 
             // Turbo PMAC defaults (Software Reference, I-variables): the simulator's motors start with them.
             SetIDefault(m, 0, 1);      // Ixx00 motor activated
+            SetIDefault(m, 8, 96);     // position scale factor: the move registers are in 1/(Ixx08*32) counts
             SetIDefault(m, 11, 32000); // fatal following error limit, 1/16 count
             SetIDefault(m, 12, 16000); // warning following error limit, 1/16 count
             SetIDefault(m, 19, 0.15625); // maximum jog/home acceleration, counts/msec^2
@@ -96,6 +97,74 @@ internal sealed class MotorSet
         }
 
         _homeArmed = new bool[MotorMap.Count + 1];
+        if (_options.SuggestedMVariables)
+        {
+            for (var m = 1; m < _motors.Length; m++)
+            {
+                foreach (var (suffix, offset) in new[] { (61, CommandedRegister), (62, ActualRegister), (63, TargetRegister) })
+                {
+                    var n = (m * 100) + suffix;
+                    if (_memory.GetDefinition(n).IsSelf)
+                    {
+                        _memory.Define(n, new MDefinition('D', (m * RegisterStride) + offset, 0, 48, true));
+                    }
+                }
+            }
+        }
+    }
+
+    /// <summary>Motor xx's move registers start at D:$xx*$80 (motor 1's commanded position D:$000088).</summary>
+    public const int RegisterStride = 0x80;
+
+    /// <summary>Commanded position register (Mxx61, D:$000088 for motor 1).</summary>
+    public const int CommandedRegister = 0x08;
+
+    /// <summary>Actual position register (Mxx62, D:$00008B).</summary>
+    public const int ActualRegister = 0x0B;
+
+    /// <summary>Target (end) position register (Mxx63, D:$0000C7): where the move being executed ends.</summary>
+    public const int TargetRegister = 0x47;
+
+    /// <summary>
+    /// A motor move register at a D: address, in 1/(Ixx08*32) counts, or null when the address is none of them.
+    /// </summary>
+    public double? Register(char space, int address)
+    {
+        if (space != 'D' || address < RegisterStride || address >= RegisterStride * _motors.Length)
+        {
+            return null;
+        }
+
+        var number = address / RegisterStride;
+        var units = Math.Max(1, I(number, 8)) * 32;
+        return (address % RegisterStride) switch
+        {
+            CommandedRegister => Get(number).Commanded * units,
+            ActualRegister => ActualPosition(number) * units,
+            TargetRegister => TargetPosition(number) * units,
+            _ => null,
+        };
+    }
+
+    /// <summary>
+    /// Where the motor's present move ends, counts: a definite jog's end, the end of its coordinate system's executing
+    /// move for a motor that follows its axis, else (at rest, an indefinite jog, homing) its commanded position.
+    /// </summary>
+    public double TargetPosition(int number)
+    {
+        var motor = Get(number);
+        if (motor.Move == MotorMove.JogTo)
+        {
+            return motor.Target;
+        }
+
+        var (cs, axis, scale) = _map.Definition(number);
+        if (!motor.Moving && axis >= 0 && !motor.Detached && motor.Enabled && _cs[cs].Current is { } seg)
+        {
+            return seg.End[axis] * scale;
+        }
+
+        return motor.Commanded;
     }
 
     /// <summary>Adds a fault to inject at its time on the program clock (at once if that time has passed).</summary>

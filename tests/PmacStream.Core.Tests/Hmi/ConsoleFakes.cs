@@ -118,7 +118,8 @@ internal sealed class FakeConsoleBackend : IConsoleBackend
     public Task<ConsoleResult> JogAsync(string axis, double distance, double? feed, CancellationToken cancellationToken = default) =>
         Do(FormattableString.Invariant($"jog {axis} {distance} F{feed}"), () => Machine[Array.IndexOf(Names, axis)] += distance);
 
-    public Task<ConsoleResult> StartJogAsync(string axis, int direction, CancellationToken cancellationToken = default) => Do($"start {axis}{direction}", () => { });
+    public Task<ConsoleResult> StartJogAsync(string axis, int direction, double? feed, CancellationToken cancellationToken = default) =>
+        Do(FormattableString.Invariant($"start {axis}{direction} F{feed}"), () => { });
 
     public Task<ConsoleResult> StopJogAsync(string axis, CancellationToken cancellationToken = default) => Do($"stop {axis}", () => { });
 

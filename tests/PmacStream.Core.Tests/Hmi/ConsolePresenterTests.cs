@@ -69,10 +69,11 @@ public sealed class ConsolePresenterTests : IAsyncLifetime
     {
         _view.JogAxis = "Y";
         _view.JogIncrement = null;
+        _view.JogFeed = 250;
         await Do(() => _view.PressJog(-1));
         await Do(() => _view.ReleaseJog(-1));
 
-        _console.Calls.Where(c => c != "state").Should().Equal("start Y-1", "stop Y");
+        _console.Calls.Where(c => c != "state").Should().Equal("start Y-1 F250", "stop Y");
     }
 
     [Fact]
