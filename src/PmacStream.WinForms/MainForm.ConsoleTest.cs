@@ -20,6 +20,7 @@ internal sealed partial class MainForm
         AlarmHistory = lstAlarmHistory.Items.Cast<object>().Select(o => o.ToString() ?? string.Empty).ToList(),
         Offsets = Rows(gridOffsets).Take(12).Select(r => r.ToList()).ToList(),
         Tools = Rows(gridTools).Take(6).Select(r => r.ToList()).ToList(),
+        StoreJobs = Rows(gridStoreJobs).Take(10).Select(r => r.ToList()).ToList(),
     };
 
     /// <summary>

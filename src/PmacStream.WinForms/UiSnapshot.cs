@@ -147,6 +147,9 @@ internal sealed record UiConsole
 
     /// <summary>The first rows of the tools grid.</summary>
     public List<List<string>> Tools { get; init; } = [];
+
+    /// <summary>The Store page's job rows (job, program, station, machine, started, ended, outcome, blocks).</summary>
+    public List<List<string>> StoreJobs { get; init; } = [];
 }
 
 /// <summary>

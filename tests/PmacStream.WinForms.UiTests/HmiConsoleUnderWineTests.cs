@@ -74,7 +74,7 @@ public sealed class HmiConsoleUnderWineTests(ITestOutputHelper output)
             return;
         }
 
-        foreach (var name in new[] { "console-machine", "console-offsets", "console-tools", "console-alarm", "console-history" })
+        foreach (var name in new[] { "console-machine", "console-offsets", "console-tools", "console-alarm", "console-history", "console-store" })
         {
             var shot = Path.Combine(shots, name + ".png");
             if (File.Exists(shot))
@@ -172,6 +172,13 @@ public sealed class HmiConsoleUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("histories", v => v.Console.SelectedTab == 3 && v.Console.JobHistory.Count >= 2 && v.Console.AlarmHistory.Count >= 1);
         output.WriteLine($"  jobs: {string.Join(" | ", s.Console.JobHistory)}; alarms: {string.Join(" | ", s.Console.AlarmHistory)}");
         screen.Screenshot("console-history");
+
+        Step("the Store page lists the store's jobs (the records jobs --json prints)");
+        screen.Script("tab 4");
+        s = screen.WaitFor("the store's jobs", v => v.Console.SelectedTab == 4 && v.Console.StoreJobs.Count >= 2);
+        output.WriteLine($"  store: {string.Join(" | ", s.Console.StoreJobs.Select(r => string.Join(' ', r)))}");
+        s.Console.StoreJobs[0][6].Should().Be("completed");
+        screen.Screenshot("console-store");
     }
 
     /// <summary>Waits for the DRO's machine X and Y; on a timeout says what it showed (and keeps a screenshot of it).</summary>
