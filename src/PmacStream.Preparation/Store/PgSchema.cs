@@ -63,6 +63,10 @@ public static class PgSchema
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS alarms BIGINT NOT NULL DEFAULT 0;
             ALTER TABLE jobs ADD COLUMN IF NOT EXISTS resumes BIGINT NOT NULL DEFAULT 0;
             """),
+        ("reserved", "SELECT 1"), // 5: alarm history (the console's)
+        ("reserved", "SELECT 1"), // 6: leases and the shop
+        ("reserved", "SELECT 1"), // 7: prepared chunks
+        ("jobs: where an expanded program's line came from (issue 27)", "ALTER TABLE jobs ADD COLUMN IF NOT EXISTS source_location TEXT;"),
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>

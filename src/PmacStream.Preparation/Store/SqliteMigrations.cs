@@ -82,6 +82,14 @@ public static class SqliteMigrations
                 AddColumn(c, t, "jobs", name, definition);
             }
         }),
+        ("reserved", (c, t) => { }), // 5: alarm history (the console's)
+        ("reserved", (c, t) => { }), // 6: leases and the shop
+        ("reserved", (c, t) => { }), // 7: prepared chunks
+        ("jobs: where an expanded program's line came from (issue 27)", (c, t) =>
+        {
+            // Whether or not steps 5-7 ran: the column is added only when missing.
+            AddColumn(c, t, "jobs", "source_location", "TEXT");
+        }),
     ];
 
     /// <summary>Applies the migrations the file has not had; returns how many ran.</summary>
