@@ -99,8 +99,12 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
             Profile = request.Profile,
             OptionalStop = request.OptionalStop,
         }, cancellationToken).ConfigureAwait(false);
-        return Track(new SessionJob(job), request.Program.SourcePath, request.Strategy);
+        return Track(new SessionJob(job, SourceLocations.MapOf(request.Program.Folder)), request.Program.SourcePath, request.Strategy);
     }
+
+    /// <summary>" (O1002 line 7, call 3 of 4 from line 12)" for a line of an expanded program, else empty.</summary>
+    private static string Origin(string folder, int? line) =>
+        line is { } l && SourceLocations.Describe(SourceLocations.MapOf(folder), l) is { } text ? $" ({text})" : string.Empty;
 
     /// <inheritdoc />
     public Task<InterruptedJobView?> FindInterruptedAsync(string sourcePath, CancellationToken cancellationToken = default) =>
@@ -124,19 +128,19 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
                 throw new JobException(result.Reason ?? $"cannot resume job {job.JobId}");
             case ResumeKind.Declined:
                 throw new InvalidOperationException(
-                    $"the controller stopped the job at line {result.RestartLine}, not at line {job.ResumeLine} of the job record: nothing was sent. Select line {result.RestartLine} and start from it to see its preamble first.");
+                    $"the controller stopped the job at line {result.RestartLine}{Origin(job.Program.Folder, result.RestartLine)}, not at line {job.ResumeLine} of the job record: nothing was sent. Select line {result.RestartLine} and start from it to see its preamble first.");
         }
 
         var resumed = result.Job!;
         if (result.Kind != ResumeKind.Restart)
         {
-            return Track(new SessionJob(resumed), job.Program.SourcePath, job.Strategy);
+            return Track(new SessionJob(resumed, SourceLocations.MapOf(job.Program.Folder)), job.Program.SourcePath, job.Strategy);
         }
 
         try
         {
             await resumed.StartAsync(cancellationToken).ConfigureAwait(false);
-            return Track(new SessionJob(resumed), job.Program.SourcePath, job.Strategy);
+            return Track(new SessionJob(resumed, SourceLocations.MapOf(job.Program.Folder)), job.Program.SourcePath, job.Strategy);
         }
         catch
         {
@@ -151,7 +155,7 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
     private ControllerLink Link => _link ?? throw new InvalidOperationException("Connect to a controller first.");
 
     /// <summary>A job as the presenter drives it.</summary>
-    private sealed class SessionJob(Job job) : IHmiJob
+    private sealed class SessionJob(Job job, GCode.Expansion.ExpansionMap? origins = null) : IHmiJob
     {
         public long? Id => job.Id;
 
@@ -171,7 +175,10 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
                     _ => HmiJobState.Idle,
                 };
                 return new HmiJobStatus(state, s.CurrentChunk, s.CurrentLine, s.Percent, s.FeedOverride, s.ProgrammedFeed, s.Elapsed, s.Eta,
-                    string.IsNullOrEmpty(s.Message) ? null : s.Message, s.Stop, s.OptionalStop);
+                    string.IsNullOrEmpty(s.Message) ? null : s.Message, s.Stop, s.OptionalStop)
+                {
+                    SourceLocation = SourceLocations.Describe(origins, s.CurrentLine),
+                };
             }
         }
 

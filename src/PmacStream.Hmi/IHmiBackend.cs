@@ -116,6 +116,12 @@ public sealed record HmiJobStatus(
     JobStop? Stop = null,
     bool OptionalStop = true)
 {
+    /// <summary>
+    /// Where <see cref="CurrentLine"/> came from when the program was expanded (subprograms, macros, loops: <c>O1002 line
+    /// 7, call 3 of 4 from line 12</c>); null for a program whose lines are its source lines.
+    /// </summary>
+    public string? SourceLocation { get; init; }
+
     /// <summary>True once the job will not move again.</summary>
     public bool IsFinished => State is HmiJobState.Completed or HmiJobState.Aborted or HmiJobState.Failed;
 }

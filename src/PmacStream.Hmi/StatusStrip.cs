@@ -62,7 +62,7 @@ internal static class StatusStrip
             TotalFiles: manifest is null ? "-" : manifest.Chunks.Count.ToString(CultureInfo.InvariantCulture),
             ProgramLines: programLines,
             CurrentFile: currentFile,
-            CurrentLine: s is null || s.CurrentLine == 0 ? "-" : s.CurrentLine.ToString("N0", CultureInfo.InvariantCulture),
+            CurrentLine: s is null || s.CurrentLine == 0 ? "-" : s.CurrentLine.ToString("N0", CultureInfo.InvariantCulture) + (s.SourceLocation is { } origin ? $" ({origin})" : string.Empty),
             ProgressPercent: (int)Math.Round(percent),
             Progress: percent.ToString("0.0", CultureInfo.InvariantCulture) + " %",
             FeedOverride: Math.Abs(inForce - f.FeedOverride) >= 0.05

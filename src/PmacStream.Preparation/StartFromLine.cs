@@ -94,7 +94,8 @@ public static class StartFromLine
         var profile = options.Profile ?? MachineProfile.Default;
         var interp = new Interpreter(profile);
         var highest = double.NegativeInfinity;
-        using var reader = GCodeReader.Open(sourcePath);
+        // An expanded program's lines (subprograms, macros, loops) are its expanded lines, as M0== counts them.
+        using var reader = GCode.Expansion.ProgramExpansion.OpenReader(sourcePath, profile);
         var count = 0;
         while (reader.Read())
         {

@@ -25,6 +25,12 @@ public interface IJobStore : IDisposable
     /// <summary>Sets the job's message.</summary>
     void SetMessage(long jobId, string message);
 
+    /// <summary>
+    /// Where the job's current line came from in an expanded program (<c>O1002 line 7, call 3 of 4 from line 12</c>);
+    /// null for a program without subprograms or macros, whose lines are its source lines.
+    /// </summary>
+    void SetSourceLocation(long jobId, string? location);
+
     /// <summary>Records how a job ended.</summary>
     void RecordEnd(long jobId, string outcome, long executed, long total, int stops, int alarms);
 

@@ -22,6 +22,12 @@ namespace PmacStream.Streaming;
 /// <param name="ProfileIdentity">That profile's name and digest (<c>MachineProfile.Identity</c>): a resume refuses a profile that changed since.</param>
 public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256, string ManifestPath, StrategyKind Strategy, string Connection, int? FromLine, string Message, Checkpoint? Checkpoint, DateTimeOffset Created, IReadOnlyList<string>? Preamble = null, string? LineProbeVariable = "P501", string? Settings = null, string? Profile = null, string? ProfileIdentity = null)
 {
+    /// <summary>
+    /// Where the job's current line came from when the program was expanded (subprograms, macros, loops: <c>O1002 line
+    /// 7, call 3 of 4 from line 12</c>); null for a program whose lines are its source lines.
+    /// </summary>
+    public string? SourceLocation { get; init; }
+
     /// <summary>True when the job has not completed (it can be resumed).</summary>
     public bool Unfinished => Checkpoint?.State is not SessionState.Completed;
 
@@ -408,6 +414,26 @@ public sealed class JobStore : IJobStore
                 using var cmd = _db.CreateCommand();
                 cmd.CommandText = "UPDATE jobs SET message=$m WHERE id=$id";
                 cmd.Parameters.AddWithValue("$m", message);
+                cmd.Parameters.AddWithValue("$id", jobId);
+                cmd.ExecuteNonQuery();
+            }
+            catch (SqliteException e)
+            {
+                throw Unavailable(Path, "write to", e);
+            }
+        }
+    }
+
+    /// <inheritdoc />
+    public void SetSourceLocation(long jobId, string? location)
+    {
+        lock (_lock)
+        {
+            try
+            {
+                using var cmd = _db.CreateCommand();
+                cmd.CommandText = "UPDATE jobs SET source_location=$s WHERE id=$id";
+                cmd.Parameters.AddWithValue("$s", (object?)location ?? DBNull.Value);
                 cmd.Parameters.AddWithValue("$id", jobId);
                 cmd.ExecuteNonQuery();
             }

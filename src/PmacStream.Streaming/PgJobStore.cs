@@ -155,6 +155,15 @@ public sealed class PgJobStore : IJobStore
     });
 
     /// <inheritdoc />
+    public void SetSourceLocation(long jobId, string? location) => Write("source location", jobId, c =>
+    {
+        using var cmd = new NpgsqlCommand("UPDATE jobs SET source_location=@s WHERE id=@id", c);
+        cmd.Parameters.Add(new NpgsqlParameter<string?>("s", NpgsqlTypes.NpgsqlDbType.Text) { TypedValue = location });
+        cmd.Parameters.AddWithValue("id", jobId);
+        cmd.ExecuteNonQuery();
+    });
+
+    /// <inheritdoc />
     public void RecordEnd(long jobId, string outcome, long executed, long total, int stops, int alarms)
     {
         var ended = DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture);

@@ -91,6 +91,11 @@ internal static class JobsCommand
             o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  checkpoint {cp.State} at line {cp.LastExecutedLine}, chunk {cp.CurrentChunk}, {cp.TimeUtc.UtcDateTime:yyyy-MM-dd HH:mm:ss}Z"));
         }
 
+        if (j.SourceLocation is { } origin)
+        {
+            o.WriteLine($"  source    {origin}");
+        }
+
         if (j.Message.Length > 0)
         {
             o.WriteLine($"  message   {j.Message}");
@@ -151,6 +156,7 @@ internal static class JobsCommand
         }
 
         w.WriteNumber("lastLine", j.Checkpoint?.LastExecutedLine ?? 0);
+        w.WriteString("sourceLocation", j.SourceLocation); // an expanded program's: where lastLine came from
         if (detail)
         {
             w.WriteString("message", j.Message);

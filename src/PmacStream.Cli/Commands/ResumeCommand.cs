@@ -45,14 +45,17 @@ internal static class ResumeCommand
             await using var lease = options.Lease(parse, target, record.History.Machine, record.Id); // before the controller hears anything
             await using var controller = await service.ConnectAsync(target, machine, ct).ConfigureAwait(false);
             var cp = record.Checkpoint;
-            Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
+            Console.WriteLine($"job {record.Id}: {Path.GetFileName(record.ProgramPath)}, last executed line {cp?.LastExecutedLine ?? 0}{CliExpansion.Where(cp?.LastExecutedLine ?? 0, CliExpansion.Map(program.Folder))}, chunk {cp?.CurrentChunk ?? 1} of {program.TotalChunks}, {record.Strategy.ToString().ToLowerInvariant()}, {controller.Description}");
 
             var result = await ResumeOrRestartAsync(service, controller, resumable, settings, options, parse, machine, forced, ct).ConfigureAwait(false);
             if (result.Kind == ResumeKind.Refused)
             {
                 // Both positions and the choices are in the reason; name the command that starts again from a line.
                 var line = result.RestartLine is { } l ? l.ToString(System.Globalization.CultureInfo.InvariantCulture) : "LINE";
-                throw new CliException($"{result.Reason}{Environment.NewLine}to start again from a line: pmacstream stream {record.ProgramPath} --from-line {line}", CliGlobals.Failed);
+                // An expanded program's line is named by its source line, run and file (what stream --from-line takes).
+                var start = result.RestartLine is { } r && SourceLocations.MapOf(program.Folder) is { } map
+                    ? $"{SourceLocations.StartOptions(map, r)} ({map.Describe(r)})" : $"--from-line {line}";
+                throw new CliException($"{result.Reason}{Environment.NewLine}to start again from a line: pmacstream stream {record.ProgramPath} {start}", CliGlobals.Failed);
             }
 
             if (result.Job is not { } job)

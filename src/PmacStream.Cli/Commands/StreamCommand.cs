@@ -20,6 +20,7 @@ internal static class StreamCommand
         cmd.Arguments.Add(file);
         cmd.Options.Add(strategy);
         cmd.Options.Add(fromLine);
+        var (call, sourceFile) = AddStartChoice(cmd);
         cmd.Options.Add(force);
         cmd.Options.Add(profile);
         cmd.Options.Add(programId);
@@ -64,7 +65,9 @@ internal static class StreamCommand
             StartPlan? plan = null;
             if (parse.GetValue(fromLine) is { } line)
             {
-                // A stored revision's start reads the block's state from the store (every stream names its revision).
+                // A stored revision's start reads the block's state from the store (every stream names its revision);
+                // in an expanded program the line named is found among the expanded blocks (--call, --file).
+                line = StartLine(program.Folder, line, parse.GetValue(call), parse.GetValue(sourceFile));
                 plan = service.PlanStartFor(revision, program, line, settings, prepared.Profile, ct);
                 if (!JobConsole.Confirm(plan, options.Yes(parse)))
                 {
@@ -87,5 +90,39 @@ internal static class StreamCommand
             return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct, continueAtStops: continueAtStops).ConfigureAwait(false);
         });
         return cmd;
+    }
+
+    /// <summary><c>--call N</c> and <c>--file NAME</c>: which run of a <c>--from-line</c> in an expanded program.</summary>
+    private static (Option<int?> Call, Option<string?> File) AddStartChoice(Command cmd)
+    {
+        var call = new Option<int?>("--call") { Description = "With --from-line in a program with subprograms, macros or loops: start at the Nth time that source line runs (1-based; needed when it runs more than once)." };
+        var file = new Option<string?>("--file") { Description = "With --from-line in a program with subprograms in other files: the file (O1002.nc, O1002) or called program (O1002) the line is a line of, when more than one has that line number." };
+        cmd.Options.Add(call);
+        cmd.Options.Add(file);
+        return (call, file);
+    }
+
+    /// <summary>
+    /// The line a start means: a source line of a program without subprograms or macros; in an expanded one, the
+    /// expanded line of that source line's run (<c>--call</c>) in its file (<c>--file</c>), refused with the choices when ambiguous.
+    /// </summary>
+    private static int StartLine(string chunkFolder, int line, int? call, string? file)
+    {
+        if (SourceLocations.MapOf(chunkFolder) is not { } map)
+        {
+            return call is null && file is null ? line
+                : throw new CliException("--call and --file choose a run of a line in a program with subprograms, macros or loops; this program has none: --from-line is its source line");
+        }
+
+        try
+        {
+            var expanded = SourceLocations.Resolve(map, line, call, file);
+            Console.WriteLine($"starting at {map.Describe(expanded)} (expanded line {expanded})");
+            return expanded;
+        }
+        catch (JobException e)
+        {
+            throw new CliException(e.Message);
+        }
     }
 }

@@ -227,7 +227,7 @@ public sealed partial class JobService
                 (request.Profile.Source, request.Profile.Identity),
                 new JobHistoryStart(request.ProgramId, request.Station, request.Machine ?? MachineName(controller.Spec), program.Manifest.TotalMotionBlocks));
             StreamingSession? session = null;
-            session = new StreamingSession(controller.Devices, program, options, id is { } i ? store!.SinkFor(i, () => session?.Status.ExecutedBlocks) : null, times, TimeOf(controller));
+            session = new StreamingSession(controller.Devices, program, options, id is { } i ? SourceLocations.Track(store!.SinkFor(i, () => session?.Status.ExecutedBlocks), store!, i, SourceLocations.MapOf(program.Folder)) : null, times, TimeOf(controller));
             return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id)
             {
                 AlarmAxes = _options.Rules?.Axes, Planner = PlannerOf(request.ProgramId, program, request.Settings, request.Profile),
@@ -464,7 +464,8 @@ public sealed partial class JobService
             await EnsureMachineReadyAsync(controller, profile, cancellationToken).ConfigureAwait(false);
             store.RecordResume(record.Id, request.Station);
             StreamingSession? current = null;
-            StreamingSession NewSession() => current = new(controller.Devices, job.Program, options, store.SinkFor(record.Id, () => current?.Status.ExecutedBlocks), times, TimeOf(controller));
+            var origins = SourceLocations.MapOf(job.Program.Folder);
+            StreamingSession NewSession() => current = new(controller.Devices, job.Program, options, SourceLocations.Track(store.SinkFor(record.Id, () => current?.Status.ExecutedBlocks), store, record.Id, origins), times, TimeOf(controller));
             var outcome = new ContinueOutcome(null, null, job.RestartLine);
             if (record.Checkpoint is { State: not SessionState.Aborted } && controller.Simulator?.Fresh != true)
             {

@@ -211,6 +211,40 @@ public sealed class ExpansionMap
         return sb.ToString();
     }
 
+    /// <summary>
+    /// The expanded lines that ran source line <paramref name="line"/>, in the order they run, with the file each is a
+    /// line of (at most <paramref name="max"/>): the first is its first run, the third its third call. With
+    /// <paramref name="where"/>, only the lines of that file (its name, with or without extension) or of that called
+    /// program (<c>O1002</c>, <c>o&lt;name&gt;</c>, <c>N500</c>), for a line number more than one file has.
+    /// </summary>
+    public List<(long Expanded, int File)> Occurrences(int line, string? where, int max = int.MaxValue)
+    {
+        var found = new List<(long, int)>();
+        foreach (var r in _runs)
+        {
+            if (line < r.Line || line >= r.Line + r.Count || (where != null && !Names(r, where)))
+            {
+                continue;
+            }
+
+            found.Add((r.Start + (line - r.Line), r.File));
+            if (found.Count >= max)
+            {
+                break;
+            }
+        }
+
+        return found;
+    }
+
+    private bool Names(in Run r, string name)
+    {
+        var file = _files.Count > r.File ? _files[r.File] : string.Empty;
+        return string.Equals(Path.GetFileName(file), name, StringComparison.OrdinalIgnoreCase) ||
+            string.Equals(Path.GetFileNameWithoutExtension(file), name, StringComparison.OrdinalIgnoreCase) ||
+            (Frame(r.Frame) is { Id: not 0 } f && string.Equals(f.Program, name, StringComparison.OrdinalIgnoreCase));
+    }
+
     /// <summary>Reads a map a split wrote (all of it).</summary>
     public static ExpansionMap Load(string path)
     {

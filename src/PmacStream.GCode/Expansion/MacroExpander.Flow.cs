@@ -142,6 +142,14 @@ public sealed partial class MacroExpander
                 f.Started = true;
                 OWord(c, f, ln);
                 break;
+            case LineKind.ModalCall or LineKind.ModalCancel:
+                ModalCall(c, f, ln);
+                break;
+        }
+
+        if (_modalCall != null && c.Kind is LineKind.Raw or LineKind.Words && f == _modalOwner && !c.EndsProgram && MovesAxes(c.Words))
+        {
+            FanucCall(_modalCall, f, ln); // G66: after the move, the macro
         }
     }
 
@@ -268,6 +276,58 @@ public sealed partial class MacroExpander
         f.Loops.RemoveRange(i + 1, f.Loops.Count - i - 1);
         f.Loops[i].End = ln;
         f.Pc = f.Loops[i].Head;
+    }
+
+    /// <summary>
+    /// G66 P L args: from now on every move block of this program calls the macro after its move, as G65 P L with the
+    /// arguments as they were at G66 (FANUC evaluates them once); G67 ends it. Blocks of the macro itself, and of the
+    /// subprograms the program calls, do not call it.
+    /// </summary>
+    private void ModalCall(MacroLine c, Frame f, int ln)
+    {
+        f.Started = true;
+        if (c.Words.Length > 0)
+        {
+            EmitWords(c, f, ln); // the block's own words (not axis words: those would be a move) go as they are
+            _emittedBlock = true;
+        }
+
+        f.Pc = ln + 1;
+        if (c.Kind == LineKind.ModalCancel)
+        {
+            (_modalCall, _modalOwner) = (null, null);
+            return;
+        }
+
+        if (MovesAxes(c.Words))
+        {
+            throw Refuse(ExpansionCodes.Syntax, c.Column, "G66 with axis words: a G66 block sets the modal call and moves nothing; move in the blocks after it", ln);
+        }
+
+        _modalCall = new MacroLine
+        {
+            Kind = LineKind.Call,
+            Call = CallKind.G65,
+            Column = c.Column,
+            Target = new ConstExpr(c.Target!.Num(this)),
+            Count = c.Count == null ? null : new ConstExpr(c.Count.Num(this)),
+            Arguments = [.. c.Arguments.Select(a => (a.Variable, (MacroExpr)new ConstExpr(a.Value.Eval(this))))],
+        };
+        _modalOwner = f;
+    }
+
+    /// <summary>A block with an axis word: a move block, which calls a G66 macro after it.</summary>
+    private static bool MovesAxes(MacroWord[] words)
+    {
+        foreach (var w in words)
+        {
+            if (w.Letter is 'X' or 'Y' or 'Z' or 'A' or 'B' or 'C' or 'U' or 'V' or 'W')
+            {
+                return true;
+            }
+        }
+
+        return false;
     }
 
     private void FanucCall(MacroLine c, Frame f, int ln)

@@ -229,6 +229,11 @@ public sealed partial class MacroExpander : IMacroVariables
 
                     EmitRaw(f, ln);
                     f.Pc = ln + 1;
+                    if (_modalCall != null && f == _modalOwner && MacroCompiler.Compile(Encoding.Latin1.GetString(f.Source.Line(ln)), _dialect) is { EndsProgram: false } plain && MovesAxes(plain.Words))
+                    {
+                        FanucCall(_modalCall, f, ln); // G66: after the move, the macro
+                    }
+
                     continue;
                 }
 
@@ -522,6 +527,9 @@ public sealed partial class MacroExpander : IMacroVariables
     }
 
     /// <summary>A call in progress: the program, where it runs, its locals and its loops.</summary>
+    private MacroLine? _modalCall; // G66: the macro call made after every move block of _modalOwner, until G67
+    private Frame? _modalOwner;
+
     private sealed class Frame(ProgramSource source, int start, double[] locals, Frame? caller, int callLine)
     {
         public readonly ProgramSource Source = source;

@@ -56,6 +56,12 @@ internal enum LineKind
 
     /// <summary>An RS274/NGC o-word statement.</summary>
     OWord,
+
+    /// <summary>FANUC <c>G66 P L</c> with arguments: the macro is called after every move block until <c>G67</c>.</summary>
+    ModalCall,
+
+    /// <summary>FANUC <c>G67</c>: the modal call ends.</summary>
+    ModalCancel,
 }
 
 /// <summary>How a FANUC call calls.</summary>
@@ -585,29 +591,34 @@ internal static class MacroCompiler
         return new ConstExpr(sign * p.Number()) { Column = col };
     }
 
-    /// <summary>FANUC calls and returns: true when the block is one (its other words are emitted before it).</summary>
-    private static bool Classify(MacroLine line, List<MacroWord> words)
+    /// <summary>The call or return a block makes: 97, 98, 99 (M), 65, 66, 67 (G); -1 for none.</summary>
+    private static int KindOf(List<MacroWord> words)
     {
         var kind = -1;
         foreach (var w in words)
         {
-            if (w.Value is ConstExpr k)
+            if (w.Value is not ConstExpr k)
             {
-                if (w.Letter == 'M' && k.Value is 98 or 97 or 99)
-                {
-                    kind = (int)k.Value;
-                }
-                else if (w.Letter == 'G' && k.Value == 65)
-                {
-                    kind = 65;
-                }
-                else if (w.Letter == 'G' && k.Value is 66 or 66.1 or 67)
-                {
-                    throw new MacroEvalException(w.Value.Column - 1, "G66/G67 modal macro calls are not expanded by the host yet");
-                }
+                continue;
+            }
+
+            if ((w.Letter == 'M' && k.Value is 98 or 97 or 99) || (w.Letter == 'G' && k.Value is 65 or 66 or 67))
+            {
+                kind = (int)k.Value;
+            }
+            else if (w.Letter == 'G' && k.Value == 66.1)
+            {
+                throw new MacroEvalException(w.Value.Column - 1, "G66.1 (a macro call at every block) is not expanded by the host: G66 calls after move blocks");
             }
         }
 
+        return kind;
+    }
+
+    /// <summary>FANUC calls and returns: true when the block is one (its other words are emitted before it).</summary>
+    private static bool Classify(MacroLine line, List<MacroWord> words)
+    {
+        var kind = KindOf(words);
         if (kind < 0)
         {
             return false;
@@ -617,7 +628,7 @@ internal static class MacroCompiler
         var args = new List<(int, MacroExpr)>();
         foreach (var w in words)
         {
-            var isCode = w.Value is ConstExpr k && ((w.Letter == 'M' && k.Value == kind) || (w.Letter == 'G' && kind == 65 && k.Value == 65));
+            var isCode = w.Value is ConstExpr k && ((w.Letter == 'M' && k.Value == kind) || (w.Letter == 'G' && kind is 65 or 66 or 67 && k.Value == kind));
             if (isCode)
             {
                 continue;
@@ -625,10 +636,10 @@ internal static class MacroCompiler
 
             switch (w.Letter)
             {
-                case 'P':
+                case 'P' when kind != 67:
                     line.Target = w.Value;
                     continue;
-                case 'L' when kind != 99:
+                case 'L' when kind is not (99 or 67):
                     line.Count = w.Value;
                     continue;
                 case 'K' when kind is 98 or 97:
@@ -636,12 +647,12 @@ internal static class MacroCompiler
                     continue;
             }
 
-            if (kind == 65)
+            if (kind is 65 or 66)
             {
                 var variable = ArgumentTable[w.Letter - 'A'];
                 if (variable == 0)
                 {
-                    throw new MacroEvalException(w.Value.Column - 1, $"{w.Letter} is not a G65 argument (A-Z except G L N O P)");
+                    throw new MacroEvalException(w.Value.Column - 1, $"{w.Letter} is not a G{kind} argument (A-Z except G L N O P)");
                 }
 
                 args.Add((variable, w.Value));
@@ -652,13 +663,13 @@ internal static class MacroCompiler
             }
         }
 
-        if (kind != 99 && line.Target == null)
+        if (kind is not (99 or 67) && line.Target == null)
         {
-            throw new MacroEvalException(line.Column, kind == 65 ? "G65 without P (the macro's program number)" : $"M{kind} without P (the subprogram's number)");
+            throw new MacroEvalException(line.Column, kind is 65 or 66 ? $"G{kind} without P (the macro's program number)" : $"M{kind} without P (the subprogram's number)");
         }
 
-        line.Kind = kind == 99 ? LineKind.Return : LineKind.Call;
-        line.Call = kind switch { 97 => CallKind.M97, 65 => CallKind.G65, _ => CallKind.M98 };
+        line.Kind = kind switch { 99 => LineKind.Return, 66 => LineKind.ModalCall, 67 => LineKind.ModalCancel, _ => LineKind.Call };
+        line.Call = kind switch { 97 => CallKind.M97, 65 or 66 => CallKind.G65, _ => CallKind.M98 };
         line.Arguments = [.. args];
         line.Words = [.. rest];
         return true;

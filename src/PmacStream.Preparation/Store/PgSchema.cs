@@ -78,6 +78,7 @@ public static class PgSchema
               preparation_id BIGINT NOT NULL, seq INTEGER NOT NULL, name TEXT NOT NULL, data BYTEA NOT NULL,
               PRIMARY KEY (preparation_id, seq));
             """),
+        ("jobs: where an expanded program's line came from", "ALTER TABLE jobs ADD COLUMN IF NOT EXISTS source_location TEXT;"),
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>

@@ -89,6 +89,11 @@ public static class SqliteMigrations
             AddColumn(c, t, "programs", "profile_identity", "TEXT");
             Run(c, t, ExecutionSchema);
         }),
+        ("jobs: where an expanded program's line came from", (c, t) =>
+        {
+            // Whether or not steps 5-7 ran: the column is added only when missing.
+            AddColumn(c, t, "jobs", "source_location", "TEXT");
+        }),
     ];
 
     /// <summary>

@@ -308,4 +308,78 @@ public sealed class ExpansionTests : IDisposable
         diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
         summary.Blocks.Should().BeGreaterThan(1700);
     }
+
+    /// <summary>The macro both programs call: a peck at the point the move reached, #26 deep (Z argument), #18 up (R).</summary>
+    private const string Peck = """
+        %
+        O9200 (PECK)
+        G91 G01 Z-#26 F100.
+        G00 Z#18
+        G90
+        M99
+        %
+        """;
+
+    [Fact]
+    public void A_G66_modal_call_runs_the_macro_after_every_move_block_as_the_hand_expanded_G65_program_does()
+    {
+        // rs274 does not run G66: the proof is the same program written with a G65 after each move (FANUC's meaning).
+        var modal = Write("modal.nc", """
+            %
+            O0001
+            G21 G90 G17 G54 G00 X0 Y0 Z5.
+            G66 P9200 Z2. R2.
+            X10.
+            Y10. (a move block)
+            M08
+            X20. Y5.
+            G67
+            X30.
+            M30
+            """ + "\n" + Peck);
+        var hand = Write("hand.nc", """
+            %
+            O0001
+            G21 G90 G17 G54 G00 X0 Y0 Z5.
+            X10.
+            G65 P9200 Z2. R2.
+            Y10. (a move block)
+            G65 P9200 Z2. R2.
+            M08
+            X20. Y5.
+            G65 P9200 Z2. R2.
+            X30.
+            M30
+            """ + "\n" + Peck);
+        var (modalLines, me) = Expand(modal, Fanuc);
+        var (handLines, he) = Expand(hand, Fanuc);
+        me.Error.Should().BeNull();
+        he.Error.Should().BeNull();
+        Blocks(modalLines).Should().Equal(Blocks(handLines), "G66 calls after X10, Y10 and X20 Y5, not after M08 nor after G67");
+        Blocks(modalLines).Count(l => l.StartsWith("G91", StringComparison.Ordinal)).Should().Be(3);
+        Positions(modalLines).Should().Equal(Positions(handLines));
+        var second = modalLines.FindIndex(modalLines.FindIndex(l => l.StartsWith("G91", StringComparison.Ordinal)) + 1, l => l.StartsWith("G91", StringComparison.Ordinal)) + 1;
+        me.Map.Describe(second).Should().Be("O9200 line 14, call 1 of 1 from line 6", "the call is the move block's");
+
+        var everyBlock = Write("g661.nc", "O0001\nG66.1 P9200 Z2.\nX1.\nM30\n" + Peck);
+        var (_, refused) = Expand(everyBlock, Fanuc);
+        refused.Error!.Code.Should().Be(ExpansionCodes.Syntax);
+        refused.Error.Message.Should().Contain("G66.1");
+    }
+
+    /// <summary>The interpreter's block ends over expanded lines.</summary>
+    private static List<Point3> Positions(List<string> lines)
+    {
+        var interp = new Interpreter(MachineProfile.Default);
+        var ends = new List<Point3>();
+        foreach (var l in lines)
+        {
+            if (interp.Step(GCodeReader.LexLine(l, ends.Count + 1)) is { Motion: not MotionKind.None } d)
+            {
+                ends.Add(d.End);
+            }
+        }
+
+        return ends;
+    }
 }
