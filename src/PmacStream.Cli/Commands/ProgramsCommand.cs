@@ -65,6 +65,7 @@ internal static class ProgramsCommand
         rm.Arguments.Add(rmId);
         rm.SetAction(parse => Remove(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(rmId)));
         cmd.Subcommands.Add(rm);
+        cmd.Subcommands.Add(ProgramStartCommand.Create(store));
         return cmd;
     }
 

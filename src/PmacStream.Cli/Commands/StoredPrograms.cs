@@ -71,7 +71,8 @@ internal static class StoredPrograms
         return store.GetProgram(programId)?.Profile is { } name && MachineProfile.BuiltInNames.Contains(name, StringComparer.OrdinalIgnoreCase) ? name : null;
     }
 
-    private static string Materialize(IProgramRevisions store, ProgramInfo info)
+    /// <summary>The revision's source in the station's cache (written from the store when missing or not its bytes).</summary>
+    internal static string Materialize(IProgramRevisions store, ProgramInfo info)
     {
         var name = info.Name ?? Path.GetFileName(info.Path);
         var folder = Path.Combine(CacheFolder, info.Sha256);

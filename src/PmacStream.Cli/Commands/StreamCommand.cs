@@ -59,7 +59,7 @@ internal static class StreamCommand
 
             // The gate: checked under the machine profile in the split's own pass and refused with every error, or with
             // every code the controller cannot run yet; nothing sent.
-            var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { Profile = machine, Force = parse.GetValue(force) }, null, ct).ConfigureAwait(false);
+            var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { Profile = machine, Force = parse.GetValue(force), ProgramId = revision }, null, ct).ConfigureAwait(false);
             JobConsole.WarnForced(prepared.Program.Manifest, machine, parse.GetValue(force));
             var program = prepared.Program;
             StartPlan? plan = null;

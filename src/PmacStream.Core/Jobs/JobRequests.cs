@@ -20,6 +20,12 @@ public sealed record PrepareRequest(string SourcePath, RunSettings Settings)
 
     /// <summary>Most errors a refusal lists (all are counted).</summary>
     public int MaxListedErrors { get; init; } = 10_000;
+
+    /// <summary>
+    /// The stored revision <see cref="SourcePath"/> holds (its bytes): its preparation is kept with it in the store and
+    /// reused while the same inputs would make it (<see cref="JobService.PreparationsReused"/>); null: the split beside the file only.
+    /// </summary>
+    public long? ProgramId { get; init; }
 }
 
 /// <summary>A checked, split program ready to run.</summary>

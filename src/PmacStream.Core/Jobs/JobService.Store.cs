@@ -10,6 +10,14 @@ public sealed partial class JobService
 {
     private long _startsFromStore;
     private long _startFallbacks;
+    private long _preparationsReused;
+    private long _preparationsStored;
+
+    /// <summary>Preparations taken from the store as they were (nothing split) by this service.</summary>
+    public long PreparationsReused => Interlocked.Read(ref _preparationsReused);
+
+    /// <summary>Revisions split by this service and stored as a new preparation (a first run, or other inputs than every stored one).</summary>
+    public long PreparationsStored => Interlocked.Read(ref _preparationsStored);
 
     /// <summary>Starts planned from the store's stored states (<see cref="PlanStartFromStore"/>) by this service.</summary>
     public long StartsFromStore => Interlocked.Read(ref _startsFromStore);
@@ -80,6 +88,57 @@ public sealed partial class JobService
         programId is { } id
             ? PlanStartFromStore(id, program, line, settings, profile, cancellationToken)
             : PlanStart(program, line, settings, profile, cancellationToken);
+
+    /// <summary>
+    /// Prepares a stored revision with the preparation stored with it when one was made from the same inputs
+    /// (<see cref="PreparationInputs.Of"/>: the chunk shape, the profile with the machine's tool table, force, the
+    /// splitter's version): its chunk files are written from the store into <paramref name="outDir"/> unless that folder
+    /// holds them already, and nothing is split. Else the revision is split and the result stored as another
+    /// preparation. Null (the caller prepares beside the file, as for a file) when the program expands subprograms or
+    /// macros (its split reads other files and the persistent variables, which the key cannot name) or the store
+    /// cannot be used (a warning says why).
+    /// </summary>
+    private PreparedProgram? PrepareStored(long programId, PrepareRequest request, string source, SplitOptions options, string outDir,
+        IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
+    {
+        if (GCode.Expansion.ProgramExpansion.Applies(source, request.Profile))
+        {
+            Log.Information("Program {Id}: its split reads subprogram files and persistent variables; prepared beside {Source:l}, not stored", programId, source);
+            return null;
+        }
+
+        try
+        {
+            using var store = ProgramStores.Open(Store);
+            var info = store.GetProgram(programId) ?? throw new JobException($"no program {programId} in {Store.Display}", JobErrorKind.BadRequest);
+            if (!FileHash.SameDigest(info.Sha256, FileHash.Sha256Hex(source, cancellationToken)))
+            {
+                throw new JobException($"{source} is not program {programId} (SHA-256 differs)", JobErrorKind.BadRequest);
+            }
+
+            var inputs = PreparationInputs.Of(info.Sha256, options);
+            if (store.FindPreparation(programId, StoredPreparation.KeyOf(inputs)) is { } stored)
+            {
+                var held = PreparationFiles.Holds(outDir, stored);
+                var manifest = held ? ChunkManifest.Load(Path.Combine(outDir, ChunkManifest.FileName)) : PreparationFiles.Write(stored, store.ReadPreparationFiles(stored.Id), outDir, source);
+                Interlocked.Increment(ref _preparationsReused);
+                Log.Information("Prepared program {Id}: its stored preparation {Preparation} (the same chunk shape and machine inputs){How:l}; nothing split",
+                    programId, stored.Id, held ? $", already in {outDir}" : $", written into {outDir}");
+                return new PreparedProgram(source, ChunkedProgram.FromManifest(manifest, outDir), request.Profile, true, 0);
+            }
+
+            var split = Split(request, source, options with { OutDir = outDir }, progress, cancellationToken);
+            var kept = store.StorePreparation(programId, inputs, outDir);
+            Interlocked.Increment(ref _preparationsStored);
+            Log.Information("Prepared program {Id}: split and stored as its preparation {Preparation}", programId, kept.Id);
+            return split;
+        }
+        catch (System.Data.Common.DbException e)
+        {
+            Log.Warning("Program {Id}: the store {Store:l} cannot keep its preparation ({Message:l}); prepared beside {Source:l}", programId, Store.Display, StoreLocation.Redact(e.Message), source);
+            return null;
+        }
+    }
 
     /// <summary>How a job plans a start at a line of its program (the alarm's check of where the next block starts): from the store for a revision.</summary>
     private Func<int, StartPlan> PlannerOf(long? programId, ChunkedProgram program, RunSettings settings, MachineProfile profile) =>

@@ -574,24 +574,18 @@ public sealed partial class JobService
 
         var outDir = Path.GetFullPath(options.OutDir ?? Splitter.DefaultOutDir(source));
         PreparedProgram prepared;
-        if (SplitCache.TryOpen(source, outDir, options, cancellationToken) is { } reused)
+        if (request.ProgramId is { } programId && PrepareStored(programId, request, source, options, outDir, progress, cancellationToken) is { } stored)
+        {
+            prepared = stored;
+        }
+        else if (SplitCache.TryOpen(source, outDir, options, cancellationToken) is { } reused)
         {
             Log.Information("Prepared {Source:l}: the split in {Folder:l} matches the program and the options; reused", source, outDir);
             prepared = new PreparedProgram(source, reused, request.Profile, true, 0);
         }
         else
         {
-            try
-            {
-                var result = Splitter.Split(source, options with { OutDir = outDir }, progress, cancellationToken);
-                prepared = new PreparedProgram(source, ChunkedProgram.FromManifest(result.Manifest, result.OutputDirectory), request.Profile, false, result.Warnings);
-            }
-            catch (SplitException e)
-            {
-                var why = e.FromChecker || e.ErrorCount > 0 ? $"{e.ErrorCount} error(s) under the {request.Profile.Name} profile" : e.Message;
-                Log.Information("Refused {Source:l}: {Why:l}; nothing split, nothing sent", source, why);
-                throw new ProgramRefusedException(source, e.Diagnostics, e.ErrorCount, e.Message, e) { Profile = request.Profile.Name };
-            }
+            prepared = Split(request, source, options with { OutDir = outDir }, progress, cancellationToken);
         }
 
         // The split is kept either way (it is the program's, and reusable): what the gate refuses is running it.
@@ -602,6 +596,22 @@ public sealed partial class JobService
         }
 
         return prepared;
+    }
+
+    /// <summary>Splits a program (the check in the same pass); a refusal lists every error.</summary>
+    private static PreparedProgram Split(PrepareRequest request, string source, SplitOptions options, IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
+    {
+        try
+        {
+            var result = Splitter.Split(source, options, progress, cancellationToken);
+            return new PreparedProgram(source, ChunkedProgram.FromManifest(result.Manifest, result.OutputDirectory), request.Profile, false, result.Warnings);
+        }
+        catch (SplitException e)
+        {
+            var why = e.FromChecker || e.ErrorCount > 0 ? $"{e.ErrorCount} error(s) under the {request.Profile.Name} profile" : e.Message;
+            Log.Information("Refused {Source:l}: {Why:l}; nothing split, nothing sent", source, why);
+            throw new ProgramRefusedException(source, e.Diagnostics, e.ErrorCount, e.Message, e) { Profile = request.Profile.Name };
+        }
     }
 
     private async Task<IMoveTimes?> MoveTimesAsync(string sourcePath, MachineProfile profile, CancellationToken cancellationToken) =>

@@ -39,6 +39,21 @@ public interface IProgramRevisions : IDisposable
     /// no motion block follows the line.
     /// </summary>
     StoredStart? GetStart(long programId, int line);
+
+    /// <summary>The revision's preparation made from the inputs <paramref name="inputsKey"/> names, or null.</summary>
+    StoredPreparation? FindPreparation(long programId, string inputsKey);
+
+    /// <summary>A stored preparation's chunk files (name and bytes), in order, one row at a time.</summary>
+    IEnumerable<(string Name, byte[] Data)> ReadPreparationFiles(long preparationId);
+
+    /// <summary>
+    /// Stores a split (its manifest and every chunk file of <paramref name="folder"/>) as a preparation of the revision,
+    /// in one transaction; when another station stored the same inputs first, that one is kept and returned.
+    /// </summary>
+    StoredPreparation StorePreparation(long programId, string inputs, string folder);
+
+    /// <summary>The revision's stored preparations, oldest first.</summary>
+    IReadOnlyList<StoredPreparation> ListPreparations(long programId);
 }
 
 /// <summary>Opens a store's program library by its location.</summary>

@@ -11,7 +11,7 @@ namespace PmacStream.Preparation.Store;
 /// blocks go in by binary <c>COPY</c>, one per batch of the check's pipeline, so the rows never wait in memory; the
 /// source pieces and diagnostics between the batches. Every statement is parameterized.
 /// </summary>
-public sealed class PgProgramStore : IProgramRevisions
+public sealed partial class PgProgramStore : IProgramRevisions
 {
     private static readonly ILogger Logger = Log.ForContext<PgProgramStore>();
 

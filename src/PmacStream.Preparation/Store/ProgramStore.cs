@@ -45,7 +45,7 @@ public sealed record ProgramInfo(long Id, string Path, long Size, string Sha256,
 /// block, selected blocks and continuous execution (and the preview) read from here. Inserts go through one prepared
 /// statement inside one transaction per program, so an interrupted import leaves nothing behind.
 /// </summary>
-public sealed class ProgramStore : IProgramRevisions
+public sealed partial class ProgramStore : IProgramRevisions
 {
     private static readonly ILogger Logger = Log.ForContext<ProgramStore>();
 
