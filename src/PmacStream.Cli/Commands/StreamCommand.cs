@@ -28,20 +28,7 @@ internal static class StreamCommand
         cmd.SetAction(async (parse, ct) =>
         {
             var target = options.Target(parse) ?? throw new CliException("say where to stream: --sim, --tcp HOST[:PORT] or --serial DEV[,BAUD]");
-            StrategyKind kind;
-            try
-            {
-                kind = StreamingStrategies.Parse(parse.GetValue(strategy)!);
-            }
-            catch (ArgumentException e)
-            {
-                throw new CliException(e.Message);
-            }
-
-            if (parse.GetValue(fromLine) is < 1)
-            {
-                throw new CliException("--from-line must be 1 or more");
-            }
+            var kind = Validate(parse.GetValue(strategy)!, parse.GetValue(fromLine));
 
             // The tool table at the machine (the host's copy) over the profile's: G41 D1 reads tool 1's radius as set there.
             // A stored revision runs under the profile it was checked and imported with, unless --profile says otherwise.
@@ -90,6 +77,24 @@ internal static class StreamCommand
             return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct, continueAtStops: continueAtStops).ConfigureAwait(false);
         });
         return cmd;
+    }
+
+    /// <summary>The strategy named, and a start line if any is 1 or more; else a usage error.</summary>
+    private static StrategyKind Validate(string strategy, int? fromLine)
+    {
+        if (fromLine is < 1)
+        {
+            throw new CliException("--from-line must be 1 or more");
+        }
+
+        try
+        {
+            return StreamingStrategies.Parse(strategy);
+        }
+        catch (ArgumentException e)
+        {
+            throw new CliException(e.Message);
+        }
     }
 
     /// <summary><c>--call N</c> and <c>--file NAME</c>: which run of a <c>--from-line</c> in an expanded program.</summary>
