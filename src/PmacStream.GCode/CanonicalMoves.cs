@@ -26,6 +26,182 @@ public interface ICanonicalMoves
     void EndBlock(in CanonBlock block)
     {
     }
+
+    // The line's settings and codes, in the order the line wrote them, after StartBlock and before Motion and EndBlock
+    // (rs274ngc's SELECT_TOOL, CHANGE_TOOL, SET_SPINDLE_SPEED, START_SPINDLE_CLOCKWISE, FLOOD_ON, PROGRAM_STOP,
+    // DWELL...). Only what the interpreter took: a code it refused (unknown, a second of its group) is not called.
+    // A consumer that needs none of them (the ETA, the preview) implements none.
+
+    /// <summary>SELECT_TOOL: the line's T word, the tool the next change takes.</summary>
+    void SelectTool(int tool)
+    {
+    }
+
+    /// <summary>CHANGE_TOOL: M06, to tool <paramref name="tool"/> (the routine reads the tool it changes to).</summary>
+    void ChangeTool(int tool, in CanonCode code)
+    {
+    }
+
+    /// <summary>SET_SPINDLE_SPEED: the line's S word, in revolutions per minute.</summary>
+    void SetSpindleSpeed(double speed)
+    {
+    }
+
+    /// <summary>SET_FEED_RATE: the line's F word, in program units as the feed mode in force reads it.</summary>
+    void SetFeedRate(double feed)
+    {
+    }
+
+    /// <summary>START_SPINDLE_CLOCKWISE, START_SPINDLE_COUNTERCLOCKWISE, STOP_SPINDLE_TURNING, ORIENT_SPINDLE.</summary>
+    void Spindle(SpindleCall call, in CanonCode code)
+    {
+    }
+
+    /// <summary>MIST_ON, FLOOD_ON, through-tool coolant on, and their offs.</summary>
+    void Coolant(CoolantCall call, in CanonCode code)
+    {
+    }
+
+    /// <summary>PROGRAM_STOP (M00), OPTIONAL_PROGRAM_STOP (M01), PROGRAM_END (M02, M30).</summary>
+    void ProgramStop(ProgramStopCall call, in CanonCode code)
+    {
+    }
+
+    /// <summary>DWELL: G04, for <paramref name="seconds"/> (P in the profile's unit, or X in seconds).</summary>
+    void Dwell(double seconds)
+    {
+    }
+
+    /// <summary>
+    /// USE_TOOL_LENGTH_OFFSET: G43/G44 with length offset <paramref name="number"/> (<paramref name="mode"/> 43 or 44),
+    /// or G49 (0); also an H word while G43/G44 is in force.
+    /// </summary>
+    void UseToolLengthOffset(int mode, int number)
+    {
+    }
+
+    /// <summary>G10 set work offset <paramref name="key"/> (540 G54 ... 5410+P G54.1 P) to <paramref name="offset"/>.</summary>
+    void SetWorkOffset(int key, Point3 offset)
+    {
+    }
+
+    /// <summary>G10 L2 P0 of a profile with FANUC's external work offset: it is now <paramref name="offset"/>.</summary>
+    void SetExternalOffset(Point3 offset)
+    {
+    }
+
+    /// <summary>G10 set tool <paramref name="tool"/>'s length: it is now <paramref name="length"/>.</summary>
+    void SetToolLength(int tool, double length)
+    {
+    }
+
+    /// <summary>G52: the local shift on the axes the line named, in millimetres (null: not named).</summary>
+    void SetLocalShift(double? x, double? y, double? z)
+    {
+    }
+
+    /// <summary>G92: the shift it gives on the axes the line named (null: not named).</summary>
+    void SetShift(double? x, double? y, double? z)
+    {
+    }
+
+    /// <summary>G92.1/G92.2: the G92 shift is cleared.</summary>
+    void CancelShift()
+    {
+    }
+
+    /// <summary>G54.1 P or G154 P: extended work offset <paramref name="number"/> is selected.</summary>
+    void SelectExtendedWorkOffset(int number)
+    {
+    }
+
+    /// <summary>
+    /// A code the controller runs itself: a mode it keeps (G17, G54, G90, G64...) or a routine of the library, with
+    /// the words the routine reads (<see cref="CanonCode.Words"/>).
+    /// </summary>
+    void Code(in CanonCode code)
+    {
+    }
+}
+
+/// <summary>
+/// A G or M code as the controller gets it: its letter, its number, and the words its library routine reads, in the
+/// order the profile lists them (a word the line did not give is left out; lengths in millimetres).
+/// </summary>
+public readonly ref struct CanonCode(char letter, double number, ReadOnlySpan<CanonWord> words)
+{
+    /// <summary>G or M.</summary>
+    public char Letter { get; } = letter;
+
+    /// <summary>The code's number (54.1 for G54.1).</summary>
+    public double Number { get; } = number;
+
+    /// <summary>The words its library routine reads, as the line gave them (lengths in millimetres).</summary>
+    public ReadOnlySpan<CanonWord> Words { get; } = words;
+}
+
+/// <summary>One word a library routine reads: its letter and value.</summary>
+public readonly record struct CanonWord(char Letter, double Value);
+
+/// <summary>What a spindle code does (<see cref="ICanonicalMoves.Spindle"/>).</summary>
+public enum SpindleCall
+{
+    /// <summary>M03.</summary>
+    Clockwise,
+
+    /// <summary>M04.</summary>
+    CounterClockwise,
+
+    /// <summary>M05.</summary>
+    Stop,
+
+    /// <summary>M19.</summary>
+    Orient,
+}
+
+/// <summary>What a coolant code does (<see cref="ICanonicalMoves.Coolant"/>).</summary>
+public enum CoolantCall
+{
+    /// <summary>M07.</summary>
+    Mist,
+
+    /// <summary>M08.</summary>
+    Flood,
+
+    /// <summary>M88 (Haas): through the spindle.</summary>
+    ThroughTool,
+
+    /// <summary>M09.</summary>
+    Off,
+
+    /// <summary>M89 (Haas).</summary>
+    ThroughToolOff,
+}
+
+/// <summary>What a program stop code does (<see cref="ICanonicalMoves.ProgramStop"/>).</summary>
+public enum ProgramStopCall
+{
+    /// <summary>M00: PROGRAM_STOP.</summary>
+    Stop,
+
+    /// <summary>M01: OPTIONAL_PROGRAM_STOP.</summary>
+    OptionalStop,
+
+    /// <summary>M02 or M30: PROGRAM_END.</summary>
+    End,
+}
+
+/// <summary>
+/// The axis and arc words of a line as the program gave them, in millimetres (rotary A/B/C as written): what the host
+/// sends for a plain move, which the controller runs in its own modes and offsets. Null: the line did not give it.
+/// </summary>
+public readonly record struct CanonAxes(double? X, double? Y, double? Z, double? A, double? B, double? C, double? I, double? J, double? K, double? R)
+{
+    /// <summary>The line named an axis.</summary>
+    public bool Any => X.HasValue || Y.HasValue || Z.HasValue || A.HasValue || B.HasValue || C.HasValue;
+
+    /// <summary>The line gave an arc's centre.</summary>
+    public bool AnyCentre => I.HasValue || J.HasValue || K.HasValue;
 }
 
 /// <summary>The state a block starts from (<see cref="ICanonicalMoves.StartBlock"/>).</summary>
@@ -131,4 +307,16 @@ public readonly record struct CanonBlock
 
     /// <summary>The work offset and tool tables and the G52/G92 shifts as the block left them (live: read them at once).</summary>
     public WorkCoordinates Tables { get; init; }
+
+    /// <summary>The motion code the line wrote: 0..3 for G00..G03, -1 none.</summary>
+    public int MotionInBlock { get; init; }
+
+    /// <summary>G53: the line's move is in machine coordinates.</summary>
+    public bool MachineCoordinates { get; init; }
+
+    /// <summary>A code of the line took its axis words as data (G10, G52, G92, G51, G68...): nothing moves.</summary>
+    public bool AxisData { get; init; }
+
+    /// <summary>The line's axis and arc words as given, in millimetres (<see cref="CanonAxes"/>).</summary>
+    public CanonAxes Given { get; init; }
 }

@@ -150,6 +150,7 @@ public sealed partial class Interpreter
             return StepBlock(block, diagnostics);
         }
 
+        ClearCalls();
         var taken = StepBlock(block, diagnostics);
         canon.EndBlock(Decided());
         return taken;
@@ -182,6 +183,10 @@ public sealed partial class Interpreter
         ArcClockwise = _arcClockwise,
         Holes = _blockKind == MotionKind.Cycle ? _cycle.LastHoles : null,
         Tables = _coords,
+        MotionInBlock = _motionInBlock,
+        MachineCoordinates = _machineBlock,
+        AxisData = _axisDataBlock,
+        Given = _given,
     };
 
     // Hot loop of a million-line program: compile optimized at once instead of spending the first
@@ -579,9 +584,19 @@ public sealed partial class Interpreter
         _pos = end;
         UpdateLane();
         _blockKind = kind;
-        if (kind != MotionKind.None && Canon is { } sink)
+        if (Canon is { } sink)
         {
-            sink.Motion(new CanonMotion(line, kind, start, end, center, length, seconds, _feed));
+            (_given, _motionInBlock, _machineBlock, _axisDataBlock) = (new CanonAxes(xw * _scale, yw * _scale, zw * _scale, Word('A', col, val), Word('B', col, val), Word('C', col, val),
+                iw * _scale, jw * _scale, kw * _scale, rw * _scale), codes.MotionInBlock, codes.MachineCoordinates, codes.Data != 0);
+            if (HostBlock || anyG || anyM || (col['T' - 'A'] | col['S' - 'A'] | col['F' - 'A'] | col['H' - 'A']) != 0)
+            {
+                EmitCalls(sink, wordSpan, col, val, gCol, mCol, anyG, anyM);
+            }
+
+            if (kind != MotionKind.None)
+            {
+                sink.Motion(new CanonMotion(line, kind, start, end, center, length, seconds, _feed));
+            }
         }
 
         // Filled in place: the record is large and this runs once per block.

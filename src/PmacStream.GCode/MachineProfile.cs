@@ -57,13 +57,7 @@ public sealed class MachineProfile
         SlashInBlock = dto.SlashInBlock ?? false;
         ExtendedWorkOffsets = dto.ExtendedWorkOffsets ?? false;
         ExternalWorkOffset = dto.ExternalWorkOffset ?? false;
-        Macros = dto.Macros?.Trim().ToLowerInvariant() switch
-        {
-            null or "" or "none" => Expansion.MacroDialect.None,
-            "fanuc" => Expansion.MacroDialect.Fanuc,
-            "linuxcnc" => Expansion.MacroDialect.LinuxCnc,
-            var other => throw Bad(source, $"macros: '{other}' is not fanuc, linuxcnc or none"),
-        };
+        Macros = MacroDialectOf(dto.Macros, source);
         ProgramTail = dto.ProgramTail ?? "M05";
         Startup = dto.Startup ?? "G00 G21 G90 G54 G17 G49 G40 M05 M09";
         Letters = (dto.Letters ?? "NOGMXYZIJKRFSTHDP").ToUpperInvariant();
@@ -77,6 +71,35 @@ public sealed class MachineProfile
             throw Bad(source, "toolChangePosition: expected [x, y, z]");
         }
 
+        ReadToolTables(source);
+        CheckRatesAndLetters(source);
+        ReadPoints(WorkOffsets, "workOffsets", _offsets, source);
+        ReadPoints(ReferencePositions, "referencePositions", _references, source);
+        GCodes = dto.GCodes ?? [];
+        MCodes = dto.MCodes ?? [];
+        GGroups = Groups(dto.GGroups, GCodes, 'G', source);
+        MGroups = Groups(dto.MGroups, MCodes, 'M', source);
+        if (GGroups.Count > MaxGroups || MGroups.Count > MaxGroups)
+        {
+            throw Bad(source, $"more than {MaxGroups} G or M modal groups");
+        }
+
+        AddCodes(GCodes, 'G', GGroups, _g, source);
+        AddCodes(MCodes, 'M', MGroups, _m, source);
+    }
+
+    /// <summary>The macro dialect the profile names (<c>macros</c>).</summary>
+    private static Expansion.MacroDialect MacroDialectOf(string? macros, string source) => macros?.Trim().ToLowerInvariant() switch
+    {
+        null or "" or "none" => Expansion.MacroDialect.None,
+        "fanuc" => Expansion.MacroDialect.Fanuc,
+        "linuxcnc" => Expansion.MacroDialect.LinuxCnc,
+        var other => throw Bad(source, $"macros: '{other}' is not fanuc, linuxcnc or none"),
+    };
+
+    /// <summary>The tool table: lengths by H number, radii by D number, each key a number.</summary>
+    private void ReadToolTables(string source)
+    {
         foreach (var (key, value) in ToolLengths)
         {
             if (!int.TryParse(key, NumberStyles.None, CultureInfo.InvariantCulture, out var h))
@@ -96,7 +119,11 @@ public sealed class MachineProfile
 
             _toolRadii[d] = value;
         }
+    }
 
+    /// <summary>The tool count, the rapid rate and the address letters the profile accepts.</summary>
+    private void CheckRatesAndLetters(string source)
+    {
         if (ToolCount < 0)
         {
             throw Bad(source, "toolCount must be 0 or more");
@@ -116,20 +143,6 @@ public sealed class MachineProfile
 
             _letters[c - 'A'] = true;
         }
-
-        ReadPoints(WorkOffsets, "workOffsets", _offsets, source);
-        ReadPoints(ReferencePositions, "referencePositions", _references, source);
-        GCodes = dto.GCodes ?? [];
-        MCodes = dto.MCodes ?? [];
-        GGroups = Groups(dto.GGroups, GCodes, 'G', source);
-        MGroups = Groups(dto.MGroups, MCodes, 'M', source);
-        if (GGroups.Count > MaxGroups || MGroups.Count > MaxGroups)
-        {
-            throw Bad(source, $"more than {MaxGroups} G or M modal groups");
-        }
-
-        AddCodes(GCodes, 'G', GGroups, _g, source);
-        AddCodes(MCodes, 'M', MGroups, _m, source);
     }
 
     /// <summary>Tool length offsets by H number, in millimetres (the machine's tool table; G43 H applies them).</summary>

@@ -13,9 +13,12 @@ namespace PmacStream.Preparation;
 /// (every one carrying the block's line), G92 and "from the current position" settings (G10 L20 of RS274/NGC, L10)
 /// into the table values they give, T words into the tool M06 changes to. What the operator changes at the machine
 /// (work offsets, tool lengths, reference positions) stays on the controller: the moves are in work coordinates and
-/// machine-coordinate moves go through G53. Runs on the reading thread, right after the interpreter took the block.
+/// machine-coordinate moves go through G53. It is the interpreter's canonical sink (<see cref="ICanonicalMoves"/>):
+/// it reads nothing but the interpreter's calls for the line (the codes the line wrote, in order, its settings, the
+/// steps of its cycle or reference return, the <see cref="CanonBlock"/>), and writes the block when the interpreter
+/// ends it. Runs on the reading thread.
 /// </summary>
-internal sealed class HostConversion
+internal sealed class HostConversion : ICanonicalMoves
 {
     /// <summary>The library's code that ends a G53 block: back to the work coordinates (PROG 1000 N53900).</summary>
     public const string BackFromMachineCoordinates = "G53.9";
@@ -33,11 +36,15 @@ internal sealed class HostConversion
     private readonly List<HostMove> _moves = [];
     private readonly List<string> _lines = [];
     private readonly StringBuilder _sb = new(128);
-    private readonly double?[] _given = new double?[26]; // the block's words by letter: the first of each (a library routine's)
-    private readonly double?[] _word = new double?[26];  // and the last of each (the move's)
-    private readonly List<(char Letter, double Value)> _codes = []; // the block's G and M codes as written
     private CanonStart _before;  // the state the line started from (ICanonicalMoves.StartBlock)
     private CanonBlock _block;   // what the interpreter decided for it (ICanonicalMoves.EndBlock)
+    private List<string>? _converted; // the lines of the block taken last, when it is a host block (TakeLines)
+
+    // The line's calls, as they came (ICanonicalMoves.SelectTool ... Code), until EndBlock writes the block from them.
+    private double? _feedWord;   // SET_FEED_RATE: the line's F, in program units
+    private double? _speedWord;  // SET_SPINDLE_SPEED: the line's S
+    private double? _dwell;      // DWELL: seconds
+    private string? _lengthLine; // USE_TOOL_LENGTH_OFFSET, as the library takes it
 
     // The words of the move line as written (an inch program converts every move), so it is not lexed again.
     private readonly WrittenWords _moveWords = new();
@@ -46,7 +53,7 @@ internal sealed class HostConversion
     private Point3 _heldOffset;  // the work offset that move was written in
 
     /// <summary>
-    /// The index, in the lines <see cref="Convert"/> returned last, of the line ending a compensated move: the sender
+    /// The index, in the lines <see cref="TakeLines"/> returned last, of the line ending a compensated move: the sender
     /// holds it until the next move is known, since an inside corner there moves its end back (<see cref="AmendedLine"/>);
     /// -1 when the block has none.
     /// </summary>
@@ -67,31 +74,33 @@ internal sealed class HostConversion
     public HostConversion(Interpreter interp)
     {
         _profile = interp.Profile;
-        interp.Canon = new Sink(this);
+        interp.Canon = this;
     }
 
     /// <summary>
-    /// The blocks to send instead of <paramref name="block"/> (which the interpreter just took), or null when it is
-    /// not a host block and goes as it is.
+    /// The blocks to send instead of the line the interpreter took last, or null when it is not a host block and goes
+    /// as it is (or no line was taken since the last call): the conversion is written as the interpreter ends the
+    /// line (<see cref="ICanonicalMoves.EndBlock"/>), from its calls alone.
     /// </summary>
-    public IReadOnlyList<string>? Convert(GBlock block)
+    public IReadOnlyList<string>? TakeLines()
     {
-        if (!_block.Host)
-        {
-            return null;
-        }
+        var lines = _converted;
+        _converted = null;
+        return lines;
+    }
 
+    /// <summary>The block, written from the interpreter's calls: modes, stops before the move, data, the move, exact stop, codes after.</summary>
+    private void Write()
+    {
         _lines.Clear();
         _moveLine = -1;
         _heldLine = -1;
-        ReadWords(block);
-        var seen = SortCodes(_block.UnitScale);
-        if (seen.LengthCode || (W('H').HasValue && _block.LengthMode != 0))
+        if (_lengthLine != null)
         {
-            _data.Add(_block.LengthMode == 0 ? "G49" : $"G{_block.LengthMode} H{_block.LengthOffsetNumber.ToString(CultureInfo.InvariantCulture)}");
+            _data.Add(_lengthLine);
         }
 
-        if (W('S') is { } sv)
+        if (_speedWord is { } sv)
         {
             _stopsBefore.Insert(0, "S" + Num(sv));
         }
@@ -103,7 +112,7 @@ internal sealed class HostConversion
 
         Add(_stopsBefore);
         Add(_data);
-        WriteMotion(seen, FeedPerMinute(W('F')));
+        WriteMotion(FeedPerMinute(_feedWord));
         if (_block.ExactStop)
         {
             // The library's G09 (DWELL0) after the move: the move decelerates to rest before the next one starts. A
@@ -112,161 +121,109 @@ internal sealed class HostConversion
         }
 
         Add(_after);
-        return _lines;
     }
 
-    /// <summary>What the block's codes say about its motion (<see cref="SortCodes"/>).</summary>
-    private struct Seen
+    /// <summary>A code as the controller gets it: the code (M03, G54.1), then the words its library routine reads.</summary>
+    private static string CodeText(in CanonCode code)
     {
-        public string? Motion;   // G00..G03 in the block
-        public bool Machine;     // G53
-        public bool Dwell;       // G04
-        public bool AxisData;    // a data code takes the block's axis words: nothing moves
-        public bool LengthCode;  // G43, G44 or G49 in the block
-    }
-
-    /// <summary>The block's words by letter (<see cref="W"/>, <see cref="_given"/>) and its G and M codes in order.</summary>
-    private void ReadWords(GBlock block)
-    {
-        _codes.Clear();
-        Array.Clear(_given);
-        Array.Clear(_word);
-        foreach (var w in block.WordList)
+        var text = code.Letter + Code(code.Number);
+        if (code.Words.IsEmpty)
         {
-            if (w.Letter is < 'A' or > 'Z')
-            {
-                continue;
-            }
-
-            _given[w.Letter - 'A'] ??= w.Value;
-            _word[w.Letter - 'A'] = w.Value;
-            if (w.Letter is 'G' or 'M')
-            {
-                _codes.Add((w.Letter, w.Value));
-            }
+            return text;
         }
+
+        var sb = new StringBuilder(text);
+        foreach (var w in code.Words)
+        {
+            sb.Append(' ').Append(w.Letter).Append(Num(w.Value));
+        }
+
+        return sb.ToString();
     }
 
-    /// <summary>The block's word <paramref name="letter"/> as written (the last one when it is there twice).</summary>
-    private double? W(char letter) => _word[letter - 'A'];
-
-    /// <summary>
-    /// The block's codes into the parts of what is sent: modes, data settings, stops before the move, codes after it;
-    /// what is pure program syntax the host already applied is left out.
-    /// </summary>
-    private Seen SortCodes(double scale)
+    void ICanonicalMoves.StartBlock(in CanonStart start)
     {
-        var seen = default(Seen);
+        _moves.Clear();
+        _before = start;
+        _heldOffsetBefore = _heldOffset;
+        _converted = null;
+        (_feedWord, _speedWord, _dwell, _lengthLine) = (null, null, null, null);
         _modes.Clear();
         _data.Clear();
         _stopsBefore.Clear();
         _after.Clear();
-        foreach (var (letter, value) in _codes)
-        {
-            if (letter == 'M')
-            {
-                SortM(value, scale);
-            }
-            else
-            {
-                SortG(value, scale, ref seen);
-            }
-        }
-
-        return seen;
     }
 
-    private void SortM(double value, double scale)
+    void ICanonicalMoves.Step(in HostMove step) => _moves.Add(step);
+
+    void ICanonicalMoves.Motion(in CanonMotion motion)
     {
-        var key = (int)Math.Round(value * 10);
-        var m = "M" + Code(value) + LibraryWords('M', value, scale);
-        if (key == 60)
+        // The block's own motion is written from its decisions (EndBlock).
+    }
+
+    void ICanonicalMoves.EndBlock(in CanonBlock block)
+    {
+        _block = block;
+        if (block.Host)
         {
-            // The tool change routine reads the tool it changes to.
-            _after.Add($"{m} T{_block.Tool.ToString(CultureInfo.InvariantCulture)}");
-        }
-        else if (key is 30 or 40 or 70 or 80 or 190 or 880)
-        {
-            _stopsBefore.Add(m);
-        }
-        else
-        {
-            _after.Add(m);
+            Write();
+            _converted = _lines;
         }
     }
 
-    private void SortG(double value, double scale, ref Seen seen)
-    {
-        switch ((int)Math.Round(value * 10))
-        {
-            case 0 or 10 or 20 or 30:
-                seen.Motion = "G" + Code(value);
-                break;
-            case 40:
-                seen.Dwell = true;
-                break;
-            case 530:
-                seen.Machine = true;
-                break;
-            case 100:
-                seen.AxisData = true;
-                _data.AddRange(TableSettings(W('L'), W('P')));
-                break;
-            case 520:
-                seen.AxisData = true;
-                _data.Add("G52" + Axes(W('X'), W('Y'), W('Z'), scale, _block.Tables.Local, all: false));
-                break;
-            case 920:
-                seen.AxisData = true;
-                _data.Add("G92" + Axes(W('X'), W('Y'), W('Z'), 1.0, _block.Tables.Shift, all: false, fromResult: true));
-                break;
-            case 921 or 922:
-                _data.Add("G92.1");
-                break;
-            case 430 or 440 or 490:
-                seen.LengthCode = true;
-                break;
-            case 541 or 1540:
-                _modes.Add("G54.1 P" + Num(W('P') ?? 1));
-                break;
-            // Pure program syntax the host has already applied: units, arc centre mode, cycles and their return
-            // levels, reference returns (their moves follow), feed modes (feeds are sent per minute).
-            case 200 or 210 or 901 or 911 or 800 or 980 or 990 or 270 or 280 or 290 or 300 or 930 or 940 or 950:
-                break;
-            // Mirror, scaling and rotation are in the positions sent; exact stop mode and G09 are a G09 after the move.
-            case 510 or 511 or 680:
-                seen.AxisData = true;
-                break;
-            case 500 or 501 or 690 or 610 or 90:
-                break;
-            // Cutter radius compensation is in the positions sent (CompensatedMoves).
-            case 410 or 420:
-                break;
-            case var key and >= 730 and <= 890 when CodeIsCycle(key):
-                break;
-            case var key:
-                // Codes that take the block's axis words as data (scaling, rotation, macro calls...) never move.
-                seen.AxisData |= CodeRoles.OfG(key) == GRole.AxisData;
-                _modes.Add("G" + Code(value) + LibraryWords('G', value, scale));
-                break;
-        }
-    }
+    void ICanonicalMoves.SetFeedRate(double feed) => _feedWord = feed;
+
+    void ICanonicalMoves.SetSpindleSpeed(double speed) => _speedWord = speed;
+
+    void ICanonicalMoves.Dwell(double seconds) => _dwell = seconds;
+
+    // Spindle and coolant on before the move (the library's routines wait for them); stops, offs and changes after it.
+    void ICanonicalMoves.Spindle(SpindleCall call, in CanonCode code) => (call == SpindleCall.Stop ? _after : _stopsBefore).Add(CodeText(code));
+
+    void ICanonicalMoves.Coolant(CoolantCall call, in CanonCode code) =>
+        (call is CoolantCall.Mist or CoolantCall.Flood or CoolantCall.ThroughTool ? _stopsBefore : _after).Add(CodeText(code));
+
+    void ICanonicalMoves.ProgramStop(ProgramStopCall call, in CanonCode code) => _after.Add(CodeText(code));
+
+    // The tool change routine reads the tool it changes to.
+    void ICanonicalMoves.ChangeTool(int tool, in CanonCode code) => _after.Add($"{CodeText(code)} T{tool.ToString(CultureInfo.InvariantCulture)}");
+
+    void ICanonicalMoves.Code(in CanonCode code) => (code.Letter == 'M' ? _after : _modes).Add(CodeText(code));
+
+    void ICanonicalMoves.SelectExtendedWorkOffset(int number) => _modes.Add("G54.1 P" + number.ToString(CultureInfo.InvariantCulture));
+
+    void ICanonicalMoves.UseToolLengthOffset(int mode, int number) =>
+        _lengthLine = mode == 0 ? "G49" : $"G{mode} H{number.ToString(CultureInfo.InvariantCulture)}";
+
+    // G10, G52 and G92 as the library takes them: the resulting table entry or shift, absolute, in millimetres.
+    void ICanonicalMoves.SetWorkOffset(int key, Point3 offset) => _data.Add(ControllerState.WorkOffset(key, offset));
+
+    void ICanonicalMoves.SetExternalOffset(Point3 offset) => _data.Add(ControllerState.ExternalOffset(offset));
+
+    void ICanonicalMoves.SetToolLength(int tool, double length) => _data.Add(ControllerState.ToolLength(tool, length));
+
+    void ICanonicalMoves.SetLocalShift(double? x, double? y, double? z) => _data.Add("G52" + Axes(x, y, z));
+
+    void ICanonicalMoves.SetShift(double? x, double? y, double? z) => _data.Add("G92" + Axes(x, y, z));
+
+    void ICanonicalMoves.CancelShift() => _data.Add("G92.1");
 
     /// <summary>The block's motion as the controller runs it: a dwell, the interpreter's steps, a compensated, transformed or plain move, or the mode and feed alone.</summary>
-    private void WriteMotion(in Seen seen, double? feed)
+    private void WriteMotion(double? feed)
     {
-        var hasAxes = W('X').HasValue || W('Y').HasValue || W('Z').HasValue || W('A').HasValue || W('B').HasValue || W('C').HasValue;
-        var arcByCentre = (seen.Motion is "G02" or "G03" || _block.MotionCode is 2 or 3) && (W('I').HasValue || W('J').HasValue || W('K').HasValue);
-        if (seen.Dwell)
+        var given = _block.Given;
+        var motion = _block.MotionInBlock;
+        var arcByCentre = (motion is 2 or 3 || _block.MotionCode is 2 or 3) && given.AnyCentre;
+        if (_dwell is { } seconds)
         {
-            _lines.Add("G04 P" + Num(DwellP(W('P'), W('X'))));
+            _lines.Add("G04 P" + Num(_profile.DwellPInMilliseconds ? seconds * 1000 : seconds));
         }
         else if (_moves.Count > 0)
         {
             // A cycle's holes or a reference return: the interpreter's steps.
             Expand(feed);
         }
-        else if (seen.AxisData)
+        else if (_block.AxisData)
         {
             // The axis words were the data settings' values (G10, G52, G92).
         }
@@ -275,17 +232,17 @@ internal sealed class HostConversion
             _heldLine = CompensatedMoves.Write(_lines, _block, _before.Position, feed);
             _heldOffset = _block.Offset;
         }
-        else if (_block.Transforming && !seen.Machine && (hasAxes || arcByCentre))
+        else if (_block.Transforming && !_block.MachineCoordinates && (given.Any || arcByCentre))
         {
-            TransformedMove(W('A'), W('B'), W('C'), feed);
+            TransformedMove(given.A, given.B, given.C, feed);
         }
-        else if (hasAxes || arcByCentre)
+        else if (given.Any || arcByCentre)
         {
-            PlainMove(seen, feed);
+            PlainMove(given, feed);
         }
-        else if (seen.Motion != null)
+        else if (motion >= 0)
         {
-            _lines.Add(seen.Motion + (feed is { } fv ? " F" + Num(fv) : string.Empty));
+            _lines.Add(MotionText(motion) + (feed is { } fv ? " F" + Num(fv) : string.Empty));
         }
         else if (feed is { } fv)
         {
@@ -293,57 +250,30 @@ internal sealed class HostConversion
         }
     }
 
-    /// <summary>The move as written, in millimetres: G53 and the motion code, axes, the arc's centre or radius, the feed.</summary>
-    private void PlainMove(in Seen seen, double? feed)
+    private static string MotionText(int code) => code switch { 0 => "G00", 1 => "G01", 2 => "G02", _ => "G03" };
+
+    /// <summary>The move as the line gave it, in millimetres: G53 and the motion code, axes, the arc's centre or radius, the feed.</summary>
+    private void PlainMove(in CanonAxes given, double? feed)
     {
-        var scale = _block.UnitScale;
         _sb.Clear();
         _moveWords.Begin();
-        if (seen.Machine)
+        if (_block.MachineCoordinates)
         {
             AppendCode("G53");
         }
 
-        if (seen.Motion != null)
+        if (_block.MotionInBlock >= 0)
         {
-            AppendCode(seen.Motion);
+            AppendCode(MotionText(_block.MotionInBlock));
         }
 
-        AppendAxes(W('X'), W('Y'), W('Z'), scale);
-        AppendWord('A', W('A'));
-        AppendWord('B', W('B'));
-        AppendWord('C', W('C'));
+        AppendAxes(given.X, given.Y, given.Z);
+        AppendWord('A', given.A);
+        AppendWord('B', given.B);
+        AppendWord('C', given.C);
         if (_block.MotionCode is 2 or 3)
         {
-            var (i, j, k) = (W('I'), W('J'), W('K'));
-            if (W('R') is { } rv && !ShortRadius(rv * scale))
-            {
-                AppendWord('R', rv * scale);
-            }
-            else if (W('R').HasValue && _block.ArcCentre is { } mid)
-            {
-                // An R a rounding short of half the chord runs as the half circle on the chord (rs274ngc's
-                // arc_data_r): its centre is sent, since a PMAC given the short R would spiral (Isx96).
-                var v = mid - _before.Position;
-                var plane = _block.Plane;
-                AppendWord('I', plane is 17 or 18 ? v.X : null);
-                AppendWord('J', plane is 17 or 19 ? v.Y : null);
-                AppendWord('K', plane is 18 or 19 ? v.Z : null);
-            }
-            else if (_block.ArcCentresAbsolute)
-            {
-                // G90.1: the PMAC's centre vector is incremental from the start (its default INC(R)).
-                var startProgram = _before.Position - _before.Offset;
-                AppendWord('I', i is { } iv ? (iv * scale) - startProgram.X : null);
-                AppendWord('J', j is { } jv ? (jv * scale) - startProgram.Y : null);
-                AppendWord('K', k is { } kv ? (kv * scale) - startProgram.Z : null);
-            }
-            else
-            {
-                AppendWord('I', i * scale);
-                AppendWord('J', j * scale);
-                AppendWord('K', k * scale);
-            }
+            ArcWords(given);
         }
 
         if (feed is { } fv)
@@ -353,34 +283,43 @@ internal sealed class HostConversion
 
         _lines.Add(_sb.Length > 0 && _sb[^1] == ' ' ? _sb.ToString(0, _sb.Length - 1) : _sb.ToString()); // less the blank after the last word
         _moveLine = _moveWords.End() ? _lines.Count - 1 : -1;
-        if (seen.Machine)
+        if (_block.MachineCoordinates)
         {
             _lines.Add(BackFromMachineCoordinates);
         }
     }
 
-    /// <summary>
-    /// The interpreter's canonical moves as the conversion needs them: the state each block starts from, the steps
-    /// of its cycle holes or reference return, and what it decided (<see cref="CanonBlock"/>). The interpreter calls it
-    /// for every line it takes, so <see cref="Convert"/> reads only these records, never the interpreter.
-    /// </summary>
-    private sealed class Sink(HostConversion host) : ICanonicalMoves
+    /// <summary>An arc's centre or radius as the controller takes it, in millimetres.</summary>
+    private void ArcWords(in CanonAxes given)
     {
-        public void StartBlock(in CanonStart start)
+        if (given.R is { } rv && !ShortRadius(rv))
         {
-            host._moves.Clear();
-            host._before = start;
-            host._heldOffsetBefore = host._heldOffset;
+            AppendWord('R', rv);
         }
-
-        public void Step(in HostMove step) => host._moves.Add(step);
-
-        public void Motion(in CanonMotion motion)
+        else if (given.R.HasValue && _block.ArcCentre is { } mid)
         {
-            // The block's own motion is written from its decisions (EndBlock) in Convert.
+            // An R a rounding short of half the chord runs as the half circle on the chord (rs274ngc's
+            // arc_data_r): its centre is sent, since a PMAC given the short R would spiral (Isx96).
+            var v = mid - _before.Position;
+            var plane = _block.Plane;
+            AppendWord('I', plane is 17 or 18 ? v.X : null);
+            AppendWord('J', plane is 17 or 19 ? v.Y : null);
+            AppendWord('K', plane is 18 or 19 ? v.Z : null);
         }
-
-        public void EndBlock(in CanonBlock block) => host._block = block;
+        else if (_block.ArcCentresAbsolute)
+        {
+            // G90.1: the PMAC's centre vector is incremental from the start (its default INC(R)).
+            var startProgram = _before.Position - _before.Offset;
+            AppendWord('I', given.I - startProgram.X);
+            AppendWord('J', given.J - startProgram.Y);
+            AppendWord('K', given.K - startProgram.Z);
+        }
+        else
+        {
+            AppendWord('I', given.I);
+            AppendWord('J', given.J);
+            AppendWord('K', given.K);
+        }
     }
 
     /// <summary>
@@ -409,7 +348,7 @@ internal sealed class HostConversion
             _sb.Append("G0").Append(sent.ToString(CultureInfo.InvariantCulture)).Append(' ');
         }
 
-        AppendAxes(end.X, end.Y, end.Z, 1.0);
+        AppendAxes(end.X, end.Y, end.Z);
         AppendWord('A', a);
         AppendWord('B', b);
         AppendWord('C', c);
@@ -439,8 +378,6 @@ internal sealed class HostConversion
             _lines.Add("G0" + mode.ToString(CultureInfo.InvariantCulture));
         }
     }
-
-    private static bool CodeIsCycle(int key) => key is 730 or 740 or 760 or 810 or 820 or 830 or 840 or 850 or 860 or 870 or 880 or 890;
 
     private void Add(List<string> lines)
     {
@@ -476,7 +413,7 @@ internal sealed class HostConversion
                         mode = code;
                     }
 
-                    AppendAxes((m.Axes & 1) != 0 ? target.X : null, (m.Axes & 2) != 0 ? target.Y : null, (m.Axes & 4) != 0 ? target.Z : null, 1.0);
+                    AppendAxes((m.Axes & 1) != 0 ? target.X : null, (m.Axes & 2) != 0 ? target.Y : null, (m.Axes & 4) != 0 ? target.Z : null);
                     if (code == 1 && !feedSent && (feed ?? FeedPerMinute(_block.Feed)) is { } fv)
                     {
                         AppendWord('F', fv);
@@ -489,7 +426,7 @@ internal sealed class HostConversion
                     _sb.Clear();
                     _sb.Append("G53 G00 ");
                     mode = 0;
-                    AppendAxes((m.Axes & 1) != 0 ? m.Target.X : null, (m.Axes & 2) != 0 ? m.Target.Y : null, (m.Axes & 4) != 0 ? m.Target.Z : null, 1.0);
+                    AppendAxes((m.Axes & 1) != 0 ? m.Target.X : null, (m.Axes & 2) != 0 ? m.Target.Y : null, (m.Axes & 4) != 0 ? m.Target.Z : null);
                     _lines.Add(_sb.ToString().TrimEnd());
                     _lines.Add(BackFromMachineCoordinates);
                     break;
@@ -523,56 +460,9 @@ internal sealed class HostConversion
         }
     }
 
-    /// <summary>
-    /// The words a library routine reads (the profile's <c>words</c> of the code), as the block gave them, to go right
-    /// after the code: <c>READ</c> takes the letters that follow the call, so a word left out or sent elsewhere on the
-    /// line would be lost or run as a statement. Lengths among them are sent in millimetres like everything else.
-    /// </summary>
-    private string LibraryWords(char letter, double value, double scale)
-    {
-        if (_profile.Find(letter, value) is not { Controller: ControllerSupport.Library, Words.Length: > 0 } def)
-        {
-            return string.Empty;
-        }
-
-        var key = (int)Math.Round(value * 10);
-        var text = new StringBuilder();
-        foreach (var c in def.Words)
-        {
-            if (_given[c - 'A'] is { } v)
-            {
-                text.Append(' ').Append(c).Append(Num(letter == 'G' && CodeRoles.WordIsLength(key, c) ? v * scale : v));
-            }
-        }
-
-        return text.ToString();
-    }
-
     /// <summary>The profile's spelling of a spindle M code (M3 or M03).</summary>
     private string SpindleCode(int code) =>
         _profile.Find('M', code)?.Code ?? "M" + code.ToString("00", CultureInfo.InvariantCulture);
-
-    /// <summary>G10 as the library takes it: the resulting table entry, absolute, in millimetres.</summary>
-    private IEnumerable<string> TableSettings(double? l, double? p)
-    {
-        var coords = _block.Tables;
-        switch (l)
-        {
-            case 2 when p is 0 && _profile.ExternalWorkOffset:
-                // FANUC's external work offset: index 0 of the library's table, which its displacement adds to every offset.
-                yield return ControllerState.ExternalOffset(coords.External);
-                break;
-            case 2 or 20:
-                var extended = l == 20 && _profile.ExtendedWorkOffsets;
-                var n = (int)(p ?? 0);
-                var key = extended ? 5410 + n : n == 0 ? coords.Selected : n <= 6 ? 530 + (n * 10) : 590 + (n - 6);
-                yield return ControllerState.WorkOffset(key, coords.OffsetOf(key));
-                break;
-            case 1 or 10 or 11 when p is { } t:
-                yield return ControllerState.ToolLength((int)t, coords.LengthOf((int)t));
-                break;
-        }
-    }
 
     /// <summary>The library's work offset table index: 1-6 G54-G59, 7-9 G59.1-G59.3, 10 and up the extended ones (G54.1 P1 = 10).</summary>
     public static int WorkOffsetIndex(int key) => key switch
@@ -600,37 +490,33 @@ internal sealed class HostConversion
         };
     }
 
-    /// <summary>G04's P in the profile's dwell unit, from P or from X (seconds).</summary>
-    private double DwellP(double? p, double? x) =>
-        p ?? (x is { } seconds ? (_profile.DwellPInMilliseconds ? seconds * 1000 : seconds) : 0);
-
-    /// <summary>The axes given, as data words: scaled values, or with <paramref name="fromResult"/> the resulting values from <paramref name="result"/>.</summary>
-    private static string Axes(double? x, double? y, double? z, double scale, Point3 result, bool all, bool fromResult = false)
+    /// <summary>The axes given, as data words.</summary>
+    private static string Axes(double? x, double? y, double? z)
     {
         var sb = new StringBuilder();
-        if (x.HasValue || all)
+        if (x is { } xv)
         {
-            sb.Append(" X").Append(Num(fromResult ? result.X : x!.Value * scale));
+            sb.Append(" X").Append(Num(xv));
         }
 
-        if (y.HasValue || all)
+        if (y is { } yv)
         {
-            sb.Append(" Y").Append(Num(fromResult ? result.Y : y!.Value * scale));
+            sb.Append(" Y").Append(Num(yv));
         }
 
-        if (z.HasValue || all)
+        if (z is { } zv)
         {
-            sb.Append(" Z").Append(Num(fromResult ? result.Z : z!.Value * scale));
+            sb.Append(" Z").Append(Num(zv));
         }
 
         return sb.ToString();
     }
 
-    private void AppendAxes(double? x, double? y, double? z, double scale)
+    private void AppendAxes(double? x, double? y, double? z)
     {
-        AppendWord('X', x * scale);
-        AppendWord('Y', y * scale);
-        AppendWord('Z', z * scale);
+        AppendWord('X', x);
+        AppendWord('Y', y);
+        AppendWord('Z', z);
     }
 
     private void AppendWord(char letter, double? value)

@@ -138,7 +138,7 @@ public static partial class Splitter
                             own?.Execute(block);
                         }
 
-                        Take(block, host?.Convert(block));
+                        Take(block, host?.TakeLines());
                     }
 
                     EndExpansion();

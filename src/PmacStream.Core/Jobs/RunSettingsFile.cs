@@ -106,42 +106,7 @@ public static class RunSettingsFile
                     continue;
                 }
 
-                if (!RunNames.Contains(name))
-                {
-                    // A property of the chunk shape, read by the shape's own JSON names and checked by its own rules.
-                    var value = JsonElement.ParseValue(ref reader);
-                    try
-                    {
-                        var shape = s.Shape.WithJson(name, value) ?? throw Fault(source, bytes, at, UnknownCode,
-                            $"unknown setting '{name}' (known: {string.Join(", ", RunNames.Concat(ChunkShape.JsonNames).Concat(StationSettings.Names))})");
-                        shape.Validate();
-                        s = s with { Shape = shape };
-                    }
-                    catch (JsonException)
-                    {
-                        throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: expected {ChunkShape.ExpectedJson(name)}, got {value.ValueKind.ToString().ToLowerInvariant()}");
-                    }
-                    catch (ArgumentException e)
-                    {
-                        throw Fault(source, bytes, valueAt, BadValueCode, e.Message);
-                    }
-
-                    continue;
-                }
-
-                try
-                {
-                    s = Apply(s, name, ref reader);
-                }
-                catch (InvalidOperationException)
-                {
-                    var expected = name is "safeZMode" ? "a string" : "a number";
-                    throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: expected {expected}, got {reader.TokenType.ToString().ToLowerInvariant()}");
-                }
-                catch (Exception e) when (e is FormatException or ArgumentException)
-                {
-                    throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: {e.Message}");
-                }
+                s = RunNames.Contains(name) ? ReadRunProperty(s, name, ref reader, source, bytes, valueAt) : ReadShapeProperty(s, name, ref reader, source, bytes, at, valueAt);
             }
         }
 
@@ -161,6 +126,45 @@ public static class RunSettingsFile
         }
 
         return s;
+    }
+
+    /// <summary>A property of the chunk shape, read by the shape's own JSON names and checked by its own rules.</summary>
+    private static RunSettings ReadShapeProperty(RunSettings s, string name, ref Utf8JsonReader reader, string source, ReadOnlySpan<byte> bytes, long at, long valueAt)
+    {
+        var value = JsonElement.ParseValue(ref reader);
+        try
+        {
+            var shape = s.Shape.WithJson(name, value) ?? throw Fault(source, bytes, at, UnknownCode,
+                $"unknown setting '{name}' (known: {string.Join(", ", RunNames.Concat(ChunkShape.JsonNames).Concat(StationSettings.Names))})");
+            shape.Validate();
+            return s with { Shape = shape };
+        }
+        catch (JsonException)
+        {
+            throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: expected {ChunkShape.ExpectedJson(name)}, got {value.ValueKind.ToString().ToLowerInvariant()}");
+        }
+        catch (ArgumentException e)
+        {
+            throw Fault(source, bytes, valueAt, BadValueCode, e.Message);
+        }
+    }
+
+    /// <summary>A property of the run (buffer, window, tick, safe Z...), its value checked as it is read.</summary>
+    private static RunSettings ReadRunProperty(RunSettings s, string name, ref Utf8JsonReader reader, string source, ReadOnlySpan<byte> bytes, long valueAt)
+    {
+        try
+        {
+            return Apply(s, name, ref reader);
+        }
+        catch (InvalidOperationException)
+        {
+            var expected = name is "safeZMode" ? "a string" : "a number";
+            throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: expected {expected}, got {reader.TokenType.ToString().ToLowerInvariant()}");
+        }
+        catch (Exception e) when (e is FormatException or ArgumentException)
+        {
+            throw Fault(source, bytes, valueAt, BadValueCode, $"{name}: {e.Message}");
+        }
     }
 
     /// <summary>

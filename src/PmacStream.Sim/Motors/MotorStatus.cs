@@ -54,6 +54,14 @@ internal static class MotorStatus
         var motor = motors.Get(number);
         var (cs, axis, _) = map.Definition(number);
         var followsMoving = axis >= 0 && !motor.Detached && motor.Enabled && coordinateSystems[cs].IsMoving;
+        var w1 = FirstWord(motors, motor, number, followsMoving);
+        var w2 = SecondWord(motors, motor, number, cs, axis);
+        return string.Create(CultureInfo.InvariantCulture, $"{w1:X6}{w2:X6}");
+    }
+
+    /// <summary>The first word of <c>#n?</c>: activation, limits, amplifier or open loop, move timer, home search.</summary>
+    private static int FirstWord(MotorSet motors, Motor motor, int number, bool followsMoving)
+    {
         var w1 = 0;
         if (motors.Activated(number))
         {
@@ -92,7 +100,12 @@ internal static class MotorStatus
         {
             w1 |= HomeSearchInProgress;
         }
+        return w1;
+    }
 
+    /// <summary>The second word of <c>#n?</c>: the coordinate system and axis, amplifier, limit stop, home, faults, in position.</summary>
+    private static int SecondWord(MotorSet motors, Motor motor, int number, int cs, int axis)
+    {
         var w2 = axis >= 0 ? ((cs - 1) << 20) | (AxisCode(axis) << 16) | AssignedToCs : 0;
         if (motor.Enabled)
         {
@@ -128,8 +141,7 @@ internal static class MotorStatus
         {
             w2 |= InPosition;
         }
-
-        return string.Create(CultureInfo.InvariantCulture, $"{w1:X6}{w2:X6}");
+        return w2;
     }
 
     /// <summary>

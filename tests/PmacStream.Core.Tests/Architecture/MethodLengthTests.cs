@@ -35,12 +35,6 @@ public sealed class MethodLengthTests
         ["Splitter.ChunkLineWriter.Write"] = "hot loop: the splitter's writing thread, every line into its chunk; bench/scripts/split-bench.sh",
         ["MacroExpander.Execute"] = "hot loop: every line of an expanded program; bench/PmacStream.Benchmarks/GCode/MacroExpansionBench.cs (macro-expand)",
         ["Interpreter.CheckDialect"] = "hot loop: every block checked, allocation-free unless it warns; bench/PmacStream.Benchmarks/GCode/CheckBenchmarks.cs \"check 100k lines\"",
-
-        // To split by concern: long methods that came with the issue 25, 27 and 28 work merged with issue 24's layers.
-        // Each entry goes when its method is split; none may be added.
-        ["MachineProfile..ctor"] = "to split: the profile's macro dialect and arc tolerance (issue 27)",
-        ["MotorStatus.Motor"] = "to split: the motor status word (issue 25)",
-        ["RunSettingsFile.Read"] = "to split: the settings file's chunk shape keys",
     };
 
     [Fact]

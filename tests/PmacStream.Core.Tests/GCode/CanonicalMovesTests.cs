@@ -19,6 +19,29 @@ public class CanonicalMovesTests
         """;
 
     [Fact]
+    public void Settings_and_codes_are_called_in_the_order_written_with_the_words_a_library_routine_reads()
+    {
+        var canon = new CanonRecorder();
+        var interp = new Interpreter(MachineProfile.Named("linuxcnc-mill")!) { Canon = canon };
+        string[] lines = ["G20 G17 G18 G64 P0.01 Q0.02", "T2 M6 S1200 M3 M8 F10", "M19 R30 Q1 P0", "G04 P1.5", "G43 H2", "M9 M5 M30"];
+        var calls = new List<string>();
+        for (var n = 0; n < lines.Length; n++)
+        {
+            canon.Calls.Clear();
+            interp.Execute(GCodeReader.LexLine(lines[n], n + 1));
+            calls.Add(string.Join(", ", canon.Calls));
+        }
+
+        calls.Should().Equal(
+            "Code G17, Code G64 P0.254 Q0.508",  // G18 is refused (a second code of the plane group); G64's tolerances in mm
+            "SelectTool 2, ChangeTool 2 M6, SetSpindleSpeed 1200, Spindle Clockwise M3, Coolant Flood M8, SetFeedRate 10",
+            "Spindle Orient M19 R30 Q1 P0",      // the routine reads R, Q and P in the profile's order, as given (not lengths)
+            "Dwell 1.5",                         // LinuxCNC's P is in seconds
+            "UseToolLengthOffset 43 2",
+            "Coolant Off M9, Spindle Stop M5, ProgramStop End M30");
+    }
+
+    [Fact]
     public void Every_motion_is_the_decoded_blocks_motion_and_every_line_starts_where_the_last_ended()
     {
         var canon = new CanonRecorder();

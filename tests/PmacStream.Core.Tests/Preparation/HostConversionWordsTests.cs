@@ -28,7 +28,7 @@ public class HostConversionWordsTests
         {
             var block = GCodeReader.LexLine(Inch[n], n + 1);
             interpreter.StepCore(block, null);
-            if (host.Convert(block) is not { } lines)
+            if (host.TakeLines() is not { } lines)
             {
                 continue;
             }
