@@ -37,8 +37,25 @@ public static class ConsoleLayout
     /// <summary>Height of a DRO row.</summary>
     public const int DroRowHeight = 32;
 
-    /// <summary>A DRO cell: <paramref name="row"/> 0 is the header, 1.. the axes.</summary>
-    public static LayoutBox DroCell(int row, int column) => new(DroColumns[column].X, DroTop + (row * DroRowHeight), DroColumns[column].Width, DroRowHeight - 4);
+    /// <summary>A DRO cell of a three-axis machine: <paramref name="row"/> 0 is the header, 1.. the axes.</summary>
+    public static LayoutBox DroCell(int row, int column) => DroCell(row, column, 3);
+
+    /// <summary>
+    /// A DRO cell of a machine with <paramref name="axes"/> axes: the header and one row per axis share the height of
+    /// a three-axis DRO (rows <see cref="DroRowHeight"/> apart up to three axes, closer beyond), so the controls below
+    /// stay where they are whatever the machine.
+    /// </summary>
+    public static LayoutBox DroCell(int row, int column, int axes)
+    {
+        var height = DroRowPitch(axes);
+        return new(DroColumns[column].X, DroTop + (row * height), DroColumns[column].Width, height - 4);
+    }
+
+    /// <summary>The rows' pitch for <paramref name="axes"/> axes: 32 px up to three, the three-axis DRO's height shared beyond (13 px at nine).</summary>
+    public static int DroRowPitch(int axes) => axes <= 3 ? DroRowHeight : (4 * DroRowHeight) / (axes + 1);
+
+    /// <summary>The DRO's font size (points) for <paramref name="axes"/> axes: 14 up to three, smaller as the rows close up.</summary>
+    public static float DroFontSize(int axes) => axes <= 3 ? 14f : Math.Max(6f, 14f * (DroRowPitch(axes) - 4) / (DroRowHeight - 4));
 
     /// <summary>Touch-off value label.</summary>
     public static readonly LayoutBox TouchValueLabel = new(6, 142, 150, 20);

@@ -77,7 +77,11 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
 
     /// <inheritdoc />
     public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
-        Service.PrepareViewAsync(new PrepareRequest(sourcePath, settings) { Profile = profile, MaxListedErrors = MaxListedDiagnostics }, cancellationToken);
+        PrepareAsync(sourcePath, settings, profile, null, cancellationToken);
+
+    /// <inheritdoc />
+    public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default) =>
+        Service.PrepareViewAsync(new PrepareRequest(sourcePath, settings) { Profile = profile, MaxListedErrors = MaxListedDiagnostics, ProgramId = programId }, cancellationToken);
 
     /// <inheritdoc />
     public Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
@@ -98,6 +102,7 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
             FeedOverride = request.FeedOverride,
             Profile = request.Profile,
             OptionalStop = request.OptionalStop,
+            ProgramId = request.ProgramId,
         }, cancellationToken).ConfigureAwait(false);
         return Track(new SessionJob(job, SourceLocations.MapOf(request.Program.Folder)), request.Program.SourcePath, request.Strategy);
     }

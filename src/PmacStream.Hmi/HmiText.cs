@@ -15,6 +15,60 @@ public enum HmiLanguage
 /// <summary>Every text the screen shows, by meaning; <see cref="HmiText"/> gives it in a language.</summary>
 public enum TextId
 {
+    /// <summary>Store tab.</summary>
+    TabStore,
+    /// <summary>Store page: where the store is, {0}.</summary>
+    StoreLocation,
+    /// <summary>Store page: programs label.</summary>
+    StorePrograms,
+    /// <summary>Store page: Refresh button.</summary>
+    StoreRefresh,
+    /// <summary>Store page: Open program button.</summary>
+    StoreOpen,
+    /// <summary>Store page column: job.</summary>
+    StoreColJob,
+    /// <summary>Store page column: program.</summary>
+    StoreColProgram,
+    /// <summary>Store page column: station.</summary>
+    StoreColStation,
+    /// <summary>Store page column: machine.</summary>
+    StoreColMachine,
+    /// <summary>Store page column: started.</summary>
+    StoreColStarted,
+    /// <summary>Store page column: ended.</summary>
+    StoreColEnded,
+    /// <summary>Store page column: outcome.</summary>
+    StoreColOutcome,
+    /// <summary>Store page column: blocks.</summary>
+    StoreColBlocks,
+    /// <summary>Store page column: revision id.</summary>
+    StoreColId,
+    /// <summary>Store page column: name.</summary>
+    StoreColName,
+    /// <summary>Store page column: profile.</summary>
+    StoreColProfile,
+    /// <summary>Store page column: errors.</summary>
+    StoreColErrors,
+    /// <summary>Store page: {0} jobs, {1} programs in {2}.</summary>
+    StoreSummary,
+    /// <summary>Store page: Open without a selection.</summary>
+    StoreSelectFirst,
+    /// <summary>Store page: program {0} ({1}) has {2} errors.</summary>
+    StoreHasErrors,
+    /// <summary>Store page: opened program {0} ({1}).</summary>
+    StoreOpened,
+    /// <summary>Store page: opened program {0} ({1}) under profile {2}.</summary>
+    StoreOpenedUnder,
+    /// <summary>Store page outcome: running.</summary>
+    StoreOutcomeRunning,
+    /// <summary>Store page outcome: completed.</summary>
+    StoreOutcomeCompleted,
+    /// <summary>Store page outcome: aborted.</summary>
+    StoreOutcomeAborted,
+    /// <summary>Store page outcome: interrupted.</summary>
+    StoreOutcomeInterrupted,
+    /// <summary>Store page outcome: alarm.</summary>
+    StoreOutcomeAlarm,
     /// <summary>Window title.</summary>
     Title,
     /// <summary>Connection group box.</summary>
@@ -427,6 +481,33 @@ public static class HmiText
         [TextId.AlarmRow] = ("{0:HH:mm:ss}  alarm: {1}{2}", "{0:HH:mm:ss}  报警：{1}{2}"),
         [TextId.AlarmCleared] = ("  (cleared {0:HH:mm:ss})", "  （{0:HH:mm:ss} 已清除）"),
         [TextId.LibraryLoaded] = ("Library of {0} loaded", "已下载 {0} 的程序库"),
+        [TextId.TabStore] = ("Store", "程序库"),
+        [TextId.StoreLocation] = ("Store: {0}", "数据库：{0}"),
+        [TextId.StorePrograms] = ("Programs in the store", "库中的程序"),
+        [TextId.StoreRefresh] = ("Refresh", "刷新"),
+        [TextId.StoreOpen] = ("Open program", "打开程序"),
+        [TextId.StoreColJob] = ("Job", "作业"),
+        [TextId.StoreColProgram] = ("Program", "程序"),
+        [TextId.StoreColStation] = ("Station", "工位"),
+        [TextId.StoreColMachine] = ("Machine", "机床"),
+        [TextId.StoreColStarted] = ("Started", "开始"),
+        [TextId.StoreColEnded] = ("Ended", "结束"),
+        [TextId.StoreColOutcome] = ("Outcome", "结果"),
+        [TextId.StoreColBlocks] = ("Blocks", "程序段"),
+        [TextId.StoreColId] = ("Id", "编号"),
+        [TextId.StoreColName] = ("Name", "名称"),
+        [TextId.StoreColProfile] = ("Profile", "机床配置"),
+        [TextId.StoreColErrors] = ("Errors", "错误"),
+        [TextId.StoreSummary] = ("{0} jobs, {1} programs in {2}", "{2} 中有 {0} 个作业、{1} 个程序"),
+        [TextId.StoreSelectFirst] = ("Select a program first.", "请先选择一个程序。"),
+        [TextId.StoreHasErrors] = ("program {0} ({1}) has {2} errors: it cannot run (pmacstream programs show {0})", "程序 {0}（{1}）有 {2} 个错误，不能运行（pmacstream programs show {0}）"),
+        [TextId.StoreOpened] = ("opened program {0} ({1})", "已打开程序 {0}（{1}）"),
+        [TextId.StoreOpenedUnder] = ("opened program {0} ({1}) under {2}", "已打开程序 {0}（{1}），机床配置 {2}"),
+        [TextId.StoreOutcomeRunning] = ("running", "运行中"),
+        [TextId.StoreOutcomeCompleted] = ("completed", "已完成"),
+        [TextId.StoreOutcomeAborted] = ("aborted", "已中止"),
+        [TextId.StoreOutcomeInterrupted] = ("interrupted", "已中断"),
+        [TextId.StoreOutcomeAlarm] = ("alarm", "报警"),
     };
 
     /// <summary>The text for an id in a language (English when a translation is missing).</summary>

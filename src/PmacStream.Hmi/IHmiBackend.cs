@@ -140,6 +140,9 @@ public sealed record HmiJobRequest(SplitView Program, string Strategy, int? From
 
     /// <summary>Optional stop on: the controller stops at M01.</summary>
     public bool OptionalStop { get; init; } = true;
+
+    /// <summary>The store's program revision the program is (opened from the Store page), or null: the job history names it, as <c>stream --program ID</c>.</summary>
+    public long? ProgramId { get; init; }
 }
 
 /// <summary>
@@ -209,6 +212,14 @@ public interface IHmiBackend
     /// <see cref="ProgramRefusedException"/> listing them, whether or not a check ran first.
     /// </summary>
     Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);
+
+    /// <summary>
+    /// <see cref="PrepareAsync(string, RunSettings, MachineProfile, CancellationToken)"/> of a stored revision's source
+    /// (<paramref name="programId"/>, null: a plain file): the preparation stored with the revision is reused, as
+    /// <c>stream --program ID</c> does.
+    /// </summary>
+    Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default) =>
+        PrepareAsync(sourcePath, settings, profile, cancellationToken);
 
     /// <summary>The G-code preamble that restores the machine state before starting at a source line (what is shown and sent).</summary>
     Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default);

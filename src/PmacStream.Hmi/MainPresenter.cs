@@ -15,6 +15,7 @@ public sealed class MainPresenter : IAsyncDisposable
     /// <summary>Lines indexed before a newly opened program is shown (more than any screen holds).</summary>
     public const int FirstScreenLines = 256;
 
+    private long? _programId; // the store revision the open program is, when opened from the Store page
     private readonly ILogger _log;
     private readonly IMainView _view;
     private readonly IHmiBackend _backend;
@@ -190,7 +191,13 @@ public sealed class MainPresenter : IAsyncDisposable
     /// Opens a stored revision's source (the Store page) under the built-in profile it was imported with (null: the
     /// chosen one), as <c>stream --program ID</c> runs it.
     /// </summary>
-    public async Task OpenStoredAsync(string path, string? profile)
+    public Task OpenStoredAsync(string path, string? profile) => OpenStoredAsync(null, path, profile);
+
+    /// <summary>
+    /// Opens stored revision <paramref name="id"/> (its source written to <paramref name="path"/>) under its profile; the
+    /// split and the job of it name the revision (the job history's program id), as <c>stream --program ID</c>.
+    /// </summary>
+    public async Task OpenStoredAsync(long? id, string path, string? profile)
     {
         if (profile is not null && _job is null && !string.Equals(profile, _gate.Profile.Name, StringComparison.OrdinalIgnoreCase))
         {
@@ -199,6 +206,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
 
         await OpenAsync(path).ConfigureAwait(true);
+        _programId = id; // after OpenAsync, which forgets the revision of the program before
     }
 
     /// <summary>Opens a program: indexes its lines in the background and shows the first screen at once.</summary>
@@ -305,7 +313,7 @@ public sealed class MainPresenter : IAsyncDisposable
         _settings = _settings with { BlocksPerChunk = _view.BlocksPerChunk };
 
         // The job service's gate: the program is checked under the machine profile whether or not Check ran.
-        var split = await _gate.SplitAsync(program.Path, _settings, _language, _life.Token).ConfigureAwait(true);
+        var split = await _gate.SplitAsync(program.Path, _settings, _language, _life.Token, _programId).ConfigureAwait(true);
         SetSplit(split);
         _log.Information("Split {Path:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
             program.Path, split.Chunks.Count, split.TotalBlocks, split.Folder);
@@ -420,7 +428,7 @@ public sealed class MainPresenter : IAsyncDisposable
     private async Task StartAsync(int? fromLine)
     {
         var split = RequireReady();
-        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings) { Profile = _gate.Profile, OptionalStop = _optionalStop };
+        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings) { Profile = _gate.Profile, OptionalStop = _optionalStop, ProgramId = _programId };
         var job = await _backend.StartAsync(request, _life.Token).ConfigureAwait(true);
         BeginJob(job, request.Strategy, fromLine ?? 1);
         _log.Information("Job started{From:l} with strategy {Strategy:l}, feed override {Override} %",
@@ -602,6 +610,7 @@ public sealed class MainPresenter : IAsyncDisposable
     {
         _program?.Dispose();
         _program = null;
+        _programId = null;
         _shownLineCount = 0;
         DropSplit();
         _toolpath.Close();

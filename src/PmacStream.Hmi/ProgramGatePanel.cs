@@ -64,11 +64,11 @@ internal sealed class ProgramGatePanel(IMainView view, IHmiBackend backend, ILog
     /// The gate and the split: refused programs show every finding in the list and fail with the first one (or the
     /// codes the controller cannot run yet) as an <see cref="InvalidOperationException"/> for the operator.
     /// </summary>
-    public async Task<SplitView> SplitAsync(string path, RunSettings settings, HmiLanguage language, CancellationToken cancellationToken)
+    public async Task<SplitView> SplitAsync(string path, RunSettings settings, HmiLanguage language, CancellationToken cancellationToken, long? programId = null)
     {
         try
         {
-            return await backend.PrepareAsync(path, settings, Profile, cancellationToken).ConfigureAwait(true);
+            return await backend.PrepareAsync(path, settings, Profile, programId, cancellationToken).ConfigureAwait(true);
         }
         catch (ProgramRefusedException e)
         {

@@ -96,6 +96,15 @@ public sealed class StorePresenter
         view.OpenStoredProgramRequested += (_, _) => _ops.Run(OpenSelectedAsync);
     }
 
+    /// <summary>
+    /// Opens a revision by id, file and profile (the program screen's <c>OpenStoredAsync</c>), so its job records the
+    /// revision; null: the constructor's open, which knows only the file.
+    /// </summary>
+    public Func<long, string, string?, Task>? OpenRevision { get; init; }
+
+    /// <summary>The language the page's messages and outcomes are in (the form's language switch).</summary>
+    public Func<HmiLanguage> Language { get; init; } = static () => HmiLanguage.English;
+
     /// <summary>Completes when every action started by a view event has finished (tests await it).</summary>
     public Task WhenIdleAsync() => _ops.WhenIdleAsync();
 
@@ -103,9 +112,9 @@ public sealed class StorePresenter
     public async Task RefreshAsync()
     {
         var (jobs, programs) = await Task.Run(() => (_backend.JobHistory(), _backend.StoredPrograms())).ConfigureAwait(true);
-        _view.StoredJobs = jobs.Select(Row).ToList();
+        _view.StoredJobs = jobs.Select(j => Row(j, Language())).ToList();
         _view.StoredPrograms = programs.Select(p => new StoredProgramRow(p.Id, p.Name, p.Profile, p.Blocks, p.Errors)).ToList();
-        _view.StoreMessage = string.Create(CultureInfo.InvariantCulture, $"{jobs.Count} jobs, {programs.Count} programs in {_backend.StoreDisplay}");
+        _view.StoreMessage = T(TextId.StoreSummary, jobs.Count, programs.Count, _backend.StoreDisplay);
     }
 
     /// <summary>Opens the selected revision: its source from the store, under its profile; refused for one with errors.</summary>
@@ -113,31 +122,41 @@ public sealed class StorePresenter
     {
         if (_view.SelectedStoredProgram is not { } id)
         {
-            _view.StoreMessage = "Select a program first.";
+            _view.StoreMessage = T(TextId.StoreSelectFirst);
             return;
         }
 
         var programs = await Task.Run(() => _backend.StoredPrograms()).ConfigureAwait(true);
         if (programs.FirstOrDefault(p => p.Id == id) is { Errors: > 0 } bad)
         {
-            _view.StoreMessage = string.Create(CultureInfo.InvariantCulture, $"program {id} ({bad.Name}) has {bad.Errors} errors: it cannot run (pmacstream programs show {id})");
+            _view.StoreMessage = T(TextId.StoreHasErrors, id, bad.Name, bad.Errors);
             return;
         }
 
         var (path, profile) = await Task.Run(() => _backend.StoredProgramFile(id)).ConfigureAwait(true);
-        await _open(path, profile).ConfigureAwait(true);
-        _view.StoreMessage = string.Create(CultureInfo.InvariantCulture, $"opened program {id} ({Path.GetFileName(path)}){(profile is null ? string.Empty : " under " + profile)}");
+        await (OpenRevision is { } openRevision ? openRevision(id, path, profile) : _open(path, profile)).ConfigureAwait(true);
+        _view.StoreMessage = profile is null ? T(TextId.StoreOpened, id, Path.GetFileName(path)) : T(TextId.StoreOpenedUnder, id, Path.GetFileName(path), profile);
         _log.Information("Opened stored program {Id} from {Store:l}: {Path:l}", id, _backend.StoreDisplay, path);
     }
 
-    private static StoredJobRow Row(JobHistoryView j) => new(
+    private string T(TextId id, params object[] args) => HmiText.Format(id, Language(), args);
+
+    private static StoredJobRow Row(JobHistoryView j, HmiLanguage language) => new(
         j.Id,
         (j.ProgramId is { } pid ? $"#{pid.ToString(CultureInfo.InvariantCulture)} " : string.Empty) + Path.GetFileName(j.Program),
         j.Station ?? "–",
         j.Machine,
         j.Started.ToLocalTime().ToString("yyyy-MM-dd HH:mm:ss", CultureInfo.InvariantCulture),
         j.Ended?.ToLocalTime().ToString("yyyy-MM-dd HH:mm:ss", CultureInfo.InvariantCulture) ?? string.Empty,
-        j.Outcome,
+        j.Outcome switch
+        {
+            "running" => HmiText.Get(TextId.StoreOutcomeRunning, language),
+            "completed" => HmiText.Get(TextId.StoreOutcomeCompleted, language),
+            "aborted" => HmiText.Get(TextId.StoreOutcomeAborted, language),
+            "interrupted" => HmiText.Get(TextId.StoreOutcomeInterrupted, language),
+            "alarm" => HmiText.Get(TextId.StoreOutcomeAlarm, language),
+            _ => j.Outcome,
+        },
         string.Create(CultureInfo.InvariantCulture, $"{j.BlocksExecuted}/{(j.BlocksTotal is { } t ? t.ToString(CultureInfo.InvariantCulture) : "?")}"));
 
     /// <summary>A store that cannot be read, a revision without its source: said on the page, nothing opened.</summary>

@@ -60,6 +60,7 @@ public sealed class GCodeToolpathSource : IToolpathSource
         var adapter = new DecodedBlockAdapter();
         var diags = new List<Diagnostic>(4);
         var segments = new List<PathSegment>(4);
+        var held = new List<PathSegment>(4); // the last move's segments: an inside corner at the next move moves its end back
         var rotary = new bool[3];
         var lines = 0L;
         while (reader.Read())
@@ -94,13 +95,25 @@ public sealed class GCodeToolpathSource : IToolpathSource
 
             if (decoded is not null && adapter.Convert(decoded, segments, holes.Last) > 0)
             {
-                foreach (var segment in segments)
+                if (interpreter.AmendedEnd is { } amended && held.Count > 0)
+                {
+                    // G41/G42 inside corner: the move before ends where the offset paths cross, as the controller runs it.
+                    held[^1] = held[^1] with { End = amended };
+                }
+
+                foreach (var segment in held)
                 {
                     yield return segment;
                 }
 
+                (held, segments) = (segments, held);
                 segments.Clear();
             }
+        }
+
+        foreach (var segment in held)
+        {
+            yield return segment;
         }
 
         _position = _length;

@@ -24,18 +24,63 @@ public sealed class MoveTimeTable : IMoveTimes
             var motions = new LastMotion();
             var interp = new Interpreter(profile) { Canon = motions };
             using var reader = GCode.Expansion.ProgramExpansion.OpenReader(path, profile);
+            CanonMotion? held = null; // the last move: an inside corner at the next move shortens it
             while (reader.Read())
             {
                 // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.
                 if (interp.Execute(reader.Current) && motions.Take() is { } m)
                 {
-                    var seconds = m.Kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw
-                        ? Math.Max(m.Seconds, MinimumMoveSeconds) // the controller's shortest blended move
-                        : m.Seconds;
-                    yield return (m.Line, seconds, m.Feed ?? double.NaN);
+                    if (held is { } h)
+                    {
+                        yield return Sample(interp.AmendedEnd is { } amended ? Amended(h, amended) : h);
+                    }
+
+                    held = m;
                 }
             }
+
+            if (held is { } last)
+            {
+                yield return Sample(last);
+            }
         }
+
+        static (int, double, double) Sample(CanonMotion m)
+        {
+            var seconds = m.Kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw
+                ? Math.Max(m.Seconds, MinimumMoveSeconds) // the controller's shortest blended move
+                : m.Seconds;
+            return (m.Line, seconds, m.Feed ?? double.NaN);
+        }
+    }
+
+    /// <summary>
+    /// A compensated move whose end a G41/G42 inside corner moved back to where the offset paths cross: the controller
+    /// runs it that much shorter, at the same feed (a line by its length, an arc by the angle it sweeps).
+    /// </summary>
+    internal static CanonMotion Amended(CanonMotion m, Point3 end)
+    {
+        double ratio;
+        if (m.Kind is MotionKind.ArcCw or MotionKind.ArcCcw && m.Centre is { } c)
+        {
+            var full = Sweep(m.Start, m.End, c, m.Kind == MotionKind.ArcCw);
+            ratio = full > 1e-12 ? Sweep(m.Start, end, c, m.Kind == MotionKind.ArcCw) / full : 1;
+        }
+        else
+        {
+            ratio = m.Length > 1e-12 ? m.Start.DistanceTo(end) / m.Length : 1;
+        }
+
+        ratio = Math.Clamp(ratio, 0, 1);
+        return m with { End = end, Length = m.Length * ratio, Seconds = m.Seconds * ratio };
+    }
+
+    /// <summary>The angle an arc about <paramref name="c"/> sweeps from <paramref name="from"/> to <paramref name="to"/> in its direction (0..2π, XY).</summary>
+    private static double Sweep(Point3 from, Point3 to, Point3 c, bool clockwise)
+    {
+        var a = Math.Atan2(to.Y - c.Y, to.X - c.X) - Math.Atan2(from.Y - c.Y, from.X - c.X);
+        a = clockwise ? -a : a;
+        return a < 0 ? a + (2 * Math.PI) : a;
     }
 
     /// <summary>The motion of the block the interpreter took last, if it moved (its canonical moves).</summary>

@@ -21,9 +21,12 @@ internal sealed partial class MainForm : IConsoleView
     private readonly TabPage tabHistory = new() { Name = nameof(tabHistory) };
 
     private readonly Label[] lblDroHeader = new Label[5];
-    private readonly Label[,] lblDro = new Label[3, 5];
-    private readonly Button[] btnHomeAxis = new Button[3];
-    private readonly Button[] btnTouchOff = new Button[3];
+    // One row per axis of the machine (the profile's: X Y Z by default, and A, B ... when it has them), rebuilt when
+    // the axes change.
+    private readonly List<Label[]> lblDro = [];
+    private readonly List<Button> btnHomeAxis = [];
+    private readonly List<Button> btnTouchOff = [];
+    private bool _consoleEnabled = true;
     private readonly Label lblTouchValue = new();
     private readonly TextBox txtTouchValue = new() { Text = "0" };
     private readonly Button btnHomeAll = new();
@@ -126,30 +129,51 @@ internal sealed partial class MainForm : IConsoleView
             Place(lblDroHeader[c], ConsoleLayout.DroCell(0, c), tabMachine);
         }
 
-        var mono = MonospaceFont(14f);
-        for (var r = 0; r < 3; r++)
-        {
-            for (var c = 0; c < 5; c++)
-            {
-                lblDro[r, c] = new Label { Font = c == 0 ? new Font(SystemFonts.DefaultFont.FontFamily, 14f, FontStyle.Bold) : mono, TextAlign = c == 4 ? ContentAlignment.MiddleCenter : ContentAlignment.MiddleRight };
-                Place(lblDro[r, c], ConsoleLayout.DroCell(r + 1, c), tabMachine);
-            }
-
-            lblDro[r, 0].Text = AxisLetters[r];
-            var axis = AxisLetters[r];
-            btnHomeAxis[r] = new Button { Name = "btnHome" + axis };
-            btnTouchOff[r] = new Button { Name = "btnTouchOff" + axis };
-            Place(btnHomeAxis[r], ConsoleLayout.DroCell(r + 1, 5), tabMachine);
-            Place(btnTouchOff[r], ConsoleLayout.DroCell(r + 1, 6), tabMachine);
-            btnHomeAxis[r].Click += (_, _) => HomeAxisRequested?.Invoke(this, axis);
-            btnTouchOff[r].Click += (_, _) => TouchOffRequested?.Invoke(this, axis);
-        }
-
+        PlaceDroRows(AxisLetters);
         Place(lblTouchValue, ConsoleLayout.TouchValueLabel, tabMachine);
         Place(txtTouchValue, ConsoleLayout.TouchValueBox, tabMachine);
         Place(btnHomeAll, ConsoleLayout.HomeAllButton, tabMachine);
         Place(btnLoadLibrary, ConsoleLayout.LoadLibraryButton, tabMachine);
         Place(lblMachineSummary, ConsoleLayout.SummaryLabel, tabMachine);
+    }
+
+    /// <summary>One DRO row per axis, each with its Home and Touch-off buttons, in the DRO's fixed height (<see cref="ConsoleLayout.DroCell(int, int, int)"/>).</summary>
+    private void PlaceDroRows(IReadOnlyList<string> axes)
+    {
+        foreach (var c in lblDro.SelectMany(r => r).Concat<Control>(btnHomeAxis).Concat(btnTouchOff))
+        {
+            tabMachine.Controls.Remove(c);
+            c.Dispose();
+        }
+
+        lblDro.Clear();
+        btnHomeAxis.Clear();
+        btnTouchOff.Clear();
+        var size = ConsoleLayout.DroFontSize(axes.Count);
+        var mono = MonospaceFont(size);
+        for (var r = 0; r < axes.Count; r++)
+        {
+            var row = new Label[5];
+            for (var c = 0; c < 5; c++)
+            {
+                row[c] = new Label { Font = c == 0 ? new Font(SystemFonts.DefaultFont.FontFamily, size, FontStyle.Bold) : mono, TextAlign = c == 4 ? ContentAlignment.MiddleCenter : ContentAlignment.MiddleRight };
+                Place(row[c], ConsoleLayout.DroCell(r + 1, c, axes.Count), tabMachine);
+            }
+
+            var axis = axes[r];
+            row[0].Text = axis;
+            lblDro.Add(row);
+            var home = new Button { Name = "btnHome" + axis, Enabled = _consoleEnabled };
+            var touch = new Button { Name = "btnTouchOff" + axis, Enabled = _consoleEnabled };
+            Place(home, ConsoleLayout.DroCell(r + 1, 5, axes.Count), tabMachine);
+            Place(touch, ConsoleLayout.DroCell(r + 1, 6, axes.Count), tabMachine);
+            home.Click += (_, _) => HomeAxisRequested?.Invoke(this, axis);
+            touch.Click += (_, _) => TouchOffRequested?.Invoke(this, axis);
+            btnHomeAxis.Add(home);
+            btnTouchOff.Add(touch);
+        }
+
+        ApplyDroTexts();
     }
 
     private void PlaceJogAndMdi()
@@ -222,6 +246,16 @@ internal sealed partial class MainForm : IConsoleView
         }
     }
 
+    private void ApplyDroTexts()
+    {
+        for (var r = 0; r < lblDro.Count; r++)
+        {
+            var axis = lblDro[r][0].Text;
+            btnHomeAxis[r].Text = string.Format(CultureInfo.InvariantCulture, _texts[TextId.HomeAxis], axis);
+            btnTouchOff[r].Text = string.Format(CultureInfo.InvariantCulture, _texts[TextId.TouchOffAxis], axis);
+        }
+    }
+
     private void ApplyConsoleTexts()
     {
         var t = _texts;
@@ -235,12 +269,8 @@ internal sealed partial class MainForm : IConsoleView
             lblDroHeader[c].Text = t[headers[c]];
         }
 
-        for (var r = 0; r < 3; r++)
-        {
-            btnHomeAxis[r].Text = string.Format(CultureInfo.InvariantCulture, t[TextId.HomeAxis], AxisLetters[r]);
-            btnTouchOff[r].Text = string.Format(CultureInfo.InvariantCulture, t[TextId.TouchOffAxis], AxisLetters[r]);
-        }
-
+        ApplyDroTexts();
+        ApplyStoreTexts();
         (lblTouchValue.Text, btnHomeAll.Text, btnLoadLibrary.Text) = (t[TextId.TouchValue], t[TextId.HomeAll], t[TextId.LoadLibrary]);
         (grpJog.Text, lblJogAxis.Text, lblJogStep.Text, lblJogSpeed.Text) = (t[TextId.JogGroup], t[TextId.DroAxis], t[TextId.JogStep], t[TextId.JogSpeed]);
         var step = cboJogStep.SelectedIndex;
@@ -300,15 +330,19 @@ internal sealed partial class MainForm : IConsoleView
     {
         set
         {
-            for (var r = 0; r < 3; r++)
+            if (value.Count > 0 && !value.Select(r => r.Axis).SequenceEqual(lblDro.Select(r => r[0].Text)))
+            {
+                PlaceDroRows(value.Select(r => r.Axis).ToList()); // the machine's axes (the profile's), every one a row
+            }
+
+            for (var r = 0; r < lblDro.Count; r++)
             {
                 var row = r < value.Count ? value[r] : null;
-                lblDro[r, 0].Text = row?.Axis ?? AxisLetters[r]; // the machine's axes (the profile's); three rows shown
-                lblDro[r, 1].Text = row?.Machine ?? string.Empty;
-                lblDro[r, 2].Text = row?.Work ?? string.Empty;
-                lblDro[r, 3].Text = row?.ToGo ?? string.Empty;
-                lblDro[r, 4].Text = row is null ? string.Empty : row.Homed ? "●" : "○";
-                lblDro[r, 4].ForeColor = row is { Homed: true } ? Color.Green : Color.Gray;
+                lblDro[r][1].Text = row?.Machine ?? string.Empty;
+                lblDro[r][2].Text = row?.Work ?? string.Empty;
+                lblDro[r][3].Text = row?.ToGo ?? string.Empty;
+                lblDro[r][4].Text = row is null ? string.Empty : row.Homed ? "●" : "○";
+                lblDro[r][4].ForeColor = row is { Homed: true } ? Color.Green : Color.Gray;
             }
         }
     }
@@ -373,6 +407,7 @@ internal sealed partial class MainForm : IConsoleView
                 c.Enabled = value;
             }
 
+            _consoleEnabled = value;
             foreach (var b in btnHomeAxis.Concat(btnTouchOff))
             {
                 b.Enabled = value;

@@ -13,7 +13,7 @@ internal sealed partial class MainForm
         SelectedTab = tabConsole.SelectedIndex,
         PageX = tabConsole.SelectedTab?.PointToScreen(Point.Empty).X ?? 0,
         PageY = tabConsole.SelectedTab?.PointToScreen(Point.Empty).Y ?? 0,
-        Dro = Enumerable.Range(0, 3).Select(r => new UiDroRow(lblDro[r, 0].Text, lblDro[r, 1].Text, lblDro[r, 2].Text, lblDro[r, 3].Text, lblDro[r, 4].Text == "●")).ToList(),
+        Dro = lblDro.Select(r => new UiDroRow(r[0].Text, r[1].Text, r[2].Text, r[3].Text, r[4].Text == "●")).ToList(),
         AlarmBannerVisible = lblAlarmBanner.Visible,
         MdiHistory = lstMdiHistory.Items.Cast<object>().Select(o => o.ToString() ?? string.Empty).ToList(),
         JobHistory = lstJobHistory.Items.Cast<object>().Select(o => o.ToString() ?? string.Empty).ToList(),

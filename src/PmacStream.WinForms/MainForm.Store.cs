@@ -20,9 +20,34 @@ internal sealed partial class MainForm : IStoreView
     public event EventHandler? StoreRefreshRequested;
     public event EventHandler? OpenStoredProgramRequested;
 
+    private string _storeLocation = string.Empty;
+
     public string StoreLocationText
     {
-        set => lblStoreLocation.Text = "Store: " + value;
+        set
+        {
+            _storeLocation = value;
+            lblStoreLocation.Text = string.Format(System.Globalization.CultureInfo.InvariantCulture, _texts[TextId.StoreLocation], value);
+        }
+    }
+
+    /// <summary>The Store page's texts in the chosen language (called with the console's).</summary>
+    private void ApplyStoreTexts()
+    {
+        var t = _texts;
+        (tabStore.Text, lblStorePrograms.Text, btnStoreRefresh.Text, btnStoreOpen.Text) = (t[TextId.TabStore], t[TextId.StorePrograms], t[TextId.StoreRefresh], t[TextId.StoreOpen]);
+        StoreLocationText = _storeLocation;
+        TextId[] jobs = [TextId.StoreColJob, TextId.StoreColProgram, TextId.StoreColStation, TextId.StoreColMachine, TextId.StoreColStarted, TextId.StoreColEnded, TextId.StoreColOutcome, TextId.StoreColBlocks];
+        TextId[] programs = [TextId.StoreColId, TextId.StoreColName, TextId.StoreColProfile, TextId.StoreColBlocks, TextId.StoreColErrors];
+        for (var c = 0; c < jobs.Length && c < gridStoreJobs.Columns.Count; c++)
+        {
+            gridStoreJobs.Columns[c].HeaderText = t[jobs[c]];
+        }
+
+        for (var c = 0; c < programs.Length && c < gridStorePrograms.Columns.Count; c++)
+        {
+            gridStorePrograms.Columns[c].HeaderText = t[programs[c]];
+        }
     }
 
     public IReadOnlyList<StoredJobRow> StoredJobs

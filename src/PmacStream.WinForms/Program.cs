@@ -68,7 +68,10 @@ internal static class Program
             form.Attach(presenter);
             var console = new ConsolePresenter(form, backend, backend, () => presenter.Profile);
             form.Attach(console);
-            form.Attach(new StorePresenter(form, backend, presenter.OpenStoredAsync));
+            form.Attach(new StorePresenter(form, backend, presenter.OpenStoredAsync)
+            {
+                OpenRevision = (id, path, profile) => presenter.OpenStoredAsync(id, path, profile), Language = () => form.Language,
+            });
             form.InjectFault = (kind, motor) => simulator?.InjectFault(FaultInjection.Parse($"{kind}:{motor}@0").Kind, motor);
             using var uiTest = uiTestDirectory is null ? null : new UiTestChannel(form, uiTestDirectory);
             Application.Run(form);

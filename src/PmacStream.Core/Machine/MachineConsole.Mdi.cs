@@ -30,9 +30,16 @@ public sealed partial class MachineConsole
             return refused;
         }
 
-        var modal = LoadModal();
-        var file = WriteMdiProgram(modal, blocks);
+        var carried = CarriedModal();
+        var (file, arcStillCarried) = WriteMdiProgram(carried, blocks);
         var profile = Options.Profile;
+        var after = ModalAfter(file, profile, arcStillCarried);
+        if (after.Compensation is { } comp)
+        {
+            return ConsoleResult.Refused(ConsoleRefusal.BadValue,
+                $"mdi:{comp.Line - 1}: cutter compensation (G{comp.Code}) is not run in MDI: each MDI call ends at rest, so the compensated path has no next move to turn its corner on; run it in a program");
+        }
+
         PreparedProgram prepared;
         try
         {
@@ -45,7 +52,8 @@ public sealed partial class MachineConsole
             return ConsoleResult.Refused(ConsoleRefusal.CheckFailed, $"refused by the check: {string.Join("; ", lines.DefaultIfEmpty(e.Message))}");
         }
 
-        Log.Information("MDI on {Device:l}: {Blocks:l}{Modal:l}", Controller.Description, string.Join(" | ", blocks), modal is null ? string.Empty : $" (modal state {modal})");
+        Log.Information("MDI on {Device:l}: {Blocks:l} (modal state {Modal:l}{Motion:l}, from {Source:l})", Controller.Description, string.Join(" | ", blocks),
+            carried.Line, carried.Motion is { } m ? " " + m : string.Empty, carried.Source);
         await using var job = await _jobs.CreateJobAsync(Controller, new JobRequest(prepared.Program, StrategyKind.Chunk)
         {
             Settings = Options.Settings, Profile = prepared.Profile, Library = LibraryPolicy.Verify,
@@ -58,12 +66,15 @@ public sealed partial class MachineConsole
         }
 
         var failed = await WaitAsync(Options.Axes, _ => true, cancellationToken).ConfigureAwait(false);
-        SaveModal(ModalLine(file, profile));
+        SaveModal(after.Carried, job.Id);
         return failed ?? ConsoleResult.Ok($"ran {blocks.Count} MDI block{(blocks.Count == 1 ? string.Empty : "s")} (job {job.Id})");
     }
 
-    /// <summary>The modal state MDI carries to its next call on this controller, as a block (<c>G21 G90 G17 G54 G01 F500</c>), or null.</summary>
-    public string? CarriedModalState => LoadModal();
+    /// <summary>
+    /// The modal state the next MDI call on this controller starts from, as a block (<c>G21 G90 G17 G55 G01 F500</c>,
+    /// then <c>G02</c> or <c>G03</c> when an arc mode is in force), or null at power-on.
+    /// </summary>
+    public string? CarriedModalState => CarriedModal() is { Source: not "power-on" } c ? c.Line + (c.Motion is { } m ? " " + m : string.Empty) : null;
 
     /// <summary>Why a program (MDI, a job) cannot start now, or null: one runs, an alarm stops motion, an axis is not homed.</summary>
     private async Task<ConsoleResult?> RefuseProgramAsync(CancellationToken cancellationToken)
@@ -84,36 +95,126 @@ public sealed partial class MachineConsole
             : null;
     }
 
-    private string WriteMdiProgram(string? modal, IReadOnlyList<string> blocks)
+    /// <summary>Writes the MDI program; returns it and the carried arc mode when no block used or replaced it (it stays in force).</summary>
+    private (string File, string? ArcStillCarried) WriteMdiProgram(CarriedMdiState carried, IReadOnlyList<string> blocks)
     {
         var folder = Path.Combine(Path.GetDirectoryName(Path.GetFullPath(Options.StatePath ?? _jobs.JobDatabase))!, "mdi");
         Directory.CreateDirectory(folder);
         var file = Path.Combine(folder, string.Create(CultureInfo.InvariantCulture, $"mdi-{DateTime.UtcNow:yyyyMMdd-HHmmss-fff}-{Environment.ProcessId}.nc"));
         var text = new StringBuilder();
-        text.Append(modal ?? "(MDI)").Append('\n'); // line 1: the carried modal state, so the operator's blocks are lines 2..
+        text.Append(carried.Line).Append('\n'); // line 1: the carried modal state, so the operator's blocks are lines 2..
+        var motion = carried.Motion;
         foreach (var b in blocks)
         {
-            text.Append(b.Trim()).Append('\n');
+            var block = b.Trim();
+            switch (CarriesMotion(block))
+            {
+                case true when motion is not null:
+                    // An arc mode cannot be written on a line of its own (G02 needs an end point): the first move the
+                    // operator writes without a motion code gets it, at the end so the columns stay the operator's.
+                    text.Append(block).Append(' ').Append(motion).Append('\n');
+                    motion = null;
+                    continue;
+                case null:
+                    motion = null; // the block names its own motion code, which is in force from here on
+                    break;
+            }
+
+            text.Append(block).Append('\n');
         }
 
         File.WriteAllText(file, text.ToString(), new UTF8Encoding(false));
-        return file;
+        return (file, motion);
     }
 
-    /// <summary>The modal state after the MDI program, read by the interpreter, as one block.</summary>
-    private static string ModalLine(string file, MachineProfile profile)
+    /// <summary>True when the block moves in the motion mode in force (axis words, only modal G codes), null when it names a motion code, else false.</summary>
+    private static bool? CarriesMotion(string block)
+    {
+        var axes = false;
+        foreach (var w in GCodeReader.LexLine(block).WordList)
+        {
+            if (w.Letter == 'G')
+            {
+                switch (CodeRoles.OfG(w.CodeTimesTen))
+                {
+                    case GRole.Motion or GRole.Cycle or GRole.CycleCancel:
+                        return null;
+                    case not GRole.Mode:
+                        return false; // G04, G10, G28, G53, G92 ... take the axis words themselves
+                }
+            }
+
+            axes |= char.ToUpperInvariant(w.Letter) is 'X' or 'Y' or 'Z' or 'A' or 'B' or 'C' or 'U' or 'V' or 'W';
+        }
+
+        return axes;
+    }
+
+    /// <summary>The modal state after the MDI program, read by the interpreter, and the first block that turns cutter compensation on.</summary>
+    private static (CarriedMdiState Carried, (int Line, string Code)? Compensation) ModalAfter(string file, MachineProfile profile, string? arcStillCarried)
     {
         var interpreter = new Interpreter(profile);
+        (int Line, string Code)? compensation = null;
         foreach (var block in GCodeReader.ReadAll(file))
         {
             interpreter.Step(block);
+            if (compensation is null && interpreter.State.RadiusCompensation is { } rc && Math.Floor(rc) is 41 or 42)
+            {
+                compensation = (block.LineNumber, rc.ToString("0.#", CultureInfo.InvariantCulture));
+            }
         }
 
+        var (line, motion) = ModalLine(interpreter, ended: false, arcStillCarried);
+        return (new CarriedMdiState(line, motion, "MDI"), compensation);
+    }
+
+    /// <summary>
+    /// The modal state a job left on this controller: its program read up to the last block that ran (all of it when it
+    /// completed), with the library's program end applied (M02/M30: G54, G90, no tool length), or null when the program
+    /// cannot be read again (gone, or expanded from subprograms and macros, whose M0 counts expanded blocks).
+    /// </summary>
+    private CarriedMdiState? ModalAfterJob(JobRecord job)
+    {
+        var through = job.Checkpoint is { State: SessionState.Completed } ? int.MaxValue : job.Checkpoint?.LastExecutedLine ?? 0;
+        if (through <= 0 || job.SourceLocation is not null || !File.Exists(job.ProgramPath))
+        {
+            Log.Information("MDI's modal state not taken from job {Id}: {Why:l}", job.Id,
+                through <= 0 ? "no block of it ran" : job.SourceLocation is not null ? "its program was expanded" : $"{job.ProgramPath} is gone");
+            return null;
+        }
+
+        var interpreter = new Interpreter(Options.Profile);
+        var ended = false;
+        foreach (var block in GCodeReader.ReadAll(job.ProgramPath))
+        {
+            if (block.LineNumber > through)
+            {
+                break;
+            }
+
+            interpreter.Step(block);
+            ended |= block.WordList.Exists(static w => w.Letter == 'M' && CodeRoles.EndsProgram(w.CodeTimesTen));
+        }
+
+        var (line, motion) = ModalLine(interpreter, ended, null);
+        return new CarriedMdiState(line, motion, string.Create(CultureInfo.InvariantCulture, $"job {job.Id}"));
+    }
+
+    /// <summary>The modal state as one block, and an arc mode in force (<c>G02</c>, <c>G03</c>) apart: it needs an end point.</summary>
+    private static (string Line, string? Motion) ModalLine(Interpreter interpreter, bool ended, string? arcStillCarried)
+    {
         var s = interpreter.State;
         var line = new StringBuilder();
-        line.Append(s.Units == LengthUnits.Inches ? "G20" : "G21").Append(s.Absolute ? " G90" : " G91");
-        line.Append(CultureInfo.InvariantCulture, $" G{s.Plane} G{s.WorkOffset}");
-        if (s.Motion is 0 or 1)
+        line.Append(s.Units == LengthUnits.Inches ? "G20" : "G21").Append(s.Absolute || ended ? " G90" : " G91");
+        line.Append(CultureInfo.InvariantCulture, $" G{s.Plane} ");
+        var selected = interpreter.Coordinates.Selected;
+        line.Append(ended ? "G54" : selected switch
+        {
+            >= 5410 => string.Create(CultureInfo.InvariantCulture, $"G54.1 P{selected - 5410}"),
+            591 or 592 or 593 => string.Create(CultureInfo.InvariantCulture, $"G59.{selected - 590}"),
+            _ => string.Create(CultureInfo.InvariantCulture, $"G{s.WorkOffset}"),
+        });
+        if (s.Motion is 0 or 1 && arcStillCarried is null)
         {
             line.Append(CultureInfo.InvariantCulture, $" G0{s.Motion}");
         }
@@ -123,15 +224,30 @@ public sealed partial class MachineConsole
             line.Append(CultureInfo.InvariantCulture, $" F{f:0.####}");
         }
 
-        if (s.LengthCompensation is 43 or 44 && s.LengthOffset > 0)
+        if (!ended && s.LengthCompensation is 43 or 44 && s.LengthOffset > 0)
         {
             line.Append(CultureInfo.InvariantCulture, $" G{s.LengthCompensation} H{s.LengthOffset}");
         }
 
-        return line.ToString();
+        return (line.ToString(), arcStillCarried ?? (s.Motion is 2 or 3 ? $"G0{s.Motion}" : null));
     }
 
-    private string? LoadModal()
+    /// <summary>
+    /// Where the next MDI starts: after the newest job on this controller when it is newer than the last MDI (a
+    /// program ran in between), else the last MDI's state (<see cref="MachineConsoleOptions.StatePath"/>), else power-on.
+    /// </summary>
+    private CarriedMdiState CarriedModal()
+    {
+        var saved = LoadModal();
+        if (LatestJob() is { } latest && (saved is null || (saved.JobId is { } j && latest.Id > j)) && ModalAfterJob(latest) is { } fromJob)
+        {
+            return fromJob;
+        }
+
+        return saved is null ? new CarriedMdiState("(MDI)", null, "power-on") : saved.Carried;
+    }
+
+    private SavedMdiState? LoadModal()
     {
         if (Options.StatePath is not { } path || !File.Exists(path))
         {
@@ -141,7 +257,14 @@ public sealed partial class MachineConsole
         try
         {
             using var doc = JsonDocument.Parse(File.ReadAllBytes(path));
-            return doc.RootElement.TryGetProperty(Controller.Spec.ToString(), out var e) && e.TryGetProperty("mdiModal", out var m) ? m.GetString() : null;
+            if (!doc.RootElement.TryGetProperty(Controller.Spec.ToString(), out var e) || !e.TryGetProperty("mdiModal", out var m) || m.GetString() is not { } line)
+            {
+                return null;
+            }
+
+            var motion = e.TryGetProperty("mdiMotion", out var mm) ? mm.GetString() : null;
+            long? job = e.TryGetProperty("mdiJob", out var id) && id.TryGetInt64(out var n) ? n : null;
+            return new SavedMdiState(new CarriedMdiState(line, motion, job is null ? "MDI" : $"MDI job {job}"), job);
         }
         catch (JsonException e)
         {
@@ -150,14 +273,14 @@ public sealed partial class MachineConsole
         }
     }
 
-    private void SaveModal(string modal)
+    private void SaveModal(CarriedMdiState modal, long? jobId)
     {
         if (Options.StatePath is not { } path)
         {
             return;
         }
 
-        var all = new Dictionary<string, string>(StringComparer.Ordinal);
+        var all = new Dictionary<string, JsonElement>(StringComparer.Ordinal);
         if (File.Exists(path))
         {
             try
@@ -165,9 +288,9 @@ public sealed partial class MachineConsole
                 using var doc = JsonDocument.Parse(File.ReadAllBytes(path));
                 foreach (var p in doc.RootElement.EnumerateObject())
                 {
-                    if (p.Value.ValueKind == JsonValueKind.Object && p.Value.TryGetProperty("mdiModal", out var m) && m.GetString() is { } text)
+                    if (p.Value.ValueKind == JsonValueKind.Object)
                     {
-                        all[p.Name] = text;
+                        all[p.Name] = p.Value.Clone();
                     }
                 }
             }
@@ -177,23 +300,39 @@ public sealed partial class MachineConsole
             }
         }
 
-        all[Controller.Spec.ToString()] = modal;
+        var key = Controller.Spec.ToString();
         using var buffer = new MemoryStream();
         using (var w = new Utf8JsonWriter(buffer, new JsonWriterOptions { Indented = true }))
         {
             w.WriteStartObject();
-            foreach (var (spec, text) in all)
+            foreach (var (spec, value) in all.Where(p => p.Key != key))
             {
-                w.WriteStartObject(spec);
-                w.WriteString("mdiModal", text);
-                w.WriteEndObject();
+                w.WritePropertyName(spec);
+                value.WriteTo(w);
             }
 
+            w.WriteStartObject(key);
+            w.WriteString("mdiModal", modal.Line);
+            if (modal.Motion is { } motion)
+            {
+                w.WriteString("mdiMotion", motion);
+            }
+
+            if (jobId is { } id)
+            {
+                w.WriteNumber("mdiJob", id); // a job on this controller newer than this one left its own modal state
+            }
+            w.WriteEndObject();
             w.WriteEndObject();
         }
 
         Directory.CreateDirectory(Path.GetDirectoryName(Path.GetFullPath(path))!);
         File.WriteAllBytes(path, buffer.ToArray());
-        Log.Information("MDI modal state now {Modal:l}", modal);
+        Log.Information("MDI modal state now {Modal:l}{Motion:l}", modal.Line, modal.Motion is { } m ? " " + m : string.Empty);
     }
+
+    /// <summary>The modal state an MDI call starts from: the block of line 1, an arc mode apart, and where it came from.</summary>
+    private sealed record CarriedMdiState(string Line, string? Motion, string Source);
+
+    private sealed record SavedMdiState(CarriedMdiState Carried, long? JobId);
 }

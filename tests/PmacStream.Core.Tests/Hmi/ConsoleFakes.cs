@@ -88,16 +88,17 @@ internal sealed class FakeConsoleBackend : IConsoleBackend
 {
     public bool ConsoleReady { get; set; } = true;
     public List<string> Calls { get; } = [];
-    public double[] Machine { get; } = new double[3];
-    public bool[] Homed { get; } = new bool[3];
+    public double[] Machine { get; } = new double[9];
+    public bool[] Homed { get; } = new bool[9];
+
+    /// <summary>The machine's axes (a profile may list up to nine).</summary>
+    public string[] Names { get; set; } = ["X", "Y", "Z"];
     public List<MachineAlarm> Alarms { get; } = [];
     public MachineMode Mode { get; set; } = MachineMode.Idle;
     public ConsoleResult? Refuse { get; set; }
     public MachineTables Tables { get; set; } = MachineTables.Empty;
     public List<AlarmRecord> History { get; } = [];
     public List<HmiJobEntry> Jobs { get; } = [];
-
-    private static readonly string[] Names = ["X", "Y", "Z"];
 
     public Task<MachineState> ReadStateAsync(CancellationToken cancellationToken = default)
     {
@@ -108,7 +109,7 @@ internal sealed class FakeConsoleBackend : IConsoleBackend
 
     public Task<ConsoleResult> HomeAsync(string? axes, CancellationToken cancellationToken = default) => Do($"home {axes ?? "all"}", () =>
     {
-        foreach (var i in Enumerable.Range(0, 3).Where(i => axes is null || axes.Contains(Names[i], StringComparison.Ordinal)))
+        foreach (var i in Enumerable.Range(0, Names.Length).Where(i => axes is null || axes.Contains(Names[i], StringComparison.Ordinal)))
         {
             Machine[i] = 0;
             Homed[i] = true;

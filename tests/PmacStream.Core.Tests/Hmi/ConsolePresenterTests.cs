@@ -47,6 +47,34 @@ public sealed class ConsolePresenterTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task The_DRO_shows_every_axis_of_a_four_axis_machine_with_its_homed_mark_and_the_jog_panel_offers_them()
+    {
+        _console.Names = ["X", "Y", "Z", "A"];
+        _console.Machine[3] = 90;
+        _console.Homed[3] = true;
+        await TickAsync();
+
+        _view.Dro.Select(r => r.Axis).Should().Equal("X", "Y", "Z", "A");
+        _view.Dro[3].Should().Be(new DroRow("A", "90.000", "90.000", "0.000", true));
+        _view.Dro[0].Homed.Should().BeFalse();
+        _view.ConsoleAxes.Should().Equal("X", "Y", "Z", "A");
+    }
+
+    [Fact]
+    public void The_DRO_layout_keeps_its_height_for_any_number_of_axes_and_three_axes_as_before()
+    {
+        ConsoleLayout.DroCell(3, 1, 3).Should().Be(ConsoleLayout.DroCell(3, 1));
+        ConsoleLayout.DroCell(1, 0, 3).Y.Should().Be(ConsoleLayout.DroTop + ConsoleLayout.DroRowHeight);
+        foreach (var axes in Enumerable.Range(4, 6))
+        {
+            var last = ConsoleLayout.DroCell(axes, 6, axes);
+            (last.Y + last.Height).Should().BeLessThanOrEqualTo(ConsoleLayout.DroCell(3, 6).Y + ConsoleLayout.DroCell(3, 6).Height, $"{axes} axes fit the three-axis DRO's height");
+            ConsoleLayout.DroCell(2, 0, axes).Y.Should().BeGreaterThan(ConsoleLayout.DroCell(1, 0, axes).Y + ConsoleLayout.DroCell(1, 0, axes).Height - 1, "rows do not overlap");
+            ConsoleLayout.DroFontSize(axes).Should().BeLessThan(14f).And.BeGreaterThanOrEqualTo(6f);
+        }
+    }
+
+    [Fact]
     public async Task Home_all_and_a_jog_step_go_to_the_console_and_the_DRO_follows()
     {
         await Do(_view.HomeAll);

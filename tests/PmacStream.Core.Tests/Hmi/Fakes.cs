@@ -127,6 +127,7 @@ internal sealed class FakeBackend : IHmiBackend
     public int LinesPerTick { get; set; } = 7;
     public List<HmiJobRequest> Started { get; } = [];
     public List<RunSettings> Prepared { get; } = [];
+    public List<long?> PreparedRevisions { get; } = [];
     public List<RunSettings> Resumed { get; } = [];
     public List<string> ProfilesUsed { get; } = [];
     public List<string> LibrariesLoaded { get; } = [];
@@ -183,6 +184,12 @@ internal sealed class FakeBackend : IHmiBackend
     }
 
     /// <summary>Refuses a program with a "BAD" line (the service's gate), else writes chunk files of <see cref="RunSettings.BlocksPerChunk"/> lines.</summary>
+    public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default)
+    {
+        PreparedRevisions.Add(programId);
+        return PrepareAsync(sourcePath, settings, profile, cancellationToken);
+    }
+
     public async Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {
         Prepared.Add(settings);

@@ -264,6 +264,26 @@ public sealed class MainPresenterTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task A_program_opened_from_the_store_is_split_and_run_as_its_revision_and_a_plain_file_as_none()
+    {
+        await _p.OpenStoredAsync(7, Program(40), null);
+        await Do(_view.ClickConnect);
+        await Do(_view.ClickSplit);
+        await Do(_view.ClickExecute);
+        await TickUntilFinished();
+        _backend.Started.Single().ProgramId.Should().Be(7, "the job history names the revision, as stream --program 7");
+        _backend.PreparedRevisions.Should().Equal(7L);
+
+        await Do(() => _view.ChooseFile(Program(40)));
+        await Do(_view.ClickSplit);
+        await Do(_view.ClickExecute);
+        await TickUntilFinished();
+        _backend.Started.Should().HaveCount(2);
+        _backend.Started[1].ProgramId.Should().BeNull("a file opened from disk is no revision");
+        _backend.PreparedRevisions.Should().Equal(7L, null);
+    }
+
+    [Fact]
     public async Task Execute_runs_to_completion_with_the_highlight_following_m0()
     {
         await ReadyToRun(lines: 100, linesPerChunk: 30);

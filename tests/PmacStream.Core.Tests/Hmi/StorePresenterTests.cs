@@ -16,6 +16,7 @@ public sealed class StorePresenterTests : IDisposable
     private readonly TestFolder _folder = new("hmi-store");
     private readonly FakeStoreView _view = new();
     private readonly List<(string Path, string? Profile)> _opened = [];
+    private readonly List<long> _openedRevisions = [];
 
     public void Dispose() => _folder.Dispose();
 
@@ -51,7 +52,7 @@ public sealed class StorePresenterTests : IDisposable
         public (string Path, string? Profile) StoredProgramFile(long id) => service.StoredProgramFile(id);
     }
 
-    private (StorePresenter Presenter, StoreLocation Store, long Good, long Bad, long Job) Setup()
+    private (StorePresenter Presenter, StoreLocation Store, long Good, long Bad, long Job) Setup(HmiLanguage language = HmiLanguage.English, bool byRevision = false)
     {
         var store = StoreLocation.Sqlite(Path.Combine(_folder.Path, "store.db"));
         var good = Path.Combine(_folder.NewFolder("p"), "part.nc");
@@ -76,7 +77,17 @@ public sealed class StorePresenterTests : IDisposable
         {
             _opened.Add((path, profile));
             return Task.CompletedTask;
-        });
+        })
+        {
+            Language = () => language,
+            OpenRevision = byRevision ? (id, path, profile) =>
+            {
+                _openedRevisions.Add(id);
+                _opened.Add((path, profile));
+                return Task.CompletedTask;
+            }
+            : null,
+        };
         return (presenter, store, goodId, badId, jobId);
     }
 
@@ -97,6 +108,42 @@ public sealed class StorePresenterTests : IDisposable
         _view.StoredPrograms.Single(r => r.Id == good).Should().BeEquivalentTo(new { Name = "part.nc", Profile = "linuxcnc-mill", Blocks = 4L, Errors = 0 });
         _view.StoredPrograms.Single(r => r.Id == bad).Errors.Should().BeGreaterThan(0);
         _view.StoreMessage.Should().Contain("1 jobs, 2 programs");
+    }
+
+    [Fact]
+    public async Task In_Chinese_the_page_shows_its_outcomes_and_messages_in_Chinese()
+    {
+        var (p, _, _, _, _) = Setup(HmiLanguage.Chinese);
+        _view.Refresh();
+        await p.WhenIdleAsync();
+        _view.StoredJobs.Single().Outcome.Should().Be("已完成");
+        _view.StoreMessage.Should().Contain("1 个作业").And.Contain("2 个程序");
+        _view.Open();
+        await p.WhenIdleAsync();
+        _view.StoreMessage.Should().Be("请先选择一个程序。");
+    }
+
+    [Fact]
+    public void Every_Store_page_text_has_a_zh_CN_entry()
+    {
+        var ids = Enum.GetValues<TextId>().Where(id => id.ToString().StartsWith("Store", StringComparison.Ordinal) || id == TextId.TabStore).ToList();
+        ids.Should().HaveCountGreaterThan(20, "the tab, labels, buttons, 12 column headers, messages and outcomes");
+        foreach (var id in ids)
+        {
+            var zh = HmiText.Get(id, HmiLanguage.Chinese);
+            zh.Should().MatchRegex(@"[\u4e00-\u9fff]", $"{id} needs a Chinese text").And.NotBe(HmiText.Get(id, HmiLanguage.English));
+        }
+    }
+
+    [Fact]
+    public async Task Open_hands_the_revision_id_to_the_program_screen_so_its_job_records_it()
+    {
+        var (p, _, good, _, _) = Setup(byRevision: true);
+        _view.SelectedStoredProgram = good;
+        _view.Open();
+        await p.WhenIdleAsync();
+        _openedRevisions.Should().Equal(good);
+        _opened.Single().Profile.Should().Be("linuxcnc-mill");
     }
 
     [Fact]
