@@ -165,7 +165,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
             prepared.ExecuteNonQuery();
         }
 
-        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "preparations" })
+        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "cycle_holes", "preparations" })
         {
             using var cmd = new NpgsqlCommand($"DELETE FROM {table} WHERE program_id = @p", _connection, tx); // table names from the list above
             cmd.Parameters.AddWithValue("p", programId);
@@ -230,6 +230,31 @@ public sealed partial class PgProgramStore : IProgramRevisions
         return new StoredStart(block, previous, s.Read() ? ProgramStore.ReadExecState(s) : null);
     }
 
+    /// <inheritdoc />
+    public IEnumerable<StoredBlock> ReadStoredBlocks(long programId, int fromLine = 0, int toLine = int.MaxValue)
+    {
+        var groups = GroupsOf(programId);
+        Dictionary<int, CycleHoles> holes;
+        using (var cmd = new NpgsqlCommand("SELECT line, holes, r_level, bottom FROM cycle_holes WHERE program_id = @p AND line BETWEEN @a AND @b", _connection))
+        {
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.Parameters.AddWithValue("a", fromLine);
+            cmd.Parameters.AddWithValue("b", toLine);
+            holes = ProgramStore.ReadHoles(cmd);
+        }
+
+        using var blocks = new NpgsqlCommand($"SELECT 0::bigint, {PgBlockColumns} FROM blocks WHERE program_id = @p AND line BETWEEN @a AND @b ORDER BY line", _connection);
+        blocks.Parameters.AddWithValue("p", programId);
+        blocks.Parameters.AddWithValue("a", fromLine);
+        blocks.Parameters.AddWithValue("b", toLine);
+        using var r = blocks.ExecuteReader();
+        while (r.Read())
+        {
+            var block = ProgramStore.ReadBlock(r, groups);
+            yield return new StoredBlock(block, holes.TryGetValue(block.Line, out var h) ? h : null);
+        }
+    }
+
     private StoredGroups GroupsOf(long programId)
     {
         using var cmd = new NpgsqlCommand("SELECT groups FROM programs WHERE id = @id", _connection);
@@ -257,6 +282,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
     {
         private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal);
         private readonly List<StoredExecState> _execStates = [];
+        private readonly List<(int Line, CycleHoles Holes)> _holes = [];
         private NpgsqlBinaryImporter? _copy;
         private long _sourceSeq;
 
@@ -342,6 +368,9 @@ public sealed partial class PgProgramStore : IProgramRevisions
         /// <summary>Keeps an execution state for the COPY that follows the batch's blocks.</summary>
         public void Add(StoredExecState state) => _execStates.Add(state);
 
+        /// <summary>Keeps a cycle block's holes for the COPY that follows the batch's blocks.</summary>
+        public void Add(int line, CycleHoles holes) => _holes.Add((line, holes));
+
         /// <summary>Ends the open COPY (its rows go in with the transaction), then copies the execution states waiting.</summary>
         public void EndCopy()
         {
@@ -352,6 +381,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
                 c.Dispose();
             }
 
+            CopyHoles();
             if (_execStates.Count == 0)
             {
                 return;
@@ -383,6 +413,31 @@ public sealed partial class PgProgramStore : IProgramRevisions
             }
 
             _execStates.Clear();
+        }
+
+        private void CopyHoles()
+        {
+            if (_holes.Count == 0)
+            {
+                return;
+            }
+
+            using (var copy = connection.BeginBinaryImport($"COPY cycle_holes ({ProgramWriter.CycleHoleColumns}) FROM STDIN (FORMAT BINARY)"))
+            {
+                foreach (var (line, holes) in _holes)
+                {
+                    copy.StartRow();
+                    copy.Write(programId, NpgsqlDbType.Bigint);
+                    copy.Write(line, NpgsqlDbType.Integer);
+                    copy.Write(holes.Count, NpgsqlDbType.Integer);
+                    copy.Write(holes.RLevel, NpgsqlDbType.Double);
+                    copy.Write(holes.Bottom, NpgsqlDbType.Double);
+                }
+
+                copy.Complete();
+            }
+
+            _holes.Clear();
         }
 
         public void Dispose()
