@@ -8,7 +8,7 @@ namespace PmacStream.Preview;
 /// millimetres. An axis counts as unknown until the program sets it absolutely, so no made-up move from the
 /// interpreter's origin is drawn; the first positioning moves only establish where the tool is.
 /// </summary>
-public sealed class GCodeToolpathSource : IToolpathSource
+public sealed class GCodeToolpathSource : IToolpathSource, IToolpathIssues
 {
     /// <summary>At most this many error diagnostics are kept (the rest are only counted).</summary>
     public const int MaxIssuesKept = 50;

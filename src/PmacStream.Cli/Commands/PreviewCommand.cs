@@ -14,11 +14,15 @@ namespace PmacStream.Cli.Commands;
 /// <param name="Lang">Legend language, null: the UI culture.</param>
 /// <param name="Profile">Machine profile name or file, null: the default.</param>
 /// <param name="Force">Draw a program with errors.</param>
-internal sealed record PreviewArgs(string File, string Png, string Size, string View, string? Executed, string? Lang, string? Profile, bool Force);
+/// <param name="ProgramId">A stored revision to draw from its stored blocks instead of a file (<c>--program ID</c>).</param>
+/// <param name="Store">The store of <paramref name="ProgramId"/> (<c>--store URI</c>; null: the default).</param>
+internal sealed record PreviewArgs(string? File, string Png, string Size, string View, string? Executed, string? Lang, string? Profile, bool Force,
+    long? ProgramId = null, string? Store = null);
 
 /// <summary>
-/// `pmacstream preview FILE --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN] [--profile NAME|FILE] [--force]`:
-/// draws the toolpath (two streaming passes, bounded memory) and, with a simulator executed-move log, overlays what
+/// `pmacstream preview FILE|--program ID [--store URI] --png OUT.png [--size 1200x900] [--view xy|xz|yz|iso] [--executed LOG] [--lang en|zh-CN] [--profile NAME|FILE] [--force]`:
+/// draws the toolpath (two streaming passes, bounded memory; a stored revision from its stored decoded blocks, the file
+/// neither read nor interpreted again) and, with a simulator executed-move log, overlays what
 /// ran and lists the lines that ran zero or several times. A program with errors under the profile is refused as every
 /// command refuses it (each error listed, nothing written) unless <c>--force</c>, which draws what can be read.
 /// Exit 0 when drawn (and, with a log, every move ran exactly once), 1 when the program has errors (refused) or the log
@@ -30,7 +34,9 @@ internal static class PreviewCommand
 
     public static Command Create()
     {
-        var file = new Argument<string>("file") { Description = "G-code program to draw." };
+        var file = new Argument<string?>("file") { Description = "G-code program to draw (or --program ID).", Arity = ArgumentArity.ZeroOrOne };
+        var programId = new Option<long?>("--program") { Description = "Draw a stored revision from its stored decoded blocks (pmacstream programs list), not a file.", HelpName = "ID" };
+        var store = StoreOptions.Option();
         var png = new Option<string>("--png") { Description = "PNG file to write (replaced atomically).", Required = true, HelpName = "OUT.png" };
         var size = new Option<string>("--size") { Description = "Image size WIDTHxHEIGHT, each 16..8192.", HelpName = "WxH", DefaultValueFactory = _ => "1200x900" };
         var view = new Option<string>("--view") { Description = "View: xy, xz, yz or iso.", DefaultValueFactory = _ => "xy" };
@@ -49,9 +55,11 @@ internal static class PreviewCommand
         cmd.Options.Add(lang);
         cmd.Options.Add(profile);
         cmd.Options.Add(force);
+        cmd.Options.Add(programId);
+        cmd.Options.Add(store);
         cmd.SetAction((parse, ct) => RunAsync(
-            new PreviewArgs(parse.GetValue(file)!, parse.GetValue(png)!, parse.GetValue(size)!, parse.GetValue(view)!, parse.GetValue(executed), parse.GetValue(lang), parse.GetValue(profile),
-                parse.GetValue(force)),
+            new PreviewArgs(parse.GetValue(file), parse.GetValue(png)!, parse.GetValue(size)!, parse.GetValue(view)!, parse.GetValue(executed), parse.GetValue(lang), parse.GetValue(profile),
+                parse.GetValue(force), parse.GetValue(programId), parse.GetValue(store)),
             CliConsole.Standard,
             ct));
         return cmd;
@@ -62,11 +70,9 @@ internal static class PreviewCommand
     internal static async Task<int> RunAsync(PreviewArgs args, CliConsole console, CancellationToken ct)
     {
         var machine = CliProfiles.Load(args.Profile);
-        var path = args.File;
         var output = args.Png;
         var (width, height) = ParseSize(args.Size);
         var culture = args.Lang is { } l ? CliGlobals.ParseLanguage(l) : CultureInfo.CurrentUICulture;
-        CliGlobals.RequireFile(path, "a G-code file");
         if (args.Executed is { } log)
         {
             CliGlobals.RequireFile(log, "an executed-move log (--executed)");
@@ -78,9 +84,10 @@ internal static class PreviewCommand
             throw new CliException($"{output}: the folder {outDir} does not exist");
         }
 
-        var source = new GCodeToolpathSource(path, machine);
-        var options = new PreviewOptions { Width = width, Height = height, View = ParseView(args.View), Culture = culture, DrawIf = args.Force ? null : () => source.IssueCount == 0 };
-        if (await RenderAsync(source, options, args, machine, console, ct).ConfigureAwait(false) is not { } picture)
+        using var drawing = Open(args, machine);
+        var (source, path) = (drawing.Source, drawing.Shown);
+        var options = new PreviewOptions { Width = width, Height = height, View = ParseView(args.View), Culture = culture, DrawIf = args.Force ? null : () => drawing.Issues.IssueCount == 0 };
+        if (await RenderAsync(drawing, options, args, machine, console, ct).ConfigureAwait(false) is not { } picture)
         {
             return CliGlobals.Failed;
         }
@@ -90,12 +97,12 @@ internal static class PreviewCommand
         if (x.IsEmpty)
         {
             // An empty picture is no preview: nothing is written, and the caller learns it from the exit code.
-            foreach (var issue in source.Issues.Take(MaxListed))
+            foreach (var issue in drawing.Issues.Issues.Take(MaxListed))
             {
                 console.Error.WriteLine(issue.Format(path));
             }
 
-            console.Error.WriteLine($"{path}: error: no moves to draw ({(source.IssueCount > 0 ? "none could be interpreted" : "an empty program")}); {output} not written");
+            console.Error.WriteLine($"{path}: error: no moves to draw ({(drawing.Issues.IssueCount > 0 ? "none could be interpreted" : "an empty program")}); {output} not written");
             return CliGlobals.Failed;
         }
 
@@ -105,12 +112,73 @@ internal static class PreviewCommand
             console.Error.WriteLine($"{output}: warning: {warning}");
         }
 
-        return Report(args, source, picture, width, height, console);
+        if (source is DecodedBlockToolpathSource { CyclesWithoutHoles: > 0 } stored)
+        {
+            console.Error.WriteLine($"{path}: warning: {stored.CyclesWithoutHoles} cycle block(s) not drawn: the revision was imported before the store kept cycle holes (schema 9); import it again to draw them");
+        }
+
+        return Report(args, drawing, picture, width, height, console);
+    }
+
+    /// <summary>What is drawn: the file (read and interpreted), or a stored revision's decoded blocks (the store held open while drawing).</summary>
+    private sealed class Drawing(IToolpathSource source, IToolpathIssues issues, string shown, string profile, IDisposable? store = null) : IDisposable
+    {
+        /// <summary>The profile the blocks were interpreted under (a stored revision's is its import's).</summary>
+        public string Profile { get; } = profile;
+
+        public IToolpathSource Source { get; } = source;
+
+        public IToolpathIssues Issues { get; } = issues;
+
+        /// <summary>How messages name it: the file as given, or <c>program ID (NAME)</c>.</summary>
+        public string Shown { get; } = shown;
+
+        public void Dispose() => store?.Dispose();
+    }
+
+    private static Drawing Open(PreviewArgs args, MachineProfile machine)
+    {
+        if (args.ProgramId is not { } id)
+        {
+            var path = args.File ?? throw new CliException("say what to draw: a FILE or --program ID");
+            CliGlobals.RequireFile(path, "a G-code file");
+            var file = new GCodeToolpathSource(path, machine);
+            return new Drawing(file, file, path, machine.Name);
+        }
+
+        if (args.File is not null)
+        {
+            throw new CliException("give a FILE or --program ID, not both");
+        }
+
+        var location = StoreOptions.Resolve(args.Store);
+        var store = ProgramsCommand.OpenStore(location);
+        try
+        {
+            var info = store.GetProgram(id) ?? throw new CliException($"no program {id} in {location.Display}");
+            if (args.Profile is not null && !string.Equals(info.Profile, machine.Name, StringComparison.OrdinalIgnoreCase))
+            {
+                // The stored positions are the import's interpretation: drawing them under another profile would lie.
+                throw new CliException($"program {id} was imported under profile '{info.Profile}', not '{machine.Name}': its stored blocks are drawn as that profile read them (import it under '{machine.Name}' to draw it so)");
+            }
+
+            var errors = store.GetDiagnostics(id).Where(d => d.Severity == Severity.Error).ToList();
+            var source = new DecodedBlockToolpathSource(
+                () => store.ReadStoredBlocks(id).Select(b => (b.Block, b.Holes)), info.Blocks, info.Name ?? Path.GetFileName(info.Path),
+                errors.Take(GCodeToolpathSource.MaxIssuesKept).ToList(), Math.Max(info.Errors, errors.Count));
+            return new Drawing(source, source, $"program {id.ToString(CultureInfo.InvariantCulture)} ({info.Name ?? info.Path})", info.Profile, store);
+        }
+        catch
+        {
+            store.Dispose();
+            throw;
+        }
     }
 
     /// <summary>Renders the picture, or refuses a program with errors (listed; null returned).</summary>
-    private static async Task<PreviewPicture?> RenderAsync(GCodeToolpathSource source, PreviewOptions options, PreviewArgs args, MachineProfile machine, CliConsole console, CancellationToken ct)
+    private static async Task<PreviewPicture?> RenderAsync(Drawing drawing, PreviewOptions options, PreviewArgs args, MachineProfile machine, CliConsole console, CancellationToken ct)
     {
+        var (source, issues) = (drawing.Source, drawing.Issues);
         try
         {
             return await CliProgress.RunAsync("preview", report => Task.Run(
@@ -121,8 +189,8 @@ internal static class PreviewCommand
         {
             // The gate every command keeps: a program with errors is not drawn as if it were whole (refused after
             // the measuring pass, before the picture takes its memory).
-            Refusals.Print(console.Error, "pmacstream preview", "preview", Refusals.Shown(args.File), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
-                $"{Refusals.Shown(args.File)}: {source.IssueCount} error(s) under profile '{machine.Name}'; {args.Png} not written");
+            Refusals.Print(console.Error, "pmacstream preview", "preview", Refusals.Shown(drawing.Shown), issues.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, issues.IssueCount),
+                $"{Refusals.Shown(drawing.Shown)}: {issues.IssueCount} error(s) under profile '{drawing.Profile}'; {args.Png} not written");
             return null;
         }
         catch (InvalidDataException e)
@@ -137,8 +205,9 @@ internal static class PreviewCommand
     }
 
     /// <summary>What was drawn, what was left out, and what the executed log shows; the exit code.</summary>
-    private static int Report(PreviewArgs args, GCodeToolpathSource source, PreviewPicture picture, int width, int height, CliConsole console)
+    private static int Report(PreviewArgs args, Drawing drawing, PreviewPicture picture, int width, int height, CliConsole console)
     {
+        var (source, issues) = (drawing.Source, drawing.Issues);
         var ci = CultureInfo.InvariantCulture;
         var x = picture.Extents;
         var o = console.Out;
@@ -149,11 +218,11 @@ internal static class PreviewCommand
             o.WriteLine($"rotary axes {string.Join(' ', source.RotaryAxes.ToCharArray())}: not drawn (the picture shows X, Y and Z; the legend says so)");
         }
 
-        if (source.IssueCount > 0)
+        if (issues.IssueCount > 0)
         {
             // Forced: drawn, and what was left out is said.
-            Refusals.Print(console.Error, "pmacstream preview", string.Empty, Refusals.Shown(args.File), source.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, source.IssueCount),
-                $"--force: {source.IssueCount} error(s) listed above; the blocks that cannot be read are not drawn");
+            Refusals.Print(console.Error, "pmacstream preview", string.Empty, Refusals.Shown(drawing.Shown), issues.Issues.Take(MaxListed).ToList(), (int)Math.Min(int.MaxValue, issues.IssueCount),
+                $"--force: {issues.IssueCount} error(s) listed above; the blocks that cannot be read are not drawn");
         }
 
         if (picture.Execution is not { } report)

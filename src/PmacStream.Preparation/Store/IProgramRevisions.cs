@@ -40,6 +40,14 @@ public interface IProgramRevisions : IDisposable
     /// </summary>
     StoredStart? GetStart(long programId, int line);
 
+    /// <summary>
+    /// The stored blocks of source lines <paramref name="fromLine"/>..<paramref name="toLine"/> in program order, each
+    /// with its cycle holes (null for other blocks, and for cycle blocks of revisions stored before schema 9): the
+    /// preview and selected-block execution read these instead of the file. Streams rows; enumerate it to the end
+    /// (or dispose the enumerator) before the next call on this store.
+    /// </summary>
+    IEnumerable<StoredBlock> ReadStoredBlocks(long programId, int fromLine = 0, int toLine = int.MaxValue);
+
     /// <summary>The revision's preparation made from the inputs <paramref name="inputsKey"/> names, or null.</summary>
     StoredPreparation? FindPreparation(long programId, string inputsKey);
 
@@ -55,6 +63,11 @@ public interface IProgramRevisions : IDisposable
     /// <summary>The revision's stored preparations, oldest first.</summary>
     IReadOnlyList<StoredPreparation> ListPreparations(long programId);
 }
+
+/// <summary>A block as stored: its decoded record, and the holes it drills when it is a cycle block.</summary>
+/// <param name="Block">The block with its modal state, as the interpreter had it.</param>
+/// <param name="Holes">A cycle block's holes (null for other blocks, and for cycles stored before schema 9).</param>
+public readonly record struct StoredBlock(DecodedBlock Block, CycleHoles? Holes);
 
 /// <summary>Opens a store's program library by its location.</summary>
 public static class ProgramStores

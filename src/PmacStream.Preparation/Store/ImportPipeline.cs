@@ -23,6 +23,9 @@ internal static class ImportPipeline
 
         /// <summary>Adds the execution state a start needs, each time it changed (line 0 first: the power-on state).</summary>
         void Add(StoredExecState state);
+
+        /// <summary>Adds the holes of a cycle block (after that block).</summary>
+        void Add(int line, CycleHoles holes);
     }
 
     /// <summary>Blocks per batch handed between the threads.</summary>
@@ -78,6 +81,11 @@ internal static class ImportPipeline
                     writer.Add(s);
                 }
 
+                foreach (var (line, holes) in batch.Holes)
+                {
+                    writer.Add(line, holes);
+                }
+
                 batch.Clear();
                 free.Add(batch);
                 afterBatch?.Invoke();
@@ -118,6 +126,10 @@ internal static class ImportPipeline
         void OnInterpreted(Interpreter interp)
         {
             batch.Add(in interp.Last, interp.State);
+            if (interp.LastHoles is { } holes)
+            {
+                batch.Holes.Add((interp.Last.Line, holes));
+            }
             if (states.After(interp) is { } changed)
             {
                 batch.States.Add(changed);
@@ -155,6 +167,7 @@ internal static class ImportPipeline
         public readonly ModalState?[] Modals = new ModalState?[BatchSize];
         public readonly List<Diagnostic> Diagnostics = [];
         public readonly List<StoredExecState> States = [];
+        public readonly List<(int Line, CycleHoles Holes)> Holes = [];
 
         public int Count { get; private set; }
 
@@ -170,6 +183,7 @@ internal static class ImportPipeline
             Count = 0;
             Diagnostics.Clear();
             States.Clear();
+            Holes.Clear();
         }
     }
 }

@@ -32,6 +32,43 @@ public sealed partial class PgProgramStore : IProgramRevisions
     /// <summary>Opens the library at <paramref name="location"/> (migrating the schema when this role may).</summary>
     public static PgProgramStore Open(StoreLocation location) => new(PgSchema.OpenMigrated(location), location);
 
+    /// <summary>
+    /// How long each statement of an import may take (the block COPYs, the source pieces, the commit); null: in
+    /// proportion to the file (<see cref="ImportTimeoutFor"/>). Npgsql's own default, 30 s, is what a 1M-block import
+    /// hit on a loaded server; a longer <c>Command Timeout</c> in the connection string is kept.
+    /// </summary>
+    public TimeSpan? ImportTimeout { get; set; }
+
+    /// <summary>
+    /// The import's statement timeout for a file of <paramref name="bytes"/>: 5 minutes, plus a second for every 100 kB
+    /// (a 1M-block CAM program, about 30 MB, gets 10 minutes), whatever one statement of it may have to wait for.
+    /// </summary>
+    public static TimeSpan ImportTimeoutFor(long bytes) => TimeSpan.FromSeconds(300 + (Math.Max(0, bytes) / 100_000));
+
+    /// <summary>A connection of the import's own, its statements given <paramref name="timeout"/> (the commit's too).</summary>
+    /// <remarks>A timeout set in <see cref="ImportTimeout"/> is taken as it is; a proportional one only lengthens the connection string's.</remarks>
+    private NpgsqlConnection OpenImportConnection(TimeSpan timeout, bool exact)
+    {
+        var builder = new NpgsqlConnectionStringBuilder(_location.Target);
+        var seconds = Seconds(timeout);
+        if (exact || (builder.CommandTimeout != 0 && builder.CommandTimeout < seconds))
+        {
+            builder.CommandTimeout = seconds;
+        }
+
+        var connection = new NpgsqlConnection(builder.ConnectionString);
+        try
+        {
+            connection.Open();
+            return connection;
+        }
+        catch
+        {
+            connection.Dispose();
+            throw;
+        }
+    }
+
     /// <inheritdoc />
     public ProgramImport ImportRevision(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
     {
@@ -39,11 +76,13 @@ public sealed partial class PgProgramStore : IProgramRevisions
         using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
         var pieces = new SourcePieces();
         using var hashing = new HashingReadStream(fs, pieces);
-        using var tx = _connection.BeginTransaction();
+        var timeout = ImportTimeout ?? ImportTimeoutFor(fs.Length);
+        using var connection = OpenImportConnection(timeout, exact: ImportTimeout is not null);
+        using var tx = connection.BeginTransaction();
         long id;
         using (var cmd = new NpgsqlCommand(
                    "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups, profile_identity) " +
-                   "VALUES (@path, @size, '', 0, 0, 0, 0, 0, @profile, 'incomplete', @created, @groups, @identity) RETURNING id", _connection, tx))
+                   "VALUES (@path, @size, '', 0, 0, 0, 0, 0, @profile, 'incomplete', @created, @groups, @identity) RETURNING id", connection, tx))
         {
             cmd.Parameters.AddWithValue("path", Path.GetFullPath(file));
             cmd.Parameters.AddWithValue("size", fs.Length);
@@ -51,10 +90,11 @@ public sealed partial class PgProgramStore : IProgramRevisions
             cmd.Parameters.AddWithValue("created", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
             cmd.Parameters.AddWithValue("groups", StoredGroups.Describe(profile));
             cmd.Parameters.AddWithValue("identity", profile.Identity);
+            cmd.CommandTimeout = Seconds(timeout);
             id = (long)cmd.ExecuteScalar()!;
         }
 
-        using var writer = new Writer(_connection, tx, id);
+        using var writer = new Writer(connection, tx, id, timeout);
         void Store()
         {
             writer.EndCopy();
@@ -68,8 +108,9 @@ public sealed partial class PgProgramStore : IProgramRevisions
         pieces.Finish();
         Store();
         var sha = hashing.HashHex();
-        using (var find = new NpgsqlCommand("SELECT id FROM programs WHERE sha256 = @s AND profile = @p AND revision = 1 ORDER BY id LIMIT 1", _connection, tx))
+        using (var find = new NpgsqlCommand("SELECT id FROM programs WHERE sha256 = @s AND profile = @p AND revision = 1 ORDER BY id LIMIT 1", connection, tx))
         {
+            find.CommandTimeout = Seconds(timeout);
             find.Parameters.AddWithValue("s", sha);
             find.Parameters.AddWithValue("p", profile.Name);
             if (find.ExecuteScalar() is long existing)
@@ -81,8 +122,9 @@ public sealed partial class PgProgramStore : IProgramRevisions
 
         using (var cmd = new NpgsqlCommand(
                    "UPDATE programs SET sha256 = @sha, lines = @lines, blocks = @blocks, errors = @e, warnings = @w, estimated_seconds = @t, " +
-                   "check_summary = @sum, name = @name, revision = 1 WHERE id = @id", _connection, tx))
+                   "check_summary = @sum, name = @name, revision = 1 WHERE id = @id", connection, tx))
         {
+            cmd.CommandTimeout = Seconds(timeout);
             cmd.Parameters.AddWithValue("sha", sha);
             cmd.Parameters.AddWithValue("lines", summary.Lines);
             cmd.Parameters.AddWithValue("blocks", writer.Blocks);
@@ -165,7 +207,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
             prepared.ExecuteNonQuery();
         }
 
-        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "preparations" })
+        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "cycle_holes", "preparations" })
         {
             using var cmd = new NpgsqlCommand($"DELETE FROM {table} WHERE program_id = @p", _connection, tx); // table names from the list above
             cmd.Parameters.AddWithValue("p", programId);
@@ -230,6 +272,31 @@ public sealed partial class PgProgramStore : IProgramRevisions
         return new StoredStart(block, previous, s.Read() ? ProgramStore.ReadExecState(s) : null);
     }
 
+    /// <inheritdoc />
+    public IEnumerable<StoredBlock> ReadStoredBlocks(long programId, int fromLine = 0, int toLine = int.MaxValue)
+    {
+        var groups = GroupsOf(programId);
+        Dictionary<int, CycleHoles> holes;
+        using (var cmd = new NpgsqlCommand("SELECT line, holes, r_level, bottom FROM cycle_holes WHERE program_id = @p AND line BETWEEN @a AND @b", _connection))
+        {
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.Parameters.AddWithValue("a", fromLine);
+            cmd.Parameters.AddWithValue("b", toLine);
+            holes = ProgramStore.ReadHoles(cmd);
+        }
+
+        using var blocks = new NpgsqlCommand($"SELECT 0::bigint, {PgBlockColumns} FROM blocks WHERE program_id = @p AND line BETWEEN @a AND @b ORDER BY line", _connection);
+        blocks.Parameters.AddWithValue("p", programId);
+        blocks.Parameters.AddWithValue("a", fromLine);
+        blocks.Parameters.AddWithValue("b", toLine);
+        using var r = blocks.ExecuteReader();
+        while (r.Read())
+        {
+            var block = ProgramStore.ReadBlock(r, groups);
+            yield return new StoredBlock(block, holes.TryGetValue(block.Line, out var h) ? h : null);
+        }
+    }
+
     private StoredGroups GroupsOf(long programId)
     {
         using var cmd = new NpgsqlCommand("SELECT groups FROM programs WHERE id = @id", _connection);
@@ -252,11 +319,14 @@ public sealed partial class PgProgramStore : IProgramRevisions
     /// <inheritdoc />
     public void Dispose() => _connection.Dispose();
 
+    private static int Seconds(TimeSpan timeout) => Math.Max(1, (int)Math.Ceiling(timeout.TotalSeconds));
+
     /// <summary>One import's rows: blocks by binary COPY (opened on the first block of a batch, closed before any other statement).</summary>
-    private sealed class Writer(NpgsqlConnection connection, NpgsqlTransaction tx, long programId) : ImportPipeline.IBlockSink, IDisposable
+    private sealed class Writer(NpgsqlConnection connection, NpgsqlTransaction tx, long programId, TimeSpan timeout) : ImportPipeline.IBlockSink, IDisposable
     {
         private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal);
         private readonly List<StoredExecState> _execStates = [];
+        private readonly List<(int Line, CycleHoles Holes)> _holes = [];
         private NpgsqlBinaryImporter? _copy;
         private long _sourceSeq;
 
@@ -273,7 +343,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
                     EndCopy();
                     sid = _states.Count + 1;
                     _states.Add(more, sid);
-                    using var cmd = new NpgsqlCommand("INSERT INTO group_states (program_id, id, more) VALUES (@p, @i, @m)", connection, tx);
+                    using var cmd = new NpgsqlCommand("INSERT INTO group_states (program_id, id, more) VALUES (@p, @i, @m)", connection, tx) { CommandTimeout = Seconds(timeout) };
                     cmd.Parameters.AddWithValue("p", programId);
                     cmd.Parameters.AddWithValue("i", sid);
                     cmd.Parameters.AddWithValue("m", more);
@@ -283,7 +353,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
                 state = sid;
             }
 
-            var c = _copy ??= connection.BeginBinaryImport($"COPY blocks ({PgBlockColumns}) FROM STDIN (FORMAT BINARY)");
+            var c = _copy ??= Copy($"COPY blocks ({PgBlockColumns}) FROM STDIN (FORMAT BINARY)");
             c.StartRow();
             c.Write(programId, NpgsqlDbType.Bigint);
             c.Write(b.Line, NpgsqlDbType.Integer);
@@ -319,7 +389,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
         public void Add(Diagnostic d)
         {
             EndCopy();
-            using var cmd = new NpgsqlCommand("INSERT INTO diagnostics (program_id, severity, code, line, col, message) VALUES (@p, @s, @c, @l, @k, @m)", connection, tx);
+            using var cmd = new NpgsqlCommand("INSERT INTO diagnostics (program_id, severity, code, line, col, message) VALUES (@p, @s, @c, @l, @k, @m)", connection, tx) { CommandTimeout = Seconds(timeout) };
             cmd.Parameters.AddWithValue("p", programId);
             cmd.Parameters.AddWithValue("s", d.Severity == Severity.Error ? "error" : "warning");
             cmd.Parameters.AddWithValue("c", d.Code);
@@ -332,7 +402,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
         public void AddSource(byte[] piece)
         {
             EndCopy();
-            using var cmd = new NpgsqlCommand("INSERT INTO program_source (program_id, seq, data) VALUES (@p, @s, @d)", connection, tx);
+            using var cmd = new NpgsqlCommand("INSERT INTO program_source (program_id, seq, data) VALUES (@p, @s, @d)", connection, tx) { CommandTimeout = Seconds(timeout) };
             cmd.Parameters.AddWithValue("p", programId);
             cmd.Parameters.AddWithValue("s", _sourceSeq++);
             cmd.Parameters.AddWithValue("d", piece);
@@ -341,6 +411,9 @@ public sealed partial class PgProgramStore : IProgramRevisions
 
         /// <summary>Keeps an execution state for the COPY that follows the batch's blocks.</summary>
         public void Add(StoredExecState state) => _execStates.Add(state);
+
+        /// <summary>Keeps a cycle block's holes for the COPY that follows the batch's blocks.</summary>
+        public void Add(int line, CycleHoles holes) => _holes.Add((line, holes));
 
         /// <summary>Ends the open COPY (its rows go in with the transaction), then copies the execution states waiting.</summary>
         public void EndCopy()
@@ -352,12 +425,13 @@ public sealed partial class PgProgramStore : IProgramRevisions
                 c.Dispose();
             }
 
+            CopyHoles();
             if (_execStates.Count == 0)
             {
                 return;
             }
 
-            using (var states = connection.BeginBinaryImport($"COPY exec_states ({ProgramWriter.ExecStateColumns}) FROM STDIN (FORMAT BINARY)"))
+            using (var states = Copy($"COPY exec_states ({ProgramWriter.ExecStateColumns}) FROM STDIN (FORMAT BINARY)"))
             {
                 foreach (var e in _execStates)
                 {
@@ -383,6 +457,39 @@ public sealed partial class PgProgramStore : IProgramRevisions
             }
 
             _execStates.Clear();
+        }
+
+        private void CopyHoles()
+        {
+            if (_holes.Count == 0)
+            {
+                return;
+            }
+
+            using (var copy = Copy($"COPY cycle_holes ({ProgramWriter.CycleHoleColumns}) FROM STDIN (FORMAT BINARY)"))
+            {
+                foreach (var (line, holes) in _holes)
+                {
+                    copy.StartRow();
+                    copy.Write(programId, NpgsqlDbType.Bigint);
+                    copy.Write(line, NpgsqlDbType.Integer);
+                    copy.Write(holes.Count, NpgsqlDbType.Integer);
+                    copy.Write(holes.RLevel, NpgsqlDbType.Double);
+                    copy.Write(holes.Bottom, NpgsqlDbType.Double);
+                }
+
+                copy.Complete();
+            }
+
+            _holes.Clear();
+        }
+
+        /// <summary>A binary COPY given the import's timeout (its <c>Complete</c> waits for the server to take every row).</summary>
+        private NpgsqlBinaryImporter Copy(string sql)
+        {
+            var copy = connection.BeginBinaryImport(sql);
+            copy.Timeout = timeout;
+            return copy;
         }
 
         public void Dispose()

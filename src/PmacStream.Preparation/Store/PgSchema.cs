@@ -79,6 +79,7 @@ public static class PgSchema
               PRIMARY KEY (preparation_id, seq));
             """),
         ("jobs: where an expanded program's line came from", "ALTER TABLE jobs ADD COLUMN IF NOT EXISTS source_location TEXT;"),
+        ("cycle holes of stored blocks", SqliteMigrations.CycleHolesSchema), // 9: the same text runs on both engines
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>

@@ -394,6 +394,37 @@ public sealed partial class ProgramStore : IProgramRevisions
         }
     }
 
+    /// <inheritdoc />
+    public IEnumerable<StoredBlock> ReadStoredBlocks(long programId, int fromLine = 0, int toLine = int.MaxValue)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT line, holes, r_level, bottom FROM cycle_holes WHERE program_id = $p AND line BETWEEN $a AND $b";
+        cmd.Parameters.AddWithValue("$p", programId);
+        cmd.Parameters.AddWithValue("$a", fromLine);
+        cmd.Parameters.AddWithValue("$b", toLine);
+        var holes = ReadHoles(cmd);
+        foreach (var block in ReadBlocks(programId, fromLine, toLine))
+        {
+            yield return new StoredBlock(block, holes.TryGetValue(block.Line, out var h) ? h : null);
+        }
+    }
+
+    /// <summary>
+    /// The cycle holes of a range, by line: cycle blocks are few beside the others, so they are read first (PostgreSQL
+    /// keeps one reader open per connection) rather than joined to every block.
+    /// </summary>
+    internal static Dictionary<int, CycleHoles> ReadHoles(System.Data.Common.DbCommand cmd)
+    {
+        var holes = new Dictionary<int, CycleHoles>();
+        using var r = cmd.ExecuteReader();
+        while (r.Read())
+        {
+            holes[r.GetInt32(0)] = new CycleHoles(r.GetInt32(1), r.GetDouble(2), r.GetDouble(3));
+        }
+
+        return holes;
+    }
+
     /// <summary>The modal groups a program was stored with (paper-24g7m's nine and three for a program stored without them).</summary>
     public StoredGroups GroupsOf(long programId)
     {
@@ -437,7 +468,7 @@ public sealed partial class ProgramStore : IProgramRevisions
         using var cmd = _connection.CreateCommand();
         cmd.Transaction = tx;
         cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; " +
-                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM program_source WHERE program_id = $p; DELETE FROM exec_states WHERE program_id = $p; " +
+                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM program_source WHERE program_id = $p; DELETE FROM exec_states WHERE program_id = $p; DELETE FROM cycle_holes WHERE program_id = $p; " +
                           "DELETE FROM preparation_files WHERE preparation_id IN (SELECT id FROM preparations WHERE program_id = $p); " +
                           "DELETE FROM preparations WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
         cmd.Parameters.AddWithValue("$p", programId);

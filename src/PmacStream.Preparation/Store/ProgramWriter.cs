@@ -18,6 +18,7 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
     private readonly (BindState State, double Value)[] _bound = new (BindState, double)[64];
     private readonly sqlite3_stmt _state;
     private readonly sqlite3_stmt _exec;
+    private readonly sqlite3_stmt _holes;
     private readonly Dictionary<string, long> _states = new(StringComparer.Ordinal); // distinct further-group states, by text
     private ModalState? _modal;
     private long _seq;
@@ -49,10 +50,14 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
         Check(raw.sqlite3_prepare_v2(db, "INSERT INTO diagnostics (program_id, severity, code, line, col, message) VALUES (?, ?, ?, ?, ?, ?)", out _diag), db);
         Check(raw.sqlite3_prepare_v2(db, "INSERT INTO group_states (program_id, id, more) VALUES (?, ?, ?)", out _state), db);
         Check(raw.sqlite3_prepare_v2(db, $"INSERT INTO exec_states ({ExecStateColumns}) VALUES (?, ?, ?, ?, ?, ?, ?, ?)", out _exec), db);
+        Check(raw.sqlite3_prepare_v2(db, $"INSERT INTO cycle_holes ({CycleHoleColumns}) VALUES (?, ?, ?, ?, ?)", out _holes), db);
     }
 
     /// <summary>The columns of <c>exec_states</c> (both engines).</summary>
     internal const string ExecStateColumns = "program_id, line, offset_x, offset_y, offset_z, highest_z, controller, selection";
+
+    /// <summary>The columns of <c>cycle_holes</c> (both engines).</summary>
+    internal const string CycleHoleColumns = "program_id, line, holes, r_level, bottom";
 
     /// <summary>The new program's id.</summary>
     public long ProgramId { get; }
@@ -157,6 +162,18 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
     /// <inheritdoc />
     void ImportPipeline.IBlockSink.Add(StoredExecState state) => Add(state);
 
+    /// <summary>Adds the holes of the cycle block at <paramref name="line"/>.</summary>
+    public void Add(int line, CycleHoles holes)
+    {
+        var s = _holes;
+        raw.sqlite3_bind_int64(s, 1, ProgramId);
+        raw.sqlite3_bind_int(s, 2, line);
+        raw.sqlite3_bind_int(s, 3, holes.Count);
+        raw.sqlite3_bind_double(s, 4, holes.RLevel);
+        raw.sqlite3_bind_double(s, 5, holes.Bottom);
+        Step(s);
+    }
+
     /// <summary>Stores the next piece of the program's exact source (a revision's, for export and execution).</summary>
     public void AddSource(byte[] piece)
     {
@@ -232,6 +249,7 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
         _diag.Dispose();
         _state.Dispose();
         _exec.Dispose();
+        _holes.Dispose();
     }
 
     private void Step(sqlite3_stmt s)

@@ -94,7 +94,18 @@ public static class SqliteMigrations
             // Whether or not steps 5-7 ran: the column is added only when missing.
             AddColumn(c, t, "jobs", "source_location", "TEXT");
         }),
+        ("cycle holes of stored blocks", (c, t) => Run(c, t, CycleHolesSchema)), // 9: a table of its own, whether or not 10 exists
     ];
+
+    /// <summary>
+    /// Version 9: the holes of each stored cycle block (how many, the R level and the bottom, machine Z), as the
+    /// interpreter decided them, so the preview draws a cycle from the store as it draws it from the file.
+    /// </summary>
+    public const string CycleHolesSchema = """
+        CREATE TABLE IF NOT EXISTS cycle_holes (
+            program_id BIGINT NOT NULL, line INTEGER NOT NULL, holes INTEGER NOT NULL, r_level DOUBLE PRECISION NOT NULL,
+            bottom DOUBLE PRECISION NOT NULL, PRIMARY KEY (program_id, line));
+        """;
 
     /// <summary>
     /// One row per leased machine (migration 6): which station's process holds it, since when, its last heartbeat
