@@ -113,7 +113,7 @@ internal static class PreviewCommand
     {
         try
         {
-            return await CliProgress.RunAsync("preview", report => Task.Run(
+            return await CliProgress.RunAsync("preview", console, report => Task.Run(
                 () => PreviewRenderer.Render(source, options with { Progress = (f, s) => report(f, s) }, args.Executed, ct),
                 ct)).ConfigureAwait(false);
         }

@@ -63,7 +63,7 @@ internal static class SplitCommand
         SplitResult result;
         try
         {
-            result = await CliProgress.RunAsync("split", report => Task.Run(() => Splitter.Split(path, options, Reporter(report), ct), ct)).ConfigureAwait(false);
+            result = await CliProgress.RunAsync("split", console, report => Task.Run(() => Splitter.Split(path, options, Reporter(report), ct), ct)).ConfigureAwait(false);
         }
         catch (OperationCanceledException) when (ct.IsCancellationRequested)
         {
