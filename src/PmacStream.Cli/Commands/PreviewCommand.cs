@@ -52,7 +52,7 @@ internal static class PreviewCommand
         cmd.SetAction((parse, ct) => RunAsync(
             new PreviewArgs(parse.GetValue(file)!, parse.GetValue(png)!, parse.GetValue(size)!, parse.GetValue(view)!, parse.GetValue(executed), parse.GetValue(lang), parse.GetValue(profile),
                 parse.GetValue(force)),
-            CliConsole.Standard,
+            CliConsole.Of(parse),
             ct));
         return cmd;
     }
