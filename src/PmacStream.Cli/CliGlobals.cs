@@ -39,7 +39,7 @@ internal static class CliGlobals
         ConfigureLogging(parse.GetValue(Verbose), parse.GetValue(LogFile));
         try
         {
-            return await InvokeAsync(parse).ConfigureAwait(false);
+            return await InvokeAsync(parse, CliConsole.Standard, TerminationGrace, CancellationToken.None).ConfigureAwait(false);
         }
         finally
         {
@@ -51,17 +51,24 @@ internal static class CliGlobals
     /// Runs a parsed command line with the exit-code convention: every command's one-line errors, I/O errors and
     /// bugs are turned into a message and a code here, once. Leaves logging alone, so tests can call it in process.
     /// </summary>
-    public static async Task<int> InvokeAsync(ParseResult parse)
+    public static Task<int> InvokeAsync(ParseResult parse) => InvokeAsync(parse, CliConsole.Standard, TerminationGrace, CancellationToken.None);
+
+    /// <summary>
+    /// Runs a parsed command line writing to <paramref name="console"/>, with the exit-code convention. Ctrl-C and
+    /// SIGTERM cancel the command when <paramref name="terminationGrace"/> is given (the process); in a test's
+    /// process nothing is hooked and <paramref name="ct"/> stops the command.
+    /// </summary>
+    public static async Task<int> InvokeAsync(ParseResult parse, CliConsole console, TimeSpan? terminationGrace, CancellationToken ct)
     {
         var prefix = parse.CommandResult.Command is RootCommand ? "pmacstream" : $"pmacstream {parse.CommandResult.Command.Name}";
         if (parse.Errors.Count > 0)
         {
             foreach (var e in parse.Errors)
             {
-                await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+                await console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             }
 
-            await Console.Error.WriteLineAsync("Try 'pmacstream --help'.").ConfigureAwait(false);
+            await console.Error.WriteLineAsync("Try 'pmacstream --help'.").ConfigureAwait(false);
             return UsageOrIo;
         }
 
@@ -70,56 +77,57 @@ internal static class CliGlobals
             // System.CommandLine's own handler would print a stack trace and exit 1 for these. Ctrl-C and SIGTERM cancel
             // the command's token (2.0.0 leaves that off unless a timeout is given): a split removes its work folder,
             // a stream stops sending and leaves the job resumable, a check stops. After the timeout the process ends.
-            return await parse.InvokeAsync(new InvocationConfiguration { EnableDefaultExceptionHandler = false, ProcessTerminationTimeout = TerminationGrace }).ConfigureAwait(false);
+            var configuration = console.Configure(new InvocationConfiguration { EnableDefaultExceptionHandler = false, ProcessTerminationTimeout = terminationGrace });
+            return await parse.InvokeAsync(configuration, ct).ConfigureAwait(false);
         }
         catch (CliException e)
         {
-            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+            await console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return e.ExitCode;
         }
         catch (RunSettingsException e)
         {
             // Already FILE:LINE:COL: error CODE: message, as every bad input is reported.
-            await Console.Error.WriteLineAsync(e.Message).ConfigureAwait(false);
+            await console.Error.WriteLineAsync(e.Message).ConfigureAwait(false);
             return UsageOrIo;
         }
         catch (ProgramRefusedException e)
         {
-            Refusals.Print(Console.Error, prefix, parse.CommandResult.Command.Name, e);
+            Refusals.Print(console.Error, prefix, parse.CommandResult.Command.Name, e);
             return Failed;
         }
         catch (PmacStream.Streaming.JobStoreException e)
         {
             // Names the file and what is wrong (a damaged database is already moved aside); no stack trace.
-            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+            await console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return UsageOrIo;
         }
         catch (JobException e)
         {
-            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+            await console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return e.Kind == JobErrorKind.BadRequest ? UsageOrIo : Failed;
         }
         catch (Exception e) when (e is IOException or InvalidDataException or UnauthorizedAccessException || IsSqliteError(e))
         {
-            await Console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
+            await console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return UsageOrIo;
         }
         catch (OperationCanceledException)
         {
-            await Console.Error.WriteLineAsync($"{prefix}: interrupted").ConfigureAwait(false);
+            await console.Error.WriteLineAsync($"{prefix}: interrupted").ConfigureAwait(false);
             return Failed;
         }
         catch (Exception e)
         {
             // A bug, not bad input: one line for the operator, the stack trace in the log file.
             Log.Fatal(e, "unexpected error");
-            await Console.Error.WriteLineAsync($"{prefix}: unexpected error: {e.Message} (run with --log-file for details)").ConfigureAwait(false);
+            await console.Error.WriteLineAsync($"{prefix}: unexpected error: {e.Message} (run with --log-file for details)").ConfigureAwait(false);
             return Failed;
         }
     }
 
     /// <summary>Whether <paramref name="e"/> is SQLite's. A method of its own, never inlined: naming the type in
-    /// <see cref="InvokeAsync"/>'s filter loaded Microsoft.Data.Sqlite and System.Data.Common (about 1.2 MB of the
+    /// <see cref="InvokeAsync(ParseResult, CliConsole, TimeSpan?, CancellationToken)"/>'s filter loaded Microsoft.Data.Sqlite and System.Data.Common (about 1.2 MB of the
     /// peak) into every command when it was compiled, even a check or split that never opens a database.</summary>
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.NoInlining)]
     private static bool IsSqliteError(Exception e) => e is Microsoft.Data.Sqlite.SqliteException;

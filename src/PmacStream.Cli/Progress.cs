@@ -9,9 +9,9 @@ namespace PmacStream.Cli;
 internal static class CliProgress
 {
     /// <summary>Runs <paramref name="work"/> with a reporter that takes (fraction 0..1, status text).</summary>
-    public static async Task<T> RunAsync<T>(string title, Func<Action<double, string>, Task<T>> work)
+    public static async Task<T> RunAsync<T>(string title, CliConsole console, Func<Action<double, string>, Task<T>> work)
     {
-        if (!Console.IsOutputRedirected && AnsiConsole.Profile.Capabilities.Interactive)
+        if (console.IsTerminal && AnsiConsole.Profile.Capabilities.Interactive)
         {
             T result = default!;
             await AnsiConsole.Progress()
@@ -42,7 +42,7 @@ internal static class CliProgress
                 {
                     lastTenth = tenth;
                     lastWrite = now;
-                    Console.Out.WriteLine($"{title} {f * 100,5:0.0}% {s}");
+                    console.Out.WriteLine($"{title} {f * 100,5:0.0}% {s}");
                 }
             }
         }).ConfigureAwait(false);

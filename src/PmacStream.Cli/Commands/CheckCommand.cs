@@ -16,9 +16,6 @@ internal static class CheckCommand
     /// <summary>JSON output keeps at most this many diagnostics (the counts stay exact) so memory stays bounded.</summary>
     internal const int JsonDiagnosticLimit = 100_000;
 
-    /// <summary>Tests capture the output here instead of the process's standard output.</summary>
-    internal static TextWriter? OutputOverride { get; set; }
-
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "G-code program to check." };
@@ -32,14 +29,30 @@ internal static class CheckCommand
         cmd.Options.Add(json);
         cmd.Options.Add(db);
         cmd.Options.Add(lang);
-        // On the pool: System.CommandLine registers its Ctrl-C/SIGTERM handling once the action returns its task, so a
-        // check that ran on the calling thread could only be killed, not stopped.
-        cmd.SetAction((parse, ct) =>
-            Task.Run(() => Run(parse.GetValue(file)!, parse.GetValue(profile), parse.GetValue(json), parse.GetValue(db), parse.GetValue(lang), ct), CancellationToken.None));
+        cmd.SetAction((parse, ct) => new CheckHandler().RunAsync(
+            new CheckOptions(parse.GetValue(file)!, parse.GetValue(profile), parse.GetValue(json), parse.GetValue(db), parse.GetValue(lang)), CliConsole.Of(parse), ct));
         return cmd;
     }
+}
 
-    internal static int Run(string file, string? profilePath, bool json, string? dbPath, string? lang, CancellationToken ct)
+/// <summary>What a <c>check</c> command line asks for.</summary>
+/// <param name="File">The program.</param>
+/// <param name="Profile">The machine profile named, if any.</param>
+/// <param name="Json">Print one JSON object.</param>
+/// <param name="Db">Store every block and diagnostic in this SQLite file.</param>
+/// <param name="Lang">The language of the messages, if given.</param>
+internal sealed record CheckOptions(string File, string? Profile, bool Json, string? Db, string? Lang);
+
+/// <summary><c>pmacstream check</c>: one streamed pass that lists every diagnostic and a summary line.</summary>
+internal sealed class CheckHandler
+{
+    /// <summary>Checks the program; exit 0 without errors, 1 with errors.</summary>
+    public Task<int> RunAsync(CheckOptions o, CliConsole console, CancellationToken ct) =>
+        // On the pool: System.CommandLine registers its Ctrl-C/SIGTERM handling once the action returns its task, so a
+        // check that ran on the calling thread could only be killed, not stopped.
+        Task.Run(() => Run(o.File, o.Profile, o.Json, o.Db, o.Lang, console, ct), CancellationToken.None);
+
+    private static int Run(string file, string? profilePath, bool json, string? dbPath, string? lang, CliConsole console, CancellationToken ct)
     {
         if (lang != null)
         {
@@ -60,13 +73,14 @@ internal static class CheckCommand
         var machine = Machine.ToolTableProfile.Apply(CliProfiles.Load(profilePath), Machine.MachineTables.Load(Machine.MachineTables.DefaultPath()));
 
         // Buffered: a program with an error on every line must not cost a write call per line.
-        using var stdout = OutputOverride ?? new StreamWriter(Console.OpenStandardOutput(), new UTF8Encoding(false), 1 << 16) { AutoFlush = false };
+        using var buffered = console.IsProcessOutput ? new StreamWriter(Console.OpenStandardOutput(), new UTF8Encoding(false), 1 << 16) { AutoFlush = false } : null;
+        var stdout = buffered ?? console.Out;
         var kept = new List<Diagnostic>();
         var dropped = 0;
         Action<Diagnostic> onDiagnostic = json
             ? d =>
             {
-                if (kept.Count < JsonDiagnosticLimit)
+                if (kept.Count < CheckCommand.JsonDiagnosticLimit)
                 {
                     kept.Add(d);
                 }

@@ -49,7 +49,7 @@ internal sealed class ChunkShapeOptions
         var s = shape;
         if (parse.GetValue(_lines) is { } lines)
         {
-            Console.Error.WriteLine("pmacstream: warning: --lines is now --blocks-per-chunk (it counts blocks, not text lines); the old name still works");
+            CliConsole.Of(parse).Error.WriteLine("pmacstream: warning: --lines is now --blocks-per-chunk (it counts blocks, not text lines); the old name still works");
             s = s with { BlocksPerChunk = lines };
         }
 

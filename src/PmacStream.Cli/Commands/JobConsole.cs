@@ -11,22 +11,22 @@ namespace PmacStream.Cli.Commands;
 internal static class JobConsole
 {
     /// <summary>With <c>--force</c>: says which codes of the program the controller will skip (a forced run does not hide them).</summary>
-    public static void WarnForced(Preparation.ChunkManifest manifest, GCode.MachineProfile profile, bool forced)
+    public static void WarnForced(Preparation.ChunkManifest manifest, GCode.MachineProfile profile, bool forced, CliConsole console)
     {
         if (forced && manifest.NotYetCodes is { Count: > 0 } codes)
         {
-            Console.Error.WriteLine($"pmacstream: --force: the controller cannot run {ProgramGate.Describe(codes)} yet under profile '{profile.Name}': it skips each of them and runs the rest of its block");
+            console.Error.WriteLine($"pmacstream: --force: the controller cannot run {ProgramGate.Describe(codes)} yet under profile '{profile.Name}': it skips each of them and runs the rest of its block");
         }
     }
 
     /// <summary>Shows a start plan's preamble and asks for confirmation (<c>--yes</c> answers); false when refused.</summary>
-    public static bool Confirm(StartPlan plan, bool yes)
+    public static bool Confirm(StartPlan plan, bool yes, CliConsole console)
     {
         var start = plan.Start;
-        Console.WriteLine(string.Create(CultureInfo.InvariantCulture, $"start at line {plan.Line} from X{start.X:0.###} Y{start.Y:0.###} Z{start.Z:0.###}; preamble:"));
+        console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture, $"start at line {plan.Line} from X{start.X:0.###} Y{start.Y:0.###} Z{start.Z:0.###}; preamble:"));
         foreach (var g in plan.GCode)
         {
-            Console.WriteLine("  " + g);
+            console.Out.WriteLine("  " + g);
         }
 
         if (yes)
@@ -34,14 +34,14 @@ internal static class JobConsole
             return true;
         }
 
-        if (Console.IsInputRedirected)
+        if (console.InputRedirected)
         {
-            Console.Error.WriteLine("pmacstream: confirm the start with --yes (input is not a terminal)");
+            console.Error.WriteLine("pmacstream: confirm the start with --yes (input is not a terminal)");
             return false;
         }
 
-        Console.Write("Run this preamble and start there? [y/N] ");
-        var answer = Console.ReadLine();
+        console.Out.Write("Run this preamble and start there? [y/N] ");
+        var answer = console.In.ReadLine();
         return answer is not null && answer.Trim().StartsWith('y');
     }
 
@@ -51,7 +51,7 @@ internal static class JobConsole
     /// repeated or reordered); else the count from M0. Ctrl-C stops sending and leaves the job resumable.
     /// <paramref name="countFrom"/> is the first line counted (a start from a line), null for the whole program.
     /// </summary>
-    public static async Task<int> RunAsync(Job job, CliSimulator sim, bool start, int? countFrom, CancellationToken ct, string title = "stream", bool showUnderruns = true,
+    public static async Task<int> RunAsync(Job job, CliSimulator sim, bool start, int? countFrom, CliConsole console, CancellationToken ct, string title = "stream", bool showUnderruns = true,
         bool continueAtStops = true)
     {
         var program = job.Program;
@@ -60,14 +60,14 @@ internal static class JobConsole
         {
             if (e.Kind == StreamingEventKind.ProgramStop)
             {
-                Console.Out.WriteLine(continueAtStops ? $"{e.Message}; continuing (--stops continue)" : $"{e.Message}: press Enter to continue (Ctrl-C leaves the job resumable)");
+                console.Out.WriteLine(continueAtStops ? $"{e.Message}; continuing (--stops continue)" : $"{e.Message}: press Enter to continue (Ctrl-C leaves the job resumable)");
             }
         };
 
         if (!continueAtStops)
         {
             // Enter continues from a stop; the tick loop gives the run command. A line typed while the job runs is ignored.
-            _ = Task.Run(() => ReadEnters(job), CancellationToken.None);
+            _ = Task.Run(() => ReadEnters(job, console.In), CancellationToken.None);
         }
 
         // Counted as the moves finish, against the program read lazily: nothing grows with the program.
@@ -78,31 +78,31 @@ internal static class JobConsole
         {
             if (e.Kind is StreamingEventKind.ChunkDownloadedLate or StreamingEventKind.Fault or StreamingEventKind.Underrun)
             {
-                Console.Error.WriteLine($"  {e.Message}");
+                console.Error.WriteLine($"  {e.Message}");
             }
         };
 
-        if (start && await StartAsync(job, ct).ConfigureAwait(false) is { } failed)
+        if (start && await StartAsync(job, console, ct).ConfigureAwait(false) is { } failed)
         {
             return failed;
         }
 
         // An expanded program (subprograms, macros, o-words) tracks expanded lines: its map names their source lines and calls.
         var origins = CliExpansion.Map(program.Folder);
-        var outcome = await CliProgress.RunAsync(title, report => job.RunAsync(s => report(s.Percent / 100.0, CliExpansion.Describe(Describe(s), s.CurrentLine, origins)), ct)).ConfigureAwait(false);
+        var outcome = await CliProgress.RunAsync(title, console, report => job.RunAsync(s => report(s.Percent / 100.0, CliExpansion.Describe(Describe(s), s.CurrentLine, origins)), ct)).ConfigureAwait(false);
         var status = job.Status;
         if (outcome == JobOutcome.Interrupted)
         {
-            Console.Error.WriteLine($"interrupted at line {status.CurrentLine}{CliExpansion.Where(status.CurrentLine, origins)}: sending stopped; the controller keeps the lines it holds. {Resumable(job)}");
+            console.Error.WriteLine($"interrupted at line {status.CurrentLine}{CliExpansion.Where(status.CurrentLine, origins)}: sending stopped; the controller keeps the lines it holds. {Resumable(job)}");
             return CliGlobals.Failed;
         }
 
         if (outcome != JobOutcome.Completed)
         {
-            Console.Error.WriteLine($"pmacstream: {status.Message}");
+            console.Error.WriteLine($"pmacstream: {status.Message}");
             if (job.Id is { } id)
             {
-                Console.Error.WriteLine($"the job is resumable: pmacstream resume --job {id}");
+                console.Error.WriteLine($"the job is resumable: pmacstream resume --job {id}");
             }
 
             return CliGlobals.Failed;
@@ -110,21 +110,21 @@ internal static class JobConsole
 
         if (!double.IsPositiveInfinity(job.Session.WorstLeadSeconds))
         {
-            Console.WriteLine(string.Create(System.Globalization.CultureInfo.InvariantCulture, $"worst lead {job.Session.WorstLeadSeconds:0.000} s of motion ahead while sending ({job.Session.Strategy.Name})"));
+            console.Out.WriteLine(string.Create(System.Globalization.CultureInfo.InvariantCulture, $"worst lead {job.Session.WorstLeadSeconds:0.000} s of motion ahead while sending ({job.Session.Strategy.Name})"));
         }
 
         if (check is not null && sim.Sim is { } simulator)
         {
             simulator.RunUntilIdle(TimeSpan.FromHours(24));
-            return Report(check.Finish(), simulator.Counters.Underruns, program.Manifest.TotalMotionBlocks, countFrom, showUnderruns);
+            return Report(check.Finish(), simulator.Counters.Underruns, program.Manifest.TotalMotionBlocks, countFrom, showUnderruns, console);
         }
 
-        Console.WriteLine($"executed {status.ExecutedBlocks} of {program.Manifest.TotalMotionBlocks} blocks, {status.Underruns} underruns (from M0 and PR)");
+        console.Out.WriteLine($"executed {status.ExecutedBlocks} of {program.Manifest.TotalMotionBlocks} blocks, {status.Underruns} underruns (from M0 and PR)");
         return status.ExecutedBlocks == program.Manifest.TotalMotionBlocks || countFrom is not null ? CliGlobals.Ok : CliGlobals.Failed;
     }
 
     /// <summary>Starts the job; null when it runs, else the exit code of a start that was interrupted or lost the link (said on stderr).</summary>
-    private static async Task<int?> StartAsync(Job job, CancellationToken ct)
+    private static async Task<int?> StartAsync(Job job, CliConsole console, CancellationToken ct)
     {
         try
         {
@@ -137,22 +137,22 @@ internal static class JobConsole
         }
         catch (OperationCanceledException) when (ct.IsCancellationRequested)
         {
-            Console.Error.WriteLine($"pmacstream: interrupted while starting the job; {Resumable(job)}");
+            console.Error.WriteLine($"pmacstream: interrupted while starting the job; {Resumable(job)}");
             return CliGlobals.Failed;
         }
         catch (Exception e) when (e is PmacLinkException or PmacErrorException)
         {
-            Console.Error.WriteLine($"pmacstream: {job.Status.Message}");
-            Console.Error.WriteLine(job.Id is { } id ? $"resume with: pmacstream resume --job {id}" : string.Empty);
+            console.Error.WriteLine($"pmacstream: {job.Status.Message}");
+            console.Error.WriteLine(job.Id is { } id ? $"resume with: pmacstream resume --job {id}" : string.Empty);
             return CliGlobals.Failed;
         }
     }
 
-    private static void ReadEnters(Job job)
+    private static void ReadEnters(Job job, TextReader input)
     {
         try
         {
-            while (Console.In.ReadLine() is not null)
+            while (input.ReadLine() is not null)
             {
                 job.ContinueFromStop();
             }
@@ -177,19 +177,19 @@ internal static class JobConsole
     /// Reports the blocks the simulator executed: distinct source lines in order (a block may make several moves;
     /// tracked 0 is the preamble). Exit 1 when a block was skipped, repeated or reordered.
     /// </summary>
-    private static int Report(ExecutedLineResult result, long underruns, int total, int? fromLine, bool showUnderruns)
+    private static int Report(ExecutedLineResult result, long underruns, int total, int? fromLine, bool showUnderruns, CliConsole console)
     {
         var n = fromLine is null ? total : result.Expected;
-        Console.WriteLine(showUnderruns ? $"executed {result.Executed} of {n} blocks, {underruns} underruns" : $"executed {result.Executed} of {n} blocks");
+        console.Out.WriteLine(showUnderruns ? $"executed {result.Executed} of {n} blocks, {underruns} underruns" : $"executed {result.Executed} of {n} blocks");
         if (result.FirstBreak is { } broken)
         {
-            Console.Error.WriteLine($"pmacstream: {broken}");
+            console.Error.WriteLine($"pmacstream: {broken}");
             return CliGlobals.Failed;
         }
 
         if (result.Executed != n || result.Expected != n)
         {
-            Console.Error.WriteLine($"pmacstream: {n - result.Executed} blocks missing (or extra) against the manifest");
+            console.Error.WriteLine($"pmacstream: {n - result.Executed} blocks missing (or extra) against the manifest");
             return CliGlobals.Failed;
         }
 

@@ -109,6 +109,9 @@ internal sealed class JobOptions
         return o;
     }
 
+    /// <summary>These options as one command line gives them, for its handler.</summary>
+    public JobArgs Bind(ParseResult parse) => new(this, parse);
+
     /// <summary>What the job does about the controller's library: load it (<c>--load-library</c>), only warn (<paramref name="forced"/>), else verify it.</summary>
     public LibraryPolicy Library(ParseResult parse, bool forced) =>
         parse.GetValue(_loadLibrary) ? LibraryPolicy.Load : forced ? LibraryPolicy.Force : LibraryPolicy.Verify;
@@ -166,7 +169,7 @@ internal sealed class JobOptions
         var stops = (manifest.StopCodes ?? new Dictionary<string, int>())
             .Where(c => optional || profile.Find(c.Key[0], double.Parse(c.Key.AsSpan(1), CultureInfo.InvariantCulture))?.Stop != GCode.ProgramStopKind.Optional)
             .ToDictionary(c => c.Key, c => c.Value);
-        if (stops.Count > 0 && Console.IsInputRedirected)
+        if (stops.Count > 0 && CliConsole.Of(parse).InputRedirected)
         {
             throw new CliException($"the program stops at {ProgramGate.Describe(stops)} and input is not a terminal, so Enter cannot continue it: give --stops continue to go on at each stop by itself (or --stops wait to read Enter from the input)");
         }

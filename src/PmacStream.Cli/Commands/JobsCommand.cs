@@ -22,27 +22,45 @@ internal static class JobsCommand
         cmd.Options.Add(json);
         cmd.Options.Add(store);
         cmd.Options.Add(jobDb);
-        JobService Service(ParseResult parse) => new(new JobServiceOptions { Store = StoreOptions.Resolve(parse.GetValue(store), parse.GetValue(jobDb)) });
-        cmd.SetAction(parse => List(Service(parse), parse.GetValue(json)));
+        Task<int> Run(ParseResult parse, long? id, CancellationToken ct) =>
+            new JobsHandler().RunAsync(new JobsOptions(StoreOptions.Resolve(parse.GetValue(store), parse.GetValue(jobDb)), parse.GetValue(json), id), CliConsole.Of(parse), ct);
+        cmd.SetAction((parse, ct) => Run(parse, null, ct));
 
         var list = new Command("list", "List the jobs, newest first.");
-        list.SetAction(parse => List(Service(parse), parse.GetValue(json)));
+        list.SetAction((parse, ct) => Run(parse, null, ct));
         cmd.Subcommands.Add(list);
 
         var id = new Argument<long>("id") { Description = "Job id." };
         var show = new Command("show", "Show one job with its checkpoint and settings.");
         show.Arguments.Add(id);
-        show.SetAction(parse => Show(Service(parse), parse.GetValue(id), parse.GetValue(json)));
+        show.SetAction((parse, ct) => Run(parse, parse.GetValue(id), ct));
         cmd.Subcommands.Add(show);
         return cmd;
     }
+}
 
-    private static int List(JobService service, bool json)
+/// <summary>What a <c>jobs</c> command line asks for.</summary>
+/// <param name="Store">The store whose history is shown.</param>
+/// <param name="Json">Print JSON.</param>
+/// <param name="Show">The one job to show (<c>jobs show ID</c>), or null for the list.</param>
+internal sealed record JobsOptions(Preparation.Store.StoreLocation Store, bool Json, long? Show);
+
+/// <summary><c>pmacstream jobs</c>: the store's job history, as a table or JSON, or one job in detail.</summary>
+internal sealed class JobsHandler
+{
+    /// <summary>Prints the list or the job asked for; returns the exit code.</summary>
+    public Task<int> RunAsync(JobsOptions options, CliConsole console, CancellationToken ct)
+    {
+        var service = new JobService(new JobServiceOptions { Store = options.Store });
+        return Task.FromResult(options.Show is { } id ? Show(service, id, options.Json, console.Out) : List(service, options.Json, console.Out));
+    }
+
+    private static int List(JobService service, bool json, TextWriter o)
     {
         var jobs = service.ListJobs();
         if (json)
         {
-            ProgramsCommand.WriteJson(w =>
+            ProgramsCommand.WriteJson(o, w =>
             {
                 w.WriteStartArray();
                 foreach (var j in jobs)
@@ -55,29 +73,28 @@ internal static class JobsCommand
             return CliGlobals.Ok;
         }
 
-        Console.Out.WriteLine($"{"id",5} {"program",-24} {"machine",-20} {"station",-14} {"started",-20} {"outcome",-11} {"blocks",-17}");
+        o.WriteLine($"{"id",5} {"program",-24} {"machine",-20} {"station",-14} {"started",-20} {"outcome",-11} {"blocks",-17}");
         foreach (var j in jobs)
         {
             var h = j.History;
             var program = (h.ProgramId is { } pid ? $"#{pid} " : string.Empty) + Path.GetFileName(j.ProgramPath);
-            Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture,
+            o.WriteLine(string.Create(CultureInfo.InvariantCulture,
                 $"{j.Id,5} {Cut(program, 24),-24} {Cut(h.Machine ?? j.Connection, 20),-20} {Cut(h.Station ?? "-", 14),-14} {j.Created.UtcDateTime:yyyy-MM-dd HH:mm:ss}Z {j.Outcome,-11} {h.BlocksExecuted ?? 0}/{h.BlocksTotal?.ToString(CultureInfo.InvariantCulture) ?? "?"}"));
         }
 
         return CliGlobals.Ok;
     }
 
-    private static int Show(JobService service, long id, bool json)
+    private static int Show(JobService service, long id, bool json, TextWriter o)
     {
         var j = service.ListJobs().FirstOrDefault(x => x.Id == id) ?? throw new CliException($"no job {id} in {service.Store.Display}");
         if (json)
         {
-            ProgramsCommand.WriteJson(w => WriteJob(w, j, detail: true));
+            ProgramsCommand.WriteJson(o, w => WriteJob(w, j, detail: true));
             return CliGlobals.Ok;
         }
 
         var h = j.History;
-        var o = Console.Out;
         o.WriteLine($"job {j.Id}: {j.Outcome}");
         o.WriteLine($"  program   {(h.ProgramId is { } pid ? $"revision {pid}, " : string.Empty)}{j.ProgramPath} (sha256 {j.ProgramSha256})");
         o.WriteLine($"  machine   {h.Machine ?? j.Connection} ({j.Connection})");

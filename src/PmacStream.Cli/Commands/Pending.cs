@@ -8,9 +8,9 @@ internal static class Pending
     public static Command Create(string name, string description, string issue)
     {
         var cmd = new Command(name, description);
-        cmd.SetAction(_ =>
+        cmd.SetAction(parse =>
         {
-            Console.Error.WriteLine($"pmacstream {name}: not available in this build yet ({issue}).");
+            CliConsole.Of(parse).Error.WriteLine($"pmacstream {name}: not available in this build yet ({issue}).");
             return CliGlobals.UsageOrIo;
         });
         return cmd;

@@ -60,7 +60,7 @@ internal static class PreviewCommand
         cmd.SetAction((parse, ct) => RunAsync(
             new PreviewArgs(parse.GetValue(file), parse.GetValue(png)!, parse.GetValue(size)!, parse.GetValue(view)!, parse.GetValue(executed), parse.GetValue(lang), parse.GetValue(profile),
                 parse.GetValue(force), parse.GetValue(programId), parse.GetValue(store)),
-            CliConsole.Standard,
+            CliConsole.Of(parse),
             ct));
         return cmd;
     }
@@ -181,7 +181,7 @@ internal static class PreviewCommand
         var (source, issues) = (drawing.Source, drawing.Issues);
         try
         {
-            return await CliProgress.RunAsync("preview", report => Task.Run(
+            return await CliProgress.RunAsync("preview", console, report => Task.Run(
                 () => PreviewRenderer.Render(source, options with { Progress = (f, s) => report(f, s) }, args.Executed, ct),
                 ct)).ConfigureAwait(false);
         }

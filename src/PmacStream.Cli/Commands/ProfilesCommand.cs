@@ -12,9 +12,6 @@ namespace PmacStream.Cli.Commands;
 /// </summary>
 internal static class ProfilesCommand
 {
-    /// <summary>Tests capture the output here instead of the process's standard output.</summary>
-    internal static TextWriter? OutputOverride { get; set; }
-
     public static Command Create()
     {
         var profile = new Argument<string?>("profile") { Description = "A built-in profile name or a profile JSON file.", Arity = ArgumentArity.ZeroOrOne };
@@ -24,13 +21,12 @@ internal static class ProfilesCommand
         cmd.Arguments.Add(profile);
         cmd.Options.Add(json);
         cmd.Options.Add(markdown);
-        cmd.SetAction((parse, _) => Task.FromResult(Run(parse.GetValue(profile), parse.GetValue(json), parse.GetValue(markdown))));
+        cmd.SetAction((parse, ct) => new ProfilesHandler().RunAsync(new ProfilesOptions(parse.GetValue(profile), parse.GetValue(json), parse.GetValue(markdown)), CliConsole.Of(parse), ct));
         return cmd;
     }
 
-    internal static int Run(string? name, bool json, bool markdown)
+    internal static int Run(string? name, bool json, bool markdown, TextWriter output)
     {
-        var output = OutputOverride ?? Console.Out;
         if (name is null)
         {
             if (json)
@@ -114,4 +110,18 @@ internal static class ProfilesCommand
 
         return sb.ToString();
     }
+}
+
+/// <summary>What a <c>profiles</c> command line asks for.</summary>
+/// <param name="Profile">A built-in profile's name or a profile file; null for the list.</param>
+/// <param name="Json">Print the profile as JSON.</param>
+/// <param name="Markdown">Print the markdown table (docs/profiles.md).</param>
+internal sealed record ProfilesOptions(string? Profile, bool Json, bool Markdown);
+
+/// <summary><c>pmacstream profiles</c>: the built-in profiles, or one profile's codes, JSON or table.</summary>
+internal sealed class ProfilesHandler
+{
+    /// <summary>Prints what was asked for; returns the exit code.</summary>
+    public Task<int> RunAsync(ProfilesOptions options, CliConsole console, CancellationToken ct) =>
+        Task.FromResult(ProfilesCommand.Run(options.Profile, options.Json, options.Markdown, console.Out));
 }

@@ -23,12 +23,24 @@ internal static class ShopCommand
         cmd.Options.Add(json);
         cmd.Options.Add(store);
         cmd.Options.Add(settings);
-        cmd.SetAction(parse => Run(StoreOptions.Resolve(parse.GetValue(store), null, parse.GetValue(settings)), parse.GetValue(json), CliConsole.Standard));
+        cmd.SetAction((parse, ct) => new ShopHandler().RunAsync(
+            new ShopOptions(StoreOptions.Resolve(parse.GetValue(store), null, parse.GetValue(settings)), parse.GetValue(json)), CliConsole.Of(parse), ct));
         return cmd;
     }
+}
 
-    /// <summary>Lists the shop of <paramref name="location"/> (in process for tests).</summary>
-    internal static int Run(StoreLocation location, bool json, CliConsole console)
+/// <summary>What a <c>shop</c> command line asks for.</summary>
+/// <param name="Store">The store whose machines are listed.</param>
+/// <param name="Json">Print JSON.</param>
+internal sealed record ShopOptions(StoreLocation Store, bool Json);
+
+/// <summary><c>pmacstream shop</c>: each machine, its lease, and the job and line running there.</summary>
+internal sealed class ShopHandler
+{
+    /// <summary>Prints the shop as a table or JSON; returns the exit code.</summary>
+    public Task<int> RunAsync(ShopOptions options, CliConsole console, CancellationToken ct) => Task.FromResult(List(options.Store, options.Json, console));
+
+    private static int List(StoreLocation location, bool json, CliConsole console)
     {
         var machines = new JobService(new JobServiceOptions { Store = location }).Shop();
         if (json)

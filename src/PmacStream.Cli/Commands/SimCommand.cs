@@ -70,7 +70,7 @@ internal static class SimCommand
         cmd.SetAction((parse, ct) => RunAsync(
             new SimArgs(parse.GetValue(tcp)!, parse.GetValue(serial), parse.GetValue(baud), parse.GetValue(speed)!, parse.GetValue(rotWords), parse.GetValue(executedLog),
                 parse.GetValue(idleTimeout), parse.GetValue(maxClients), parse.GetValue(library)!, parse.GetValue(homed), parse.GetValue(inject) ?? [], parse.GetValue(travel)),
-            CliConsole.Standard,
+            CliConsole.Of(parse),
             ct));
         return cmd;
     }

@@ -8,8 +8,6 @@ namespace PmacStream.Cli.Commands;
 /// <summary>`pmacstream split`: a program into rotary-buffer chunk files and their manifest.</summary>
 internal static class SplitCommand
 {
-    private const int MaxListed = 50;
-
     public static Command Create()
     {
         var file = new Argument<string>("file") { Description = "The G-code program to split." };
@@ -34,14 +32,28 @@ internal static class SplitCommand
             // The same way as stream: the settings file's shape (or the defaults), then the options given here.
             var run = RunSettingsFile.Load(parse.GetValue(settings));
             var options = (run with { Shape = shape.Apply(parse, run.Shape) }).ToSplitOptions(machine, parse.GetValue(outDir), parse.GetValue(force));
-            return RunAsync(path, options, machine, CliConsole.Standard, ct);
+            return new SplitHandler().RunAsync(new SplitCommandOptions(path, options, machine), CliConsole.Of(parse), ct);
         });
         return cmd;
     }
+}
 
-    /// <summary>Splits <paramref name="path"/> with <paramref name="options"/> under <paramref name="machine"/>; returns the exit code.</summary>
+/// <summary>What a <c>split</c> command line asks for: the settings file's chunk shape and the options given over it.</summary>
+/// <param name="File">The program.</param>
+/// <param name="Options">The split's options.</param>
+/// <param name="Machine">The machine profile it is checked and split under.</param>
+internal sealed record SplitCommandOptions(string File, SplitOptions Options, MachineProfile Machine);
+
+/// <summary><c>pmacstream split</c>: the program into rotary-buffer chunk files and their manifest, refused on errors unless forced.</summary>
+internal sealed class SplitHandler
+{
+    private const int MaxListed = 50;
+
+    /// <summary>Splits the program; returns the exit code.</summary>
     /// <exception cref="CliException">Bad options, or no such file.</exception>
-    internal static async Task<int> RunAsync(string path, SplitOptions options, MachineProfile machine, CliConsole console, CancellationToken ct)
+    public Task<int> RunAsync(SplitCommandOptions o, CliConsole console, CancellationToken ct) => RunAsync(o.File, o.Options, o.Machine, console, ct);
+
+    private static async Task<int> RunAsync(string path, SplitOptions options, MachineProfile machine, CliConsole console, CancellationToken ct)
     {
         try
         {
@@ -63,7 +75,7 @@ internal static class SplitCommand
         SplitResult result;
         try
         {
-            result = await CliProgress.RunAsync("split", report => Task.Run(() => Splitter.Split(path, options, Reporter(report), ct), ct)).ConfigureAwait(false);
+            result = await CliProgress.RunAsync("split", console, report => Task.Run(() => Splitter.Split(path, options, Reporter(report), ct), ct)).ConfigureAwait(false);
         }
         catch (OperationCanceledException) when (ct.IsCancellationRequested)
         {

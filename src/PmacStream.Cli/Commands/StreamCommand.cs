@@ -25,62 +25,16 @@ internal static class StreamCommand
         cmd.Options.Add(profile);
         cmd.Options.Add(programId);
         var options = JobOptions.AddTo(cmd, JobFace.Stream);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            var target = options.Target(parse) ?? throw new CliException("say where to stream: --sim, --tcp HOST[:PORT] or --serial DEV[,BAUD]");
-            var kind = Validate(parse.GetValue(strategy)!, parse.GetValue(fromLine));
-
-            // The tool table at the machine (the host's copy) over the profile's: G41 D1 reads tool 1's radius as set there.
-            // A stored revision runs under the profile it was checked and imported with, unless --profile says otherwise.
-            var location = options.Store(parse);
-            var profileName = parse.GetValue(profile) ?? (parse.GetValue(programId) is { } stored ? StoredPrograms.ProfileOf(location, stored) : null);
-            var machine = Machine.ToolTableProfile.Apply(CliProfiles.Load(profileName), Machine.MachineTables.Load(Machine.MachineTables.DefaultPath(options.SettingsPath(parse))));
-            var settings = options.Settings(parse);
-            var feedOverride = options.FeedOverride(parse) ?? FeedOverrides.Default;
-            using var sim = new CliSimulator(options.SimSpeed(parse), machine.RapidRate);
-            var service = new JobService(new JobServiceOptions
-            {
-                Store = location, Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck(parse)),
-            });
-            var (source, revision) = StoredPrograms.Source(location, parse.GetValue(file), parse.GetValue(programId), machine, ct);
-
-            // The gate: checked under the machine profile in the split's own pass and refused with every error, or with
-            // every code the controller cannot run yet; nothing sent.
-            var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { Profile = machine, Force = parse.GetValue(force), ProgramId = revision }, null, ct).ConfigureAwait(false);
-            JobConsole.WarnForced(prepared.Program.Manifest, machine, parse.GetValue(force));
-            var program = prepared.Program;
-            StartPlan? plan = null;
-            if (parse.GetValue(fromLine) is { } line)
-            {
-                // A stored revision's start reads the block's state from the store (every stream names its revision);
-                // in an expanded program the line named is found among the expanded blocks (--call, --file).
-                line = StartLine(program.Folder, line, parse.GetValue(call), parse.GetValue(sourceFile));
-                plan = service.PlanStartFor(revision, program, line, settings, prepared.Profile, ct);
-                if (!JobConsole.Confirm(plan, options.Yes(parse)))
-                {
-                    return CliGlobals.UsageOrIo;
-                }
-            }
-
-            var continueAtStops = options.ContinueAtStops(parse, program.Manifest, machine);
-            // One station at a time drives a machine: the lease is taken before the controller hears anything.
-            await using var lease = options.Lease(parse, target);
-            await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
-            await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind)
-            {
-                Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(parse),
-                Library = options.Library(parse, parse.GetValue(force)),
-                ProgramId = revision, Station = options.Station(parse), Machine = options.Machine(parse),
-            }, ct).ConfigureAwait(false);
-            lease?.SetJob(job.Id);
-            Console.WriteLine($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}");
-            return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, ct, continueAtStops: continueAtStops).ConfigureAwait(false);
-        });
+        cmd.SetAction((parse, ct) => new StreamHandler().RunAsync(
+            new StreamOptions(parse.GetValue(file), parse.GetValue(programId), parse.GetValue(strategy)!, parse.GetValue(fromLine), parse.GetValue(call), parse.GetValue(sourceFile),
+                parse.GetValue(force), parse.GetValue(profile), options.Bind(parse)),
+            CliConsole.Of(parse),
+            ct));
         return cmd;
     }
 
     /// <summary>The strategy named, and a start line if any is 1 or more; else a usage error.</summary>
-    private static StrategyKind Validate(string strategy, int? fromLine)
+    internal static StrategyKind Validate(string strategy, int? fromLine)
     {
         if (fromLine is < 1)
         {
@@ -111,7 +65,7 @@ internal static class StreamCommand
     /// The line a start means: a source line of a program without subprograms or macros; in an expanded one, the
     /// expanded line of that source line's run (<c>--call</c>) in its file (<c>--file</c>), refused with the choices when ambiguous.
     /// </summary>
-    private static int StartLine(string chunkFolder, int line, int? call, string? file)
+    internal static int StartLine(string chunkFolder, int line, int? call, string? file, CliConsole console)
     {
         if (SourceLocations.MapOf(chunkFolder) is not { } map)
         {
@@ -122,12 +76,85 @@ internal static class StreamCommand
         try
         {
             var expanded = SourceLocations.Resolve(map, line, call, file);
-            Console.WriteLine($"starting at {map.Describe(expanded)} (expanded line {expanded})");
+            console.Out.WriteLine($"starting at {map.Describe(expanded)} (expanded line {expanded})");
             return expanded;
         }
         catch (JobException e)
         {
             throw new CliException(e.Message);
         }
+    }
+}
+
+/// <summary>What a <c>stream</c> command line asks for.</summary>
+/// <param name="File">The program file, or null with <paramref name="ProgramId"/>.</param>
+/// <param name="ProgramId">A stored revision (<c>--program</c>).</param>
+/// <param name="Strategy">The streaming strategy's name.</param>
+/// <param name="FromLine">The source line to start at, if any.</param>
+/// <param name="Call">Which run of that line in an expanded program.</param>
+/// <param name="SourceFile">Which file that line is in, in an expanded program.</param>
+/// <param name="Force">Stream despite errors or codes the controller cannot run yet.</param>
+/// <param name="Profile">The machine profile named, if any.</param>
+/// <param name="Job">The controller, store and run settings.</param>
+internal sealed record StreamOptions(string? File, long? ProgramId, string Strategy, int? FromLine, int? Call, string? SourceFile, bool Force, string? Profile, JobArgs Job);
+
+/// <summary>
+/// <c>pmacstream stream</c>: checks and prepares the program through the job service, plans a start from a line,
+/// takes the machine's lease, runs the job and prints its progress and count.
+/// </summary>
+internal sealed class StreamHandler
+{
+    /// <summary>Runs the command; returns the exit code.</summary>
+    public async Task<int> RunAsync(StreamOptions o, CliConsole console, CancellationToken ct)
+    {
+        var options = o.Job;
+        var target = options.Target() ?? throw new CliException("say where to stream: --sim, --tcp HOST[:PORT] or --serial DEV[,BAUD]");
+        var kind = StreamCommand.Validate(o.Strategy, o.FromLine);
+
+        // The tool table at the machine (the host's copy) over the profile's: G41 D1 reads tool 1's radius as set there.
+        // A stored revision runs under the profile it was checked and imported with, unless --profile says otherwise.
+        var location = options.Store();
+        var profileName = o.Profile ?? (o.ProgramId is { } stored ? StoredPrograms.ProfileOf(location, stored) : null);
+        var machine = Machine.ToolTableProfile.Apply(CliProfiles.Load(profileName), Machine.MachineTables.Load(Machine.MachineTables.DefaultPath(options.SettingsPath)));
+        var settings = options.Settings();
+        var feedOverride = options.FeedOverride() ?? FeedOverrides.Default;
+        using var sim = new CliSimulator(options.SimSpeed(), machine.RapidRate);
+        var service = new JobService(new JobServiceOptions
+        {
+            Store = location, Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck),
+        });
+        var (source, revision) = StoredPrograms.Source(location, o.File, o.ProgramId, machine, ct);
+
+        // The gate: checked under the machine profile in the split's own pass and refused with every error, or with
+        // every code the controller cannot run yet; nothing sent.
+        var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { Profile = machine, Force = o.Force, ProgramId = revision }, null, ct).ConfigureAwait(false);
+        JobConsole.WarnForced(prepared.Program.Manifest, machine, o.Force, console);
+        var program = prepared.Program;
+        StartPlan? plan = null;
+        if (o.FromLine is { } line)
+        {
+            // A stored revision's start reads the block's state from the store (every stream names its revision);
+            // in an expanded program the line named is found among the expanded blocks (--call, --file).
+            line = StreamCommand.StartLine(program.Folder, line, o.Call, o.SourceFile, console);
+            plan = service.PlanStartFor(revision, program, line, settings, prepared.Profile, ct);
+            if (!JobConsole.Confirm(plan, options.Yes, console))
+            {
+                return CliGlobals.UsageOrIo;
+            }
+        }
+
+        var continueAtStops = options.ContinueAtStops(program.Manifest, machine);
+        // One station at a time drives a machine: the lease is taken before the controller hears anything.
+        await using var lease = options.Lease(target);
+        await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
+        await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind)
+        {
+            Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(),
+            Library = options.Library(o.Force),
+            ProgramId = revision, Station = options.Station(), Machine = options.Machine,
+        }, ct).ConfigureAwait(false);
+        lease?.SetJob(job.Id);
+        await console.Out.WriteLineAsync($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}").ConfigureAwait(false);
+        return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, console, ct, continueAtStops: continueAtStops).ConfigureAwait(false);
     }
 }

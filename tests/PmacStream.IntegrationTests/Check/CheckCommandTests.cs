@@ -1,9 +1,6 @@
-using System.CommandLine;
 using System.Diagnostics;
 using System.Text;
 using System.Text.Json;
-using PmacStream.Cli;
-using PmacStream.Cli.Commands;
 using PmacStream.GCode;
 using PmacStream.Preparation.Store;
 
@@ -30,21 +27,16 @@ public sealed class CheckCommandTests : IDisposable
     private string Write(string name, string text) => Write(name, Encoding.UTF8.GetBytes(text));
 
     /// <summary>Runs the command in process through the real parser and error handling; returns exit code and stdout.</summary>
+    /// <summary>Runs the command in process through the real parser and error handling; returns exit code and stdout.</summary>
     private static (int Code, string Output) Run(params string[] args)
     {
-        var root = new RootCommand("test");
-        root.Subcommands.Add(CheckCommand.Create());
-        var output = new StringWriter();
-        CheckCommand.OutputOverride = output;
         try
         {
-            // The CLI's own exit-code handling, without RunAsync's set-up of the process-wide logger.
-            var code = CliGlobals.InvokeAsync(root.Parse(["check", .. args])).GetAwaiter().GetResult();
-            return (code, output.ToString());
+            var (code, output, _) = CliRun.InProcess(["check", .. args]);
+            return (code, output);
         }
         finally
         {
-            CheckCommand.OutputOverride = null;
             DiagnosticText.Culture = System.Globalization.CultureInfo.CurrentUICulture;
         }
     }

@@ -1,6 +1,3 @@
-using System.CommandLine;
-using PmacStream.Cli;
-using PmacStream.Cli.Commands;
 using PmacStream.GCode;
 
 namespace PmacStream.IntegrationTests.Check;
@@ -11,19 +8,8 @@ public sealed class ProfilesCommandTests
 {
     private static (int Code, string Output) Run(params string[] args)
     {
-        var root = new RootCommand("test");
-        root.Subcommands.Add(ProfilesCommand.Create());
-        var output = new StringWriter();
-        ProfilesCommand.OutputOverride = output;
-        try
-        {
-            var code = CliGlobals.InvokeAsync(root.Parse(["profiles", .. args])).GetAwaiter().GetResult();
-            return (code, output.ToString());
-        }
-        finally
-        {
-            ProfilesCommand.OutputOverride = null;
-        }
+        var (code, output, _) = CliRun.InProcess(["profiles", .. args]);
+        return (code, output);
     }
 
     [Fact]

@@ -1,5 +1,4 @@
 using System.Text.RegularExpressions;
-using PmacStream.IntegrationTests.Streaming;
 
 namespace PmacStream.IntegrationTests.Demo;
 
@@ -9,7 +8,7 @@ public class DemoCliTests
     public void Demo_splits_streams_into_the_simulator_and_executes_every_block()
     {
         // A faster clock than the default keeps the test short; the logic is the same.
-        var (code, stdout, stderr) = CliProcess.Run("demo", "--sim-speed", "200x");
+        var (code, stdout, stderr) = CliRun.InProcess("demo", "--sim-speed", "200x");
         code.Should().Be(0, stderr + stdout);
         var last = stdout.TrimEnd().Split('\n').Last().Trim();
         var m = Regex.Match(last, @"^executed (\d+) of (\d+) blocks$");

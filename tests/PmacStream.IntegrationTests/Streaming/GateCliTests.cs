@@ -40,7 +40,7 @@ public sealed class GateCliTests : IDisposable
     {
         var src = Write("toolchange.nc", "G21 G90 G17\nG16\nG00 X0 Y0\nG01 F600\n" + Moves(40) + "G63\nM30\n");
         var db = Path.Combine(_temp.Path, "jobs.db");
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant");
+        var (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant");
 
         code.Should().Be(1, stdout + stderr);
         var lines = stderr.Split('\n', StringSplitOptions.RemoveEmptyEntries | StringSplitOptions.TrimEntries);
@@ -54,7 +54,7 @@ public sealed class GateCliTests : IDisposable
             store.List().Should().BeEmpty("nothing reached the controller, so there is nothing to resume");
         }
 
-        (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant", "--force");
+        (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant", "--force");
         code.Should().Be(0, stdout + stderr);
         stderr.Should().Contain("--force: the controller cannot run G16 (line 2), G63 (line 45) yet under profile 'fanuc-mill': it skips each of them and runs the rest of its block");
         stdout.Should().MatchRegex(@"executed (\d+) of \1 blocks");
@@ -73,7 +73,7 @@ public sealed class GateCliTests : IDisposable
                      (["preview", src, "--png", png, "--profile", "grbl"], "grbl.png not written (--force draws what can be read)"),
                  })
         {
-            var (code, stdout, stderr) = CliProcess.Run(args);
+            var (code, stdout, stderr) = CliRun.InProcess(args);
             code.Should().Be(1, stdout + stderr);
             var lines = stderr.Split('\n', StringSplitOptions.RemoveEmptyEntries | StringSplitOptions.TrimEntries);
             lines.Should().Contain(l => l.EndsWith("grbl.nc:3:1: error E105: unknown M code M06: not in machine profile 'grbl'", StringComparison.Ordinal), args[0]);
@@ -84,7 +84,7 @@ public sealed class GateCliTests : IDisposable
 
         File.Exists(png).Should().BeFalse("a refused preview writes nothing");
         Directory.Exists(Splitter.DefaultOutDir(src)).Should().BeFalse("a refused split leaves no chunks");
-        var (forced, _, err) = CliProcess.Run("preview", src, "--png", png, "--profile", "grbl", "--force");
+        var (forced, _, err) = CliRun.InProcess("preview", src, "--png", png, "--profile", "grbl", "--force");
         forced.Should().Be(0, err);
         File.Exists(png).Should().BeTrue();
         err.Should().Contain("--force: 2 error(s) listed above");
@@ -104,12 +104,12 @@ public sealed class GateCliTests : IDisposable
             jobs.SaveCheckpoint(id, new Checkpoint(150, 2, new StreamPosition(3, 0), true, 2, SessionState.Running, DateTimeOffset.UtcNow), durable: true);
         }
 
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes", "--profile", "grbl");
+        var (code, stdout, stderr) = CliRun.InProcess("resume", "--job-db", db, "--yes", "--profile", "grbl");
         code.Should().Be(2, stdout + stderr);
         stderr.Should().Contain("ran under machine profile").And.Contain("mill.json (shop-mill@").And.Contain("the profile asked for, grbl, is grbl@").And.Contain("the profile changed since the job started");
 
         File.WriteAllText(profileFile, File.ReadAllText(profileFile).Replace("\"toolCount\": 9999", "\"toolCount\": 40", StringComparison.Ordinal));
-        (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes");
+        (code, stdout, stderr) = CliRun.InProcess("resume", "--job-db", db, "--yes");
         code.Should().Be(2, stdout + stderr);
         stderr.Should().Contain("mill.json now reads as shop-mill@").And.Contain("the profile changed since the job started");
         stdout.Should().NotContain("restarting", "nothing was sent");

@@ -52,11 +52,11 @@ public sealed class JobWorkflowTests : IDisposable
     public void Stream_with_500_lines_after_a_1000_line_split_streams_chunks_of_at_most_500_blocks()
     {
         var src = Program(2400);
-        CliProcess.Run("split", src).Code.Should().Be(0);
+        CliRun.InProcess("split", src).Code.Should().Be(0);
         var manifestPath = Path.Combine(Splitter.DefaultOutDir(src), ChunkManifest.FileName);
         ChunkManifest.Load(manifestPath).Chunks.Should().Contain(c => c.BlockCount > 500, "the earlier split has 1000-line chunks");
 
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--lines", "500", "--sim-speed", "instant", "--job-db", Db);
+        var (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--lines", "500", "--sim-speed", "instant", "--job-db", Db);
 
         code.Should().Be(0, stderr + stdout);
         var manifest = ChunkManifest.Load(manifestPath);
@@ -94,7 +94,7 @@ public sealed class JobWorkflowTests : IDisposable
         }, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
         server.Start();
 
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--tcp", $"127.0.0.1:{server.Port}", "--job-db", Db);
+        var (code, stdout, stderr) = await CliRun.InProcessAsync(["stream", src, "--tcp", $"127.0.0.1:{server.Port}", "--job-db", Db]);
 
         code.Should().Be(1, stdout + stderr);
         var lines = stderr.Split('\n').Select(l => l.TrimEnd('\r')).Where(l => l.Length > 0).ToList();
@@ -115,7 +115,7 @@ public sealed class JobWorkflowTests : IDisposable
     public void Stream_force_runs_a_program_the_check_refuses()
     {
         var src = Program(200, "G77 X3");
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--force", "--sim-speed", "instant", "--job-db", Db);
+        var (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--force", "--sim-speed", "instant", "--job-db", Db);
         code.Should().Be(0, stdout + stderr);
         stdout.Should().MatchRegex(@"executed (\d+) of \1 blocks");
     }
@@ -123,13 +123,13 @@ public sealed class JobWorkflowTests : IDisposable
     [Fact]
     public void The_window_is_set_from_the_command_line_and_kept_with_the_job()
     {
-        var (code, stdout, stderr) = CliProcess.Run("demo", "--sim-speed", "200x", "--window", "30-40%");
+        var (code, stdout, stderr) = CliRun.InProcess("demo", "--sim-speed", "200x", "--window", "30-40%");
         code.Should().Be(0, stderr + stdout);
         var percents = Regex.Matches(stdout, @"chunk \d downloaded at M0=\d+, (\d+) % of chunk").Select(m => int.Parse(m.Groups[1].Value, CultureInfo.InvariantCulture)).ToList();
         percents.Should().HaveCount(3).And.OnlyContain(p => p >= 30 && p < 40, "the next chunk is downloaded inside the window 0.3-0.4");
 
         var src = Program(300);
-        CliProcess.Run("stream", src, "--sim", "--window", "0.5-0.8", "--buffer-words", "20000", "--sim-speed", "instant", "--job-db", Db).Code.Should().Be(0);
+        CliRun.InProcess("stream", src, "--sim", "--window", "0.5-0.8", "--buffer-words", "20000", "--sim-speed", "instant", "--job-db", Db).Code.Should().Be(0);
         using var jobs = JobStore.Open(Db);
         var settings = RunSettingsFile.Read(RunSettings.Default, Encoding.UTF8.GetBytes(jobs.List().Single().Settings!), "record");
         settings.Should().Be(RunSettings.Default with { WindowStart = 0.5, WindowEnd = 0.8, BufferWords = 20_000 });
@@ -149,7 +149,7 @@ public sealed class JobWorkflowTests : IDisposable
         sim.StartClock();
         var spec = $"127.0.0.1:{server.Port}";
 
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--tcp", spec, "--load-library", "--feed-override", "70", "--job-db", Db);
+        var (code, stdout, stderr) = await CliRun.InProcessAsync(["stream", src, "--tcp", spec, "--load-library", "--feed-override", "70", "--job-db", Db]);
         code.Should().Be(0, stderr + stdout);
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(5));
@@ -163,12 +163,12 @@ public sealed class JobWorkflowTests : IDisposable
         await setup.GetResponseAsync("&1 A"); // the rotary program of the job above still waits for lines
         await setup.GetResponseAsync("&1 %30");
         sim.StartClock();
-        var again = CliProcess.Run("stream", src, "--tcp", spec, "--load-library", "--job-db", Db);
+        var again = await CliRun.InProcessAsync(["stream", src, "--tcp", spec, "--load-library", "--job-db", Db]);
         again.Code.Should().Be(0, again.Err + again.Out);
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(5));
         (await setup.GetResponseAsync("&1 %")).Should().StartWith("100");
-        var refused = CliProcess.Run("stream", src, "--sim", "--feed-override", "250", "--job-db", Db);
+        var refused = await CliRun.InProcessAsync(["stream", src, "--sim", "--feed-override", "250", "--job-db", Db]);
         refused.Code.Should().Be(2);
         refused.Err.Should().Contain("--feed-override: feed override 250 % is outside 0-200 %");
     }
@@ -178,7 +178,7 @@ public sealed class JobWorkflowTests : IDisposable
     {
         var settings = Path.Combine(_folder, "settings.json");
         File.WriteAllText(settings, "{\n  \"blocksPerChunk\": 500,\n  \"window\": \"0.6-0.7\"\n}\n");
-        var (code, _, stderr) = CliProcess.Run("stream", Program(10), "--sim", "--settings", settings, "--job-db", Db);
+        var (code, _, stderr) = CliRun.InProcess("stream", Program(10), "--sim", "--settings", settings, "--job-db", Db);
         code.Should().Be(2);
         stderr.Should().StartWith($"{settings}:3:3: error R002: unknown setting 'window'");
     }
@@ -199,7 +199,7 @@ public sealed class JobWorkflowTests : IDisposable
         }
 
         // The command line: a whole job from line 1500.
-        var (code, stdout, stderr) = CliProcess.Run([.. args]);
+        var (code, stdout, stderr) = await CliRun.InProcessAsync([.. args]);
         code.Should().Be(0, stderr + stdout);
 
         // The HMI: the presenter over the same job service, started from the same line on its own simulator.

@@ -114,7 +114,7 @@ public sealed class ResumeCliTests : IDisposable
         var id = await KillStreamAtAsync(sim, server.Port, src, store, line: 800);
         EditCheckpoint(store, id, cp => cp with { LastExecutedLine = 0, CurrentChunk = 1, Next = new StreamPosition(2, 0), NextExact = true, ChunksDownloaded = 1 });
 
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job", id.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes");
+        var (code, stdout, stderr) = await CliRun.InProcessAsync(["resume", "--job", id.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes"]);
 
         code.Should().Be(0, stderr + stdout);
         stdout.Should().Contain("executed 1501 of 1501 blocks");
@@ -139,7 +139,7 @@ public sealed class ResumeCliTests : IDisposable
         EditCheckpoint(store, id, cp => cp with { LastExecutedLine = 1400, CurrentChunk = 6, Next = new StreamPosition(7, 0), NextExact = true });
         var received = sim.Counters.LinesReceived;
 
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job", id.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes");
+        var (code, stdout, stderr) = await CliRun.InProcessAsync(["resume", "--job", id.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes"]);
 
         code.Should().Be(1, stdout);
         stderr.Should().MatchRegex($@"pmacstream resume: cannot resume job {id}: the controller (executes|stopped at) line \d+, before line 1400 that the record says had already executed\. The controller: M0=\d+")

@@ -9,7 +9,7 @@ public class ResumeMissingDbTests
         var dir = Path.Combine(temp.Path, "missing");
         var db = Path.Combine(dir, "sub", "jobs.db");
 
-        var (code, _, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes");
+        var (code, _, stderr) = CliRun.InProcess("resume", "--job-db", db, "--yes");
 
         code.Should().Be(2);
         stderr.Should().Contain(db).And.Contain("no job database");

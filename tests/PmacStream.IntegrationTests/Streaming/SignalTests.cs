@@ -95,7 +95,7 @@ public sealed class SignalTests : IDisposable
         code.Should().Be(137);
         WorkFolders().Should().NotBeEmpty("SIGKILL cannot be handled: the work folder stays");
 
-        var (again, stdout, stderr) = CliProcess.Run("split", src);
+        var (again, stdout, stderr) = await CliRun.InProcessAsync(["split", src]);
         again.Should().Be(0, stderr);
         stdout.Should().Contain("written to");
         WorkFolders().Should().BeEmpty("the next split removed the killed one's folder and lock");
@@ -168,7 +168,7 @@ public sealed class SignalTests : IDisposable
             store.Get(1)!.Unfinished.Should().BeTrue();
         }
 
-        var (code, stdout, err) = CliProcess.Run("resume", "--job-db", db, "--yes");
+        var (code, stdout, err) = await CliRun.InProcessAsync(["resume", "--job-db", db, "--yes"]);
         code.Should().Be(0, err + stdout);
         sim.StopClock();
         sim.RunUntilIdle(TimeSpan.FromMinutes(10));

@@ -22,7 +22,7 @@ public sealed class StartPlanCliHmiTests : IDisposable
     {
         var src = Path.Combine(_temp.Path, "demo.nc");
         File.Copy(RepoRoot.DemoProgram, src);
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--from-line", line.ToString(), "--safe-z-mode", mode, "--job-db", Path.Combine(_temp.Path, "jobs.db"));
+        var (code, stdout, stderr) = await CliRun.InProcessAsync(["stream", src, "--sim", "--from-line", line.ToString(), "--safe-z-mode", mode, "--job-db", Path.Combine(_temp.Path, "jobs.db")]);
         code.Should().Be(2, "without --yes the start is refused after showing the plan; " + stderr);
         var shown = stdout.Split('\n').Select(l => l.TrimEnd('\r'));
         var cli = shown.SkipWhile(l => !l.Contains("preamble:", StringComparison.Ordinal)).Skip(1).TakeWhile(l => l.StartsWith("  ", StringComparison.Ordinal)).Select(l => l.Trim()).ToList();

@@ -46,12 +46,12 @@ public sealed class StopCliTests : IDisposable
     {
         var src = Program();
         var db = Path.Combine(_folder, "jobs.db");
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant");
+        var (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant");
         code.Should().Be(2, stdout + stderr);
         stderr.Should().Contain("the program stops at M00 (line 24), M01 (line 45) and input is not a terminal").And.Contain("--stops continue");
         stdout.Should().NotContain("job ", "refused before a job was made");
 
-        (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant", "--stops", "continue");
+        (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--job-db", db, "--sim-speed", "instant", "--stops", "continue");
         code.Should().Be(0, stdout + stderr);
         stdout.Should().Contain("program stop (M00) at line 24; continuing (--stops continue)")
             .And.Contain("program stop (M01) at line 45; continuing (--stops continue)")
@@ -61,7 +61,7 @@ public sealed class StopCliTests : IDisposable
     [Fact]
     public void With_optional_stop_off_M01_is_not_a_stop_and_needs_no_terminal()
     {
-        var (code, stdout, stderr) = CliProcess.Run("stream", Program(withM00: false), "--sim", "--job-db", Path.Combine(_folder, "jobs.db"), "--sim-speed", "instant",
+        var (code, stdout, stderr) = CliRun.InProcess("stream", Program(withM00: false), "--sim", "--job-db", Path.Combine(_folder, "jobs.db"), "--sim-speed", "instant",
             "--optional-stop", "off");
         code.Should().Be(0, stdout + stderr);
         stdout.Should().NotContain("program stop").And.MatchRegex(@"executed (\d+) of \1 blocks");
@@ -129,7 +129,7 @@ public sealed class StopCliTests : IDisposable
 
         // A new simulator lost the job: the restart (confirmed, with its preamble) goes on from the move after the
         // stop it had reached, and stops at the next one.
-        var (code, stdout, stderr2) = CliProcess.Run("resume", "--job-db", db, "--yes", "--sim-speed", "instant", "--stops", "continue");
+        var (code, stdout, stderr2) = await CliRun.InProcessAsync(["resume", "--job-db", db, "--yes", "--sim-speed", "instant", "--stops", "continue"]);
         code.Should().Be(0, stdout + stderr2);
         stdout.Should().Contain("restarting at the block of line 24").And.Contain("start at line 25")
             .And.NotContain("program stop (M00)")

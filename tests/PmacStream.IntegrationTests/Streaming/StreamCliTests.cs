@@ -45,7 +45,7 @@ public sealed class StreamCliTests : IDisposable
     {
         var src = Program(900);
         var db = Path.Combine(_temp.Path, "jobs.db");
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--strategy", strategy, "--lines", "200", "--sim-speed", "100x", "--job-db", db);
+        var (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--strategy", strategy, "--lines", "200", "--sim-speed", "100x", "--job-db", db);
         code.Should().Be(0, stderr + stdout);
         stdout.Should().MatchRegex(@"executed 901 of 901 blocks, \d+ underruns");
         using var jobs = JobStore.Open(db);
@@ -57,12 +57,12 @@ public sealed class StreamCliTests : IDisposable
     {
         var src = Program(300);
         var db = Path.Combine(_temp.Path, "jobs.db");
-        var refused = CliProcess.Run("stream", src, "--sim", "--from-line", "150", "--job-db", db);
+        var refused = CliRun.InProcess("stream", src, "--sim", "--from-line", "150", "--job-db", db);
         refused.Code.Should().Be(2);
         refused.Out.Should().Contain("start at line 150").And.Contain("G90 G00 Z10");
         refused.Err.Should().Contain("--yes");
 
-        var (code, stdout, stderr) = CliProcess.Run("stream", src, "--sim", "--from-line", "150", "--yes", "--sim-speed", "100x", "--job-db", db);
+        var (code, stdout, stderr) = CliRun.InProcess("stream", src, "--sim", "--from-line", "150", "--yes", "--sim-speed", "100x", "--job-db", db);
         code.Should().Be(0, stderr + stdout);
         // Blocks from line 150 to the last motion block (line 304: the final G01 is line 305? count from the split).
         stdout.Should().MatchRegex(@"executed (\d+) of \1 blocks");
@@ -114,9 +114,9 @@ public sealed class StreamCliTests : IDisposable
         killedAt.Should().BeGreaterThan(300, "the job ran before the kill");
 
         // The killed job on this connection (a shared PostgreSQL store holds other runs' jobs too).
-        using var jobs = System.Text.Json.JsonDocument.Parse(CliProcess.Run("jobs", "--json", "--store", store).Out);
+        using var jobs = System.Text.Json.JsonDocument.Parse((await CliRun.InProcessAsync(["jobs", "--json", "--store", store])).Out);
         var killed = jobs.RootElement.EnumerateArray().First(j => j.GetProperty("connection").GetString()!.EndsWith(spec, StringComparison.Ordinal)).GetProperty("id").GetInt64();
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job", killed.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes");
+        var (code, stdout, stderr) = await CliRun.InProcessAsync(["resume", "--job", killed.ToString(CultureInfo.InvariantCulture), "--store", store, "--yes"]);
         code.Should().Be(0, stderr + stdout);
         stdout.Should().Contain("controller still holds the job");
         sim.StopClock();
@@ -169,7 +169,7 @@ public sealed class StreamCliTests : IDisposable
         }
 
         File.AppendAllText(src, "G01 X1 Y1\n");
-        var (code, _, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes");
+        var (code, _, stderr) = CliRun.InProcess("resume", "--job-db", db, "--yes");
         code.Should().Be(1);
         stderr.Should().Contain("changed since the job started");
     }
@@ -187,7 +187,7 @@ public sealed class StreamCliTests : IDisposable
             jobs.SaveCheckpoint(id, new Checkpoint(250, 3, new StreamPosition(4, 0), true, 3, SessionState.Running, DateTimeOffset.UtcNow), durable: true);
         }
 
-        var (code, stdout, stderr) = CliProcess.Run("resume", "--job-db", db, "--yes", "--sim-speed", "100x");
+        var (code, stdout, stderr) = CliRun.InProcess("resume", "--job-db", db, "--yes", "--sim-speed", "100x");
         code.Should().Be(0, stderr + stdout);
         stdout.Should().Contain("restarting at the block of line 250").And.Contain("G90 G00 Z10");
         // Lines 250..405 are the motion blocks from the restart (the last G01 is source line 405).
