@@ -108,7 +108,9 @@ public sealed class StoredPreviewTests : IDisposable
         try
         {
             var code = PreviewCommand.RunAsync(args, new CliConsole(stdout, stderr), CancellationToken.None).GetAwaiter().GetResult();
-            return (code, stdout.ToString(), stderr.ToString());
+            // The command's progress ("preview  50.0% ...") goes to the same console: the result lines are the rest.
+            var result = string.Join('\n', stdout.ToString().Split('\n').Where(l => !l.StartsWith("preview ", StringComparison.Ordinal)));
+            return (code, result, stderr.ToString());
         }
         catch (CliException e)
         {

@@ -125,8 +125,10 @@ public sealed class ShopLeaseTests : IDisposable
     [SkippableFact]
     public async Task PostgreSQL_stopped_for_10_s_mid_job_and_restarted_the_job_completes_and_its_history_is_complete()
     {
-        var store = PgStore();
-        var server = PgServer.Required();
+        // A cluster of this test's own: stopping the shared one would break the other test assemblies' PostgreSQL
+        // tests that run at the same time (dotnet test runs the assemblies in parallel).
+        using var server = PgServer.StartOwn();
+        var store = server.Station;
         var settings = Settings(heartbeat: 1, expiry: 60);
         var machine = "mill-" + Guid.NewGuid().ToString("N")[..8];
         var src = Program(900); // 18 s in real time: the 10 s outage falls in the middle
@@ -373,18 +375,54 @@ public sealed class ShopLeaseTests : IDisposable
         }
     }
 
-    /// <summary>The throwaway cluster's server, stopped and started with pg_ctl (as the postgres user when root).</summary>
-    private sealed class PgServer(string dataDir, string bin)
+    /// <summary>
+    /// A throwaway cluster of one test's own (scripts/pg-throwaway.sh on a free port, migrated), stopped and started
+    /// with pg_ctl as the postgres user when root, and removed at the end.
+    /// </summary>
+    private sealed class PgServer(string dataDir, string bin, string folder, string station) : IDisposable
     {
-        public static PgServer Required()
+        public string Station => station;
+
+        public static PgServer StartOwn()
         {
-            var dir = Environment.GetEnvironmentVariable("PMACSTREAM_TEST_PG_DIR");
-            Skip.If(string.IsNullOrEmpty(dir) || !Directory.Exists(dir),
-                "PMACSTREAM_TEST_PG_DIR is not set: no cluster data folder to stop and start (scripts/pg-throwaway.sh start DIR prints it; .ci/run exports it)");
             var bin = Directory.Exists("/usr/lib/postgresql") ? Directory.GetDirectories("/usr/lib/postgresql").Select(d => Path.Combine(d, "bin")).Where(d => File.Exists(Path.Combine(d, "pg_ctl")))
                 .OrderBy(d => int.TryParse(Path.GetFileName(Path.GetDirectoryName(d)), out var v) ? v : 0).LastOrDefault() : null;
-            Skip.If(bin is null, "pg_ctl is not installed (/usr/lib/postgresql/*/bin): the server cannot be stopped and started");
-            return new PgServer(dir!, bin!);
+            Skip.If(bin is null, "PostgreSQL is not installed (/usr/lib/postgresql/*/bin): no server to stop and start");
+            // Under the temporary folder itself: the postgres user must be able to enter it (a test folder is the
+            // runner's own, mode 700).
+            var folder = Path.Combine(Path.GetTempPath(), "pmacstream-pg-restart-" + Guid.NewGuid().ToString("N")[..8]);
+            var psi = new ProcessStartInfo("bash") { RedirectStandardOutput = true, RedirectStandardError = true, UseShellExecute = false };
+            foreach (var a in new[] { Path.Combine(RepoRoot.Path, "scripts", "pg-throwaway.sh"), "start", folder })
+            {
+                psi.ArgumentList.Add(a);
+            }
+
+            psi.Environment["PORT"] = FreePort().ToString(CultureInfo.InvariantCulture);
+            using var p = Process.Start(psi)!;
+            var output = p.StandardOutput.ReadToEnd();
+            var error = p.StandardError.ReadToEnd();
+            p.WaitForExit(120_000).Should().BeTrue();
+            p.ExitCode.Should().Be(0, $"pg-throwaway.sh start: {output}{error}");
+            string Export(string name) => System.Text.RegularExpressions.Regex.Match(output, $"export {name}='([^']*)'").Groups[1].Value;
+            using (PgSchema.OpenMigrated(StoreLocation.Parse(Export("PMACSTREAM_TEST_PG_ADMIN"))))
+            {
+            }
+
+            return new PgServer(Export("PMACSTREAM_TEST_PG_DIR"), bin!, folder, Export("PMACSTREAM_TEST_PG"));
+        }
+
+        public void Dispose()
+        {
+            NpgsqlConnection.ClearAllPools();
+            using var p = Process.Start("bash", [Path.Combine(RepoRoot.Path, "scripts", "pg-throwaway.sh"), "stop", folder]);
+            p.WaitForExit(60_000);
+        }
+
+        private static int FreePort()
+        {
+            using var l = new System.Net.Sockets.TcpListener(IPAddress.Loopback, 0);
+            l.Start();
+            return ((IPEndPoint)l.LocalEndpoint).Port;
         }
 
         public void Stop() => PgCtl("-D", dataDir, "-m", "fast", "-w", "stop");
