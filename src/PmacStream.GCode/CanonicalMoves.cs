@@ -2,8 +2,9 @@ namespace PmacStream.GCode;
 
 /// <summary>
 /// Where the interpreter says what each block does, as it decides it (rs274ngc's canonical machining functions:
-/// STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED, DWELL): the state the block starts from, the steps of a canned cycle
-/// or a reference return, then the block's motion. Set on <see cref="Interpreter.Canon"/>; every block the
+/// STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED, DWELL, SELECT_TOOL, CHANGE_TOOL, SET_SPINDLE_SPEED, FLOOD_ON,
+/// PROGRAM_STOP ...): the state the block starts from, its settings and codes in the order written, the steps of a
+/// canned cycle or a reference return, the block's motion, then what it decided. Set on <see cref="Interpreter.Canon"/>; every block the
 /// interpreter takes calls <see cref="StartBlock"/> first, so a consumer needs no call before
 /// <see cref="Interpreter.Execute"/> and cannot miss a block. All positions are machine coordinates in millimetres.
 /// </summary>
