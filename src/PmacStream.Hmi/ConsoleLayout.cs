@@ -129,7 +129,13 @@ public static class ConsoleLayout
     public static readonly LayoutBox StoreLocationLabel = new(6, 8, 570, 20);
 
     /// <summary>Store page: the store's job history.</summary>
-    public static readonly LayoutBox StoreJobsGrid = new(6, 30, 570, 380);
+    public static readonly LayoutBox StoreJobsGrid = new(6, 30, 570, 220);
+
+    /// <summary>Store page: the shop label.</summary>
+    public static readonly LayoutBox StoreShopLabel = new(6, 256, 300, 20);
+
+    /// <summary>Store page: the shop (machines, who runs what, the current line).</summary>
+    public static readonly LayoutBox StoreShopGrid = new(6, 278, 570, 132);
 
     /// <summary>Store page: the programs label.</summary>
     public static readonly LayoutBox StoreProgramsLabel = new(6, 418, 300, 20);

@@ -91,6 +91,9 @@ public sealed partial class CoreHmiBackend
     IReadOnlyList<Jobs.JobHistoryView> IStoreBackend.JobHistory() => Service.JobHistory();
 
     /// <inheritdoc />
+    IReadOnlyList<Jobs.ShopMachineView> IStoreBackend.Shop() => Service.ShopViews();
+
+    /// <inheritdoc />
     public IReadOnlyList<Jobs.StoredProgramView> StoredPrograms() => Service.StoredPrograms();
 
     /// <inheritdoc />

@@ -17,9 +17,41 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
     public const int MaxListedDiagnostics = 10_000;
 
     private ControllerLink? _link;
+    private StationSettings? _stationSettings;
 
     /// <summary>The service every call goes to.</summary>
     public JobService Service { get; } = service;
+
+    /// <summary>
+    /// This station's name for leases and the job history (<c>--station</c>); null: the settings file's <c>station</c>,
+    /// else the host name, as the command line.
+    /// </summary>
+    public string? Station { get; init; }
+
+    /// <summary>The machine's name for its lease and the job history (<c>--machine</c>); null: its connection.</summary>
+    public string? Machine { get; init; }
+
+    /// <summary>The station's settings (lease heartbeat and expiry, station name); null: the default settings file's.</summary>
+    public StationSettings? StationSettings { get; init; }
+
+    private StationSettings Settings => _stationSettings ??= StationSettings ?? Jobs.StationSettings.Load(null);
+
+    /// <summary>
+    /// The lease of the connected machine for this station, taken before a job sends anything, as <c>stream</c> and
+    /// <c>resume</c> take it (refused with who holds it); null for the built-in simulator, which is this process's own.
+    /// </summary>
+    private Task<MachineLease?> LeaseAsync(string? recorded = null)
+    {
+        var link = Link;
+        if (link.IsSimulator)
+        {
+            return Task.FromResult<MachineLease?>(null);
+        }
+
+        var settings = Settings;
+        var machine = Machine ?? recorded ?? JobService.MachineName(link.Spec);
+        return Task.Run<MachineLease?>(() => Service.TakeLease(machine, settings.StationName(Station), settings));
+    }
 
     /// <inheritdoc />
     public IReadOnlyList<string> Strategies => JobService.Strategies;
@@ -94,17 +126,37 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
     public async Task<IHmiJob> StartAsync(HmiJobRequest request, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(request);
-        var job = await Service.StartJobAsync(Link, new SplitJobRequest(request.Program, request.Strategy)
+        var lease = await LeaseAsync().ConfigureAwait(false);
+        try
         {
-            FromLine = request.FromLine,
-            Settings = request.Settings,
-            SingleBlock = request.SingleBlock,
-            FeedOverride = request.FeedOverride,
-            Profile = request.Profile,
-            OptionalStop = request.OptionalStop,
-            ProgramId = request.ProgramId,
-        }, cancellationToken).ConfigureAwait(false);
-        return Track(new SessionJob(job, SourceLocations.MapOf(request.Program.Folder)), request.Program.SourcePath, request.Strategy);
+            var job = await Service.StartJobAsync(Link, new SplitJobRequest(request.Program, request.Strategy)
+            {
+                FromLine = request.FromLine,
+                Settings = request.Settings,
+                SingleBlock = request.SingleBlock,
+                FeedOverride = request.FeedOverride,
+                Profile = request.Profile,
+                OptionalStop = request.OptionalStop,
+                ProgramId = request.ProgramId,
+                Station = lease is null ? null : Settings.StationName(Station),
+                Machine = lease?.Machine,
+            }, cancellationToken).ConfigureAwait(false);
+            lease?.SetJob(job.Id);
+            return Track(new SessionJob(job, SourceLocations.MapOf(request.Program.Folder), lease), request.Program.SourcePath, request.Strategy);
+        }
+        catch
+        {
+            await ReleaseAsync(lease).ConfigureAwait(false);
+            throw;
+        }
+    }
+
+    private static async Task ReleaseAsync(MachineLease? lease)
+    {
+        if (lease is not null)
+        {
+            await lease.DisposeAsync().ConfigureAwait(false);
+        }
     }
 
     /// <summary>" (O1002 line 7, call 3 of 4 from line 12)" for a line of an expanded program, else empty.</summary>
@@ -125,6 +177,22 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
         CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(job);
+        var lease = await LeaseAsync(Service.RecordedMachine(job.JobId)).ConfigureAwait(false);
+        try
+        {
+            lease?.SetJob(job.JobId);
+            return await ResumeLeasedAsync(job, feedOverride, settings, profile, optionalStop, lease, cancellationToken).ConfigureAwait(false);
+        }
+        catch
+        {
+            await ReleaseAsync(lease).ConfigureAwait(false);
+            throw;
+        }
+    }
+
+    private async Task<IHmiJob> ResumeLeasedAsync(InterruptedJobView job, double feedOverride, RunSettings settings, MachineProfile profile, bool optionalStop,
+        MachineLease? lease, CancellationToken cancellationToken)
+    {
         var result = await Service.ResumeViewAsync(Link, job, settings, profile, feedOverride, optionalStop, cancellationToken).ConfigureAwait(false);
         switch (result.Kind)
         {
@@ -139,13 +207,13 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
         var resumed = result.Job!;
         if (result.Kind != ResumeKind.Restart)
         {
-            return Track(new SessionJob(resumed, SourceLocations.MapOf(job.Program.Folder)), job.Program.SourcePath, job.Strategy);
+            return Track(new SessionJob(resumed, SourceLocations.MapOf(job.Program.Folder), lease), job.Program.SourcePath, job.Strategy);
         }
 
         try
         {
             await resumed.StartAsync(cancellationToken).ConfigureAwait(false);
-            return Track(new SessionJob(resumed, SourceLocations.MapOf(job.Program.Folder)), job.Program.SourcePath, job.Strategy);
+            return Track(new SessionJob(resumed, SourceLocations.MapOf(job.Program.Folder), lease), job.Program.SourcePath, job.Strategy);
         }
         catch
         {
@@ -160,8 +228,10 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
     private ControllerLink Link => _link ?? throw new InvalidOperationException("Connect to a controller first.");
 
     /// <summary>A job as the presenter drives it.</summary>
-    private sealed class SessionJob(Job job, GCode.Expansion.ExpansionMap? origins = null) : IHmiJob
+    private sealed class SessionJob(Job job, GCode.Expansion.ExpansionMap? origins = null, MachineLease? lease = null) : IHmiJob
     {
+        private MachineLease? _lease = lease;
+
         public long? Id => job.Id;
 
         public HmiJobStatus Status
@@ -187,7 +257,23 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
             }
         }
 
-        public Task TickAsync(CancellationToken cancellationToken = default) => job.TickAsync(cancellationToken);
+        public async Task TickAsync(CancellationToken cancellationToken = default)
+        {
+            await job.TickAsync(cancellationToken).ConfigureAwait(false);
+            if (job.View.State is JobState.Completed or JobState.Aborted or JobState.Faulted)
+            {
+                await ReleaseLeaseAsync().ConfigureAwait(false); // the job's end gives the machine back, as the command line's does
+            }
+        }
+
+        /// <summary>Gives the machine's lease back (once).</summary>
+        public async Task ReleaseLeaseAsync()
+        {
+            if (Interlocked.Exchange(ref _lease, null) is { } held)
+            {
+                await held.DisposeAsync().ConfigureAwait(false);
+            }
+        }
 
         public Task HoldAsync(CancellationToken cancellationToken = default) => job.HoldAsync(cancellationToken);
 
@@ -205,6 +291,10 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
             return Task.CompletedTask;
         }
 
-        public ValueTask DisposeAsync() => job.DisposeAsync();
+        public async ValueTask DisposeAsync()
+        {
+            await job.DisposeAsync().ConfigureAwait(false);
+            await ReleaseLeaseAsync().ConfigureAwait(false);
+        }
     }
 }

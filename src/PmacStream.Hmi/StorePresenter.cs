@@ -23,6 +23,17 @@ public sealed record StoredJobRow(long Id, string Program, string Station, strin
 /// <param name="Errors">Errors the check found.</param>
 public sealed record StoredProgramRow(long Id, string Name, string Profile, long Blocks, int Errors);
 
+/// <summary>A machine of the shop as the Store page lists it (what <c>pmacstream shop</c> prints).</summary>
+/// <param name="Machine">The machine.</param>
+/// <param name="Station">The station holding its lease (<c>–</c> when free).</param>
+/// <param name="Job">The job there (<c>–</c> when none).</param>
+/// <param name="Program">Its program (<c>#12 part.nc</c>).</param>
+/// <param name="Line">The current line (its latest checkpoint's).</param>
+/// <param name="Blocks">Blocks executed of the total.</param>
+/// <param name="Outcome">The job's outcome (running, completed, ...).</param>
+/// <param name="Lease">leased, expired or free, with the last heartbeat.</param>
+public sealed record ShopRow(string Machine, string Station, string Job, string Program, string Line, string Blocks, string Outcome, string Lease);
+
 /// <summary>The Store page as a passive view: the store's job history and program revisions, and Open.</summary>
 public interface IStoreView
 {
@@ -34,6 +45,9 @@ public interface IStoreView
 
     /// <summary>The store's program revisions, newest first.</summary>
     IReadOnlyList<StoredProgramRow> StoredPrograms { set; }
+
+    /// <summary>The shop: every machine the store knows, who runs what there and the current line.</summary>
+    IReadOnlyList<ShopRow> Shop { set; }
 
     /// <summary>The revision the operator selected, or null.</summary>
     long? SelectedStoredProgram { get; }
@@ -59,6 +73,9 @@ public interface IStoreBackend
 
     /// <summary>The store's program revisions (<see cref="JobService.StoredPrograms"/>).</summary>
     IReadOnlyList<StoredProgramView> StoredPrograms();
+
+    /// <summary>The shop's machines (<see cref="JobService.ShopViews"/>).</summary>
+    IReadOnlyList<ShopMachineView> Shop();
 
     /// <summary>A revision's source as a file to open, and its built-in profile (<see cref="JobService.StoredProgramFile"/>).</summary>
     (string Path, string? Profile) StoredProgramFile(long id);
@@ -91,6 +108,7 @@ public sealed class StorePresenter
         view.StoreLocationText = backend.StoreDisplay;
         view.StoredJobs = [];
         view.StoredPrograms = [];
+        view.Shop = [];
         view.StoreMessage = string.Empty;
         view.StoreRefreshRequested += (_, _) => _ops.Run(RefreshAsync);
         view.OpenStoredProgramRequested += (_, _) => _ops.Run(OpenSelectedAsync);
@@ -111,9 +129,10 @@ public sealed class StorePresenter
     /// <summary>Reads both lists from the store and shows them.</summary>
     public async Task RefreshAsync()
     {
-        var (jobs, programs) = await Task.Run(() => (_backend.JobHistory(), _backend.StoredPrograms())).ConfigureAwait(true);
+        var (jobs, programs, shop) = await Task.Run(() => (_backend.JobHistory(), _backend.StoredPrograms(), _backend.Shop())).ConfigureAwait(true);
         _view.StoredJobs = jobs.Select(j => Row(j, Language())).ToList();
         _view.StoredPrograms = programs.Select(p => new StoredProgramRow(p.Id, p.Name, p.Profile, p.Blocks, p.Errors)).ToList();
+        _view.Shop = shop.Select(Row).ToList();
         _view.StoreMessage = T(TextId.StoreSummary, jobs.Count, programs.Count, _backend.StoreDisplay);
     }
 
@@ -158,6 +177,20 @@ public sealed class StorePresenter
             _ => j.Outcome,
         },
         string.Create(CultureInfo.InvariantCulture, $"{j.BlocksExecuted}/{(j.BlocksTotal is { } t ? t.ToString(CultureInfo.InvariantCulture) : "?")}"));
+
+    private static ShopRow Row(ShopMachineView m)
+    {
+        var ci = CultureInfo.InvariantCulture;
+        return new ShopRow(
+            m.Machine,
+            m.Station ?? "–",
+            m.JobId?.ToString(ci) ?? "–",
+            m.JobId is null ? "–" : (m.ProgramId is { } pid ? $"#{pid.ToString(ci)} " : string.Empty) + m.Program,
+            m.Line?.ToString(ci) ?? "–",
+            m.JobId is null ? "–" : string.Create(ci, $"{m.BlocksExecuted ?? 0}/{(m.BlocksTotal is { } t ? t.ToString(ci) : "?")}"),
+            m.Outcome ?? "–",
+            m.Heartbeat is { } beat ? $"{m.State}, beat {beat.ToLocalTime().ToString("HH:mm:ss", ci)}" : m.State);
+    }
 
     /// <summary>A store that cannot be read, a revision without its source: said on the page, nothing opened.</summary>
     private void Failed(Exception e)

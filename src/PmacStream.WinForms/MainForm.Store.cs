@@ -11,6 +11,8 @@ internal sealed partial class MainForm : IStoreView
     private readonly TabPage tabStore = new() { Name = nameof(tabStore), Text = "Store" };
     private readonly Label lblStoreLocation = new() { AutoEllipsis = true };
     private readonly DataGridView gridStoreJobs = NewGrid();
+    private readonly Label lblStoreShop = new() { Text = "Shop: machines, who runs what, the current line" };
+    private readonly DataGridView gridStoreShop = NewGrid();
     private readonly Label lblStorePrograms = new() { Text = "Programs in the store" };
     private readonly DataGridView gridStorePrograms = NewGrid();
     private readonly Button btnStoreRefresh = new() { Name = nameof(btnStoreRefresh), Text = "Refresh" };
@@ -74,6 +76,18 @@ internal sealed partial class MainForm : IStoreView
         }
     }
 
+    public IReadOnlyList<ShopRow> Shop
+    {
+        set
+        {
+            gridStoreShop.Rows.Clear();
+            foreach (var m in value)
+            {
+                gridStoreShop.Rows.Add(m.Machine, m.Station, m.Job, m.Program, m.Line, m.Blocks, m.Outcome, m.Lease);
+            }
+        }
+    }
+
     public long? SelectedStoredProgram =>
         gridStorePrograms.CurrentRow?.Cells[0].Value is long id ? id : null;
 
@@ -88,6 +102,8 @@ internal sealed partial class MainForm : IStoreView
         tabConsole.TabPages.Add(tabStore);
         Place(lblStoreLocation, ConsoleLayout.StoreLocationLabel, tabStore);
         Place(gridStoreJobs, ConsoleLayout.StoreJobsGrid, tabStore);
+        Place(lblStoreShop, ConsoleLayout.StoreShopLabel, tabStore);
+        Place(gridStoreShop, ConsoleLayout.StoreShopGrid, tabStore);
         Place(lblStorePrograms, ConsoleLayout.StoreProgramsLabel, tabStore);
         Place(gridStorePrograms, ConsoleLayout.StoreProgramsGrid, tabStore);
         Place(btnStoreRefresh, ConsoleLayout.StoreRefreshButton, tabStore);
@@ -103,7 +119,12 @@ internal sealed partial class MainForm : IStoreView
             gridStorePrograms.Columns.Add(c, c);
         }
 
-        foreach (var grid in new[] { gridStoreJobs, gridStorePrograms })
+        foreach (var c in new[] { "Machine", "Station", "Job", "Program", "Line", "Blocks", "Outcome", "Lease" })
+        {
+            gridStoreShop.Columns.Add(c, c);
+        }
+
+        foreach (var grid in new[] { gridStoreJobs, gridStorePrograms, gridStoreShop })
         {
             grid.ReadOnly = true;
             grid.AllowUserToAddRows = false;

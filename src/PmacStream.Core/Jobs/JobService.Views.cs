@@ -55,6 +55,8 @@ public sealed partial class JobService
             Profile = request.Profile,
             OptionalStop = request.OptionalStop,
             ProgramId = request.ProgramId,
+            Station = request.Station,
+            Machine = request.Machine,
         }, cancellationToken).ConfigureAwait(false);
         try
         {

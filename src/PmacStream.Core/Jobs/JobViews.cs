@@ -132,4 +132,10 @@ public sealed record SplitJobRequest(SplitView Program, string Strategy)
 
     /// <summary>The stored revision the program was prepared from (its start from a line reads the store), or null.</summary>
     public long? ProgramId { get; init; }
+
+    /// <summary>The station starting it (the job history records it); null: none recorded.</summary>
+    public string? Station { get; init; }
+
+    /// <summary>The machine as leased (the job history records it); null: its connection.</summary>
+    public string? Machine { get; init; }
 }

@@ -28,6 +28,8 @@ public sealed class StorePresenterTests : IDisposable
 
         public IReadOnlyList<StoredProgramRow> StoredPrograms { get; set; } = [];
 
+        public IReadOnlyList<ShopRow> Shop { get; set; } = [];
+
         public long? SelectedStoredProgram { get; set; }
 
         public string StoreMessage { get; set; } = string.Empty;
@@ -48,6 +50,8 @@ public sealed class StorePresenterTests : IDisposable
         public IReadOnlyList<JobHistoryView> JobHistory() => service.JobHistory();
 
         public IReadOnlyList<StoredProgramView> StoredPrograms() => service.StoredPrograms();
+
+        public IReadOnlyList<ShopMachineView> Shop() => service.ShopViews();
 
         public (string Path, string? Profile) StoredProgramFile(long id) => service.StoredProgramFile(id);
     }
@@ -144,6 +148,34 @@ public sealed class StorePresenterTests : IDisposable
         await p.WhenIdleAsync();
         _openedRevisions.Should().Equal(good);
         _opened.Single().Profile.Should().Be("linuxcnc-mill");
+    }
+
+    [Fact]
+    public async Task The_page_shows_the_shop_as_shop_prints_it_who_holds_each_machine_and_the_current_line()
+    {
+        var (p, store, good, _, job) = Setup();
+        using (var jobs = JobStores.Open(store))
+        {
+            var running = jobs.CreateJob("/parts/other.nc", "def", "m.json", StrategyKind.Chunk, "tcp://10.0.0.7:1025", null, history: new JobHistoryStart(good, "cell-2", "mill-2", 40));
+            jobs.SaveCheckpoint(running, new Checkpoint(17, 1, new StreamPosition(1, 3), true, 1, SessionState.Running, DateTimeOffset.UtcNow), durable: true, executed: 12);
+        }
+
+        await using (var lease = MachineLease.Take(store, "mill-2", "cell-2", null, StationSettings.Default))
+        {
+            _view.Refresh();
+            await p.WhenIdleAsync();
+            _view.Shop.Select(r => r.Machine).Should().Equal("mill-1", "mill-2");
+            _view.Shop[0].Should().BeEquivalentTo(new { Station = "–", Job = job.ToString(System.Globalization.CultureInfo.InvariantCulture), Program = $"#{good} part.nc", Outcome = "completed", Blocks = "5/5", Lease = "free" });
+            var leased = _view.Shop[1];
+            leased.Station.Should().Be("cell-2");
+            leased.Program.Should().Be($"#{good} other.nc");
+            leased.Line.Should().Be("17", "the current line is the latest checkpoint's");
+            leased.Lease.Should().StartWith("leased, beat ");
+        }
+
+        _view.Refresh();
+        await p.WhenIdleAsync();
+        _view.Shop[1].Should().BeEquivalentTo(new { Station = "–", Lease = "free" }, "the lease was given back");
     }
 
     [Fact]
