@@ -27,6 +27,9 @@ internal sealed class ConsoleOptions
         return o;
     }
 
+    /// <summary>These options as one command line gives them, for its handler.</summary>
+    public ConsoleArgs Bind(ParseResult parse) => new(this, parse);
+
     /// <summary>The tables file.</summary>
     public string TablesPath(ParseResult parse) => parse.GetValue(_tables) ?? MachineTables.DefaultPath(_job.SettingsPath(parse));
 
@@ -80,14 +83,17 @@ internal sealed class ConsoleOptions
     }
 
     /// <summary>Prints a result: done on stdout (exit 0), refused as an error with the reason (exit 1).</summary>
-    public static int Finish(ConsoleResult result)
+    public static int Finish(ConsoleResult result) => Finish(result, CliConsole.Standard);
+
+    /// <summary>Prints a result on <paramref name="console"/>: done on its output (exit 0), refused as an error with the reason (exit 1).</summary>
+    public static int Finish(ConsoleResult result, CliConsole console)
     {
         if (!result.Done)
         {
             throw new CliException("refused: " + result.Message, CliGlobals.Failed);
         }
 
-        Console.WriteLine(result.Message);
+        console.Out.WriteLine(result.Message);
         return CliGlobals.Ok;
     }
 
@@ -117,4 +123,11 @@ internal sealed class ConsoleSession(CliSimulator sim, ControllerLink controller
             await Lease.DisposeAsync().ConfigureAwait(false);
         }
     }
+}
+
+/// <summary>The console options of one command line, bound: the handler opens the console with them.</summary>
+internal sealed class ConsoleArgs(ConsoleOptions options, ParseResult parse)
+{
+    /// <inheritdoc cref="ConsoleOptions.OpenAsync"/>
+    public Task<ConsoleSession> OpenAsync(CancellationToken cancellationToken, bool lease = false) => options.OpenAsync(parse, cancellationToken, lease);
 }

@@ -17,31 +17,47 @@ internal static class JogCommand
         cmd.Options.Add(feed);
         cmd.Options.Add(seconds);
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            var text = parse.GetValue(move)!.Trim();
-            var name = parse.GetValue(axis)!;
-            var continuous = parse.GetValue(seconds);
-            if (continuous is { } s)
-            {
-                if (text is not ("+" or "-"))
-                {
-                    throw new CliException($"jog {name} {text} --for: give the direction alone, + or -");
-                }
-
-                await using var c = await options.OpenAsync(parse, ct, lease: true).ConfigureAwait(false);
-                return ConsoleOptions.Finish(await c.Console.JogForAsync(name, text == "+" ? 1 : -1, TimeSpan.FromSeconds(s), parse.GetValue(feed), ct).ConfigureAwait(false));
-            }
-
-            if (text.Length < 2 || text[0] is not ('+' or '-'))
-            {
-                throw new CliException($"jog {name} {text}: give +DIST or -DIST in mm (or + / - with --for SECONDS)");
-            }
-
-            var distance = ConsoleOptions.Number(text, "jog distance");
-            await using var session = await options.OpenAsync(parse, ct, lease: true).ConfigureAwait(false);
-            return ConsoleOptions.Finish(await session.Console.JogAsync(name, distance, parse.GetValue(feed), ct).ConfigureAwait(false));
-        });
+        cmd.SetAction((parse, ct) => new JogHandler().RunAsync(
+            new JogOptions(parse.GetValue(axis)!, parse.GetValue(move)!, parse.GetValue(feed), parse.GetValue(seconds), options.Bind(parse)), CliConsole.Of(parse), ct));
         return cmd;
+    }
+}
+
+/// <summary>What a <c>jog</c> command line asks for.</summary>
+/// <param name="Axis">The axis letter.</param>
+/// <param name="Move">+DIST or -DIST, or + or - with <paramref name="Seconds"/>.</param>
+/// <param name="Feed">The jog speed, mm/min, if given.</param>
+/// <param name="Seconds">A continuous jog's time, if given.</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record JogOptions(string Axis, string Move, double? Feed, double? Seconds, ConsoleArgs Console);
+
+/// <summary><c>pmacstream jog</c>: leases the machine and jogs an axis by a distance or for a time through the operator's console.</summary>
+internal sealed class JogHandler
+{
+    /// <summary>Jogs; exit 0 when in position, 1 when the console refused, 2 for a move it cannot read.</summary>
+    public async Task<int> RunAsync(JogOptions o, CliConsole console, CancellationToken ct)
+    {
+        var text = o.Move.Trim();
+        var name = o.Axis;
+        var continuous = o.Seconds;
+        if (continuous is { } s)
+        {
+            if (text is not ("+" or "-"))
+            {
+                throw new CliException($"jog {name} {text} --for: give the direction alone, + or -");
+            }
+
+            await using var c = await o.Console.OpenAsync(ct, lease: true).ConfigureAwait(false);
+            return ConsoleOptions.Finish(await c.Console.JogForAsync(name, text == "+" ? 1 : -1, TimeSpan.FromSeconds(s), o.Feed, ct).ConfigureAwait(false), console);
+        }
+
+        if (text.Length < 2 || text[0] is not ('+' or '-'))
+        {
+            throw new CliException($"jog {name} {text}: give +DIST or -DIST in mm (or + / - with --for SECONDS)");
+        }
+
+        var distance = ConsoleOptions.Number(text, "jog distance");
+        await using var session = await o.Console.OpenAsync(ct, lease: true).ConfigureAwait(false);
+        return ConsoleOptions.Finish(await session.Console.JogAsync(name, distance, o.Feed, ct).ConfigureAwait(false), console);
     }
 }

@@ -16,13 +16,7 @@ internal static class PlcCommand
         cmd.Arguments.Add(file);
         cmd.Options.Add(plc);
         cmd.Options.Add(output);
-        cmd.SetAction(async (parseResult, ct) =>
-        {
-            var path = parseResult.GetValue(file)!;
-            var plcNumber = parseResult.GetValue(plc);
-            var outPath = parseResult.GetValue(output);
-            return await RunAsync(path, plcNumber, outPath, Console.Out, Console.Error, ct).ConfigureAwait(false);
-        });
+        cmd.SetAction((parse, ct) => new PlcHandler().RunAsync(new PlcOptions(parse.GetValue(file)!, parse.GetValue(plc), parse.GetValue(output)), CliConsole.Of(parse), ct));
         return cmd;
     }
 
@@ -101,4 +95,17 @@ internal static class PlcCommand
         await stderr.WriteLineAsync($"PLC {generated.PlcNumber}: {generated.Statements.Count} rungs, {generated.DownloadLines.Count} lines -> {outPath}").ConfigureAwait(false);
         return CliGlobals.Ok;
     }
+}
+
+/// <summary>What a <c>plc</c> command line asks for.</summary>
+/// <param name="File">The ladder file.</param>
+/// <param name="Plc">The PLC program number, if given (over the file's).</param>
+/// <param name="Out">Write the program here rather than standard output.</param>
+internal sealed record PlcOptions(string File, int? Plc, string? Out);
+
+/// <summary><c>pmacstream plc</c>: ladder rungs to a downloadable PMAC PLC program.</summary>
+internal sealed class PlcHandler
+{
+    /// <summary>Generates the PLC program; returns the exit code.</summary>
+    public Task<int> RunAsync(PlcOptions o, CliConsole console, CancellationToken ct) => PlcCommand.RunAsync(o.File, o.Plc, o.Out, console.Out, console.Error, ct);
 }

@@ -78,15 +78,16 @@ public sealed class PlcCliTests : IDisposable
     [Fact]
     public async Task Command_line_errors_exit_2_without_a_stack_trace()
     {
-        var code = await CliGlobals.InvokeAsync(PlcCommand.Create().Parse(["plc", Path.Combine(_temp.Path, "nope.ladder")]));
+        var (code, _, stderr) = await CliRun.InProcessAsync(["plc", Path.Combine(_temp.Path, "nope.ladder")]);
         code.Should().Be(CliGlobals.UsageOrIo);
+        stderr.Should().Contain("nope.ladder: no such file").And.NotContain("   at ");
     }
 
     [Fact]
     public async Task Command_line_parsing_wires_the_argument_and_options()
     {
         var outPath = Path.Combine(_temp.Path, "spindle.pmc");
-        var code = await PlcCommand.Create().Parse(["plc", PlcSamples.Path_("sand-mould-spindle.ladder"), "--plc", "12", "--out", outPath]).InvokeAsync();
+        var (code, _, _) = await CliRun.InProcessAsync(["plc", PlcSamples.Path_("sand-mould-spindle.ladder"), "--plc", "12", "--out", outPath]);
         code.Should().Be(CliGlobals.Ok);
         (await File.ReadAllTextAsync(outPath)).Should().Contain("OPEN PLC 12 CLEAR").And.Contain("M902=");
     }

@@ -1,36 +1,17 @@
-using System.Diagnostics;
 using System.Text;
 using PmacStream.Preparation;
 
 namespace PmacStream.IntegrationTests.Split;
 
-/// <summary>The split and prog1000 commands run as the real process (pmacstream.dll beside the tests).</summary>
+/// <summary>The split and prog1000 commands, run in process through the CLI's parser and handlers.</summary>
 public sealed class SplitCliTests : IDisposable
 {
     private readonly TestFolder _temp = new("split-cli");
 
     public void Dispose() => _temp.Dispose();
 
-    private static (int Code, string Out, string Err) Run(params string[] args)
-    {
-        var psi = new ProcessStartInfo("dotnet")
-        {
-            RedirectStandardOutput = true,
-            RedirectStandardError = true,
-            UseShellExecute = false,
-        };
-        psi.ArgumentList.Add(Path.Combine(AppContext.BaseDirectory, "pmacstream.dll"));
-        foreach (var a in args)
-        {
-            psi.ArgumentList.Add(a);
-        }
-
-        using var p = Process.Start(psi)!;
-        var stdout = p.StandardOutput.ReadToEndAsync();
-        var stderr = p.StandardError.ReadToEndAsync();
-        p.WaitForExit(120_000).Should().BeTrue("the command finishes");
-        return (p.ExitCode, stdout.Result, stderr.Result);
-    }
+    /// <summary>Runs the command line in process (<see cref="CliRun"/>): the same parser, handler and exit codes as the binary.</summary>
+    private static (int Code, string Out, string Err) Run(params string[] args) => CliRun.InProcess(args);
 
     private string Write(string name, string text)
     {
