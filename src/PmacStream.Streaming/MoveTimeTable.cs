@@ -60,27 +60,8 @@ public sealed class MoveTimeTable : IMoveTimes
     /// </summary>
     internal static CanonMotion Amended(CanonMotion m, Point3 end)
     {
-        double ratio;
-        if (m.Kind is MotionKind.ArcCw or MotionKind.ArcCcw && m.Centre is { } c)
-        {
-            var full = Sweep(m.Start, m.End, c, m.Kind == MotionKind.ArcCw);
-            ratio = full > 1e-12 ? Sweep(m.Start, end, c, m.Kind == MotionKind.ArcCw) / full : 1;
-        }
-        else
-        {
-            ratio = m.Length > 1e-12 ? m.Start.DistanceTo(end) / m.Length : 1;
-        }
-
-        ratio = Math.Clamp(ratio, 0, 1);
-        return m with { End = end, Length = m.Length * ratio, Seconds = m.Seconds * ratio };
-    }
-
-    /// <summary>The angle an arc about <paramref name="c"/> sweeps from <paramref name="from"/> to <paramref name="to"/> in its direction (0..2π, XY).</summary>
-    private static double Sweep(Point3 from, Point3 to, Point3 c, bool clockwise)
-    {
-        var a = Math.Atan2(to.Y - c.Y, to.X - c.X) - Math.Atan2(from.Y - c.Y, from.X - c.X);
-        a = clockwise ? -a : a;
-        return a < 0 ? a + (2 * Math.PI) : a;
+        var part = AmendedMove.Fraction(m.Kind, m.Start, m.End, m.Centre, end);
+        return m with { End = end, Length = m.Length * part, Seconds = m.Seconds * part };
     }
 
     /// <summary>The motion of the block the interpreter took last, if it moved (its canonical moves).</summary>

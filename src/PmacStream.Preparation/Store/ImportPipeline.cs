@@ -115,6 +115,7 @@ internal static class ImportPipeline
         BlockingCollection<Batch> full, BlockingCollection<Batch> free, CancellationToken token)
     {
         var batch = free.Take(token);
+        var corners = new CornerHold(full, token);
         var states = new ExecStateTracker(profile);
         batch.States.Add(states.Initial);
         void OnDiagnostic(Diagnostic d)
@@ -125,11 +126,15 @@ internal static class ImportPipeline
 
         void OnInterpreted(Interpreter interp)
         {
+            var moved = corners.BeforeAdd(interp);
             batch.Add(in interp.Last, interp.State);
             if (interp.LastHoles is { } holes)
             {
                 batch.Holes.Add((interp.Last.Line, holes));
             }
+
+            corners.AfterAdd(batch, moved);
+
             if (states.After(interp) is { } changed)
             {
                 batch.States.Add(changed);
@@ -137,7 +142,7 @@ internal static class ImportPipeline
 
             if (batch.Count == BatchSize)
             {
-                full.Add(batch, token);
+                corners.Full(batch);
                 batch = free.Take(token);
             }
         }
@@ -156,8 +161,72 @@ internal static class ImportPipeline
             summary = checker.Check(source, file, OnDiagnostic, OnInterpreted, token);
         }
 
+        corners.Release();
         full.Add(batch, token);
         return summary;
+    }
+
+    /// <summary>
+    /// The last move's record: a G41/G42 inside corner at the next move moves its end back (<see cref="Interpreter.AmendedEnd"/>),
+    /// so a full batch holding it waits until that move is known (a whole batch without one lets it go: an inside
+    /// corner that far on is refused anyway, <see cref="Interpreter.MaxHeldCompensationBlocks"/>).
+    /// </summary>
+    private sealed class CornerHold(BlockingCollection<Batch> full, CancellationToken token)
+    {
+        private (Batch? Batch, int Index) _held = (null, -1);
+        private Batch? _pending;
+
+        /// <summary>Before a block is added: a move amends the move held and lets its batch go; returns whether it moved.</summary>
+        public bool BeforeAdd(Interpreter interp)
+        {
+            if (interp.Last.Motion is MotionKind.None or MotionKind.Dwell)
+            {
+                return false;
+            }
+
+            if (interp.AmendedEnd is { } amended && _held.Batch is { } batch)
+            {
+                Amend(ref batch.Blocks[_held.Index], amended);
+            }
+
+            Release();
+            return true;
+        }
+
+        /// <summary>After a block was added: a move is the one held now.</summary>
+        public void AfterAdd(Batch batch, bool moved) => _held = moved ? (batch, batch.Count - 1) : _held;
+
+        /// <summary>A full batch goes on, unless it holds the last move.</summary>
+        public void Full(Batch batch)
+        {
+            Release();
+            if (_held.Batch == batch)
+            {
+                _pending = batch;
+            }
+            else
+            {
+                full.Add(batch, token);
+            }
+        }
+
+        /// <summary>Hands the batch waiting for the next move on.</summary>
+        public void Release()
+        {
+            if (_pending is { } p)
+            {
+                full.Add(p, token);
+                _pending = null;
+                _held = _held.Batch == p ? (null, -1) : _held;
+            }
+        }
+
+        /// <summary>The record of a move whose end an inside corner moved back: its end there, its length and time what is left.</summary>
+        private static void Amend(ref Interpreter.LastBlock block, Point3 end)
+        {
+            var part = AmendedMove.Fraction(block.Motion, block.Start, block.End, block.Center, end);
+            (block.End, block.Length, block.DurationSeconds) = (end, block.Length * part, block.DurationSeconds * part);
+        }
     }
 
     /// <summary>Decoded blocks (interpreter fields plus the shared, immutable modal state) and diagnostics.</summary>

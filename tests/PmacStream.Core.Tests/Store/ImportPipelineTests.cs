@@ -72,6 +72,54 @@ public sealed class ImportPipelineTests : IDisposable
     }
 
     [Fact]
+    public void A_move_before_a_G41_inside_corner_is_stored_with_its_end_moved_back_across_batch_boundaries()
+    {
+        // A pocket cut round and round under G41 D1 (radius 5): every corner is an inside one, every block a move, so
+        // each batch boundary falls between a move and the corner that moves its end back.
+        var json = System.Text.Json.Nodes.JsonNode.Parse(MachineProfile.Default.ToJson())!.AsObject();
+        json["toolRadii"] = System.Text.Json.Nodes.JsonNode.Parse("""{ "1": 5 }""");
+        var profile = MachineProfile.Parse(json.ToJsonString(), "fanuc-mill+radii");
+        var sb = new System.Text.StringBuilder("G21 G90 G17\nG00 X50. Y25. Z5.\nG01 Z-1. F100\nG41 D1 X50. Y0\n");
+        for (var i = 0; i < 600; i++)
+        {
+            sb.Append("X100.\nY50.\nX0\nY0\n");
+        }
+
+        sb.Append("G40 X50. Y25.\nM30\n");
+        var file = Path.Combine(_temp.Path, "pocket.nc");
+        File.WriteAllText(file, sb.ToString());
+
+        // Expected: the interpreter's ends, the move before each inside corner moved back (as the splitter sends it).
+        var interp = new Interpreter(profile);
+        var expected = new List<Point3>();
+        var lastMove = -1;
+        foreach (var block in GCodeReader.ReadAll(file))
+        {
+            if (interp.Step(block) is not { } d)
+            {
+                continue;
+            }
+
+            if (interp.AmendedEnd is { } amended && lastMove >= 0)
+            {
+                expected[lastMove] = amended;
+            }
+
+            expected.Add(d.End);
+            lastMove = d.Motion is MotionKind.None or MotionKind.Dwell ? lastMove : expected.Count - 1;
+        }
+
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "s.db"));
+        var (id, _) = store.Import(file, profile);
+        var stored = store.ReadBlocks(id).ToList();
+        stored.Should().HaveCountGreaterThan(2 * ImportPipeline.BatchSize);
+        stored.Select(b => b.End).Should().Equal(expected);
+        stored.Single(b => b.Line == 4).End.Should().Be(new Point3(55, 5, -1), "the entry ends where the offset paths cross, not at (55, 0)");
+        stored.Where(b => b.Line > 4 && b.Motion == MotionKind.Linear).Should().OnlyContain(b => b.End.X == 5 || b.End.X == 95 || b.End.X == 50, "every corner of the pocket is 5 mm inside");
+        stored.Single(b => b.Line == 5).Length.Should().BeApproximately(40, 1e-9, "(55, 5) to (95, 5): the length as it runs");
+    }
+
+    [Fact]
     public void Exactly_one_full_batch_and_diagnostics_across_batches_are_stored()
     {
         // "O0100" alone is no block: 1 header block + (BatchSize - 2) moves + M30 = BatchSize blocks.
