@@ -36,6 +36,14 @@ public sealed record JobServiceOptions
     /// host that drives a bare controller).
     /// </summary>
     public Machine.MachineRules? Rules { get; init; }
+
+    /// <summary>
+    /// How many times the first contact (<c>VERSION</c>) is tried before a controller counts as unreachable. Over a
+    /// lossy link a lost SYN or first reply costs TCP's initial retransmission timeout (1 s, doubling), which alone can
+    /// outlast one reply timeout; the query changes nothing, and a timed-out exchange resets the socket, so asking again
+    /// on a new connection is safe. Default 3.
+    /// </summary>
+    public int ConnectAttempts { get; init; } = 3;
 }
 
 /// <summary>
@@ -130,16 +138,7 @@ public sealed partial class JobService
 
         try
         {
-            // Proves the link: any reply (even an ERR) means a controller is there; a link failure throws.
-            string version;
-            try
-            {
-                version = (await connection.GetResponseAsync("VERSION", cancellationToken).ConfigureAwait(false)).Trim();
-            }
-            catch (PmacErrorException e)
-            {
-                version = $"(VERSION answered ERR{e.Number:000})";
-            }
+            var version = await ProbeAsync(connection, cancellationToken).ConfigureAwait(false);
 
             if (sim is not null)
             {
@@ -167,6 +166,28 @@ public sealed partial class JobService
         {
             await connection.DisposeAsync().ConfigureAwait(false);
             throw;
+        }
+    }
+
+    // First contact: any reply (even an ERR) proves a controller is there; a link failure is tried again (see
+    // JobServiceOptions.ConnectAttempts) and the last one thrown.
+    private async Task<string> ProbeAsync(IPmacConnection connection, CancellationToken cancellationToken)
+    {
+        for (var attempt = 1; ; attempt++)
+        {
+            try
+            {
+                return (await connection.GetResponseAsync("VERSION", cancellationToken).ConfigureAwait(false)).Trim();
+            }
+            catch (PmacErrorException e)
+            {
+                return $"(VERSION answered ERR{e.Number:000})";
+            }
+            catch (PmacLinkException e) when (attempt < Math.Max(1, _options.ConnectAttempts))
+            {
+                Log.Warning("{Device:l}: no answer to the first contact ({Error:l}); trying again ({Attempt} of {Attempts})",
+                    connection.Description, e.Message, attempt + 1, _options.ConnectAttempts);
+            }
         }
     }
 
