@@ -20,6 +20,7 @@ public static class LossyLinkSocket
 
     private const int TcpThinLinearTimeouts = 16; // linux/tcp.h
     private const int TcpRtoMinUs = 45;           // linux/tcp.h, Linux 6.15
+    private const int IpProtoTcp = 6;             // IPPROTO_TCP
 
     private static readonly ILogger Log = Serilog.Log.ForContext(typeof(LossyLinkSocket));
 
@@ -38,11 +39,39 @@ public static class LossyLinkSocket
         return applied;
     }
 
+    /// <summary>Reads a TCP option back as the kernel holds it (Linux); null where it is not there.</summary>
+    public static int? Read(Socket socket, int option)
+    {
+        ArgumentNullException.ThrowIfNull(socket);
+        if (!OperatingSystem.IsLinux())
+        {
+            return null;
+        }
+
+        Span<byte> value = stackalloc byte[sizeof(int)];
+        try
+        {
+            return socket.GetRawSocketOption(IpProtoTcp, option, value) == sizeof(int) ? BitConverter.ToInt32(value) : null;
+        }
+        catch (SocketException)
+        {
+            return null;
+        }
+    }
+
+    /// <summary>TCP_THIN_LINEAR_TIMEOUTS (linux/tcp.h).</summary>
+    public const int ThinLinearTimeoutsOption = TcpThinLinearTimeouts;
+
+    /// <summary>TCP_RTO_MIN_US (linux/tcp.h, Linux 6.15).</summary>
+    public const int RtoMinOption = TcpRtoMinUs;
+
+    // Raw options: SocketOptionName's numbers are .NET's own and are translated per system (16 at the TCP level is
+    // TcpKeepAliveRetryCount, i.e. TCP_KEEPCNT), so Linux's numbers must go through the raw call unchanged.
     private static int TrySet(Socket socket, int option, int value, string name)
     {
         try
         {
-            socket.SetSocketOption(SocketOptionLevel.Tcp, (SocketOptionName)option, value);
+            socket.SetRawSocketOption(IpProtoTcp, option, BitConverter.GetBytes(value));
             return 1;
         }
         catch (SocketException e)
