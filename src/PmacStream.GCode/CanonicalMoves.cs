@@ -6,7 +6,7 @@ namespace PmacStream.GCode;
 /// PROGRAM_STOP ...): the state the block starts from, its settings and codes in the order written, the steps of a
 /// canned cycle or a reference return, the block's motion, then what it decided. Set on <see cref="Interpreter.Canon"/>; every block the
 /// interpreter takes calls <see cref="StartBlock"/> first, so a consumer needs no call before
-/// <see cref="Interpreter.Execute"/> and cannot miss a block. All positions are machine coordinates in millimetres.
+/// <see cref="Interpreter.Execute(GBlock)"/> and cannot miss a block. All positions are machine coordinates in millimetres.
 /// </summary>
 public interface ICanonicalMoves
 {

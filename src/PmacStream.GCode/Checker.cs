@@ -72,6 +72,12 @@ public sealed class Checker
     /// <summary>Off: straight moves are not measured, so the summary's estimated time covers arcs and dwells only (see <see cref="Interpreter.MeasureMoves"/>).</summary>
     internal bool MeasureMoves { get; init; } = true;
 
+    /// <summary>
+    /// Where the check's interpreter says what each line does as it decides it (<see cref="Interpreter.Canon"/>): the
+    /// store takes each block's move, holes, corner and offsets from these calls.
+    /// </summary>
+    public ICanonicalMoves? Canon { get; init; }
+
     /// <summary>Checks a file. Throws <see cref="IOException"/>/<see cref="UnauthorizedAccessException"/> when it cannot be read.</summary>
     public CheckSummary CheckFile(string path, Action<Diagnostic> onDiagnostic, Action<DecodedBlock>? onBlock = null, CancellationToken cancellationToken = default)
     {
@@ -102,6 +108,7 @@ public sealed class Checker
     {
         var sw = Stopwatch.StartNew();
         var run = new CheckRun(_profile, MeasureMoves, onDiagnostic, onBlock, onInterpreted);
+        run.Interpreter.Canon = Canon;
         using var reader = new GCodeReader(stream, leaveOpen: true);
         while (reader.Read())
         {

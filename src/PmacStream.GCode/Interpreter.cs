@@ -139,6 +139,9 @@ public sealed partial class Interpreter
     /// </summary>
     public bool Execute(GBlock block) => StepCore(block, null);
 
+    /// <summary><see cref="Execute(GBlock)"/>, reporting the block's findings into <paramref name="diagnostics"/> (the preview lists them).</summary>
+    public bool Execute(GBlock block, List<Diagnostic>? diagnostics) => StepCore(block, diagnostics);
+
     /// <summary>
     /// Interprets a block into <see cref="Last"/>, reporting its findings into <paramref name="diagnostics"/> (when
     /// given) and its canonical moves to <see cref="Canon"/> (when set); false when the line holds no block.
@@ -426,7 +429,8 @@ public sealed partial class Interpreter
         {
             kind = MotionKind.Dwell;
             usedP = p.HasValue;
-            seconds = ConvertDwell(p, x, y, z, col, diags, line, codes.DwellColumn);
+            // X of G04 is seconds, not a length: the word as written, never scaled by G20.
+            seconds = ConvertDwell(p, xw, y, z, col, diags, line, codes.DwellColumn);
         }
         else if (codes.Data is 510 or 511 or 680)
         {

@@ -26,11 +26,13 @@ internal static class ControllerState
     /// G59.1-G59.3; Selection, sent after it). A start from a block skips the blocks that set them, and the controller
     /// may hold another job's.
     /// </summary>
-    public static (IReadOnlyList<string> Before, string? Selection) Of(Interpreter interp)
+    public static (IReadOnlyList<string> Before, string? Selection) Of(Interpreter interp) => Of(interp.Coordinates, interp.Profile);
+
+    /// <summary><see cref="Of(Interpreter)"/> from the tables a block left (<see cref="CanonBlock.Tables"/>), under <paramref name="profile"/>.</summary>
+    public static (IReadOnlyList<string> Before, string? Selection) Of(WorkCoordinates coords, MachineProfile profile)
     {
-        var coords = interp.Coordinates;
         var lines = new List<string> { HostConversion.PowerOnState };
-        if (interp.Profile.ExternalWorkOffset && coords.External != default)
+        if (profile.ExternalWorkOffset && coords.External != default)
         {
             lines.Add(ExternalOffset(coords.External));
         }

@@ -14,8 +14,8 @@ public interface IToolpathIssues
 
 /// <summary>
 /// The toolpath of blocks interpreted once already (a stored revision's decoded blocks, each with its cycle holes):
-/// drawn by the same <see cref="DecodedBlockAdapter"/> as a file's, so the picture is the file's, and nothing is read
-/// or interpreted again. Each pass asks <paramref name="blocks"/> for a fresh enumeration (the store streams its rows).
+/// drawn by the same <see cref="ToolpathBuilder"/> as a file's (each row as the <see cref="DrawnBlock"/> the interpreter
+/// decided at import), so the picture is the file's, and nothing is read or interpreted again. Each pass asks <paramref name="blocks"/> for a fresh enumeration (the store streams its rows).
 /// </summary>
 /// <param name="blocks">A fresh pass over the blocks in program order, with a cycle block's holes.</param>
 /// <param name="blockCount">How many blocks a pass yields (for <see cref="PassFraction"/>).</param>
@@ -52,7 +52,7 @@ public sealed class DecodedBlockToolpathSource(
     /// <inheritdoc />
     public IEnumerable<PathSegment> ReadSegments(CancellationToken cancellationToken = default)
     {
-        var adapter = new DecodedBlockAdapter();
+        var builder = new ToolpathBuilder();
         var segments = new List<PathSegment>(4);
         _read = 0;
         var missing = 0L;
@@ -68,7 +68,7 @@ public sealed class DecodedBlockToolpathSource(
                 missing++;
             }
 
-            if (adapter.Convert(block, segments, holes) > 0)
+            if (builder.Add(DrawnBlock.Of(block, holes), segments) > 0)
             {
                 foreach (var segment in segments)
                 {
@@ -81,7 +81,7 @@ public sealed class DecodedBlockToolpathSource(
 
         _read = blockCount;
         CyclesWithoutHoles = missing;
-        Units = adapter.Units;
-        MixedUnits = adapter.MixedUnits;
+        Units = builder.Units;
+        MixedUnits = builder.MixedUnits;
     }
 }

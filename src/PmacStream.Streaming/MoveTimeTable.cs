@@ -32,7 +32,7 @@ public sealed class MoveTimeTable : IMoveTimes
                 {
                     if (held is { } h)
                     {
-                        yield return Sample(interp.AmendedEnd is { } amended ? Amended(h, amended) : h);
+                        yield return Sample(motions.AmendedEnd is { } amended ? Amended(h, amended) : h);
                     }
 
                     held = m;
@@ -64,19 +64,27 @@ public sealed class MoveTimeTable : IMoveTimes
         return m with { End = end, Length = m.Length * part, Seconds = m.Seconds * part };
     }
 
-    /// <summary>The motion of the block the interpreter took last, if it moved (its canonical moves).</summary>
+    /// <summary>
+    /// The motion of the block the interpreter took last, if it moved, and the inside corner it decided at that block
+    /// (its canonical moves: nothing is asked of the interpreter).
+    /// </summary>
     private sealed class LastMotion : ICanonicalMoves
     {
         private CanonMotion _motion;
         private bool _moved;
 
-        public void StartBlock(in CanonStart start) => _moved = false;
+        /// <summary>Where the move before the last block ends instead, at a G41/G42 inside corner (<see cref="CanonBlock.AmendedEnd"/>).</summary>
+        public Point3? AmendedEnd { get; private set; }
+
+        public void StartBlock(in CanonStart start) => (_moved, AmendedEnd) = (false, null);
 
         public void Step(in HostMove step)
         {
         }
 
         public void Motion(in CanonMotion motion) => (_motion, _moved) = (motion, true);
+
+        public void EndBlock(in CanonBlock block) => AmendedEnd = block.AmendedEnd;
 
         public CanonMotion? Take() => _moved ? _motion : null;
     }

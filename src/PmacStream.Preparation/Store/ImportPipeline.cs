@@ -117,6 +117,7 @@ internal static class ImportPipeline
         var batch = free.Take(token);
         var corners = new CornerHold(full, token);
         var states = new ExecStateTracker(profile);
+        var decided = new Decisions();
         batch.States.Add(states.Initial);
         void OnDiagnostic(Diagnostic d)
         {
@@ -124,18 +125,20 @@ internal static class ImportPipeline
             onDiagnostic?.Invoke(d);
         }
 
+        // After each block: its move, holes, corner, offset and tables as the canonical calls said them (Decisions);
+        // its words and modal state from the interpreter's record of the line and its modal snapshot.
         void OnInterpreted(Interpreter interp)
         {
-            var moved = corners.BeforeAdd(interp);
-            batch.Add(in interp.Last, interp.State);
-            if (interp.LastHoles is { } holes)
+            var moved = corners.BeforeAdd(decided);
+            batch.Add(in interp.Last, interp.State, decided);
+            if (decided.Holes is { } holes)
             {
                 batch.Holes.Add((interp.Last.Line, holes));
             }
 
             corners.AfterAdd(batch, moved);
 
-            if (states.After(interp) is { } changed)
+            if (states.After(interp.Last.Line, decided, interp.State) is { } changed)
             {
                 batch.States.Add(changed);
             }
@@ -147,7 +150,7 @@ internal static class ImportPipeline
             }
         }
 
-        var checker = new Checker(profile);
+        var checker = new Checker(profile) { Canon = decided };
         CheckSummary summary;
         if (GCode.Expansion.ProgramExpansion.Applies(file, profile))
         {
@@ -167,7 +170,45 @@ internal static class ImportPipeline
     }
 
     /// <summary>
-    /// The last move's record: a G41/G42 inside corner at the next move moves its end back (<see cref="Interpreter.AmendedEnd"/>),
+    /// What the interpreter decided for the line it took last, from its canonical calls: the move (when it moved), a
+    /// cycle's holes, the inside corner, the offset in force and the tables it left (read at once, before the next step).
+    /// </summary>
+    internal sealed class Decisions : ICanonicalMoves
+    {
+        private CanonMotion _motion;
+
+        /// <summary>The line moved (or dwelt): <see cref="Move"/> holds its motion.</summary>
+        public bool Moved { get; private set; }
+
+        /// <summary>The line's motion, when <see cref="Moved"/>.</summary>
+        public ref readonly CanonMotion Move => ref _motion;
+
+        /// <summary>A cycle block's holes, else null.</summary>
+        public CycleHoles? Holes { get; private set; }
+
+        /// <summary>At a G41/G42 inside corner: where the move before this block ends instead.</summary>
+        public Point3? AmendedEnd { get; private set; }
+
+        /// <summary>The offset from program to machine coordinates in force after the line.</summary>
+        public Point3 Offset { get; private set; }
+
+        /// <summary>The work offset and tool tables and the shifts as the line left them (live).</summary>
+        public WorkCoordinates? Tables { get; private set; }
+
+        public void StartBlock(in CanonStart start) => Moved = false;
+
+        public void Step(in HostMove step)
+        {
+        }
+
+        public void Motion(in CanonMotion motion) => (_motion, Moved) = (motion, true);
+
+        public void EndBlock(in CanonBlock block) =>
+            (Holes, AmendedEnd, Offset, Tables) = (block.Holes, block.AmendedEnd, block.Offset, block.Tables);
+    }
+
+    /// <summary>
+    /// The last move's record: a G41/G42 inside corner at the next move moves its end back (<see cref="CanonBlock.AmendedEnd"/>),
     /// so a full batch holding it waits until that move is known (a whole batch without one lets it go: an inside
     /// corner that far on is refused anyway, <see cref="Interpreter.MaxHeldCompensationBlocks"/>).
     /// </summary>
@@ -177,14 +218,14 @@ internal static class ImportPipeline
         private Batch? _pending;
 
         /// <summary>Before a block is added: a move amends the move held and lets its batch go; returns whether it moved.</summary>
-        public bool BeforeAdd(Interpreter interp)
+        public bool BeforeAdd(Decisions decided)
         {
-            if (interp.Last.Motion is MotionKind.None or MotionKind.Dwell)
+            if (!decided.Moved || decided.Move.Kind == MotionKind.Dwell)
             {
                 return false;
             }
 
-            if (interp.AmendedEnd is { } amended && _held.Batch is { } batch)
+            if (decided.AmendedEnd is { } amended && _held.Batch is { } batch)
             {
                 Amend(ref batch.Blocks[_held.Index], amended);
             }
@@ -240,9 +281,17 @@ internal static class ImportPipeline
 
         public int Count { get; private set; }
 
-        public void Add(in Interpreter.LastBlock block, ModalState modal)
+        /// <summary>A block: the line's words from <paramref name="line"/>, its move from the canonical <paramref name="decided"/>.</summary>
+        public void Add(in Interpreter.LastBlock line, ModalState modal, Decisions decided)
         {
-            Blocks[Count] = block;
+            ref var b = ref Blocks[Count];
+            b = line;
+            if (decided.Moved)
+            {
+                ref readonly var m = ref decided.Move;
+                (b.Motion, b.Start, b.End, b.Center, b.Length, b.DurationSeconds) = (m.Kind, m.Start, m.End, m.Centre, m.Length, m.Seconds);
+            }
+
             Modals[Count] = modal;
             Count++;
         }

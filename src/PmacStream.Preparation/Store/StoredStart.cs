@@ -42,6 +42,7 @@ public sealed record StoredStart(DecodedBlock Block, DecodedBlock? Previous, Sto
 /// </summary>
 internal sealed class ExecStateTracker
 {
+    private readonly MachineProfile _profile;
     private ModalState? _modal;
     private Point3 _offset;
     private double _highest = double.NegativeInfinity;
@@ -50,8 +51,9 @@ internal sealed class ExecStateTracker
     /// <summary>Starts at the profile's power-on state (the state before the first block, line 0).</summary>
     public ExecStateTracker(MachineProfile profile)
     {
+        _profile = profile;
         var interp = new Interpreter(profile);
-        _last = Of(interp, 0);
+        _last = Of(interp.Coordinates, interp.ActiveOffset, 0);
         Initial = _last;
         _modal = interp.State;
         _offset = interp.ActiveOffset;
@@ -60,19 +62,20 @@ internal sealed class ExecStateTracker
     /// <summary>The state before the first block.</summary>
     public StoredExecState Initial { get; }
 
-    /// <summary>After a block: the new state when it changed, else null.</summary>
-    public StoredExecState? After(Interpreter interp)
+    /// <summary>
+    /// After the block of <paramref name="line"/>: the new state when it changed, else null. Its move, offset and tables
+    /// as the canonical calls said them (<paramref name="decided"/>), its modal state the interpreter's snapshot.
+    /// </summary>
+    public StoredExecState? After(int line, ImportPipeline.Decisions decided, ModalState modal)
     {
-        ref readonly var last = ref interp.Last;
         var highestChanged = false;
-        if (last.Motion != MotionKind.None && last.End.Z > _highest)
+        if (decided.Moved && decided.Move.End.Z > _highest)
         {
-            _highest = last.End.Z;
+            _highest = decided.Move.End.Z;
             highestChanged = true;
         }
 
-        var modal = interp.State;
-        var offset = interp.ActiveOffset;
+        var offset = decided.Offset;
         if (!highestChanged && ReferenceEquals(modal, _modal) && offset == _offset)
         {
             return null;
@@ -80,7 +83,7 @@ internal sealed class ExecStateTracker
 
         _modal = modal;
         _offset = offset;
-        var now = Of(interp, last.Line);
+        var now = Of(decided.Tables!, offset, line);
         if (now.SameAs(_last))
         {
             return null;
@@ -90,9 +93,9 @@ internal sealed class ExecStateTracker
         return now;
     }
 
-    private StoredExecState Of(Interpreter interp, int line)
+    private StoredExecState Of(WorkCoordinates tables, Point3 offset, int line)
     {
-        var (before, selection) = ControllerState.Of(interp);
-        return new StoredExecState(line, interp.ActiveOffset, double.IsFinite(_highest) ? _highest : null, before, selection);
+        var (before, selection) = ControllerState.Of(tables, _profile);
+        return new StoredExecState(line, offset, double.IsFinite(_highest) ? _highest : null, before, selection);
     }
 }

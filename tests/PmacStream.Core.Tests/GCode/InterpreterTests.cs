@@ -98,6 +98,17 @@ public class InterpreterTests
         b[1].End.Should().Be(b[1].Start);
     }
 
+    [Theory]
+    [InlineData("G20\nG04 X2.", 2.0)]       // X of G04 is seconds in any units: not 50.8 s
+    [InlineData("G20\nG04 P2000", 2.0)]     // P in milliseconds (FANUC), unscaled too
+    [InlineData("G21\nG04 X2.", 2.0)]
+    public void A_dwell_in_an_inch_program_is_seconds_not_a_length(string program, double seconds)
+    {
+        var b = Run(program);
+        b[1].Motion.Should().Be(MotionKind.Dwell);
+        b[1].DurationSeconds.Should().Be(seconds);
+    }
+
     [Fact]
     public void Non_modal_groups_hold_only_on_their_block()
     {

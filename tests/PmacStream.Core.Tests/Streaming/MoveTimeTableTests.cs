@@ -96,4 +96,19 @@ public class MoveTimeTableTests
         t.SecondsBetween(1_000_000, 2_000_000).Should().BeApproximately(1000, 1e-6, "uniform moves interpolate exactly");
         t.ProgrammedFeedAt(1_234_567).Should().Be(1000);
     }
+
+    [Theory]
+    [InlineData("G20")]
+    [InlineData("G21")]
+    public void A_dwell_is_timed_in_seconds_whatever_the_length_units(string units)
+    {
+        // G04 X is seconds, P milliseconds (FANUC): an inch program dwells as long as a millimetre one, not 25.4 times.
+        using var folder = new TestFolder("eta-dwell");
+        var path = Path.Combine(folder.Path, "dwell.nc");
+        File.WriteAllText(path, $"O1\n{units} G90\nG04 X2.\nG04 P1500\nM30\n");
+        var table = MoveTimeTable.FromProgram(path);
+        table.SecondsBetween(2, 3).Should().Be(2.0);
+        table.SecondsBetween(3, 4).Should().Be(1.5);
+        table.TotalSeconds.Should().Be(3.5);
+    }
 }

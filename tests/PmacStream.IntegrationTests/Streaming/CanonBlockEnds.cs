@@ -17,9 +17,15 @@ internal sealed class CanonBlockEnds : ICanonicalMoves
     /// </summary>
     public static List<(int Line, Point3 End, MotionKind Kind)> Of(string path, MachineProfile profile, bool blockDelete = false, bool amend = true)
     {
+        using var reader = GCodeReader.Open(path);
+        return Of(reader, profile, blockDelete, amend);
+    }
+
+    /// <summary>The motions of the lines <paramref name="reader"/> gives (an expansion's, say), in order.</summary>
+    public static List<(int Line, Point3 End, MotionKind Kind)> Of(GCodeReader reader, MachineProfile profile, bool blockDelete = false, bool amend = true)
+    {
         var ends = new CanonBlockEnds { _amend = amend };
         var interp = new Interpreter(profile) { BlockDeleteEnabled = blockDelete, Canon = ends };
-        using var reader = GCodeReader.Open(path);
         while (reader.Read())
         {
             interp.Execute(reader.Current);

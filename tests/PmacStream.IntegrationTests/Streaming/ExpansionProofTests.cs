@@ -167,18 +167,9 @@ public class ExpansionProofTests(ITestOutputHelper output)
     /// <summary>The interpreter's end of every moving block of the expansion (expanded line numbers), machine millimetres.</summary>
     internal static List<(int Line, Point3 End)> Expected(string path, MachineProfile profile)
     {
-        var interp = new Interpreter(profile) { BlockDeleteEnabled = true };
-        var list = new List<(int, Point3)>();
         var expander = new MacroExpander(path, ProgramExpansion.For(profile, null));
         using var reader = new GCodeReader(new ExpandedStream(expander));
-        while (reader.Read())
-        {
-            if (interp.Step(reader.Current) is { Motion: not MotionKind.None } d)
-            {
-                list.Add((d.Line, d.End));
-            }
-        }
-
+        var list = CanonBlockEnds.Of(reader, profile, blockDelete: true).Select(e => (e.Line, e.End)).ToList();
         expander.Error.Should().BeNull();
         return list;
     }
