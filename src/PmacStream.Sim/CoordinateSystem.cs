@@ -213,14 +213,59 @@ internal sealed class CoordinateSystem : IVariableAccess
         }
     }
 
-    /// <summary><c>A</c>/<c>K</c>: stops at once where the axes are; queued moves are dropped.</summary>
+    /// <summary>
+    /// <c>A</c>/<c>K</c>: stops at once where the axes are; queued moves are dropped. A move stopped with every axis
+    /// at its end point (to the controller's position grid) had ended: it is logged as executed and the axes stand at
+    /// its end, so the executed-move log and the positions a host reads say the same (see <see cref="FinishAtEnd"/>).
+    /// </summary>
     public void Abort()
     {
-        _motion.Position(_moves.Position, _moves.Position);
+        if (FinishAtEnd() is { } ended)
+        {
+            Array.Copy(ended.End, _moves.Position, AxisCount);
+        }
+        else
+        {
+            _motion.Position(_moves.Position, _moves.Position);
+        }
+
         _motion.Stop();
         _pendingSync.Clear();
         Holding = false;
         StopRunning();
+    }
+
+    /// <summary>
+    /// On a controller the trajectory reaches a move's end point on a servo cycle: an abort finds the move either at its
+    /// end exactly or a servo cycle's travel or more short of it. The simulator's clock is continuous, so a move whose
+    /// every axis is within <see cref="PmacSimulator.EndTolerance"/> of its end when aborted counts as ended (logged);
+    /// any other stays unfinished (not logged), and a host re-runs it.
+    /// </summary>
+    private Segment? FinishAtEnd()
+    {
+        if (_motion.Current is not { } current)
+        {
+            return null;
+        }
+
+        var at = new double[AxisCount];
+        _motion.Position(at, _moves.Position);
+        for (var axis = 0; axis < AxisCount; axis++)
+        {
+            if (Math.Abs(current.End[axis] - at[axis]) > _sim.EndTolerance(Number, axis))
+            {
+                return null;
+            }
+        }
+
+        current.Remaining = 0;
+        var done = _motion.CompleteIfDone();
+        if (done is not null)
+        {
+            _sim.RecordAbortedAtEnd(this, done);
+        }
+
+        return done;
     }
 
     /// <summary>PMATCH for one axis: the next move starts from <paramref name="value"/>, where the axis's motor is (not while moving).</summary>

@@ -419,6 +419,34 @@ public sealed class PmacSimulator : IDisposable
         }
     }
 
+    /// <summary>Logs a move an abort found at its end (called under the lock): it ended, as a finished move does.</summary>
+    internal void RecordAbortedAtEnd(CoordinateSystem cs, Segment seg)
+    {
+        _log.Record(cs.Number, seg, _time.Now, notify: MoveExecuted is not null);
+        Log.Debug("C.S.{Cs} aborted at the end of the move of line {Line}: logged as executed", cs.Number, seg.SourceLine);
+    }
+
+    /// <summary>
+    /// How close (axis units) an axis of <paramref name="coordinateSystem"/> must be to a move's end for an abort to
+    /// find the move ended: <see cref="SimOptions.AbortAtEndCounts"/> of the axis's motor plus
+    /// <see cref="SimOptions.AbortAtEndUnits"/> (called under the lock).
+    /// </summary>
+    internal double EndTolerance(int coordinateSystem, int axis)
+    {
+        var scale = 1.0;
+        for (var m = 1; m <= MotorMap.Count; m++)
+        {
+            var (cs, a, s) = _motors.Definition(m);
+            if (cs == coordinateSystem && a == axis && s != 0)
+            {
+                scale = Math.Abs(s);
+                break;
+            }
+        }
+
+        return (Options.AbortAtEndCounts / scale) + Options.AbortAtEndUnits;
+    }
+
     internal void CountUnderrun(CoordinateSystem cs)
     {
         _underruns++;

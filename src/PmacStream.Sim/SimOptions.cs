@@ -194,6 +194,18 @@ public sealed class SimOptions
     public double ResumePositionToleranceCounts { get; set; } = 0.5;
 
     /// <summary>
+    /// An abort (a limit, a fault kill, <c>A</c>) that finds the executing move with every axis within this many counts
+    /// of its end point, plus <see cref="AbortAtEndUnits"/>, finds it ended: the move is logged as executed and the axes
+    /// stand at its end. Default 1/8 count (*assumed*): a controller reaches a move's end on a servo cycle, so it
+    /// stands at the end exactly or a servo cycle's travel short of it (0.25 mm moves at F1500: 11 um); the host counts a
+    /// block ended within half of this (Job: 1/16 count, positions reported to 1/32 count, SRM p. 260), so the two agree.
+    /// </summary>
+    public double AbortAtEndCounts { get; set; } = 0.125;
+
+    /// <summary>Added to <see cref="AbortAtEndCounts"/>, axis units: the chunk files' end points are rounded to 5 decimals (10 nm). Default 2e-5.</summary>
+    public double AbortAtEndUnits { get; set; } = 2e-5;
+
+    /// <summary>
     /// A fault kill (fatal following error, amplifier fault) kills every motor of the motor's coordinate system, not only
     /// the motor. Default true (*assumed*: the choice a Turbo PMAC makes with Ixx24 bits 21-22, not simulated).
     /// </summary>

@@ -279,7 +279,7 @@ public sealed class Job : IAsyncDisposable
     /// block's motion had ended (a dry buffer waiting for lines), and a restart there would run it twice. When the axes
     /// are commanded exactly where the next block starts (work coordinates: motor positions plus following errors, as a
     /// motor killed on a fault stands off by its error, less the displacement the library applies),
-    /// the block is done: the tracking variable is moved on to the next block, so the resume restarts there.
+    /// the block is done (<see cref="StandsAt"/>): the tracking variable is moved on to the next block, so the resume restarts there.
     /// </summary>
     private async Task MarkCompletedBlockAsync(IReadOnlyList<Machine.MachineAxis> axes, int line)
     {
@@ -300,11 +300,26 @@ public sealed class Job : IAsyncDisposable
 
         var work = await Machine.MachineConsole.WorkPositionAsync(Controller.Connection, axes, new LibraryMap(), Session.Options.CoordinateSystem, CancellationToken.None).ConfigureAwait(false);
         var start = next.Start.InMillimetres(next.State.Units);
-        if (work is { } w && Math.Abs(w.X - start.X) < 0.001 && Math.Abs(w.Y - start.Y) < 0.001 && Math.Abs(w.Z - start.Z) < 0.001 && Program.PositionOfBlock(next.Line) is not null)
+        if (work is { } w && StandsAt(w, start, axes) && Program.PositionOfBlock(next.Line) is not null)
         {
             Log.Information("Job {Job}: the block of line {Line} had ended when the alarm stopped the program (the axes stand at line {Next}'s start): {Variable}={Next}", Id, line, next.Line, Program.Sync.Variable);
             await Controller.Connection.GetResponseAsync(string.Create(CultureInfo.InvariantCulture, $"{Program.Sync.Variable}={next.Line}"), CancellationToken.None).ConfigureAwait(false);
         }
+    }
+
+    /// <summary>
+    /// Whether the commanded position <paramref name="work"/> is <paramref name="end"/>, to the controller's position
+    /// report: the rule a resume needs is that a block counts executed only when the controller's trajectory reached its
+    /// end. A Turbo PMAC stops a move's trajectory on a servo cycle, so an aborted move stands at its end exactly or a
+    /// servo cycle's travel (micrometres) short of it; the window is the report's rounding (1/32 count for position and
+    /// following error each, SRM p. 260), 1/16 count in all, plus the chunk files' 5 decimals (1e-5 mm). A move short
+    /// by more is re-run whole from its start (the restart approaches over its start point); the simulator finds a move
+    /// ended within twice this (<c>SimOptions.AbortAtEndCounts</c>), so its executed-move log agrees.
+    /// </summary>
+    internal static bool StandsAt(GCode.Point3 work, GCode.Point3 end, IReadOnlyList<Machine.MachineAxis> axes)
+    {
+        double Tolerance(string name) => (axes.FirstOrDefault(a => a.Name == name) is { CountsPerMm: > 0 } a ? 1.0 / 16 / a.CountsPerMm : 1.0 / 16) + 1e-5;
+        return Math.Abs(work.X - end.X) <= Tolerance("X") && Math.Abs(work.Y - end.Y) <= Tolerance("Y") && Math.Abs(work.Z - end.Z) <= Tolerance("Z");
     }
 
     /// <summary>The run command at a program stop, from the tick loop; a link fault there faults the session (the loop then ends).</summary>

@@ -31,13 +31,21 @@ public sealed partial class MachineConsole
         }
 
         var carried = CarriedModal();
-        var (file, arcStillCarried) = WriteMdiProgram(carried, blocks);
+        var header = await HeaderAsync(carried, cancellationToken).ConfigureAwait(false);
+        var (file, still) = WriteMdiProgram(carried, header, blocks);
         var profile = Options.Profile;
-        var after = ModalAfter(file, profile, arcStillCarried);
+        if (GCode.Expansion.ProgramExpansion.Applies(file, profile))
+        {
+            // The expander finds a subprogram in the program's own file or in files beside it; MDI blocks have neither.
+            return ConsoleResult.Refused(ConsoleRefusal.BadValue,
+                "mdi: subprogram and macro calls, variables and loops (M98, M97, G65, G66, #, IF, WHILE, o-words) are not run in MDI: the expander finds a subprogram in the program's own file or beside it, and MDI blocks have neither; put them in a program file and run it");
+        }
+
+        var after = ModalAfter(file, profile, still);
         if (after.Compensation is { } comp)
         {
             return ConsoleResult.Refused(ConsoleRefusal.BadValue,
-                $"mdi:{comp.Line - 1}: cutter compensation (G{comp.Code}) is not run in MDI: each MDI call ends at rest, so the compensated path has no next move to turn its corner on; run it in a program");
+                $"mdi:{comp.Line - header.Count}: cutter compensation (G{comp.Code}) is not run in MDI: each MDI call ends at rest, so the compensated path has no next move to turn its corner on; run it in a program");
         }
 
         PreparedProgram prepared;
@@ -48,12 +56,14 @@ public sealed partial class MachineConsole
         }
         catch (ProgramRefusedException e)
         {
-            var lines = e.Diagnostics.Where(d => d.Severity == Severity.Error).Select(d => $"mdi:{d.Line - 1}:{d.Column}: error {d.Code}: {d.Message}");
+            var lines = e.Diagnostics.Where(d => d.Severity == Severity.Error).Select(d => d.Line > header.Count
+                ? $"mdi:{d.Line - header.Count}:{d.Column}: error {d.Code}: {d.Message}"
+                : $"mdi: the carried modal state ({file}:{d.Line}): error {d.Code}: {d.Message}");
             return ConsoleResult.Refused(ConsoleRefusal.CheckFailed, $"refused by the check: {string.Join("; ", lines.DefaultIfEmpty(e.Message))}");
         }
 
-        Log.Information("MDI on {Device:l}: {Blocks:l} (modal state {Modal:l}{Motion:l}, from {Source:l})", Controller.Description, string.Join(" | ", blocks),
-            carried.Line, carried.Motion is { } m ? " " + m : string.Empty, carried.Source);
+        Log.Information("MDI on {Device:l}: {Blocks:l} (modal state {Modal:l}{Motion:l}{Cycle:l}, from {Source:l})", Controller.Description, string.Join(" | ", blocks),
+            carried.Line, carried.Motion is { } m ? " " + m : string.Empty, carried.Cycle is { } c ? " " + c : string.Empty, carried.Source);
         await using var job = await _jobs.CreateJobAsync(Controller, new JobRequest(prepared.Program, StrategyKind.Chunk)
         {
             Settings = Options.Settings, Profile = prepared.Profile, Library = LibraryPolicy.Verify,
@@ -74,7 +84,9 @@ public sealed partial class MachineConsole
     /// The modal state the next MDI call on this controller starts from, as a block (<c>G21 G90 G17 G55 G01 F500</c>,
     /// then <c>G02</c> or <c>G03</c> when an arc mode is in force), or null at power-on.
     /// </summary>
-    public string? CarriedModalState => CarriedModal() is { Source: not "power-on" } c ? c.Line + (c.Motion is { } m ? " " + m : string.Empty) : null;
+    public string? CarriedModalState => CarriedModal() is { Source: not "power-on" } c
+        ? c.Line + (c.Motion is { } m ? " " + m : string.Empty) + (c.Cycle is { } cy ? " " + cy : string.Empty)
+        : null;
 
     /// <summary>Why a program (MDI, a job) cannot start now, or null: one runs, an alarm stops motion, an axis is not homed.</summary>
     private async Task<ConsoleResult?> RefuseProgramAsync(CancellationToken cancellationToken)
@@ -95,20 +107,35 @@ public sealed partial class MachineConsole
             : null;
     }
 
-    /// <summary>Writes the MDI program; returns it and the carried arc mode when no block used or replaced it (it stays in force).</summary>
-    private (string File, string? ArcStillCarried) WriteMdiProgram(CarriedMdiState carried, IReadOnlyList<string> blocks)
+    /// <summary>
+    /// Writes the MDI program: the <paramref name="header"/> (the carried modal state, where the axes stand), then the
+    /// operator's blocks. Returns it and what is still carried because no block used or replaced it: an arc mode, a
+    /// canned cycle.
+    /// </summary>
+    private (string File, Carry Still) WriteMdiProgram(CarriedMdiState carried, IReadOnlyList<string> header, IReadOnlyList<string> blocks)
     {
         var folder = Path.Combine(Path.GetDirectoryName(Path.GetFullPath(Options.StatePath ?? _jobs.JobDatabase))!, "mdi");
         Directory.CreateDirectory(folder);
         var file = Path.Combine(folder, string.Create(CultureInfo.InvariantCulture, $"mdi-{DateTime.UtcNow:yyyyMMdd-HHmmss-fff}-{Environment.ProcessId}.nc"));
         var text = new StringBuilder();
-        text.Append(carried.Line).Append('\n'); // line 1: the carried modal state, so the operator's blocks are lines 2..
+        foreach (var line in header)
+        {
+            text.Append(line).Append('\n'); // the operator's blocks follow: error lines are counted from there
+        }
+
         var motion = carried.Motion;
+        var cycle = carried.Cycle;
         foreach (var b in blocks)
         {
             var block = b.Trim();
             switch (CarriesMotion(block))
             {
+                case true when cycle is not null:
+                    // A canned cycle in force drills at a block that only positions (FANUC): the block gets the cycle
+                    // code and the R/Z/Q/P it does not write itself, at the end so the columns stay the operator's.
+                    text.Append(block).Append(' ').Append(MissingCycleWords(block, cycle)).Append('\n');
+                    cycle = null;
+                    continue;
                 case true when motion is not null:
                     // An arc mode cannot be written on a line of its own (G02 needs an end point): the first move the
                     // operator writes without a motion code gets it, at the end so the columns stay the operator's.
@@ -116,7 +143,8 @@ public sealed partial class MachineConsole
                     motion = null;
                     continue;
                 case null:
-                    motion = null; // the block names its own motion code, which is in force from here on
+                    motion = null; // the block names its own motion or cycle code, which is in force from here on
+                    cycle = null;
                     break;
             }
 
@@ -124,7 +152,14 @@ public sealed partial class MachineConsole
         }
 
         File.WriteAllText(file, text.ToString(), new UTF8Encoding(false));
-        return (file, motion);
+        return (file, new Carry(motion, cycle));
+    }
+
+    /// <summary>The carried cycle's code and the words of it (R, Z, Q, P) that <paramref name="block"/> does not write.</summary>
+    private static string MissingCycleWords(string block, string cycle)
+    {
+        var written = GCodeReader.LexLine(block).WordList.Select(w => char.ToUpperInvariant(w.Letter)).ToHashSet();
+        return string.Join(' ', cycle.Split(' ', StringSplitOptions.RemoveEmptyEntries).Where(w => w[0] == 'G' || !written.Contains(w[0])));
     }
 
     /// <summary>True when the block moves in the motion mode in force (axis words, only modal G codes), null when it names a motion code, else false.</summary>
@@ -151,21 +186,23 @@ public sealed partial class MachineConsole
     }
 
     /// <summary>The modal state after the MDI program, read by the interpreter, and the first block that turns cutter compensation on.</summary>
-    private static (CarriedMdiState Carried, (int Line, string Code)? Compensation) ModalAfter(string file, MachineProfile profile, string? arcStillCarried)
+    private static (CarriedMdiState Carried, (int Line, string Code)? Compensation) ModalAfter(string file, MachineProfile profile, Carry still)
     {
         var interpreter = new Interpreter(profile);
+        var cycle = new CycleWords();
         (int Line, string Code)? compensation = null;
         foreach (var block in GCodeReader.ReadAll(file))
         {
             interpreter.Step(block);
+            cycle.After(block, interpreter.State);
             if (compensation is null && interpreter.State.RadiusCompensation is { } rc && Math.Floor(rc) is 41 or 42)
             {
                 compensation = (block.LineNumber, rc.ToString("0.#", CultureInfo.InvariantCulture));
             }
         }
 
-        var (line, motion) = ModalLine(interpreter, ended: false, arcStillCarried);
-        return (new CarriedMdiState(line, motion, "MDI"), compensation);
+        var (line, motion) = ModalLine(interpreter, profile, ended: false, still.Motion);
+        return (new CarriedMdiState(line, motion, "MDI") { Cycle = still.Cycle ?? cycle.Text }, compensation);
     }
 
     /// <summary>
@@ -184,6 +221,7 @@ public sealed partial class MachineConsole
         }
 
         var interpreter = new Interpreter(Options.Profile);
+        var cycle = new CycleWords();
         var ended = false;
         foreach (var block in GCodeReader.ReadAll(job.ProgramPath))
         {
@@ -193,15 +231,16 @@ public sealed partial class MachineConsole
             }
 
             interpreter.Step(block);
+            cycle.After(block, interpreter.State);
             ended |= block.WordList.Exists(static w => w.Letter == 'M' && CodeRoles.EndsProgram(w.CodeTimesTen));
         }
 
-        var (line, motion) = ModalLine(interpreter, ended, null);
-        return new CarriedMdiState(line, motion, string.Create(CultureInfo.InvariantCulture, $"job {job.Id}"));
+        var (line, motion) = ModalLine(interpreter, Options.Profile, ended, null);
+        return new CarriedMdiState(line, motion, string.Create(CultureInfo.InvariantCulture, $"job {job.Id}")) { Cycle = ended ? null : cycle.Text };
     }
 
     /// <summary>The modal state as one block, and an arc mode in force (<c>G02</c>, <c>G03</c>) apart: it needs an end point.</summary>
-    private static (string Line, string? Motion) ModalLine(Interpreter interpreter, bool ended, string? arcStillCarried)
+    private static (string Line, string? Motion) ModalLine(Interpreter interpreter, MachineProfile profile, bool ended, string? arcStillCarried)
     {
         var s = interpreter.State;
         var line = new StringBuilder();
@@ -227,6 +266,11 @@ public sealed partial class MachineConsole
         if (!ended && s.LengthCompensation is 43 or 44 && s.LengthOffset > 0)
         {
             line.Append(CultureInfo.InvariantCulture, $" G{s.LengthCompensation} H{s.LengthOffset}");
+        }
+
+        if (profile.GGroupOf(98) is >= 0 and var group && s.GetG(group) is 98 or 99)
+        {
+            line.Append(CultureInfo.InvariantCulture, $" G{s.GetG(group)}"); // the canned cycles' return level
         }
 
         return (line.ToString(), arcStillCarried ?? (s.Motion is 2 or 3 ? $"G0{s.Motion}" : null));
@@ -263,8 +307,9 @@ public sealed partial class MachineConsole
             }
 
             var motion = e.TryGetProperty("mdiMotion", out var mm) ? mm.GetString() : null;
+            var cycle = e.TryGetProperty("mdiCycle", out var mc) ? mc.GetString() : null;
             long? job = e.TryGetProperty("mdiJob", out var id) && id.TryGetInt64(out var n) ? n : null;
-            return new SavedMdiState(new CarriedMdiState(line, motion, job is null ? "MDI" : $"MDI job {job}"), job);
+            return new SavedMdiState(new CarriedMdiState(line, motion, job is null ? "MDI" : $"MDI job {job}") { Cycle = cycle }, job);
         }
         catch (JsonException e)
         {
@@ -318,6 +363,11 @@ public sealed partial class MachineConsole
                 w.WriteString("mdiMotion", motion);
             }
 
+            if (modal.Cycle is { } cycle)
+            {
+                w.WriteString("mdiCycle", cycle);
+            }
+
             if (jobId is { } id)
             {
                 w.WriteNumber("mdiJob", id); // a job on this controller newer than this one left its own modal state
@@ -328,11 +378,18 @@ public sealed partial class MachineConsole
 
         Directory.CreateDirectory(Path.GetDirectoryName(Path.GetFullPath(path))!);
         File.WriteAllBytes(path, buffer.ToArray());
-        Log.Information("MDI modal state now {Modal:l}{Motion:l}", modal.Line, modal.Motion is { } m ? " " + m : string.Empty);
+        Log.Information("MDI modal state now {Modal:l}{Motion:l}{Cycle:l}", modal.Line, modal.Motion is { } m ? " " + m : string.Empty, modal.Cycle is { } c ? " " + c : string.Empty);
     }
 
-    /// <summary>The modal state an MDI call starts from: the block of line 1, an arc mode apart, and where it came from.</summary>
-    private sealed record CarriedMdiState(string Line, string? Motion, string Source);
+    /// <summary>The modal state an MDI call starts from: the block of line 1, an arc mode and a canned cycle apart, and where it came from.</summary>
+    private sealed record CarriedMdiState(string Line, string? Motion, string Source)
+    {
+        /// <summary>The canned cycle in force with the words it keeps (<c>G81 R2 Z-5</c>), or null.</summary>
+        public string? Cycle { get; init; }
+    }
+
+    /// <summary>What an MDI call still carries after its blocks because none used or replaced it.</summary>
+    private sealed record Carry(string? Motion, string? Cycle);
 
     private sealed record SavedMdiState(CarriedMdiState Carried, long? JobId);
 }

@@ -332,6 +332,13 @@ public sealed partial class MacroExpander
 
     private void FanucCall(MacroLine c, Frame f, int ln)
     {
+        if (_modalCall != null && f == _modalOwner && !ReferenceEquals(c, _modalCall))
+        {
+            // The modal call of this frame's moves is proven (the same as a G65 after each move); whether the moves of a
+            // program called under it call the macro too is not, so the host refuses rather than guess.
+            throw Refuse(ExpansionCodes.Flow, c.Column, $"{c.Call} while a G66 modal call is in force: whether the moves of the program it calls call the G66 macro too is not expanded by the host; G67 before the call, G66 again after it", ln);
+        }
+
         if (c.Words.Length > 0)
         {
             EmitWords(c, f, ln); // the block's own words run before the call
@@ -458,6 +465,12 @@ public sealed partial class MacroExpander
             f.Started = false;
             f.MapId = Map.AddFrame(f.Caller!.MapId, f.Source.Index, f.Name, f.CallLine + 1, (int)Math.Min(int.MaxValue, f.CallNumber), (int)Math.Min(int.MaxValue, f.CallCount));
             return;
+        }
+
+        if (_modalCall != null && f == _modalOwner)
+        {
+            // G66 inside a subprogram is expanded for the subprogram's own moves; carried out to the caller's moves it is not.
+            throw Refuse(ExpansionCodes.Flow, c.Column, "M99 with this subprogram's G66 modal call still in force: the host does not carry it to the caller's moves; G67 before M99", ln);
         }
 
         var caller = f.Caller!;

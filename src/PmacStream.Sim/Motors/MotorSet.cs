@@ -884,9 +884,10 @@ internal sealed class MotorSet
         var (cs, axis, _) = _map.Definition(motor.Number);
         if (axis >= 0 && !motor.Detached && (_cs[cs].Running || _cs[cs].IsMoving))
         {
-            Follow(motor);
+            // The abort first: a move it finds at its end leaves the axes exactly there, which the motor then follows.
             _cs[cs].Abort();
             _stepValid[cs] = false;
+            Follow(motor);
             Log.Warning("C.S.{Cs} aborted: motor {Motor} on a position limit", cs, motor.Number);
         }
 
@@ -899,13 +900,13 @@ internal sealed class MotorSet
         var (cs, axis, _) = _map.Definition(motor.Number);
         if (axis >= 0 && (_cs[cs].Running || _cs[cs].IsMoving))
         {
+            _cs[cs].Abort();
+            _stepValid[cs] = false;
             for (var m = 1; m < _motors.Length; m++)
             {
                 Follow(_motors[m]);
             }
 
-            _cs[cs].Abort();
-            _stepValid[cs] = false;
             Log.Warning("C.S.{Cs} aborted: motor {Motor} killed by a fault", cs, motor.Number);
         }
 

@@ -367,6 +367,32 @@ public sealed class ExpansionTests : IDisposable
         refused.Error.Message.Should().Contain("G66.1");
     }
 
+    [Fact]
+    public void A_G66_inside_a_subprogram_calls_after_the_subprograms_own_moves_as_the_hand_expanded_program_does()
+    {
+        const string Main = "%\nO0001\nG21 G90 G17 G54 G00 X0 Y0 Z5.\nM98 P0100 L2\nX30.\nM30\n";
+        var modal = Write("sub-modal.nc", Main + "%\nO0100\nG66 P9200 Z2. R2.\nX10.\nY10.\nG67\nX5.\nM99\n" + Peck);
+        var hand = Write("sub-hand.nc", Main + "%\nO0100\nX10.\nG65 P9200 Z2. R2.\nY10.\nG65 P9200 Z2. R2.\nX5.\nM99\n" + Peck);
+        var (modalLines, me) = Expand(modal, Fanuc);
+        var (handLines, he) = Expand(hand, Fanuc);
+        me.Error.Should().BeNull();
+        he.Error.Should().BeNull();
+        Blocks(modalLines).Count(l => l.StartsWith("G91", StringComparison.Ordinal)).Should().Be(4, "two moves call the macro, in each of two calls: " + string.Join(" | ", modalLines));
+        Positions(modalLines).Should().Equal(Positions(handLines), "the modal call inside O0100 pecks after its own moves only, not after X5. nor the caller's X30.");
+        Positions(modalLines).Should().Contain(new Point3(30, 10, 5));
+    }
+
+    [Theory]
+    [InlineData("G66 P9200 Z2. R2.\nM98 P0100\nG67\n", "%\nO0100\nX10.\nM99\n", "G67 before the call")]
+    [InlineData("M98 P0100\n", "%\nO0100\nG66 P9200 Z2. R2.\nX10.\nM99\n", "G67 before M99")]
+    public void A_G66_carried_into_or_out_of_a_subprogram_is_refused_with_the_reason(string main, string sub, string reason)
+    {
+        var file = Write("sub-refused.nc", "%\nO0001\nG21 G90 G00 X0 Y0 Z5.\n" + main + "M30\n" + sub + Peck);
+        var (_, refused) = Expand(file, Fanuc);
+        refused.Error!.Code.Should().Be(ExpansionCodes.Flow);
+        refused.Error.Message.Should().Contain("G66").And.Contain(reason);
+    }
+
     /// <summary>The interpreter's block ends over expanded lines.</summary>
     private static List<Point3> Positions(List<string> lines)
     {

@@ -134,6 +134,75 @@ public sealed class MdiModalStateTests : IAsyncLifetime
         _moves.Should().BeEmpty();
     }
 
+    [Fact]
+    public async Task A_canned_cycle_carries_so_an_X_Y_block_drills_until_G80()
+    {
+        await Mdi("G90 G0 X0 Y0 Z10");
+        await Mdi("G99 G81 X10 Y10 R2 Z-5 F300");
+        Console().CarriedModalState.Should().Contain("G81").And.Contain("R2").And.Contain("Z-5").And.Contain("G99");
+        Clear();
+        await Mdi("X20 Y10");
+        (await MotorAsync(1)).Should().BeApproximately(20, 0.001);
+        (await MotorAsync(3)).Should().BeApproximately(2, 0.001, "G99: back to the R level");
+        Moves().Should().Contain(m => m.Kind == MoveKind.Linear && Math.Abs(m.X - 20) < 1e-6 && Math.Abs(m.Z + 5) < 1e-6, "the carried G81 drilled at X20 Y10 to Z-5");
+
+        // G98 from here: the initial level is where the cycle found the tool (the R level it stands at, as on a control).
+        await Mdi("G98 X30 Z-6");
+        (await MotorAsync(1)).Should().BeApproximately(30, 0.001);
+        Moves().Should().Contain(m => Math.Abs(m.X - 30) < 1e-6 && Math.Abs(m.Z + 6) < 1e-6, "a new depth in the block replaces the carried one");
+
+        await Mdi("G80");
+        Console().CarriedModalState.Should().NotContain("G81");
+        Clear();
+        await Mdi("G0 X40");
+        Moves().Should().NotContain(m => m.Z < 0, "no cycle after G80");
+    }
+
+    [Fact]
+    public async Task G92_and_G52_shifts_carry_and_are_computed_where_the_axes_stand()
+    {
+        await Mdi("G90 G0 X10 Y0 Z0");
+        await Mdi("G92 X0 Y0");
+        await Mdi("G0 X5 Y1");
+        (await MotorAsync(1)).Should().BeApproximately(15, 0.001, "G92 X0 at X10 shifted X by 10, and the shift carried");
+        (await MotorAsync(2)).Should().BeApproximately(1, 0.001);
+        await Mdi("G92.1");
+        await Mdi("G52 X100");
+        await Mdi("G0 X1");
+        (await MotorAsync(1)).Should().BeApproximately(101, 0.001, "the G52 shift carried");
+        await Mdi("G52 X0", "G0 X2");
+        (await MotorAsync(1)).Should().BeApproximately(2, 0.001);
+    }
+
+    [Fact]
+    public async Task Subprogram_and_macro_calls_are_refused_in_MDI_with_the_reason_and_nothing_runs()
+    {
+        foreach (var block in new[] { "M98 P1000", "G65 P9100 A1", "#100=5" })
+        {
+            var r = await Console().MdiAsync([block]);
+            r.Done.Should().BeFalse(block);
+            r.Message.Should().Contain("not run in MDI").And.Contain("program file");
+        }
+
+        Moves().Should().BeEmpty();
+    }
+
+    private void Clear()
+    {
+        lock (_moves)
+        {
+            _moves.Clear();
+        }
+    }
+
+    private List<ExecutedMove> Moves()
+    {
+        lock (_moves)
+        {
+            return [.. _moves];
+        }
+    }
+
     private async Task RunProgramAsync(string name, string text)
     {
         var file = Path.Combine(_temp.Path, name);

@@ -71,6 +71,61 @@ public class FaultTests
         StatusBits.Bit(cs, 1, 0).Should().BeFalse("not running");
     }
 
+    /// <summary>
+    /// The fault proof's finding (issue 25): a fault in the last micrometre of a move. The abort finds a move ended only
+    /// with every axis at its end (to 1/8 count plus 2e-5 mm): then it is logged and the axes stand at its end exactly;
+    /// 0.5 um short it is not logged and the axes stand short, so a host re-runs it (Job.StandsAt, half the window).
+    /// </summary>
+    [Theory]
+    [InlineData("limit+", 0.00005, true)]
+    [InlineData("limit+", 0.0005, false)]
+    [InlineData("amp-fault", 0.00005, true)]
+    [InlineData("amp-fault", 0.0005, false)]
+    public void A_fault_at_a_moves_end_logs_the_move_only_when_the_axes_stand_at_its_end(string kind, double shortBy, bool ended)
+    {
+        // Two 1 mm moves at 10 mm/s, blended: the first ends at full speed, so shortBy mm is shortBy/10 s before its end.
+        static SimHarness TwoMoves(FaultInjection? fault)
+        {
+            var o = new SimOptions { RetainExecutedMoves = true };
+            if (fault is not null)
+            {
+                o.Faults.Add(fault);
+            }
+
+            var h = new SimHarness(o);
+            h.Ok("#1->1000X #2->1000Y I119=100 I121=1 I219=100 I221=1");
+            h.Ok("&1 OPEN PROG 1 CLEAR LINEAR ABS F600 M0==1 X1 M0==2 X2 CLOSE B1");
+            return h;
+        }
+
+        double firstEnd;
+        using (var clean = TwoMoves(null))
+        {
+            clean.Ok("R");
+            clean.Sim.RunUntilIdle();
+            var epoch = clean.Sim.Now - clean.Sim.ProgramClock!.Value;
+            clean.Sim.ExecutedMoves.Should().HaveCount(2);
+            firstEnd = clean.Sim.ExecutedMoves[0].EndTime - epoch;
+        }
+
+        var spec = FaultInjection.Parse(string.Create(System.Globalization.CultureInfo.InvariantCulture, $"{kind}:1@{firstEnd - (shortBy / 10):R}"));
+        using var h = TwoMoves(spec);
+        h.Ok("R");
+        h.Sim.RunUntilIdle();
+        h.Sim.IsRunning().Should().BeFalse("the fault aborted the program");
+        var x = h.Number("#1P") + h.Number("#1F"); // commanded, as a host reads it
+        if (ended)
+        {
+            h.Sim.ExecutedMoves.Select(m => m.SourceLine).Should().Equal([1], "the abort found the first move at its end: it ended");
+            x.Should().Be(1000, "the axes stand at its end exactly");
+        }
+        else
+        {
+            h.Sim.ExecutedMoves.Should().BeEmpty("the first move did not reach its end: not executed, to be re-run");
+            x.Should().BeApproximately(1000 - (shortBy * 1000), 0.01, "the axes stand where the fault stopped them");
+        }
+    }
+
     [Fact]
     public void A_limit_stays_until_the_motor_is_jogged_off_it_then_the_program_runs_again()
     {
