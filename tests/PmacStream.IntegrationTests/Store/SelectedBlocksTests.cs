@@ -127,7 +127,7 @@ public sealed class SelectedBlocksTests : IDisposable
         Refusal(3, 6).Should().Contain("line 6 is not a move");
         Refusal(3, 8).Should().Contain("cutter compensation");
         Refusal(3, 7).Should().Contain("cutter compensation", "the G41 move's end is the next move's corner's too");
-        service.CheckRange(id, prepared.Program, 3, 10, RunSettings.Default, prepared.Profile).Should().Be(6, "the G40 move ends where it says: lines 3, 4, 5, 7, 8, 10 move");
+        service.CheckRange(id, prepared.Program, 3, 10, RunSettings.Default, prepared.Profile).Should().Be(7, "the G40 move ends where it says: lines 3, 4, 5, 7, 8, 9, 10 move");
         service.CheckRange(id, prepared.Program, null, 5, RunSettings.Default, prepared.Profile).Should().Be(3, "no A: from the top");
 
         // The command line: exit 1 with the reason, and a refused range prints no preamble.
@@ -141,7 +141,7 @@ public sealed class SelectedBlocksTests : IDisposable
 
         var shown = new StringWriter();
         ProgramStartCommand.Run(location, id, 3, false, false, shown, new StringWriter(), CancellationToken.None, toLine: 10).Should().Be(CliGlobals.Ok);
-        shown.ToString().Should().Contain("end after line 10: 6 blocks, at X50 Y40 Z-1");
+        shown.ToString().Should().Contain("end after line 10: 7 blocks, at X50 Y40 Z-1");
     }
 
     private StoreLocation Location(string engine)
