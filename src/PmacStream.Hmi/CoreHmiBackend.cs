@@ -132,6 +132,7 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
             var job = await Service.StartJobAsync(Link, new SplitJobRequest(request.Program, request.Strategy)
             {
                 FromLine = request.FromLine,
+                ToLine = request.ToLine,
                 Settings = request.Settings,
                 SingleBlock = request.SingleBlock,
                 FeedOverride = request.FeedOverride,
@@ -224,6 +225,19 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
 
     /// <inheritdoc />
     public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile) => new GCodeToolpathSource(sourcePath, profile);
+
+    /// <inheritdoc />
+    /// <remarks>
+    /// The stored blocks were interpreted under the import's profile: under another one (or when the store cannot be
+    /// read) the file is drawn, as the job would be prepared from it.
+    /// </remarks>
+    public IToolpathSource OpenStoredToolpath(long programId, string sourcePath, MachineProfile profile)
+    {
+        ArgumentNullException.ThrowIfNull(profile);
+        return Service.StoredBlocksOf(programId) is { } stored && string.Equals(stored.Profile, profile.Name, StringComparison.OrdinalIgnoreCase)
+            ? new DecodedBlockToolpathSource(stored.Read, stored.Blocks, stored.Name, stored.Errors, stored.ErrorCount)
+            : OpenToolpath(sourcePath, profile);
+    }
 
     private ControllerLink Link => _link ?? throw new InvalidOperationException("Connect to a controller first.");
 

@@ -193,6 +193,8 @@ public enum TextId
     ConfirmStartTitle,
     /// <summary>Confirmation text: start at line {0} after this preamble: {1}.</summary>
     ConfirmStartText,
+    /// <summary>Confirmation text's end of a selected-block start: the job ends after line {0}.</summary>
+    ConfirmRangeEnd,
     /// <summary>Confirmation title for resume after interruption.</summary>
     ConfirmResumeTitle,
     /// <summary>Confirmation text: resume job {0} at line {1} (chunk {2}) after this preamble: {3}.</summary>
@@ -408,6 +410,7 @@ public static class HmiText
         [TextId.ConfirmStartTitle] = ("Start from line", "从指定行开始"),
         [TextId.ConfirmStartText] = ("Start at line {0}. The controller first runs this preamble to restore the machine state:\n\n{1}\n\nStart?",
             "从第 {0} 行开始。控制器先执行以下恢复程序以恢复机床状态：\n\n{1}\n\n是否开始？"),
+        [TextId.ConfirmRangeEnd] = ("Selected blocks: the job ends after line {0}; nothing after it is sent.", "选段执行：执行到第 {0} 行为止，之后的程序段不发送。"),
         [TextId.ConfirmResumeTitle] = ("Resume after interruption", "断点续加工"),
         [TextId.ConfirmResumeText] = ("Resume job {0} at line {1} (file {2}). The controller first runs this preamble:\n\n{3}\n\nResume?",
             "继续作业 {0}，从第 {1} 行（文件 {2}）开始。控制器先执行以下恢复程序：\n\n{3}\n\n是否继续？"),

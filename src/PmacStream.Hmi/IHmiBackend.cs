@@ -143,6 +143,9 @@ public sealed record HmiJobRequest(SplitView Program, string Strategy, int? From
 
     /// <summary>The store's program revision the program is (opened from the Store page), or null: the job history names it, as <c>stream --program ID</c>.</summary>
     public long? ProgramId { get; init; }
+
+    /// <summary>Selected blocks: the job ends after this line's block (<c>stream --to-line</c>); null: at the program's end.</summary>
+    public int? ToLine { get; init; }
 }
 
 /// <summary>
@@ -243,4 +246,11 @@ public interface IHmiBackend
 
     /// <summary>The program's moves as a machine profile interprets them, for the toolpath pane (read anew on each pass).</summary>
     IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile);
+
+    /// <summary>
+    /// The toolpath of a program opened from the store (revision <paramref name="programId"/>, its source written to
+    /// <paramref name="sourcePath"/>): drawn from the revision's stored blocks, as <c>preview --program ID</c> draws it;
+    /// by default (a backend without a store) the file's.
+    /// </summary>
+    IToolpathSource OpenStoredToolpath(long programId, string sourcePath, MachineProfile profile) => OpenToolpath(sourcePath, profile);
 }

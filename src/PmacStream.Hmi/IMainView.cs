@@ -177,6 +177,12 @@ public interface IMainView
     /// <summary>The line the operator selected, 0 for none.</summary>
     int SelectedLine { get; }
 
+    /// <summary>
+    /// The start-from-block's optional "to block": selected blocks, the job ends after this line's block (a move);
+    /// null (left empty): the job runs to the program's end. A view without the field says null.
+    /// </summary>
+    int? ToBlock => null;
+
     // ---- commands
 
     /// <summary>Which buttons are enabled.</summary>

@@ -205,12 +205,14 @@ public sealed class MainPresenter : IAsyncDisposable
             await ProfileChangedAsync().ConfigureAwait(true);
         }
 
-        await OpenAsync(path).ConfigureAwait(true);
-        _programId = id; // after OpenAsync, which forgets the revision of the program before
+        await OpenAsync(path, id).ConfigureAwait(true);
     }
 
-    /// <summary>Opens a program: indexes its lines in the background and shows the first screen at once.</summary>
-    public async Task OpenAsync(string path)
+    /// <summary>
+    /// Opens a program: indexes its lines in the background and shows the first screen at once. A program opened from
+    /// the store names its revision (<paramref name="storedId"/>): the preview draws its stored blocks, not the file.
+    /// </summary>
+    public async Task OpenAsync(string path, long? storedId = null)
     {
         if (_job is not null)
         {
@@ -223,10 +225,11 @@ public sealed class MainPresenter : IAsyncDisposable
         }
 
         CloseProgram();
+        _programId = storedId; // after CloseProgram, which forgets the revision of the program before
         var source = ProgramLineSource.Open(path);
         _program = source;
         _view.ProgramPath = path;
-        _toolpath.Open(path, _gate.Profile);
+        _toolpath.Open(path, _gate.Profile, storedId);
         await source.WaitForLinesAsync(FirstScreenLines, _life.Token).ConfigureAwait(true);
         if (source.Completion.IsFaulted)
         {
@@ -330,7 +333,7 @@ public sealed class MainPresenter : IAsyncDisposable
         DropSplit();
         if (_program is { } p)
         {
-            _toolpath.Open(p.Path, _gate.Profile);
+            _toolpath.Open(p.Path, _gate.Profile, _programId);
         }
 
         if (_connection.Link is not null)
@@ -414,21 +417,26 @@ public sealed class MainPresenter : IAsyncDisposable
             throw new InvalidOperationException(T(TextId.SelectLineFirst));
         }
 
+        var to = _view.ToBlock;
         var preamble = await _backend.BuildPreambleAsync(split, line, _settings, _gate.Profile, _life.Token).ConfigureAwait(true);
-        var ok = await _view.ConfirmAsync(T(TextId.ConfirmStartTitle), F(TextId.ConfirmStartText, line, string.Join(Environment.NewLine, preamble))).ConfigureAwait(true);
+        var text = F(TextId.ConfirmStartText, line, string.Join(Environment.NewLine, preamble)) + (to is { } last ? Environment.NewLine + F(TextId.ConfirmRangeEnd, last) : string.Empty);
+        var ok = await _view.ConfirmAsync(T(TextId.ConfirmStartTitle), text).ConfigureAwait(true);
         if (!ok)
         {
             _log.Information("Start from line {Line} declined by the operator", line);
             return;
         }
 
-        await StartAsync(line).ConfigureAwait(true);
+        await StartAsync(line, to).ConfigureAwait(true);
     }
 
-    private async Task StartAsync(int? fromLine)
+    private async Task StartAsync(int? fromLine, int? toLine = null)
     {
         var split = RequireReady();
-        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings) { Profile = _gate.Profile, OptionalStop = _optionalStop, ProgramId = _programId };
+        var request = new HmiJobRequest(split, _view.SelectedStrategy, fromLine, _view.SingleBlock, _feedOverride, _settings)
+        {
+            Profile = _gate.Profile, OptionalStop = _optionalStop, ProgramId = _programId, ToLine = toLine,
+        };
         var job = await _backend.StartAsync(request, _life.Token).ConfigureAwait(true);
         BeginJob(job, request.Strategy, fromLine ?? 1);
         _log.Information("Job started{From:l} with strategy {Strategy:l}, feed override {Override} %",

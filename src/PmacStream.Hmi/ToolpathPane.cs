@@ -30,6 +30,7 @@ internal sealed class ToolpathPane : IDisposable
     private readonly SKCanvas _frameCanvas;
     private CancellationTokenSource? _work;
     private string? _path;
+    private long? _programId; // the store revision drawn from its stored blocks, or null (the file)
     private GCode.MachineProfile? _profile;
     private Task<PreviewPicture>? _rendering;
     private double _renderFraction;
@@ -67,16 +68,20 @@ internal sealed class ToolpathPane : IDisposable
     public long ExecutedMoves => _tracer?.Drawn ?? 0;
 
     /// <summary>Draws the planned toolpath of a newly opened program (or of the same under another profile), in the background.</summary>
-    public void Open(string path, GCode.MachineProfile profile)
+    /// <param name="path">The program file.</param>
+    /// <param name="profile">The profile it is interpreted under.</param>
+    /// <param name="programId">The store's revision it is (opened from the store): drawn from its stored blocks; null: the file.</param>
+    public void Open(string path, GCode.MachineProfile profile, long? programId = null)
     {
         Forget();
+        _programId = programId;
         _frame.Bitmap.Erase(_palette.Background);
         _view.Toolpath = _frame;
         _path = path;
         _profile = profile;
         _work = new CancellationTokenSource();
         var token = _work.Token;
-        var source = _backend.OpenToolpath(path, profile);
+        var source = Source();
         var options = new PreviewOptions
         {
             Width = _frame.Width,
@@ -89,6 +94,10 @@ internal sealed class ToolpathPane : IDisposable
         _rendering = Task.Run(() => PreviewRenderer.Render(source, options, null, token), token);
         Show();
     }
+
+    /// <summary>The program's toolpath: a stored revision's stored blocks, else the file.</summary>
+    private IToolpathSource Source() =>
+        _programId is { } id ? _backend.OpenStoredToolpath(id, _path!, _profile!) : _backend.OpenToolpath(_path!, _profile!);
 
     /// <summary>Forgets the program (a new one is opened, or it is closed) and shows the empty pane.</summary>
     public void Close()
@@ -202,7 +211,7 @@ internal sealed class ToolpathPane : IDisposable
 
         _traceWork = CancellationTokenSource.CreateLinkedTokenSource(_work!.Token);
         var token = _traceWork.Token;
-        var tracer = new ExecutedPathTracer(_backend.OpenToolpath(_path!, _profile!), _planned.Projection, _executedCanvas, _palette.Executed, ExecutedWidth, token);
+        var tracer = new ExecutedPathTracer(Source(), _planned.Projection, _executedCanvas, _palette.Executed, ExecutedWidth, token);
         _tracer = tracer;
         var first = _pendingFirstLine;
         _skipping = first > 1 ? Task.Run(() => tracer.SkipBefore(first), token) : null;

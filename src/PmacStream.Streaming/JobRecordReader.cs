@@ -15,7 +15,7 @@ internal static partial class JobRecordReader
     /// <summary>The columns read, in order.</summary>
     public const string Columns = "id, created, program_path, program_sha256, manifest_path, strategy, connection, from_line, message, "
         + "cp_time, cp_state, cp_last_line, cp_chunk, cp_next_chunk, cp_next_line, cp_next_exact, cp_chunks_downloaded, cp_started, line_probe, preamble, cp_loaded, settings, profile, profile_identity, "
-        + "program_id, station, machine, os_user, runner, ended, outcome, blocks_executed, blocks_total, stops, alarms, resumes, source_location";
+        + "program_id, station, machine, os_user, runner, ended, outcome, blocks_executed, blocks_total, stops, alarms, resumes, source_location, to_line";
 
     public static JobRecord Read(DbDataReader r, string path)
     {
@@ -89,6 +89,7 @@ internal static partial class JobRecordReader
         {
             History = ReadHistory(row),
             SourceLocation = row.Text(36, nullable: true, empty: true),
+            ToLine = row.Line(37, nullable: true, min: 1),
         };
     }
 

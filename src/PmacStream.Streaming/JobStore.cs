@@ -28,6 +28,12 @@ public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256
     /// </summary>
     public string? SourceLocation { get; init; }
 
+    /// <summary>
+    /// The last line of a selected-block job (lines <see cref="FromLine"/>..this): its program ends after this line's
+    /// block; null when it runs to the program's end.
+    /// </summary>
+    public int? ToLine { get; init; }
+
     /// <summary>True when the job has not completed (it can be resumed).</summary>
     public bool Unfinished => Checkpoint?.State is not SessionState.Completed;
 
@@ -68,7 +74,11 @@ public sealed record JobRecord(long Id, string ProgramPath, string ProgramSha256
 /// <param name="Station">The station; null: the host name.</param>
 /// <param name="Machine">The machine's name or its connection.</param>
 /// <param name="BlocksTotal">Motion blocks of the program.</param>
-public sealed record JobHistoryStart(long? ProgramId, string? Station, string Machine, long BlocksTotal);
+public sealed record JobHistoryStart(long? ProgramId, string? Station, string Machine, long BlocksTotal)
+{
+    /// <summary>The last line of a selected-block job (<see cref="JobRecord.ToLine"/>), else null.</summary>
+    public int? ToLine { get; init; }
+}
 
 /// <summary>
 /// Jobs and their checkpoints in SQLite (WAL). A checkpoint is written every tick it changed with <c>synchronous=NORMAL</c>
@@ -345,7 +355,8 @@ public sealed class JobStore : IJobStore
     private void WriteHistoryStart(long id, JobHistoryStart h)
     {
         using var cmd = _db.CreateCommand();
-        cmd.CommandText = "UPDATE jobs SET program_id=$pid, station=$st, machine=$m, os_user=$u, runner=$r, outcome='running', blocks_total=$bt, blocks_executed=0 WHERE id=$id";
+        cmd.CommandText = "UPDATE jobs SET program_id=$pid, station=$st, machine=$m, os_user=$u, runner=$r, outcome='running', blocks_total=$bt, blocks_executed=0, to_line=$tl WHERE id=$id";
+        cmd.Parameters.AddWithValue("$tl", h.ToLine is { } tl ? tl : DBNull.Value);
         cmd.Parameters.AddWithValue("$pid", (object?)h.ProgramId ?? DBNull.Value);
         cmd.Parameters.AddWithValue("$st", h.Station ?? Environment.MachineName);
         cmd.Parameters.AddWithValue("$m", h.Machine);

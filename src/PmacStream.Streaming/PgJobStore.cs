@@ -77,8 +77,8 @@ public sealed class PgJobStore : IJobStore
                 Flush(c);
                 using var cmd = new NpgsqlCommand("""
                     INSERT INTO jobs (created, program_path, program_sha256, manifest_path, strategy, connection, from_line, line_probe, settings, profile, profile_identity,
-                                      program_id, station, machine, os_user, runner, outcome, blocks_total, blocks_executed)
-                    VALUES (@c, @p, @h, @m, @s, @conn, @f, @lp, @set, @pr, @pi, @pid, @st, @mach, @u, @r, 'running', @bt, 0) RETURNING id
+                                      program_id, station, machine, os_user, runner, outcome, blocks_total, blocks_executed, to_line)
+                    VALUES (@c, @p, @h, @m, @s, @conn, @f, @lp, @set, @pr, @pi, @pid, @st, @mach, @u, @r, 'running', @bt, 0, @tl) RETURNING id
                     """, c);
                 cmd.Parameters.AddWithValue("c", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
                 cmd.Parameters.AddWithValue("p", System.IO.Path.GetFullPath(programPath));
@@ -97,6 +97,7 @@ public sealed class PgJobStore : IJobStore
                 cmd.Parameters.AddWithValue("u", Environment.UserName);
                 cmd.Parameters.AddWithValue("r", JobHistory.ThisProcess);
                 cmd.Parameters.AddWithValue("bt", h.BlocksTotal);
+                cmd.Parameters.AddWithValue("tl", h.ToLine is { } tl ? (long)tl : DBNull.Value);
                 var id = (long)cmd.ExecuteScalar()!;
                 Logger.Information("job {Job} created in {Store} for {Program} ({Strategy}, {Connection})", id, Path, programPath, strategy, connection);
                 return id;

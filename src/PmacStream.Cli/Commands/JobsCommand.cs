@@ -100,6 +100,11 @@ internal sealed class JobsHandler
         o.WriteLine($"  machine   {h.Machine ?? j.Connection} ({j.Connection})");
         o.WriteLine($"  station   {h.Station ?? "-"}, user {h.User ?? "-"}");
         o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  started   {j.Created.UtcDateTime:yyyy-MM-dd HH:mm:ss}Z{(j.FromLine is { } f ? $" from line {f}" : string.Empty)}"));
+        if (j.ToLine is { } to)
+        {
+            o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  range     selected blocks: lines {j.FromLine ?? 1}..{to} (the job ends after line {to})"));
+        }
+
         o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  ended     {(h.Ended is { } e ? e.UtcDateTime.ToString("yyyy-MM-dd HH:mm:ss'Z'", CultureInfo.InvariantCulture) : "-")}"));
         o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  blocks    {h.BlocksExecuted ?? 0} of {h.BlocksTotal?.ToString(CultureInfo.InvariantCulture) ?? "?"} executed; stops {h.Stops}, alarms {h.Alarms}, resumes {h.Resumes}"));
         o.WriteLine($"  strategy  {j.Strategy.ToString().ToLowerInvariant()}, profile {j.Profile ?? "-"}");
@@ -170,6 +175,11 @@ internal sealed class JobsHandler
         if (j.FromLine is { } from)
         {
             w.WriteNumber("fromLine", from);
+        }
+
+        if (j.ToLine is { } toLine)
+        {
+            w.WriteNumber("toLine", toLine); // selected blocks: the job's last line
         }
 
         w.WriteNumber("lastLine", j.Checkpoint?.LastExecutedLine ?? 0);

@@ -20,22 +20,24 @@ internal static class ProgramStartCommand
         var id = new Argument<long>("id") { Description = "Program revision id." };
         var line = new Option<int>("--from-line") { Description = "Start at the block of this source line.", Required = true };
         var reinterpret = new Option<bool>("--reinterpret") { Description = "Interpret the revision's source from the top instead of reading the stored states." };
+        var to = new Option<int?>("--to-line") { Description = "Selected blocks: the range ends after the block of this line (a move); checked against the stored blocks." };
         var highest = new Option<bool>("--safe-z-highest") { Description = "Retract above the highest Z reached so far (else the fixed safe Z)." };
         var cmd = new Command("start", "Show the preamble of a start at a line of a stored revision (what stream --program ID --from-line N sends first).");
         cmd.Arguments.Add(id);
         cmd.Options.Add(line);
+        cmd.Options.Add(to);
         cmd.Options.Add(reinterpret);
         cmd.Options.Add(highest);
         cmd.SetAction((parse, ct) =>
         {
             var location = StoreOptions.Resolve(parse.GetValue(store));
-            return Task.FromResult(Run(location, parse.GetValue(id), parse.GetValue(line), parse.GetValue(reinterpret), parse.GetValue(highest), Console.Out, Console.Error, ct));
+            return Task.FromResult(Run(location, parse.GetValue(id), parse.GetValue(line), parse.GetValue(reinterpret), parse.GetValue(highest), Console.Out, Console.Error, ct, parse.GetValue(to)));
         });
         return cmd;
     }
 
     /// <summary>Prints the start's block line and preamble; returns the exit code.</summary>
-    public static int Run(StoreLocation location, long programId, int line, bool reinterpret, bool highestSoFar, TextWriter output, TextWriter error, CancellationToken ct)
+    public static int Run(StoreLocation location, long programId, int line, bool reinterpret, bool highestSoFar, TextWriter output, TextWriter error, CancellationToken ct, int? toLine = null)
     {
         if (line < 1)
         {
@@ -63,13 +65,38 @@ internal static class ProgramStartCommand
             throw new CliException($"{e.Message}: give --reinterpret, or import it again");
         }
 
+        // Checked before anything is printed: a refused range prints nothing but why.
+        var rangeEnd = toLine is { } last ? RangeEnd(store, programId, line, last) : null;
         output.WriteLine(string.Create(CultureInfo.InvariantCulture, $"start at line {plan.Line}"));
         foreach (var g in plan.GCode)
         {
             output.WriteLine(g);
         }
 
+        if (rangeEnd is not null)
+        {
+            output.WriteLine(rangeEnd);
+        }
+
         error.WriteLine(string.Create(CultureInfo.InvariantCulture, $"planned {(reinterpret ? "by re-interpreting the source" : "from the store")} in {clock.Elapsed.TotalMilliseconds:0.0} ms"));
         return CliGlobals.Ok;
+    }
+
+    /// <summary>
+    /// Selected blocks (<c>--to-line</c>): the range checked against the stored blocks (refused with why, exit 1) and its
+    /// end: the blocks it runs and where the machine stands after its last one (machine coordinates, the interpreter's end of that block).
+    /// </summary>
+    private static string RangeEnd(IProgramRevisions store, long programId, int from, int to)
+    {
+        try
+        {
+            var range = StoredRange.Check(store, programId, from, to);
+            var end = range.Last.End;
+            return string.Create(CultureInfo.InvariantCulture, $"end after line {range.ToLine}: {range.Blocks} blocks, at X{end.X:0.###} Y{end.Y:0.###} Z{end.Z:0.###}");
+        }
+        catch (ArgumentException e)
+        {
+            throw new CliException($"lines {from}..{to}: {e.Message}", CliGlobals.Failed);
+        }
     }
 }

@@ -14,12 +14,14 @@ internal static class StreamCommand
         var programId = new Option<long?>("--program") { Description = "Run the program revision with this id from the store (pmacstream programs)." };
         var strategy = new Option<string>("--strategy") { Description = "full (the default: a rotary buffer as large as the controller allows, kept full, so link stalls do not starve the motion), chunk (the paper's chunk method: the next chunk once, in the download window), pr (poll PR, top up line by line) or adaptive (time-based lead).", DefaultValueFactory = _ => "full" };
         var fromLine = new Option<int?>("--from-line") { Description = "Start at the block of this source line, with a preamble restoring modal state and a safe approach." };
+        var toLine = new Option<int?>("--to-line") { Description = "Selected blocks: end after the block of this source line (a move); with --from-line A, runs lines A..B and nothing after." };
         var force = new Option<bool>("--force") { Description = "Stream even if the program has errors under the machine profile (what is not G-code is dropped, as split --force does) or uses codes the controller cannot run yet (the PMAC skips such a code and runs the rest of its block), or on a controller that runs no library or another one than the program was checked against." };
         var profile = CliProfiles.Option();
         var cmd = new Command("stream", "Check, split and stream a program to a controller or the simulator.");
         cmd.Arguments.Add(file);
         cmd.Options.Add(strategy);
         cmd.Options.Add(fromLine);
+        cmd.Options.Add(toLine);
         var (call, sourceFile) = AddStartChoice(cmd);
         cmd.Options.Add(force);
         cmd.Options.Add(profile);
@@ -27,7 +29,7 @@ internal static class StreamCommand
         var options = JobOptions.AddTo(cmd, JobFace.Stream);
         cmd.SetAction((parse, ct) => new StreamHandler().RunAsync(
             new StreamOptions(parse.GetValue(file), parse.GetValue(programId), parse.GetValue(strategy)!, parse.GetValue(fromLine), parse.GetValue(call), parse.GetValue(sourceFile),
-                parse.GetValue(force), parse.GetValue(profile), options.Bind(parse)),
+                parse.GetValue(force), parse.GetValue(profile), options.Bind(parse)) { ToLine = parse.GetValue(toLine) },
             CliConsole.Of(parse),
             ct));
         return cmd;
@@ -48,6 +50,24 @@ internal static class StreamCommand
         catch (ArgumentException e)
         {
             throw new CliException(e.Message);
+        }
+    }
+
+    /// <summary>A selected-block range that no program can hold (B below 1 or before A): refused before anything is prepared, exit 1.</summary>
+    internal static void ValidateRange(int? fromLine, int? toLine)
+    {
+        if (toLine is not { } to)
+        {
+            return;
+        }
+
+        try
+        {
+            Preparation.Store.StoredRange.Basic(fromLine, to, int.MaxValue);
+        }
+        catch (ArgumentException e)
+        {
+            throw new CliException(e.Message, CliGlobals.Failed);
         }
     }
 
@@ -96,7 +116,11 @@ internal static class StreamCommand
 /// <param name="Force">Stream despite errors or codes the controller cannot run yet.</param>
 /// <param name="Profile">The machine profile named, if any.</param>
 /// <param name="Job">The controller, store and run settings.</param>
-internal sealed record StreamOptions(string? File, long? ProgramId, string Strategy, int? FromLine, int? Call, string? SourceFile, bool Force, string? Profile, JobArgs Job);
+internal sealed record StreamOptions(string? File, long? ProgramId, string Strategy, int? FromLine, int? Call, string? SourceFile, bool Force, string? Profile, JobArgs Job)
+{
+    /// <summary>Selected blocks: the last source line to run (<c>--to-line</c>), if any.</summary>
+    public int? ToLine { get; init; }
+}
 
 /// <summary>
 /// <c>pmacstream stream</c>: checks and prepares the program through the job service, plans a start from a line,
@@ -110,6 +134,7 @@ internal sealed class StreamHandler
         var options = o.Job;
         var target = options.Target() ?? throw new CliException("say where to stream: --sim, --tcp HOST[:PORT] or --serial DEV[,BAUD]");
         var kind = StreamCommand.Validate(o.Strategy, o.FromLine);
+        StreamCommand.ValidateRange(o.FromLine, o.ToLine);
 
         // The tool table at the machine (the host's copy) over the profile's: G41 D1 reads tool 1's radius as set there.
         // A stored revision runs under the profile it was checked and imported with, unless --profile says otherwise.
@@ -137,10 +162,15 @@ internal sealed class StreamHandler
             // in an expanded program the line named is found among the expanded blocks (--call, --file).
             line = StreamCommand.StartLine(program.Folder, line, o.Call, o.SourceFile, console);
             plan = service.PlanStartFor(revision, program, line, settings, prepared.Profile, ct);
-            if (!JobConsole.Confirm(plan, options.Yes, console))
+            if (o.ToLine is null && !JobConsole.Confirm(plan, options.Yes, console))
             {
                 return CliGlobals.UsageOrIo;
             }
+        }
+
+        if (o.ToLine is { } to && !ConfirmRange(service, (revision, program, plan, to), settings, prepared.Profile, o, console, ct))
+        {
+            return CliGlobals.UsageOrIo;
         }
 
         var continueAtStops = options.ContinueAtStops(program.Manifest, machine);
@@ -149,12 +179,40 @@ internal sealed class StreamHandler
         await using var controller = await service.ConnectAsync(target, prepared.Profile, ct).ConfigureAwait(false);
         await using var job = await service.CreateJobAsync(controller, new JobRequest(program, kind)
         {
-            Settings = settings, Plan = plan, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(),
+            Settings = settings, Plan = plan, ToLine = o.ToLine, Profile = prepared.Profile, FeedOverride = feedOverride, OptionalStop = options.OptionalStop(),
             Library = options.Library(o.Force),
             ProgramId = revision, Station = options.Station(), Machine = options.Machine,
         }, ct).ConfigureAwait(false);
         lease?.SetJob(job.Id);
+        program = job.Program; // a selected-block job runs its range's own chunks
         await console.Out.WriteLineAsync($"job {job.Id}: {Path.GetFileName(prepared.SourcePath)}, {program.TotalChunks} chunks, {program.Manifest.TotalMotionBlocks} blocks, strategy {kind.ToString().ToLowerInvariant()}, {controller.Description}").ConfigureAwait(false);
         return await JobConsole.RunAsync(job, sim, start: true, plan?.Line, console, ct, continueAtStops: continueAtStops).ConfigureAwait(false);
+    }
+
+    /// <summary>
+    /// Selected blocks: the range checked by the job service (refused with why, exit 1, nothing sent), shown with its
+    /// preamble and confirmed (<c>--yes</c>).
+    /// </summary>
+    private static bool ConfirmRange(JobService service, (long? Revision, ChunkedProgram Program, StartPlan? Plan, int To) range, RunSettings settings, GCode.MachineProfile profile,
+        StreamOptions o, CliConsole console, CancellationToken ct)
+    {
+        var (revision, program, plan, to) = range;
+        if (o.Call is not null || o.SourceFile is not null)
+        {
+            throw new CliException("--to-line runs lines of one program in order; --call and --file choose a run of a line in an expanded program, which a range cannot cut", CliGlobals.Failed);
+        }
+
+        long? blocks;
+        try
+        {
+            blocks = service.CheckRange(revision, program, o.FromLine, to, settings, profile, ct);
+        }
+        catch (JobException e)
+        {
+            throw new CliException($"lines {o.FromLine ?? 1}..{to}: {e.Message}", CliGlobals.Failed);
+        }
+
+        console.Out.WriteLine($"selected blocks: lines {o.FromLine ?? 1}..{to}{(blocks is { } n ? $", {n} blocks" : string.Empty)}; the job ends after line {to}");
+        return plan is null || JobConsole.Confirm(plan, o.Job.Yes, console);
     }
 }

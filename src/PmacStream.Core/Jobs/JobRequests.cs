@@ -55,6 +55,13 @@ public sealed record JobRequest(ChunkedProgram Program, StrategyKind Strategy)
     /// <summary>Start at a block behind this plan's preamble (<see cref="JobService.PlanStart"/>); null: from the top.</summary>
     public StartPlan? Plan { get; init; }
 
+    /// <summary>
+    /// Selected blocks: the job ends after the block of this source line (a move; <see cref="JobService.CheckRange"/>
+    /// checks it first), running the blocks from <see cref="Plan"/>'s line (or the top) to it and nothing after; null:
+    /// to the program's end. The job record keeps it.
+    /// </summary>
+    public int? ToLine { get; init; }
+
     /// <summary>Single-block mode.</summary>
     public bool SingleBlock { get; init; }
 

@@ -45,11 +45,17 @@ public sealed partial class JobService
         var plan = request.FromLine is { } from
             ? await Task.Run(() => PlanStartFor(request.ProgramId, program, from, request.Settings, request.Profile, cancellationToken), cancellationToken).ConfigureAwait(false)
             : null;
+        if (request.ToLine is { } to)
+        {
+            await Task.Run(() => CheckRange(request.ProgramId, program, request.FromLine, to, request.Settings, request.Profile, cancellationToken), cancellationToken).ConfigureAwait(false);
+        }
+
         var strategy = string.IsNullOrWhiteSpace(request.Strategy) ? StrategyKind.Chunk : StreamingStrategies.Parse(request.Strategy);
         var job = await CreateJobAsync(controller, new JobRequest(program, strategy)
         {
             Settings = request.Settings,
             Plan = plan,
+            ToLine = request.ToLine,
             SingleBlock = request.SingleBlock,
             FeedOverride = request.FeedOverride,
             Profile = request.Profile,

@@ -231,8 +231,9 @@ public sealed partial class JobService
     {
         ArgumentNullException.ThrowIfNull(controller);
         ArgumentNullException.ThrowIfNull(request);
-        var program = request.Program;
         FeedOverrides.Validate(request.FeedOverride);
+        // Selected blocks (A..B): the range runs as a program of its own, so nothing after B reaches the controller.
+        var program = request.ToLine is { } to ? CutRange(request.Program, request.Plan?.Line, to, request.Profile) : request.Program;
         var times = await MoveTimesAsync(program.Manifest.SourcePath, request.Profile, cancellationToken).ConfigureAwait(false);
         var store = request.Record ? JobStores.Open(Store) : null;
         try
@@ -246,7 +247,7 @@ public sealed partial class JobService
             var id = store?.CreateJob(program.Manifest.SourcePath, program.Manifest.SourceSha256, Path.Combine(program.Folder, ChunkManifest.FileName),
                 request.Strategy, controller.Spec.ToString(), request.Plan?.Line, options.LineProbeVariable, RunSettingsFile.ToJson(request.Settings, withShape: false),
                 (request.Profile.Source, request.Profile.Identity),
-                new JobHistoryStart(request.ProgramId, request.Station, request.Machine ?? MachineName(controller.Spec), program.Manifest.TotalMotionBlocks));
+                new JobHistoryStart(request.ProgramId, request.Station, request.Machine ?? MachineName(controller.Spec), program.Manifest.TotalMotionBlocks) { ToLine = request.ToLine });
             StreamingSession? session = null;
             session = new StreamingSession(controller.Devices, program, options, id is { } i ? SourceLocations.Track(store!.SinkFor(i, () => session?.Status.ExecutedBlocks), store!, i, SourceLocations.MapOf(program.Folder)) : null, times, TimeOf(controller));
             return new Job(controller, session, request.Settings, request.Plan, request.FeedOverride, store, id)

@@ -115,6 +115,9 @@ public sealed record SplitJobRequest(SplitView Program, string Strategy)
     /// <summary>Start at the block of this source line behind its restore preamble; null: from the top.</summary>
     public int? FromLine { get; init; }
 
+    /// <summary>Selected blocks: end after the block of this source line (<see cref="JobRequest.ToLine"/>); null: to the program's end.</summary>
+    public int? ToLine { get; init; }
+
     /// <summary>Buffer words, window, tick period and safe Z.</summary>
     public RunSettings Settings { get; init; } = RunSettings.Default;
 

@@ -80,6 +80,8 @@ public static class PgSchema
             """),
         ("jobs: where an expanded program's line came from", "ALTER TABLE jobs ADD COLUMN IF NOT EXISTS source_location TEXT;"),
         ("cycle holes of stored blocks", SqliteMigrations.CycleHolesSchema), // 9: the same text runs on both engines
+        ("selected blocks: a job's last line; an expanded revision's source map",
+            "ALTER TABLE jobs ADD COLUMN IF NOT EXISTS to_line BIGINT;\n" + SqliteMigrations.ExpansionMapSchema), // 10: whether or not 11 ran
     ];
 
     /// <summary>The newest schema version this build writes (the same number as on SQLite).</summary>

@@ -95,7 +95,22 @@ public static class SqliteMigrations
             AddColumn(c, t, "jobs", "source_location", "TEXT");
         }),
         ("cycle holes of stored blocks", (c, t) => Run(c, t, CycleHolesSchema)), // 9: a table of its own, whether or not 10 exists
+        ("selected blocks: a job's last line; an expanded revision's source map", (c, t) =>
+        {
+            // 10: a column added only when missing and a table of its own, whether or not step 11 ran before it.
+            AddColumn(c, t, "jobs", "to_line", "INTEGER");
+            Run(c, t, ExpansionMapSchema);
+        }),
     ];
+
+    /// <summary>
+    /// Version 10: the source map of a revision whose program was expanded (subprograms, macros, o-words): the split's
+    /// <c>expansion.map</c> text in pieces (the blocks of such a revision are numbered by expanded line, as <c>M0==</c> counts them).
+    /// </summary>
+    public const string ExpansionMapSchema = """
+        CREATE TABLE IF NOT EXISTS expansion_maps (
+            program_id BIGINT NOT NULL, seq INTEGER NOT NULL, data TEXT NOT NULL, PRIMARY KEY (program_id, seq));
+        """;
 
     /// <summary>
     /// Version 9: the holes of each stored cycle block (how many, the R level and the bottom, machine Z), as the

@@ -36,6 +36,8 @@ internal sealed class FakeView : IMainView
     public int ExecutingLine { get => ExecutingLines.Count == 0 ? 0 : ExecutingLines[^1]; set => ExecutingLines.Add(value); }
     public int FocusedLine { get; set; }
     public int SelectedLine { get; set; }
+
+    public int? ToBlock { get; set; }
     public CommandStates Commands { get; set; } = CommandStates.None;
     public bool SingleBlock { get; set; }
     public double FeedOverride { get; set; }
@@ -264,6 +266,15 @@ internal sealed class FakeBackend : IHmiBackend
         var j = new FakeJob(job.Program, job.ResumeLine, LinesPerTick, false, feedOverride);
         Jobs.Add(j);
         return Task.FromResult<IHmiJob>(j);
+    }
+
+    /// <summary>The revisions whose preview was asked from the store, in order.</summary>
+    public List<long> StoredToolpaths { get; } = [];
+
+    public IToolpathSource OpenStoredToolpath(long programId, string sourcePath, MachineProfile profile)
+    {
+        StoredToolpaths.Add(programId);
+        return new GCodeToolpathSource(sourcePath, profile);
     }
 
     public IToolpathSource OpenToolpath(string sourcePath, MachineProfile profile)

@@ -374,6 +374,33 @@ public sealed class MainPresenterTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task Start_from_a_block_to_a_block_asks_with_the_range_and_passes_it_to_the_job()
+    {
+        await ReadyToRun();
+        _view.SelectedLine = 42;
+        _view.ToBlock = 60;
+        _view.ConfirmAnswer = true;
+        await Do(_view.ClickStartFromLine);
+        _view.Confirmations.Single().Text.Should().Contain("line 42").And.Contain("ends after line 60");
+        _backend.Started.Single().FromLine.Should().Be(42);
+        _backend.Started.Single().ToLine.Should().Be(60, "the job service cuts the range (selected-block execution)");
+
+        _view.ToBlock = null;
+        await TickUntilFinished();
+        await Do(_view.ClickStartFromLine);
+        _backend.Started[1].ToLine.Should().BeNull("an empty \"to block\" runs to the program's end");
+    }
+
+    [Fact]
+    public async Task The_preview_of_a_program_opened_from_the_store_reads_its_stored_blocks_and_a_file_s_the_file()
+    {
+        await _p.OpenStoredAsync(7, Program(40), null);
+        _backend.StoredToolpaths.Should().Equal(7L);
+        await Do(() => _view.ChooseFile(Program(40)));
+        _backend.StoredToolpaths.Should().Equal([7L], "a file opened from disk is drawn from the file");
+    }
+
+    [Fact]
     public async Task Resume_after_interruption_continues_from_the_recorded_line()
     {
         await ReadyToRun(lines: 100, linesPerChunk: 30);
