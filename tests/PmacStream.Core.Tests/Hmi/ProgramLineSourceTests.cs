@@ -5,15 +5,13 @@ namespace PmacStream.Core.Tests.Hmi;
 
 public sealed class ProgramLineSourceTests : IDisposable
 {
-    private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("hmi");
 
-    public ProgramLineSourceTests() => Directory.CreateDirectory(_dir);
-
-    public void Dispose() => Directory.Delete(_dir, recursive: true);
+    public void Dispose() => _temp.Dispose();
 
     private string Write(string name, byte[] bytes)
     {
-        var path = Path.Combine(_dir, name);
+        var path = Path.Combine(_temp.Path, name);
         File.WriteAllBytes(path, bytes);
         return path;
     }
