@@ -51,11 +51,21 @@ public static class TestPrograms
     /// The raster's move i (1-based): 0.25 mm steps, 200 a row, zig-zag (<see cref="RasterProgram"/> writes it whole with
     /// <c>F1500</c>: 10 ms a move).
     /// </summary>
-    public static string Raster(int i)
+    public static string Raster(int i) => RasterOf(200)(i);
+
+    /// <summary>A raster's moves with <paramref name="perRow"/> moves a row (0.25 mm steps, zig-zag), move i 1-based.</summary>
+    public static Func<int, string> RasterOf(int perRow) => i =>
     {
-        var (row, col) = Math.DivRem(i - 1, 200);
-        return string.Create(CultureInfo.InvariantCulture, $"G01 X{(row % 2 == 0 ? col : 199 - col) * 0.25:0.00} Y{row * 0.25:0.00}");
-    }
+        var (row, col) = Math.DivRem(i - 1, perRow);
+        return string.Create(CultureInfo.InvariantCulture, $"G01 X{(row % 2 == 0 ? col : perRow - 1 - col) * 0.25:0.00} Y{row * 0.25:0.00}");
+    };
+
+    /// <summary>
+    /// A surfacing pass's block <c>N i</c>: X steps 0.25 mm, Y 0.5 mm every 100 blocks, Z wandering below -1.5 (a CAM
+    /// post's numbered, modal XYZ lines without a G word, four decimals).
+    /// </summary>
+    public static string Surfacing(int i) =>
+        string.Create(CultureInfo.InvariantCulture, $"N{i} X{i * 0.25:0.0000} Y{(i / 100) * 0.5:0.0000} Z{-1.5 - (i % 37) * 0.0061:0.0000}");
 
     /// <summary>Writes <paramref name="text"/> to <paramref name="path"/> and returns the path.</summary>
     public static string Write(string path, string text)
