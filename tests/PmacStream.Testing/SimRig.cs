@@ -8,7 +8,8 @@ namespace PmacStream.Testing;
 
 /// <summary>
 /// The real splitter, the real simulator with the real PROG 1000/1001 library (what the CLI and the HMI download),
-/// and a deterministic tick loop on the simulator's virtual clock.
+/// and a deterministic tick loop on the simulator's virtual clock: a streaming session on <see cref="SimHarness"/>,
+/// the rig's bottom layer.
 /// </summary>
 public sealed class SimRig : IDisposable
 {
@@ -27,8 +28,7 @@ public sealed class SimRig : IDisposable
         var split = Splitter.Split(source, new SplitOptions { BlocksPerChunk = linesPerChunk, OutDir = Path.Combine(Folder, "chunks"), Tracking = placement });
         Program = ChunkedProgram.Open(split.ManifestPath);
         _expanded = Program.ExpandedBlocks(); // read now: a test may change a chunk later
-        Sim = new PmacSimulator(simOptions);
-        Port = Sim.OpenPort("stream");
+        Harness = new SimHarness(simOptions, "stream");
         Connection = new InProcessConnection(Port, "sim");
         LoadLibrary(Port);
         Options = options;
@@ -40,9 +40,12 @@ public sealed class SimRig : IDisposable
 
     public ChunkedProgram Program { get; }
 
-    public PmacSimulator Sim { get; }
+    /// <summary>The layer below: the simulator and the port the session streams through.</summary>
+    public SimHarness Harness { get; }
 
-    public SimPort Port { get; }
+    public PmacSimulator Sim => Harness.Sim;
+
+    public SimPort Port => Harness.Port;
 
     public IPmacConnection Connection { get; set; }
 
@@ -60,6 +63,14 @@ public sealed class SimRig : IDisposable
 
     /// <summary>The simulator's virtual clock as a TimeProvider starting at <see cref="TestEpoch"/>.</summary>
     public static SimTimeProvider Clock(PmacSimulator sim) => new(sim, TestEpoch);
+
+    /// <summary>
+    /// The rig's job-service layer: the job service's built-in simulator (<c>JobServiceOptions.Simulator</c>) as the
+    /// test's <paramref name="sim"/>, through a port named <paramref name="port"/>, on its <see cref="Clock"/>; with
+    /// <paramref name="step"/> the job service advances it (a console's moves), else the test does.
+    /// </summary>
+    public static Func<CancellationToken, Task<SimulatorLink>> BuiltIn(PmacSimulator sim, string port = "console", bool step = true) =>
+        _ => Task.FromResult(new SimulatorLink(new InProcessConnection(sim.OpenPort(port), "simulator (in-process)"), Clock(sim)) { Step = step ? sim.Advance : null });
 
     public async Task<bool> RunAsync(double virtualSecondsPerTick, int maxTicks = 100_000)
     {
@@ -88,7 +99,7 @@ public sealed class SimRig : IDisposable
 
     public void Dispose()
     {
-        Sim.Dispose();
+        Harness.Dispose();
         _folder.Dispose();
     }
 }

@@ -28,7 +28,8 @@ public sealed class HmiConsoleUnderWineTests(ITestOutputHelper output)
 
         Skip.If(setup.MissingReason is not null, setup.MissingReason);
         var total = Stopwatch.StartNew();
-        var work = Directory.CreateTempSubdirectory("pmacstream-ui-console-").FullName;
+        var folder = new TestFolder("ui-console");
+        var work = folder.Path;
         try
         {
             Walkthrough(setup, work);
@@ -36,7 +37,7 @@ public sealed class HmiConsoleUnderWineTests(ITestOutputHelper output)
         }
         finally
         {
-            Directory.Delete(work, recursive: true);
+            folder.Dispose();
         }
     }
 

@@ -39,7 +39,8 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         Skip.If(setup.MissingReason is not null, setup.MissingReason);
 
         var total = Stopwatch.StartNew();
-        var work = Directory.CreateTempSubdirectory("pmacstream-ui-").FullName;
+        var folder = new TestFolder("ui");
+        var work = folder.Path;
         try
         {
             Walkthrough(setup, work);
@@ -47,7 +48,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         }
         finally
         {
-            Directory.Delete(work, recursive: true);
+            folder.Dispose();
         }
     }
 

@@ -17,28 +17,11 @@ internal static class AlarmsCommand
         cmd.Options.Add(json);
         cmd.Options.Add(history);
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-            var state = await session.Console.ReadStateAsync(ct).ConfigureAwait(false); // also brings the history up to date
-            if (parse.GetValue(history))
-            {
-                var records = session.Console.Options.History?.List() ?? [];
-                Console.Out.Write(parse.GetValue(json) ? HistoryJson(records) + "\n" : HistoryText(records));
-                return CliGlobals.Ok;
-            }
-
-            Console.Out.Write(parse.GetValue(json) ? AlarmsJson(state.Alarms) + "\n" : AlarmsText(state.Alarms));
-            return CliGlobals.Ok;
-        });
+        cmd.SetAction((parse, ct) => new AlarmsHandler().RunAsync(new AlarmsOptions(parse.GetValue(json), parse.GetValue(history), options.Bind(parse)), CliConsole.Of(parse), ct));
 
         var clear = new Command("clear", "Clear the alarms a clear can end (re-enable killed motors: fatal following error, amplifier fault); a hardware limit stays until the axis is jogged off it.");
         var clearOptions = ConsoleOptions.AddTo(clear);
-        clear.SetAction(async (parse, ct) =>
-        {
-            await using var session = await clearOptions.OpenAsync(parse, ct).ConfigureAwait(false);
-            return ConsoleOptions.Finish(await session.Console.ClearAlarmsAsync(ct).ConfigureAwait(false));
-        });
+        clear.SetAction((parse, ct) => new AlarmsClearHandler().RunAsync(clearOptions.Bind(parse), CliConsole.Of(parse), ct));
         cmd.Subcommands.Add(clear);
         return cmd;
     }
@@ -61,14 +44,14 @@ internal static class AlarmsCommand
         w.WriteEndArray();
     }
 
-    private static string AlarmsJson(IReadOnlyList<MachineAlarm> alarms) => Write(w =>
+    internal static string AlarmsJson(IReadOnlyList<MachineAlarm> alarms) => Write(w =>
     {
         w.WriteStartObject();
         WriteAlarms(w, "alarms", alarms);
         w.WriteEndObject();
     });
 
-    private static string HistoryJson(IReadOnlyList<AlarmRecord> records) => Write(w =>
+    internal static string HistoryJson(IReadOnlyList<AlarmRecord> records) => Write(w =>
     {
         w.WriteStartObject();
         w.WriteStartArray("history");
@@ -105,10 +88,10 @@ internal static class AlarmsCommand
         w.WriteEndObject();
     });
 
-    private static string AlarmsText(IReadOnlyList<MachineAlarm> alarms) =>
+    internal static string AlarmsText(IReadOnlyList<MachineAlarm> alarms) =>
         alarms.Count == 0 ? "no active alarm\n" : string.Concat(alarms.Select(a => $"{a.Code} ({a.Axis}, motor {a.Motor}): {a.Text}\n"));
 
-    private static string HistoryText(IReadOnlyList<AlarmRecord> records)
+    internal static string HistoryText(IReadOnlyList<AlarmRecord> records)
     {
         var t = new StringBuilder(records.Count == 0 ? "no alarms recorded\n" : string.Empty);
         foreach (var r in records)
@@ -128,5 +111,42 @@ internal static class AlarmsCommand
         }
 
         return Encoding.UTF8.GetString(buffer.ToArray());
+    }
+}
+
+/// <summary>What an <c>alarms</c> command line asks for.</summary>
+/// <param name="Json">Print JSON.</param>
+/// <param name="History">Every alarm seen (the store's history), not only the active ones.</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record AlarmsOptions(bool Json, bool History, ConsoleArgs Console);
+
+/// <summary><c>pmacstream alarms</c>: the controller's active alarms, or the store's alarm history, as text or JSON.</summary>
+internal sealed class AlarmsHandler
+{
+    /// <summary>Prints the alarms; returns the exit code.</summary>
+    public async Task<int> RunAsync(AlarmsOptions o, CliConsole console, CancellationToken ct)
+    {
+        await using var session = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+        var state = await session.Console.ReadStateAsync(ct).ConfigureAwait(false); // also brings the history up to date
+        if (o.History)
+        {
+            var records = session.Console.Options.History?.List() ?? [];
+            console.Out.Write(o.Json ? AlarmsCommand.HistoryJson(records) + "\n" : AlarmsCommand.HistoryText(records));
+            return CliGlobals.Ok;
+        }
+
+        console.Out.Write(o.Json ? AlarmsCommand.AlarmsJson(state.Alarms) + "\n" : AlarmsCommand.AlarmsText(state.Alarms));
+        return CliGlobals.Ok;
+    }
+}
+
+/// <summary><c>pmacstream alarms clear</c>: clears the alarms a clear can end through the operator's console.</summary>
+internal sealed class AlarmsClearHandler
+{
+    /// <summary>Clears; exit 0 when done, 1 when the console refused.</summary>
+    public async Task<int> RunAsync(ConsoleArgs o, CliConsole console, CancellationToken ct)
+    {
+        await using var session = await o.OpenAsync(ct).ConfigureAwait(false);
+        return ConsoleOptions.Finish(await session.Console.ClearAlarmsAsync(ct).ConfigureAwait(false), console);
     }
 }

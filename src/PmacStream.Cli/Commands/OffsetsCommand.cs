@@ -20,15 +20,7 @@ internal static class OffsetsCommand
         cmd.Options.Add(json);
         cmd.Options.Add(all);
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-            var tables = await session.Console.ReadTablesAsync(ct).ConfigureAwait(false);
-            var shifts = await session.Console.ReadShiftsAsync(ct).ConfigureAwait(false);
-            var shown = tables.Offsets.Where(o => parse.GetValue(all) || o.Index <= 9 || o is not { X: 0, Y: 0, Z: 0 }).ToList();
-            Console.Out.Write(parse.GetValue(json) ? Json(shown, shifts) + "\n" : Text(shown, shifts));
-            return CliGlobals.Ok;
-        });
+        cmd.SetAction((parse, ct) => new OffsetsHandler().RunAsync(new OffsetsOptions(parse.GetValue(json), parse.GetValue(all), options.Bind(parse)), CliConsole.Of(parse), ct));
         cmd.Subcommands.Add(SetCommand());
         cmd.Subcommands.Add(RestoreCommand());
         return cmd;
@@ -44,38 +36,8 @@ internal static class OffsetsCommand
         cmd.Arguments.Add(values);
         cmd.Options.Add(touch);
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            var words = parse.GetValue(values)!.ToList();
-            var table = parse.GetValue(name)!;
-            if (words.Count > 0 && words[0].StartsWith('P') && table.Equals("G54.1", StringComparison.OrdinalIgnoreCase))
-            {
-                table += words[0]; // G54.1 P3
-                words.RemoveAt(0);
-            }
-
-            var parsed = words.Select(Word).ToList();
-            if (parse.GetValue(touch) is { } t)
-            {
-                if (parsed.Count > 0)
-                {
-                    throw new CliException("--touch sets one axis: give no other values with it");
-                }
-
-                var (axis, value) = Word(t);
-                await using var s = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-                return ConsoleOptions.Finish(await s.Console.TouchOffAsync(table, axis, value, ct).ConfigureAwait(false));
-            }
-
-            if (parsed.Count == 0 || parsed.Any(p => p.Axis is not ("X" or "Y" or "Z")) || parsed.Select(p => p.Axis).Distinct().Count() != parsed.Count)
-            {
-                throw new CliException($"offsets set {table}: give X, Y and/or Z values once each (X100 Y50 Z-10), or --touch X0");
-            }
-
-            double? Of(string a) => parsed.FirstOrDefault(p => p.Axis == a) is { Axis: not null } p ? p.Value : null;
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-            return ConsoleOptions.Finish(await session.Console.SetWorkOffsetAsync(table, Of("X"), Of("Y"), Of("Z"), ct).ConfigureAwait(false));
-        });
+        cmd.SetAction((parse, ct) => new OffsetsSetHandler().RunAsync(
+            new OffsetsSetOptions(parse.GetValue(name)!, parse.GetValue(values)!, parse.GetValue(touch), options.Bind(parse)), CliConsole.Of(parse), ct));
         return cmd;
     }
 
@@ -85,23 +47,7 @@ internal static class OffsetsCommand
         var cmd = new Command("restore", "Show the differences between the controller's tables (offsets and tools) and the host's copy; with --yes write the host's copy (after a controller power cycle).");
         cmd.Options.Add(yes);
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-            var differences = await session.Console.CompareTablesAsync(ct).ConfigureAwait(false);
-            foreach (var d in differences)
-            {
-                Console.WriteLine(d);
-            }
-
-            if (differences.Count == 0)
-            {
-                Console.WriteLine("the controller's tables match the host's copy");
-                return CliGlobals.Ok;
-            }
-
-            return parse.GetValue(yes) ? ConsoleOptions.Finish(await session.Console.RestoreTablesAsync(ct).ConfigureAwait(false)) : CliGlobals.Ok;
-        });
+        cmd.SetAction((parse, ct) => new OffsetsRestoreHandler().RunAsync(new OffsetsRestoreOptions(parse.GetValue(yes), options.Bind(parse)), CliConsole.Of(parse), ct));
         return cmd;
     }
 
@@ -114,7 +60,7 @@ internal static class OffsetsCommand
             : throw new CliException($"'{text}': expected an axis and a value such as X100");
     }
 
-    private static string Text(IReadOnlyList<WorkOffsetEntry> offsets, WorkShifts s)
+    internal static string Text(IReadOnlyList<WorkOffsetEntry> offsets, WorkShifts s)
     {
         var t = new StringBuilder($"active {s.Active}\noffset           X           Y           Z\n");
         foreach (var o in offsets)
@@ -128,7 +74,7 @@ internal static class OffsetsCommand
         return t.ToString();
     }
 
-    private static string Json(IReadOnlyList<WorkOffsetEntry> offsets, WorkShifts s)
+    internal static string Json(IReadOnlyList<WorkOffsetEntry> offsets, WorkShifts s)
     {
         using var buffer = new MemoryStream();
         using (var w = new Utf8JsonWriter(buffer))
@@ -164,5 +110,99 @@ internal static class OffsetsCommand
         }
 
         return Encoding.UTF8.GetString(buffer.ToArray());
+    }
+}
+
+/// <summary>What an <c>offsets</c> command line asks for.</summary>
+/// <param name="Json">Print JSON.</param>
+/// <param name="All">List G54.1 P1-P48 too, not only those set.</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record OffsetsOptions(bool Json, bool All, ConsoleArgs Console);
+
+/// <summary><c>pmacstream offsets</c>: the work offsets on the controller and the G52/G92 shifts, as text or JSON.</summary>
+internal sealed class OffsetsHandler
+{
+    /// <summary>Prints the offsets; returns the exit code.</summary>
+    public async Task<int> RunAsync(OffsetsOptions o, CliConsole console, CancellationToken ct)
+    {
+        await using var session = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+        var tables = await session.Console.ReadTablesAsync(ct).ConfigureAwait(false);
+        var shifts = await session.Console.ReadShiftsAsync(ct).ConfigureAwait(false);
+        var shown = tables.Offsets.Where(w => o.All || w.Index <= 9 || w is not { X: 0, Y: 0, Z: 0 }).ToList();
+        console.Out.Write(o.Json ? OffsetsCommand.Json(shown, shifts) + "\n" : OffsetsCommand.Text(shown, shifts));
+        return CliGlobals.Ok;
+    }
+}
+
+/// <summary>What an <c>offsets set</c> command line asks for.</summary>
+/// <param name="Offset">G54-G59, G59.1-G59.3, G54.1P1-G54.1P48 (or G54.1 with P n as the first value).</param>
+/// <param name="Values">Axis values such as X100 Y50 Z-10.</param>
+/// <param name="Touch">A touch-off AXISVALUE such as X0, or null.</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record OffsetsSetOptions(string Offset, string[] Values, string? Touch, ConsoleArgs Console);
+
+/// <summary><c>pmacstream offsets set</c>: sets a work offset (or touches one axis off) on the controller and in the host's copy.</summary>
+internal sealed class OffsetsSetHandler
+{
+    /// <summary>Sets the offset; exit 0 when set, 1 when the console refused, 2 for values it cannot read.</summary>
+    public async Task<int> RunAsync(OffsetsSetOptions o, CliConsole console, CancellationToken ct)
+    {
+        var words = o.Values.ToList();
+        var table = o.Offset;
+        if (words.Count > 0 && words[0].StartsWith('P') && table.Equals("G54.1", StringComparison.OrdinalIgnoreCase))
+        {
+            table += words[0]; // G54.1 P3
+            words.RemoveAt(0);
+        }
+
+        var parsed = words.Select(OffsetsCommand.Word).ToList();
+        if (o.Touch is { } t)
+        {
+            if (parsed.Count > 0)
+            {
+                throw new CliException("--touch sets one axis: give no other values with it");
+            }
+
+            var (axis, value) = OffsetsCommand.Word(t);
+            await using var s = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+            return ConsoleOptions.Finish(await s.Console.TouchOffAsync(table, axis, value, ct).ConfigureAwait(false), console);
+        }
+
+        if (parsed.Count == 0 || parsed.Any(p => p.Axis is not ("X" or "Y" or "Z")) || parsed.Select(p => p.Axis).Distinct().Count() != parsed.Count)
+        {
+            throw new CliException($"offsets set {table}: give X, Y and/or Z values once each (X100 Y50 Z-10), or --touch X0");
+        }
+
+        double? Of(string a) => parsed.FirstOrDefault(p => p.Axis == a) is { Axis: not null } p ? p.Value : null;
+        await using var session = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+        return ConsoleOptions.Finish(await session.Console.SetWorkOffsetAsync(table, Of("X"), Of("Y"), Of("Z"), ct).ConfigureAwait(false), console);
+    }
+}
+
+/// <summary>What an <c>offsets restore</c> command line asks for.</summary>
+/// <param name="Yes">Write the host's copy to the controller (without it: only show the differences).</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record OffsetsRestoreOptions(bool Yes, ConsoleArgs Console);
+
+/// <summary><c>pmacstream offsets restore</c>: the differences between the controller's tables and the host's copy; with --yes, the copy written.</summary>
+internal sealed class OffsetsRestoreHandler
+{
+    /// <summary>Compares (and restores); returns the exit code.</summary>
+    public async Task<int> RunAsync(OffsetsRestoreOptions o, CliConsole console, CancellationToken ct)
+    {
+        await using var session = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+        var differences = await session.Console.CompareTablesAsync(ct).ConfigureAwait(false);
+        foreach (var d in differences)
+        {
+            console.Out.WriteLine(d);
+        }
+
+        if (differences.Count == 0)
+        {
+            console.Out.WriteLine("the controller's tables match the host's copy");
+            return CliGlobals.Ok;
+        }
+
+        return o.Yes ? ConsoleOptions.Finish(await session.Console.RestoreTablesAsync(ct).ConfigureAwait(false), console) : CliGlobals.Ok;
     }
 }

@@ -28,11 +28,8 @@ internal static class ProgramStartCommand
         cmd.Options.Add(to);
         cmd.Options.Add(reinterpret);
         cmd.Options.Add(highest);
-        cmd.SetAction((parse, ct) =>
-        {
-            var location = StoreOptions.Resolve(parse.GetValue(store));
-            return Task.FromResult(Run(location, parse.GetValue(id), parse.GetValue(line), parse.GetValue(reinterpret), parse.GetValue(highest), Console.Out, Console.Error, ct, parse.GetValue(to)));
-        });
+        cmd.SetAction((parse, ct) => new ProgramStartHandler().RunAsync(
+            new ProgramStartOptions(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(id), parse.GetValue(line), parse.GetValue(reinterpret), parse.GetValue(highest), parse.GetValue(to)), CliConsole.Of(parse), ct));
         return cmd;
     }
 
@@ -99,4 +96,21 @@ internal static class ProgramStartCommand
             throw new CliException($"lines {from}..{to}: {e.Message}", CliGlobals.Failed);
         }
     }
+}
+
+/// <summary>What a <c>programs start</c> command line asks for.</summary>
+/// <param name="Store">The store.</param>
+/// <param name="Id">The revision.</param>
+/// <param name="FromLine">The source line whose block the start is at.</param>
+/// <param name="Reinterpret">Interpret the source from the top instead of reading the stored states.</param>
+/// <param name="SafeZHighest">Retract above the highest Z reached so far (else the fixed safe Z).</param>
+/// <param name="ToLine">Selected blocks: the range ends after the block of this line; null: to the program's end.</param>
+internal sealed record ProgramStartOptions(StoreLocation Store, long Id, int FromLine, bool Reinterpret, bool SafeZHighest, int? ToLine = null);
+
+/// <summary><c>pmacstream programs start</c>: prints the preamble of a start at a line of a stored revision (<see cref="ProgramStartCommand.Run"/>).</summary>
+internal sealed class ProgramStartHandler
+{
+    /// <summary>Prints the start's block line and preamble; returns the exit code.</summary>
+    public Task<int> RunAsync(ProgramStartOptions o, CliConsole console, CancellationToken ct) =>
+        Task.FromResult(ProgramStartCommand.Run(o.Store, o.Id, o.FromLine, o.Reinterpret, o.SafeZHighest, console.Out, console.Error, ct, o.ToLine));
 }

@@ -15,9 +15,6 @@ namespace PmacStream.Cli.Commands;
 /// </summary>
 internal static class ProgramsCommand
 {
-    /// <summary>Diagnostics <c>show</c> lists at most (the counts are exact).</summary>
-    private const int ShownDiagnostics = 1000;
-
     public static Command Create()
     {
         var cmd = new Command("programs", "The program library of the store: import, list, show, export, rm.");
@@ -26,10 +23,12 @@ internal static class ProgramsCommand
         store.Recursive = true;
         cmd.Options.Add(json);
         cmd.Options.Add(store);
-        cmd.SetAction(parse => List(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(json)));
+        Task<int> List(ParseResult parse, CancellationToken ct) =>
+            new ProgramsHandler().RunAsync(new ProgramListOptions(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(json)), CliConsole.Of(parse), ct);
+        cmd.SetAction(List);
 
         var list = new Command("list", "List the program revisions, newest first.");
-        list.SetAction(parse => List(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(json)));
+        list.SetAction(List);
         cmd.Subcommands.Add(list);
 
         var file = new Argument<string>("file") { Description = "G-code program to import." };
@@ -37,19 +36,14 @@ internal static class ProgramsCommand
         var import = new Command("import", "Check and decode a program into the store; prints only its revision's id.");
         import.Arguments.Add(file);
         import.Options.Add(profile);
-        import.SetAction((parse, ct) =>
-        {
-            var location = StoreOptions.Resolve(parse.GetValue(store));
-            var path = parse.GetValue(file)!;
-            var machine = CliProfiles.Load(parse.GetValue(profile));
-            return Task.Run(() => Import(location, path, machine, ct), CancellationToken.None);
-        });
+        import.SetAction((parse, ct) => new ProgramsHandler().RunAsync(
+            new ProgramImportOptions(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(file)!, CliProfiles.Load(parse.GetValue(profile))), CliConsole.Of(parse), ct));
         cmd.Subcommands.Add(import);
 
         var showId = new Argument<long>("id") { Description = "Program revision id." };
         var show = new Command("show", "Show a revision: its check summary and diagnostics.");
         show.Arguments.Add(showId);
-        show.SetAction(parse => Show(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(showId), parse.GetValue(json)));
+        show.SetAction((parse, ct) => new ProgramsHandler().RunAsync(new ProgramShowOptions(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(showId), parse.GetValue(json)), CliConsole.Of(parse), ct));
         cmd.Subcommands.Add(show);
 
         var exportId = new Argument<long>("id") { Description = "Program revision id." };
@@ -57,13 +51,13 @@ internal static class ProgramsCommand
         var export = new Command("export", "Write a revision's exact source bytes.");
         export.Arguments.Add(exportId);
         export.Options.Add(output);
-        export.SetAction(parse => Export(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(exportId), parse.GetValue(output)));
+        export.SetAction((parse, ct) => new ProgramsHandler().RunAsync(new ProgramExportOptions(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(exportId), parse.GetValue(output)), CliConsole.Of(parse), ct));
         cmd.Subcommands.Add(export);
 
         var rmId = new Argument<long>("id") { Description = "Program revision id." };
         var rm = new Command("rm", "Remove a revision with its blocks, diagnostics and source.");
         rm.Arguments.Add(rmId);
-        rm.SetAction(parse => Remove(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(rmId)));
+        rm.SetAction((parse, ct) => new ProgramsHandler().RunAsync(new ProgramRemoveOptions(StoreOptions.Resolve(parse.GetValue(store)), parse.GetValue(rmId)), CliConsole.Of(parse), ct));
         cmd.Subcommands.Add(rm);
         cmd.Subcommands.Add(ProgramStartCommand.Create(store));
         return cmd;
@@ -82,7 +76,73 @@ internal static class ProgramsCommand
         }
     }
 
-    private static int Import(StoreLocation location, string path, MachineProfile machine, CancellationToken ct)
+    /// <summary>Writes indented JSON (non-ASCII as is) to <paramref name="output"/>.</summary>
+    internal static void WriteJson(TextWriter output, Action<Utf8JsonWriter> write)
+    {
+        var buffer = new MemoryStream();
+        using (var w = new Utf8JsonWriter(buffer, new JsonWriterOptions { Indented = true, Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
+        {
+            write(w);
+        }
+
+        output.WriteLine(Encoding.UTF8.GetString(buffer.GetBuffer(), 0, (int)buffer.Length));
+    }
+}
+
+/// <summary>What a <c>programs</c> or <c>programs list</c> command line asks for.</summary>
+/// <param name="Store">The store.</param>
+/// <param name="Json">Print JSON.</param>
+internal sealed record ProgramListOptions(StoreLocation Store, bool Json);
+
+/// <summary>What a <c>programs import</c> command line asks for.</summary>
+/// <param name="Store">The store.</param>
+/// <param name="File">The G-code program imported.</param>
+/// <param name="Machine">The machine profile it is checked under.</param>
+internal sealed record ProgramImportOptions(StoreLocation Store, string File, MachineProfile Machine);
+
+/// <summary>What a <c>programs show</c> command line asks for.</summary>
+/// <param name="Store">The store.</param>
+/// <param name="Id">The revision.</param>
+/// <param name="Json">Print JSON.</param>
+internal sealed record ProgramShowOptions(StoreLocation Store, long Id, bool Json);
+
+/// <summary>What a <c>programs export</c> command line asks for.</summary>
+/// <param name="Store">The store.</param>
+/// <param name="Id">The revision.</param>
+/// <param name="Out">The file written, or null for standard output.</param>
+internal sealed record ProgramExportOptions(StoreLocation Store, long Id, string? Out);
+
+/// <summary>What a <c>programs rm</c> command line asks for.</summary>
+/// <param name="Store">The store.</param>
+/// <param name="Id">The revision.</param>
+internal sealed record ProgramRemoveOptions(StoreLocation Store, long Id);
+
+/// <summary>
+/// <c>pmacstream programs</c>: the store's program library: list, import (checked and decoded in one pass, only the
+/// id printed), show, export (the exact source bytes), rm.
+/// </summary>
+internal sealed class ProgramsHandler
+{
+    /// <summary>Diagnostics <c>show</c> lists at most (the counts are exact).</summary>
+    private const int ShownDiagnostics = 1000;
+
+    /// <summary>Lists the revisions, newest first; returns the exit code.</summary>
+    public Task<int> RunAsync(ProgramListOptions o, CliConsole console, CancellationToken ct) => Task.FromResult(List(o.Store, o.Json, console.Out));
+
+    /// <summary>Imports the program; exit 0, or 1 when it has errors (stored with them).</summary>
+    public Task<int> RunAsync(ProgramImportOptions o, CliConsole console, CancellationToken ct) =>
+        Task.Run(() => Import(o.Store, o.File, o.Machine, console, ct), CancellationToken.None);
+
+    /// <summary>Shows a revision; returns the exit code.</summary>
+    public Task<int> RunAsync(ProgramShowOptions o, CliConsole console, CancellationToken ct) => Task.FromResult(Show(o.Store, o.Id, o.Json, console.Out));
+
+    /// <summary>Exports a revision's source; returns the exit code.</summary>
+    public Task<int> RunAsync(ProgramExportOptions o, CliConsole console, CancellationToken ct) => Task.FromResult(Export(o.Store, o.Id, o.Out, console));
+
+    /// <summary>Removes a revision; returns the exit code.</summary>
+    public Task<int> RunAsync(ProgramRemoveOptions o, CliConsole console, CancellationToken ct) => Task.FromResult(Remove(o.Store, o.Id, console.Out));
+
+    private static int Import(StoreLocation location, string path, MachineProfile machine, CliConsole console, CancellationToken ct)
     {
         if (Directory.Exists(path))
         {
@@ -94,8 +154,8 @@ internal static class ProgramsCommand
             throw new CliException($"{path}: no such file");
         }
 
-        using var store = OpenStore(location);
-        var stderr = Console.Error;
+        using var store = ProgramsCommand.OpenStore(location);
+        var stderr = console.Error;
         ProgramImport result;
         try
         {
@@ -106,17 +166,17 @@ internal static class ProgramsCommand
             throw new CliException($"store {location.Display}: the import failed and was rolled back: {StoreLocation.Redact(e.Message)}");
         }
 
-        Console.Out.WriteLine(result.Id.ToString(CultureInfo.InvariantCulture));
+        console.Out.WriteLine(result.Id.ToString(CultureInfo.InvariantCulture));
         return result.Summary.HasErrors ? CliGlobals.Failed : CliGlobals.Ok;
     }
 
-    private static int List(StoreLocation location, bool json)
+    private static int List(StoreLocation location, bool json, TextWriter output)
     {
-        using var store = OpenStore(location);
+        using var store = ProgramsCommand.OpenStore(location);
         var programs = store.ListRevisions();
         if (json)
         {
-            WriteJson(w =>
+            ProgramsCommand.WriteJson(output, w =>
             {
                 w.WriteStartArray();
                 foreach (var p in programs)
@@ -129,25 +189,25 @@ internal static class ProgramsCommand
             return CliGlobals.Ok;
         }
 
-        Console.Out.WriteLine($"{"id",6}  {"name",-28} {"profile",-12} {"blocks",10} {"errors",6} {"warnings",8}  {"imported",-20} sha256");
+        output.WriteLine($"{"id",6}  {"name",-28} {"profile",-12} {"blocks",10} {"errors",6} {"warnings",8}  {"imported",-20} sha256");
         foreach (var p in programs)
         {
-            Console.Out.WriteLine(string.Create(CultureInfo.InvariantCulture,
+            output.WriteLine(string.Create(CultureInfo.InvariantCulture,
                 $"{p.Id,6}  {Cut(p.Name ?? Path.GetFileName(p.Path), 28),-28} {p.Profile,-12} {p.Blocks,10} {p.Errors,6} {p.Warnings,8}  {p.Created.UtcDateTime:yyyy-MM-dd HH:mm:ss}Z {p.Sha256[..12]}"));
         }
 
         return CliGlobals.Ok;
     }
 
-    private static int Show(StoreLocation location, long id, bool json)
+    private static int Show(StoreLocation location, long id, bool json, TextWriter output)
     {
-        using var store = OpenStore(location);
+        using var store = ProgramsCommand.OpenStore(location);
         var p = store.GetProgram(id) ?? throw new CliException($"no program {id} in {location.Display}");
         var diagnostics = store.GetDiagnostics(id);
         var name = p.Name ?? Path.GetFileName(p.Path);
         if (json)
         {
-            WriteJson(w =>
+            ProgramsCommand.WriteJson(output, w =>
             {
                 WriteProgram(w, p, end: false);
                 w.WriteStartArray("diagnostics");
@@ -168,7 +228,7 @@ internal static class ProgramsCommand
             return CliGlobals.Ok;
         }
 
-        var o = Console.Out;
+        var o = output;
         o.WriteLine($"program {p.Id}: {name}");
         o.WriteLine($"  imported from {p.Path}");
         o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  imported  {p.Created.UtcDateTime:yyyy-MM-dd HH:mm:ss}Z"));
@@ -189,9 +249,9 @@ internal static class ProgramsCommand
         return CliGlobals.Ok;
     }
 
-    private static int Export(StoreLocation location, long id, string? outFile)
+    private static int Export(StoreLocation location, long id, string? outFile, CliConsole console)
     {
-        using var store = OpenStore(location);
+        using var store = ProgramsCommand.OpenStore(location);
         if (store.GetProgram(id) is null)
         {
             throw new CliException($"no program {id} in {location.Display}");
@@ -199,8 +259,7 @@ internal static class ProgramsCommand
 
         if (outFile is null)
         {
-            using var stdout = Console.OpenStandardOutput();
-            return store.ExportSource(id, stdout) ? CliGlobals.Ok : throw new CliException($"program {id} was stored by check --db, without its source");
+            return ExportToOutput(store, id, console) ? CliGlobals.Ok : throw new CliException($"program {id} was stored by check --db, without its source");
         }
 
         // Written beside the target and renamed when complete: nothing half-written.
@@ -229,16 +288,16 @@ internal static class ProgramsCommand
         return CliGlobals.Ok;
     }
 
-    private static int Remove(StoreLocation location, long id)
+    private static int Remove(StoreLocation location, long id, TextWriter output)
     {
-        using var store = OpenStore(location);
+        using var store = ProgramsCommand.OpenStore(location);
         if (store.GetProgram(id) is null)
         {
             throw new CliException($"no program {id} in {location.Display}");
         }
 
         store.DeleteProgram(id);
-        Console.Out.WriteLine($"removed program {id}");
+        output.WriteLine($"removed program {id}");
         return CliGlobals.Ok;
     }
 
@@ -264,20 +323,23 @@ internal static class ProgramsCommand
         }
     }
 
-    /// <summary>Writes one JSON document to standard output.</summary>
-    internal static void WriteJson(Action<Utf8JsonWriter> write) => WriteJson(Console.Out, write);
+    private static string Cut(string s, int n) => s.Length <= n ? s : s[..(n - 1)] + "~";
 
-    /// <summary>Writes indented JSON (non-ASCII as is) to <paramref name="output"/>.</summary>
-    internal static void WriteJson(TextWriter output, Action<Utf8JsonWriter> write)
+    /// <summary>
+    /// The source bytes to standard output as they are; a test's console is a text writer, so in process they are
+    /// written as UTF-8 text.
+    /// </summary>
+    private static bool ExportToOutput(IProgramRevisions store, long id, CliConsole console)
     {
-        var buffer = new MemoryStream();
-        using (var w = new Utf8JsonWriter(buffer, new JsonWriterOptions { Indented = true, Encoder = System.Text.Encodings.Web.JavaScriptEncoder.UnsafeRelaxedJsonEscaping }))
+        if (console.IsProcessOutput)
         {
-            write(w);
+            using var stdout = Console.OpenStandardOutput();
+            return store.ExportSource(id, stdout);
         }
 
-        output.WriteLine(Encoding.UTF8.GetString(buffer.GetBuffer(), 0, (int)buffer.Length));
+        using var buffer = new MemoryStream();
+        var ok = store.ExportSource(id, buffer);
+        console.Out.Write(Encoding.UTF8.GetString(buffer.GetBuffer(), 0, (int)buffer.Length));
+        return ok;
     }
-
-    private static string Cut(string s, int n) => s.Length <= n ? s : s[..(n - 1)] + "~";
 }

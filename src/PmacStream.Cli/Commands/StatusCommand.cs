@@ -19,37 +19,8 @@ internal static class StatusCommand
         cmd.Options.Add(json);
         cmd.Options.Add(interval);
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            var every = parse.GetValue(interval);
-            if (every is < 0.05 or > 3600)
-            {
-                throw new CliException("--interval must be between 0.05 and 3600 seconds");
-            }
-
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-            do
-            {
-                var state = await session.Console.ReadStateAsync(ct).ConfigureAwait(false);
-                Console.Out.Write(parse.GetValue(json) ? Json(state) + "\n" : Table(state));
-                await Console.Out.FlushAsync(ct).ConfigureAwait(false);
-                if (!parse.GetValue(watch))
-                {
-                    break;
-                }
-
-                try
-                {
-                    await Task.Delay(TimeSpan.FromSeconds(every), ct).ConfigureAwait(false);
-                }
-                catch (OperationCanceledException)
-                {
-                    break;
-                }
-            }
-            while (!ct.IsCancellationRequested);
-            return CliGlobals.Ok;
-        });
+        cmd.SetAction((parse, ct) => new StatusHandler().RunAsync(
+            new StatusOptions(parse.GetValue(watch), parse.GetValue(json), parse.GetValue(interval), options.Bind(parse)), CliConsole.Of(parse), ct));
         return cmd;
     }
 
@@ -133,5 +104,49 @@ internal static class StatusCommand
         }
 
         return t.ToString();
+    }
+}
+
+/// <summary>What a <c>status</c> command line asks for.</summary>
+/// <param name="Watch">Sample again every <paramref name="Interval"/> until Ctrl-C.</param>
+/// <param name="Json">One JSON object per line per sample.</param>
+/// <param name="Interval">Seconds between samples with <paramref name="Watch"/>.</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record StatusOptions(bool Watch, bool Json, double Interval, ConsoleArgs Console);
+
+/// <summary><c>pmacstream status</c>: one sample of the machine (or one every interval until Ctrl-C), as a DRO table or JSON lines.</summary>
+internal sealed class StatusHandler
+{
+    /// <summary>Prints the samples; returns the exit code.</summary>
+    public async Task<int> RunAsync(StatusOptions o, CliConsole console, CancellationToken ct)
+    {
+        var every = o.Interval;
+        if (every is < 0.05 or > 3600)
+        {
+            throw new CliException("--interval must be between 0.05 and 3600 seconds");
+        }
+
+        await using var session = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+        do
+        {
+            var state = await session.Console.ReadStateAsync(ct).ConfigureAwait(false);
+            console.Out.Write(o.Json ? StatusCommand.Json(state) + "\n" : StatusCommand.Table(state));
+            await console.Out.FlushAsync(ct).ConfigureAwait(false);
+            if (!o.Watch)
+            {
+                break;
+            }
+
+            try
+            {
+                await Task.Delay(TimeSpan.FromSeconds(every), ct).ConfigureAwait(false);
+            }
+            catch (OperationCanceledException)
+            {
+                break;
+            }
+        }
+        while (!ct.IsCancellationRequested);
+        return CliGlobals.Ok;
     }
 }

@@ -15,13 +15,7 @@ internal static class ToolsCommand
         var cmd = new Command("tools", "Show the tool table on the controller (length, radius and their wear per tool; H n and D n read tool n).");
         cmd.Options.Add(json);
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-            var tables = await session.Console.ReadTablesAsync(ct).ConfigureAwait(false);
-            Console.Out.Write(parse.GetValue(json) ? Json(tables.Tools) + "\n" : Text(tables.Tools));
-            return CliGlobals.Ok;
-        });
+        cmd.SetAction((parse, ct) => new ToolsHandler().RunAsync(new ToolsOptions(parse.GetValue(json), options.Bind(parse)), CliConsole.Of(parse), ct));
         cmd.Subcommands.Add(SetCommand());
         return cmd;
     }
@@ -42,33 +36,14 @@ internal static class ToolsCommand
         }
 
         var options = ConsoleOptions.AddTo(cmd);
-        cmd.SetAction(async (parse, ct) =>
-        {
-            var n = parse.GetValue(number);
-            if (parse.GetValue(touch) is { } t)
-            {
-                var (axis, value) = OffsetsCommand.Word(t);
-                if (axis != "Z" || parse.GetValue(length) is not null)
-                {
-                    throw new CliException("--touch measures the length from Z: give Z and a value (Z0), without --length");
-                }
-
-                await using var s = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-                return ConsoleOptions.Finish(await s.Console.MeasureToolLengthAsync(n, value, ct).ConfigureAwait(false));
-            }
-
-            if (parse.GetValue(length) is null && parse.GetValue(radius) is null && parse.GetValue(lengthWear) is null && parse.GetValue(radiusWear) is null)
-            {
-                throw new CliException($"tools set {n}: give --length, --radius, --length-wear and/or --radius-wear (or --touch Z0)");
-            }
-
-            await using var session = await options.OpenAsync(parse, ct).ConfigureAwait(false);
-            return ConsoleOptions.Finish(await session.Console.SetToolAsync(n, parse.GetValue(length), parse.GetValue(radius), parse.GetValue(lengthWear), parse.GetValue(radiusWear), ct).ConfigureAwait(false));
-        });
+        cmd.SetAction((parse, ct) => new ToolsSetHandler().RunAsync(
+            new ToolsSetOptions(parse.GetValue(number), parse.GetValue(length), parse.GetValue(radius), parse.GetValue(lengthWear), parse.GetValue(radiusWear), parse.GetValue(touch), options.Bind(parse)),
+            CliConsole.Of(parse),
+            ct));
         return cmd;
     }
 
-    private static string Text(IReadOnlyList<ToolEntry> tools)
+    internal static string Text(IReadOnlyList<ToolEntry> tools)
     {
         var t = new StringBuilder(tools.Count == 0 ? "no tool set (every H and D reads 0)\n" : "tool      length      radius   len. wear   rad. wear\n");
         foreach (var x in tools)
@@ -79,7 +54,7 @@ internal static class ToolsCommand
         return t.ToString();
     }
 
-    private static string Json(IReadOnlyList<ToolEntry> tools)
+    internal static string Json(IReadOnlyList<ToolEntry> tools)
     {
         using var buffer = new MemoryStream();
         using (var w = new Utf8JsonWriter(buffer))
@@ -102,5 +77,62 @@ internal static class ToolsCommand
         }
 
         return Encoding.UTF8.GetString(buffer.ToArray());
+    }
+}
+
+/// <summary>What a <c>tools</c> command line asks for.</summary>
+/// <param name="Json">Print JSON.</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record ToolsOptions(bool Json, ConsoleArgs Console);
+
+/// <summary><c>pmacstream tools</c>: the tool table on the controller, as text or JSON.</summary>
+internal sealed class ToolsHandler
+{
+    /// <summary>Prints the tool table; returns the exit code.</summary>
+    public async Task<int> RunAsync(ToolsOptions o, CliConsole console, CancellationToken ct)
+    {
+        await using var session = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+        var tables = await session.Console.ReadTablesAsync(ct).ConfigureAwait(false);
+        console.Out.Write(o.Json ? ToolsCommand.Json(tables.Tools) + "\n" : ToolsCommand.Text(tables.Tools));
+        return CliGlobals.Ok;
+    }
+}
+
+/// <summary>What a <c>tools set</c> command line asks for (null: not given, the tool's value stays).</summary>
+/// <param name="Tool">The tool (offset) number.</param>
+/// <param name="Length">Tool length, mm.</param>
+/// <param name="Radius">Cutter radius, mm.</param>
+/// <param name="LengthWear">Length wear, mm.</param>
+/// <param name="RadiusWear">Radius wear, mm.</param>
+/// <param name="Touch">A Z touch (ZVALUE such as Z0) the length is measured from, or null.</param>
+/// <param name="Console">The controller and console settings.</param>
+internal sealed record ToolsSetOptions(int Tool, double? Length, double? Radius, double? LengthWear, double? RadiusWear, string? Touch, ConsoleArgs Console);
+
+/// <summary><c>pmacstream tools set</c>: sets a tool's values (or measures its length from a Z touch) on the controller and in the host's copy.</summary>
+internal sealed class ToolsSetHandler
+{
+    /// <summary>Sets the tool; exit 0 when set, 1 when the console refused, 2 for values it cannot read.</summary>
+    public async Task<int> RunAsync(ToolsSetOptions o, CliConsole console, CancellationToken ct)
+    {
+        var n = o.Tool;
+        if (o.Touch is { } t)
+        {
+            var (axis, value) = OffsetsCommand.Word(t);
+            if (axis != "Z" || o.Length is not null)
+            {
+                throw new CliException("--touch measures the length from Z: give Z and a value (Z0), without --length");
+            }
+
+            await using var s = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+            return ConsoleOptions.Finish(await s.Console.MeasureToolLengthAsync(n, value, ct).ConfigureAwait(false), console);
+        }
+
+        if (o.Length is null && o.Radius is null && o.LengthWear is null && o.RadiusWear is null)
+        {
+            throw new CliException($"tools set {n}: give --length, --radius, --length-wear and/or --radius-wear (or --touch Z0)");
+        }
+
+        await using var session = await o.Console.OpenAsync(ct).ConfigureAwait(false);
+        return ConsoleOptions.Finish(await session.Console.SetToolAsync(n, o.Length, o.Radius, o.LengthWear, o.RadiusWear, ct).ConfigureAwait(false), console);
     }
 }

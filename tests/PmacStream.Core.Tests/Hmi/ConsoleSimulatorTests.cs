@@ -14,7 +14,7 @@ namespace PmacStream.Core.Tests.Hmi;
 /// </summary>
 public sealed class ConsoleSimulatorTests : IAsyncLifetime
 {
-    private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-console-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("hmi-console");
     private readonly PmacSimulator _sim = new(new SimOptions { StartHomed = false });
     private readonly FakeConsoleView _view = new();
     private CoreHmiBackend _backend = null!;
@@ -22,14 +22,10 @@ public sealed class ConsoleSimulatorTests : IAsyncLifetime
 
     public async Task InitializeAsync()
     {
-        Directory.CreateDirectory(_dir);
         var service = new JobService(new JobServiceOptions
         {
-            Simulator = _ => Task.FromResult(new SimulatorLink(new InProcessConnection(_sim.OpenPort("hmi"), "simulator (in-process)"), SimRig.Clock(_sim))
-            {
-                Step = _sim.Advance,
-            }),
-            JobDatabase = Path.Combine(_dir, "jobs.db"),
+            Simulator = SimRig.BuiltIn(_sim, "hmi"),
+            JobDatabase = Path.Combine(_temp.Path, "jobs.db"),
             Rules = new MachineRules(MachineAxis.Default),
         });
         _backend = new CoreHmiBackend(service)
@@ -37,8 +33,8 @@ public sealed class ConsoleSimulatorTests : IAsyncLifetime
             ConsoleOptions = new MachineConsoleOptions
             {
                 History = AlarmHistoryFile.Beside(service.JobDatabase),
-                TablesPath = Path.Combine(_dir, "tables.json"),
-                StatePath = Path.Combine(_dir, "console-state.json"),
+                TablesPath = Path.Combine(_temp.Path, "tables.json"),
+                StatePath = Path.Combine(_temp.Path, "console-state.json"),
             },
         };
         _p = new ConsolePresenter(_view, _backend, _backend, () => MachineProfile.Default) { PollPeriod = TimeSpan.Zero };
@@ -51,7 +47,7 @@ public sealed class ConsoleSimulatorTests : IAsyncLifetime
         await _p.DisposeAsync();
         await _backend.DisposeAsync();
         _sim.Dispose();
-        Directory.Delete(_dir, recursive: true);
+        _temp.Dispose();
     }
 
     private async Task TickAsync()

@@ -1,6 +1,5 @@
 using PmacStream.Hmi;
 using PmacStream.Jobs;
-using PmacStream.Pmac;
 using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Streaming;
@@ -15,18 +14,17 @@ namespace PmacStream.Core.Tests.Hmi;
 public sealed class HmiSimulatorTests : IAsyncLifetime
 {
     private const double SecondsPerTick = 1.0;
-    private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-sim-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("hmi-sim");
     private readonly PmacSimulator _sim = new(new SimOptions { RecordRotaryLines = true });
     private readonly List<MainPresenter> _presenters = [];
     private string _source = string.Empty;
 
     /// <summary>This test's job store (never the user's ~/.pmacstream/jobs.db).</summary>
-    private string JobDb => Path.Combine(_dir, "jobs.db");
+    private string JobDb => Path.Combine(_temp.Path, "jobs.db");
 
     public Task InitializeAsync()
     {
-        Directory.CreateDirectory(_dir);
-        _source = Path.Combine(_dir, "demo.nc");
+        _source = Path.Combine(_temp.Path, "demo.nc");
         File.Copy(RepoRoot.DemoProgram, _source);
         return Task.CompletedTask;
     }
@@ -39,7 +37,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         }
 
         _sim.Dispose();
-        Directory.Delete(_dir, recursive: true);
+        _temp.Dispose();
     }
 
     /// <summary>A fresh "process": backend, presenter and view, with the simulator as its controller.</summary>
@@ -48,9 +46,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
         // The job service the command line calls, with this test's simulator as the built-in one (its clock advanced by the test).
         var backend = new CoreHmiBackend(new JobService(new JobServiceOptions
         {
-            Simulator = _ => Task.FromResult(new SimulatorLink(
-                new InProcessConnection(_sim.OpenPort("hmi"), "simulator (in-process)"),
-                SimRig.Clock(_sim))),
+            Simulator = SimRig.BuiltIn(_sim, "hmi", step: false),
             JobDatabase = JobDb,
         }));
         var view = new FakeView();
@@ -112,7 +108,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     [Fact]
     public async Task Open_and_check_a_program_with_errors_lists_them_and_split_is_refused()
     {
-        var bad = Path.Combine(_dir, "bad.nc");
+        var bad = Path.Combine(_temp.Path, "bad.nc");
         File.WriteAllText(bad, "O1\nN10 G21 G90\nN20 G01 X10 Y10 F500\nN30 G01 X20 X30\nN40 G02 X40 Y10\nN50 M30\n");
         var (p, v) = NewHmi();
         await Do(p, () => v.ChooseFile(bad));
@@ -133,7 +129,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     public async Task Split_refuses_a_program_with_profile_errors_although_no_check_ran()
     {
         // Two codes of one modal group in a block and an unknown code: errors under the machine profile only.
-        var bad = Path.Combine(_dir, "bad.nc");
+        var bad = Path.Combine(_temp.Path, "bad.nc");
         File.WriteAllText(bad, "G21 G90\nG01 X10 Y10 F500\nG00 G01 X20\nG77 X30\nM30\n");
         var (p, v) = NewHmi();
         await Do(p, () => v.ChooseFile(bad));
@@ -150,7 +146,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     [Fact]
     public async Task Split_refuses_codes_the_controller_cannot_run_yet_listing_each()
     {
-        var toolChange = Path.Combine(_dir, "tc.nc");
+        var toolChange = Path.Combine(_temp.Path, "tc.nc");
         File.WriteAllText(toolChange, "G21 G90\nG16\nG00 X0 Y0\nG01 X10 F500\nG63\nM30\n");
         var (p, v) = NewHmi();
         await Do(p, () => v.ChooseFile(toolChange));
@@ -166,7 +162,7 @@ public sealed class HmiSimulatorTests : IAsyncLifetime
     [Fact]
     public async Task A_program_stop_is_shown_waits_without_underruns_and_resume_continues_on_the_simulator()
     {
-        var stops = Path.Combine(_dir, "stops.nc");
+        var stops = Path.Combine(_temp.Path, "stops.nc");
         var lines = new List<string> { "G21 G90 G17", "G00 X0 Y0", "G01 F300" }; // 0.2 s and more a move: a 1 s tick keeps the buffer fed
         for (var i = 1; i <= 120; i++)
         {

@@ -1,4 +1,3 @@
-using System.Text;
 using PmacStream.Hmi;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
@@ -8,7 +7,7 @@ namespace PmacStream.Core.Tests.Hmi;
 /// <summary>The presenter's logic against a fake view and a fake core (the simulator tests are in HmiSimulatorTests).</summary>
 public sealed class MainPresenterTests : IAsyncLifetime
 {
-    private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("hmi");
     private readonly FakeView _view = new();
     private readonly FakeBackend _backend = new();
     private readonly HmiLogSink _sink = new();
@@ -16,7 +15,6 @@ public sealed class MainPresenterTests : IAsyncLifetime
 
     public Task InitializeAsync()
     {
-        Directory.CreateDirectory(_dir);
         _p = new MainPresenter(_view, _backend, _sink, Logger());
         return Task.CompletedTask;
     }
@@ -24,24 +22,14 @@ public sealed class MainPresenterTests : IAsyncLifetime
     public async Task DisposeAsync()
     {
         await _p.DisposeAsync();
-        Directory.Delete(_dir, recursive: true);
+        _temp.Dispose();
     }
 
     // The form configures the global logger with the sink; tests give the presenter its own so they stay independent.
     private Serilog.ILogger Logger() => new Serilog.LoggerConfiguration().WriteTo.Hmi(_sink).CreateLogger().ForContext<MainPresenter>();
 
-    private string Program(int lines, Func<int, string>? text = null)
-    {
-        var sb = new StringBuilder();
-        for (var i = 1; i <= lines; i++)
-        {
-            sb.Append(text?.Invoke(i) ?? $"N{i} G1 X{i}.5 Y{i % 7}").Append('\n');
-        }
-
-        var path = Path.Combine(_dir, "part.nc");
-        File.WriteAllText(path, sb.ToString());
-        return path;
-    }
+    private string Program(int lines, Func<int, string>? text = null) =>
+        TestPrograms.Write(Path.Combine(_temp.Path, "part.nc"), TestPrograms.Text(string.Empty, lines, text ?? (i => $"N{i} G1 X{i}.5 Y{i % 7}"), footer: string.Empty));
 
     private async Task Do(Action action)
     {
@@ -160,7 +148,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     [Fact]
     public async Task Opening_a_missing_file_says_so()
     {
-        await Do(() => _view.ChooseFile(Path.Combine(_dir, "nope.nc")));
+        await Do(() => _view.ChooseFile(Path.Combine(_temp.Path, "nope.nc")));
 
         _view.Errors.Should().ContainSingle().Which.Should().Contain("nope.nc").And.Contain("no such program file");
     }
@@ -192,7 +180,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
         await Do(() => _view.DoubleClickDiagnostic(0));
         _view.FocusedLine.Should().Be(12, "the refusal's list works like the check's");
         _view.ChunkFiles.Should().BeEmpty();
-        Directory.Exists(Path.Combine(_dir, "part_chunks")).Should().BeFalse();
+        Directory.Exists(Path.Combine(_temp.Path, "part_chunks")).Should().BeFalse();
     }
 
     [Fact]
@@ -425,12 +413,12 @@ public sealed class MainPresenterTests : IAsyncLifetime
         // The store recorded line 64 (chunk 3); the host restarts and the operator resumes.
         var manifest = _backend.Jobs[0].Status;
         manifest.CurrentLine.Should().Be(63);
-        var split = _backend.Split(Path.Combine(_dir, "part.nc"), 30);
+        var split = _backend.Split(Path.Combine(_temp.Path, "part.nc"), 30);
         _backend.Interrupted = new InterruptedJobView(7, split, 64, 3, "chunk", DateTimeOffset.UtcNow);
         await _p.DisposeAsync();
         var view2 = new FakeView();
         _p = new MainPresenter(view2, _backend, _sink, Logger());
-        view2.ChooseFile(Path.Combine(_dir, "part.nc"));
+        view2.ChooseFile(Path.Combine(_temp.Path, "part.nc"));
         await _p.WhenIdleAsync();
         view2.ClickConnect();
         await _p.WhenIdleAsync();

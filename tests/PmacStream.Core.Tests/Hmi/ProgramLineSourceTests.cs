@@ -5,15 +5,13 @@ namespace PmacStream.Core.Tests.Hmi;
 
 public sealed class ProgramLineSourceTests : IDisposable
 {
-    private readonly string _dir = Path.Combine(Path.GetTempPath(), "pmacstream-hmi-" + Guid.NewGuid().ToString("N"));
+    private readonly TestFolder _temp = new("hmi");
 
-    public ProgramLineSourceTests() => Directory.CreateDirectory(_dir);
-
-    public void Dispose() => Directory.Delete(_dir, recursive: true);
+    public void Dispose() => _temp.Dispose();
 
     private string Write(string name, byte[] bytes)
     {
-        var path = Path.Combine(_dir, name);
+        var path = Path.Combine(_temp.Path, name);
         File.WriteAllBytes(path, bytes);
         return path;
     }
@@ -105,16 +103,7 @@ public sealed class ProgramLineSourceTests : IDisposable
     [Fact]
     public async Task Index_memory_does_not_grow_with_file_size()
     {
-        static byte[] Program(int lines)
-        {
-            var sb = new StringBuilder(lines * 30);
-            for (var i = 1; i <= lines; i++)
-            {
-                sb.Append("N").Append(i).Append(" G1 X1.2345 Y-6.789 Z0.5\n");
-            }
-
-            return Encoding.ASCII.GetBytes(sb.ToString());
-        }
+        static byte[] Program(int lines) => Encoding.ASCII.GetBytes(TestPrograms.Text(string.Empty, lines, i => $"N{i} G1 X1.2345 Y-6.789 Z0.5", footer: string.Empty));
 
         using var small = await Indexed(Write("small.nc", Program(1_000)), maxCheckpoints: ProgramLineSource.MaxCheckpoints);
         using var large = await Indexed(Write("large.nc", Program(400_000)), maxCheckpoints: ProgramLineSource.MaxCheckpoints);

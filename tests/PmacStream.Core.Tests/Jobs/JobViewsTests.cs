@@ -1,4 +1,3 @@
-using System.Text;
 using PmacStream.Core.Tests.Preparation;
 using PmacStream.Jobs;
 using PmacStream.Streaming;
@@ -20,16 +19,7 @@ public sealed class JobViewsTests : IDisposable
         _temp.Dispose();
     }
 
-    private static string Program(int moves)
-    {
-        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nG01 F1200\n");
-        for (var i = 1; i <= moves; i++)
-        {
-            sb.Append("G01 X").Append(i % 40).Append(" Y").Append(i / 40).Append('\n');
-        }
-
-        return sb.Append("M30\n").ToString();
-    }
+    private static string Program(int moves) => TestPrograms.Text(TestPrograms.Metric + "G01 F1200\n", moves, TestPrograms.Grid(40));
 
     [Fact]
     public async Task A_split_view_lists_the_manifests_chunks_and_the_rows_that_carry_each_tracked_line()

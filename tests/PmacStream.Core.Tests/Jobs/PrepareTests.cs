@@ -1,4 +1,3 @@
-using System.Text;
 using PmacStream.Core.Tests.Preparation;
 using PmacStream.GCode;
 using PmacStream.Jobs;
@@ -21,20 +20,7 @@ public sealed class PrepareTests : IDisposable
         _temp.Dispose();
     }
 
-    private static string Program(int moves, string? extra = null)
-    {
-        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nG01 F1200\n");
-        for (var i = 1; i <= moves; i++)
-        {
-            sb.Append("G01 X").Append(i % 40).Append(" Y").Append(i / 40).Append('\n');
-            if (i == moves / 2 && extra is not null)
-            {
-                sb.Append(extra).Append('\n');
-            }
-        }
-
-        return sb.Append("M30\n").ToString();
-    }
+    private static string Program(int moves, string? extra = null) => TestPrograms.Text(TestPrograms.Metric + "G01 F1200\n", moves, TestPrograms.Grid(40), after: i => i == moves / 2 ? extra : null);
 
     private Task<PreparedProgram> Prepare(TempProgram p, RunSettings settings, bool force = false, MachineProfile? profile = null) =>
         _service.PrepareAsync(new PrepareRequest(p.SourcePath, settings) { Force = force, Profile = profile ?? MachineProfile.Default });

@@ -33,7 +33,7 @@ public sealed class FourAxisConsoleTests : IAsyncLifetime
         var profile = FourAxis();
         var service = new JobService(new JobServiceOptions
         {
-            Simulator = _ => Task.FromResult(new SimulatorLink(new InProcessConnection(_sim.OpenPort("console"), "simulator (in-process)"), SimRig.Clock(_sim)) { Step = _sim.Advance }),
+            Simulator = SimRig.BuiltIn(_sim),
             JobDatabase = Path.Combine(_temp.Path, "jobs.db"),
             Rules = new MachineRules(MachineAxis.Of(profile)),
         });

@@ -24,7 +24,7 @@ public sealed class MachineConsoleReadoutTests : IAsyncLifetime
         _sim = new PmacSimulator(sim);
         var service = new JobService(new JobServiceOptions
         {
-            Simulator = _ => Task.FromResult(new SimulatorLink(new InProcessConnection(_sim.OpenPort("console"), "simulator (in-process)"), SimRig.Clock(_sim)) { Step = _sim.Advance }),
+            Simulator = SimRig.BuiltIn(_sim),
             JobDatabase = Path.Combine(_temp.Path, "jobs.db"),
             Rules = new MachineRules(options.Axes),
         });

@@ -292,20 +292,16 @@ public class AxisLaneTests
     [Fact]
     public void A_generated_surfacing_program_goes_almost_wholly_through_the_lane_and_splits_the_same()
     {
-        var sb = new StringBuilder("%\nO0001 (SURFACING)\nN1 G21 G17 G90 G54\nN2 T1\nN3 S8000 M03\nN4 G00 Z5.0\nN5 G01 Z-1.0 F1500.\n");
-        for (var i = 6; i < 5000; i++)
-        {
-            sb.Append(System.Globalization.CultureInfo.InvariantCulture, $"N{i} X{i * 0.25:0.0000} Y{(i / 100) * 0.5:0.0000} Z{-1.5 - (i % 37) * 0.0061:0.0000}\n");
-        }
-
-        sb.Append("N5000 M05\nN5001 M30\n%\n");
+        // Blocks N6 to N4999 of the kit's surfacing pass.
+        var sb = new StringBuilder(TestPrograms.Text("%\nO0001 (SURFACING)\nN1 G21 G17 G90 G54\nN2 T1\nN3 S8000 M03\nN4 G00 Z5.0\nN5 G01 Z-1.0 F1500.\n", 4994, n => TestPrograms.Surfacing(n + 5),
+            "N5000 M05\nN5001 M30\n%\n"));
         var bytes = Encoding.ASCII.GetBytes(sb.ToString());
         SameSplit(bytes, new SplitOptions { CheckProfile = MachineProfile.Default }, "surfacing", mustSplit: true);
         // Many read buffers' worth: nearly all lines are scanned in place, only those across two reads are not.
         var longer = new StringBuilder(sb.ToString()[..sb.ToString().IndexOf("N5000 M05", StringComparison.Ordinal)]);
         for (var i = 5000; i < 99_000; i++)
         {
-            longer.Append(System.Globalization.CultureInfo.InvariantCulture, $"N{i} X{i * 0.25:0.0000} Y{(i / 100) * 0.5:0.0000} Z{-1.5 - (i % 37) * 0.0061:0.0000}\n");
+            longer.Append(TestPrograms.Surfacing(i)).Append('\n');
         }
 
         longer.Append("N99000 M30\n");

@@ -1,4 +1,3 @@
-using System.Text;
 using System.Text.Json;
 using System.Text.Json.Serialization;
 using PmacStream.GCode;
@@ -72,13 +71,8 @@ public class SplitSinglePassTests
     public void Many_batches_and_a_line_larger_than_a_batch_keep_every_block_in_order()
     {
         // Crosses the hand-over's batch limits many times (lines and bytes) and makes one batch grow for a huge line.
-        var sb = new StringBuilder();
-        for (var i = 1; i <= 9000; i++)
-        {
-            sb.Append(i == 4321 ? $"G01 X{i} ({new string('c', 200_000)})\n" : $"G01 X{i}\n");
-        }
-
-        using var tp = new TempProgram(sb.ToString());
+        var text = TestPrograms.Text(string.Empty, 9000, i => i == 4321 ? $"G01 X{i} ({new string('c', 200_000)})" : $"G01 X{i}", footer: string.Empty);
+        using var tp = new TempProgram(text);
         var o = new SplitOptions { ProgramTail = "", BlocksPerChunk = 333 };
         var r = tp.Split(o);
         var body = ChunkText.Body(r, o);

@@ -7,20 +7,37 @@ using PmacStream.Pmac;
 namespace PmacStream.IntegrationTests.Console;
 
 /// <summary>
-/// The console commands run as the operator runs them: `pmacstream ...` processes against one `pmacstream sim` process
-/// over TCP, with a job store, alarm history, state file and tables file of their own (the environment points the
-/// tables and settings into the test's folder).
+/// The console commands run as the operator runs them, against one `pmacstream sim` process over TCP, with a job
+/// store, alarm history, state file and tables file of their own. They run in the test's process
+/// (<see cref="CliRun"/>) with <c>--settings</c> naming the test's settings file, so the tables file is the one beside
+/// it; <c>resume</c> runs as a process with the environment pointing the tables and settings into the test's folder,
+/// because a resume given <c>--settings</c> takes that file's settings instead of the job's recorded ones.
 /// </summary>
-internal sealed class ConsoleCli(SimProcess sim, string folder)
+internal sealed class ConsoleCli
 {
-    public string Folder { get; } = folder;
+    public ConsoleCli(SimProcess sim, string folder)
+    {
+        Sim = sim;
+        Folder = folder;
+        if (!File.Exists(SettingsFile))
+        {
+            File.WriteAllText(SettingsFile, "{}"); // the defaults, as when the file is absent
+        }
+    }
 
-    public SimProcess Sim { get; } = sim;
+    public string Folder { get; }
+
+    public SimProcess Sim { get; }
 
     public string[] Target => ["--tcp", "127.0.0.1:" + Sim.Port.ToString(CultureInfo.InvariantCulture), "--job-db", Path.Combine(Folder, "jobs.db")];
 
+    private string SettingsFile => Path.Combine(Folder, "settings.json");
+
     /// <summary>Runs `pmacstream ARGS --tcp ... --job-db ...` and returns its exit code and output.</summary>
-    public (int Code, string Out, string Err) Run(params string[] args)
+    public (int Code, string Out, string Err) Run(params string[] args) =>
+        args[0] == "resume" ? RunProcess(args) : CliRun.InProcess([.. args, .. Target, "--settings", SettingsFile]);
+
+    private (int Code, string Out, string Err) RunProcess(string[] args)
     {
         var psi = new ProcessStartInfo("dotnet") { RedirectStandardOutput = true, RedirectStandardError = true, RedirectStandardInput = true, UseShellExecute = false };
         psi.ArgumentList.Add(Path.Combine(AppContext.BaseDirectory, "pmacstream.dll"));
@@ -30,7 +47,7 @@ internal sealed class ConsoleCli(SimProcess sim, string folder)
         }
 
         psi.Environment["PMACSTREAM_TABLES"] = Path.Combine(Folder, "tables.json");
-        psi.Environment["PMACSTREAM_SETTINGS"] = Path.Combine(Folder, "settings.json");
+        psi.Environment["PMACSTREAM_SETTINGS"] = SettingsFile;
         using var p = Process.Start(psi)!;
         p.StandardInput.Close();
         var stdout = p.StandardOutput.ReadToEndAsync();

@@ -8,7 +8,7 @@ using Xunit.Abstractions;
 namespace PmacStream.IntegrationTests.Console;
 
 /// <summary>
-/// The console's proofs (issue 25) with the commands as the issue writes them, each a `pmacstream` process against a
+/// The console's proofs (issue 25) with the commands as the issue writes them, each run through the `pmacstream` parser and handlers (<see cref="ConsoleCli"/>) against a
 /// `pmacstream sim` process over TCP: the position proof (homing, jogs, MDI, a program in G55) and the G41 tool radius
 /// read from the tool table.
 /// </summary>

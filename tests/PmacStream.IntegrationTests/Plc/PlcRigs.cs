@@ -70,14 +70,3 @@ public sealed class EvaluatorRig : IPlcRig
         }
     }
 }
-
-internal static class PlcSamples
-{
-    public static string Path_(string file) => RepoRoot.Sample("plc", file);
-
-    public static (LadderProgram Program, GeneratedPlc Generated) Load(string file)
-    {
-        var program = LadderParser.Parse(File.ReadAllText(Path_(file)), file);
-        return (program, PlcGenerator.Generate(program));
-    }
-}

@@ -14,22 +14,25 @@ public sealed class SimulatorRig : IPlcRig, IDisposable
     private readonly IoWordConfig _out;
     private readonly int[] _stateWords;
 
-    private SimulatorRig(PmacSimulator sim, LadderProgram program)
+    private SimulatorRig(SimHarness harness, LadderProgram program)
     {
-        Simulator = sim;
+        Harness = harness;
         _in = program.Inputs;
         _out = program.Outputs;
         _stateWords = [program.Inputs.ImageAddress, program.Outputs.ImageAddress, program.Internals.Address, program.Internals.Address + 1];
     }
 
-    public PmacSimulator Simulator { get; }
+    /// <summary>The kit's rig, bottom layer: the simulator and the host's port on it.</summary>
+    public SimHarness Harness { get; }
+
+    public PmacSimulator Simulator => Harness.Sim;
 
     public IPmacConnection Connection { get; private set; } = null!;
 
     public static async Task<SimulatorRig> CreateAsync(LadderProgram program, GeneratedPlc generated)
     {
-        var rig = new SimulatorRig(new PmacSimulator(), program);
-        rig.Connection = new InProcessConnection(rig.Simulator.OpenPort("host"), "sim");
+        var rig = new SimulatorRig(new SimHarness(port: "host"), program);
+        rig.Connection = new InProcessConnection(rig.Harness.Port, "sim");
         await rig.Connection.DownloadAsync(generated.DownloadLines);
         return rig;
     }
@@ -61,7 +64,7 @@ public sealed class SimulatorRig : IPlcRig, IDisposable
 
     public void PowerUp() => Restore((0, 0, new int[_stateWords.Length]));
 
-    public void Dispose() => Simulator.Dispose();
+    public void Dispose() => Harness.Dispose();
 }
 
 public class PlcSimulatorTests

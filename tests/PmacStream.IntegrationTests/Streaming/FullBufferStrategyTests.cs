@@ -1,5 +1,4 @@
 using System.Globalization;
-using System.Text;
 using PmacStream.Jobs;
 using PmacStream.Pmac;
 using PmacStream.Sim;
@@ -39,16 +38,8 @@ public sealed class FullBufferStrategyTests(ITestOutputHelper output) : IDisposa
     {
         // The link-fault bench's program: moves of 0.25 mm at the feed that makes RATE blocks a second, a zig-zag raster.
         var source = Path.Combine(_temp.Path, "raster.nc");
-        var text = new StringBuilder("G21 G17 G90\nG00 X0 Y0 Z0\n");
-        text.Append(CultureInfo.InvariantCulture, $"G01 F{rate * 0.25 * 60}\n");
-        for (var i = 0; i < blocks; i++)
-        {
-            var (row, col) = Math.DivRem(i, 400);
-            text.Append(CultureInfo.InvariantCulture, $"G01 X{(row % 2 == 0 ? col : 399 - col) * 0.25:0.00} Y{row * 0.25:0.00}\n");
-        }
-
-        text.Append("M30\n");
-        await File.WriteAllTextAsync(source, text.ToString());
+        var text = TestPrograms.Text(string.Create(CultureInfo.InvariantCulture, $"G21 G17 G90\nG00 X0 Y0 Z0\nG01 F{rate * 0.25 * 60}\n"), blocks, TestPrograms.RasterOf(400));
+        await File.WriteAllTextAsync(source, text);
         var service = new JobService(new JobServiceOptions { JobDatabase = Path.Combine(_temp.Path, "jobs.db") });
         return (await service.PrepareAsync(new PrepareRequest(source, RunSettings.Default) { OutDir = Path.Combine(_temp.Path, "chunks") })).Program;
     }

@@ -1,4 +1,3 @@
-using System.Text;
 using PmacStream.GCode;
 using PmacStream.Preparation;
 using PmacStream.Streaming;
@@ -24,16 +23,7 @@ public sealed class GateCliTests : IDisposable
         return path;
     }
 
-    private static string Moves(int n)
-    {
-        var sb = new StringBuilder();
-        for (var i = 1; i <= n; i++)
-        {
-            sb.Append("G01 X").Append(i % 20).Append(" Y").Append(i / 20).Append('\n');
-        }
-
-        return sb.ToString();
-    }
+    private static string Moves(int n) => TestPrograms.Text(string.Empty, n, TestPrograms.Grid(20), footer: string.Empty);
 
     [Fact]
     public void Stream_refuses_codes_the_controller_cannot_run_yet_naming_each_and_force_and_sends_nothing()

@@ -30,23 +30,8 @@ public sealed class JobWorkflowTests : IDisposable
 
     public void Dispose() => _temp.Dispose();
 
-    private string Program(int blocks, string? insert = null)
-    {
-        var sb = new StringBuilder("%\nO2000\nG21 G17 G90\nG00 X0 Y0\nG01 F3000\n");
-        for (var i = 1; i <= blocks; i++)
-        {
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 50 * 2}.0 Y{i / 50}.0\n");
-            if (i == blocks / 2 && insert is not null)
-            {
-                sb.Append(insert).Append('\n');
-            }
-        }
-
-        sb.Append("M05\nM30\n%\n");
-        var path = Path.Combine(_folder, "part.nc");
-        File.WriteAllText(path, sb.ToString());
-        return path;
-    }
+    private string Program(int blocks, string? insert = null) =>
+        TestPrograms.Write(Path.Combine(_folder, "part.nc"), TestPrograms.Text("%\nO2000\n" + TestPrograms.Metric + "G01 F3000\n", blocks, TestPrograms.Grid(50, 2, decimals: true), TestPrograms.TapeEnd, i => i == blocks / 2 ? insert : null));
 
     [Fact]
     public void Stream_with_500_lines_after_a_1000_line_split_streams_chunks_of_at_most_500_blocks()

@@ -169,7 +169,8 @@ public class PositionProofTests(ITestOutputHelper output)
     [Fact]
     public async Task A_program_using_every_fanuc_mill_code_ends_each_block_where_the_interpreter_says()
     {
-        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        var folder = new TestFolder("proof");
+        var dir = folder.Path;
         try
         {
             var path = Path.Combine(dir, "every.nc");
@@ -189,7 +190,7 @@ public class PositionProofTests(ITestOutputHelper output)
         }
         finally
         {
-            Directory.Delete(dir, recursive: true);
+            folder.Dispose();
         }
     }
 
@@ -200,7 +201,8 @@ public class PositionProofTests(ITestOutputHelper output)
         // the half circle's centre), a metric arc 0.02 mm off: the controller lands on each programmed end point.
         const string program = "O1\nG20 G90 G17 G54\nG00 X0 Y0 Z0.2\nG01 Z0 F20.\nG02 X2.0002 Y0 I1. J0\nG03 X0.0002 Y0 I-1. J0\n" +
             "G02 X2.0002 Y0 R0.99996\nG21 G01 X60. Y0\nG03 X80.02 Y0 I10. J0\nG00 Z10.\nM30\n";
-        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        var folder = new TestFolder("proof");
+        var dir = folder.Path;
         try
         {
             var path = Path.Combine(dir, "arcs.nc");
@@ -212,7 +214,7 @@ public class PositionProofTests(ITestOutputHelper output)
         }
         finally
         {
-            Directory.Delete(dir, recursive: true);
+            folder.Dispose();
         }
     }
 
@@ -221,7 +223,8 @@ public class PositionProofTests(ITestOutputHelper output)
     {
         // grbl's G61 is in force from power-on: every move ends at rest (G09.9 after it), in inch blocks too.
         const string program = "G21 G90 G54\nG10 L2 P0 X5 Y5\nG0 X0 Y0 Z5\nG1 Z-1 F300\nX10 Y10\nG2 X20 Y0 I10 J0\nG20 G1 X1 Y1\nG21 G4 P0.2\nG0 Z5\nM30\n";
-        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        var folder = new TestFolder("proof");
+        var dir = folder.Path;
         try
         {
             var path = Path.Combine(dir, "grbl.nc");
@@ -233,7 +236,7 @@ public class PositionProofTests(ITestOutputHelper output)
         }
         finally
         {
-            Directory.Delete(dir, recursive: true);
+            folder.Dispose();
         }
     }
 
@@ -443,7 +446,8 @@ public class PositionProofTests(ITestOutputHelper output)
     {
         var files = Requires.Corpus();
         var profile = Machine();
-        var dir = Directory.CreateTempSubdirectory("pmacstream-proof-").FullName;
+        var folder = new TestFolder("proof");
+        var dir = folder.Path;
         try
         {
             // Two at a time: the machine has two cores, and each run is a TCP server and a session.
@@ -467,7 +471,7 @@ public class PositionProofTests(ITestOutputHelper output)
         }
         finally
         {
-            Directory.Delete(dir, recursive: true);
+            folder.Dispose();
         }
     }
 

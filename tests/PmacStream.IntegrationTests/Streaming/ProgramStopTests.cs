@@ -1,5 +1,3 @@
-using System.Globalization;
-using System.Text;
 using PmacStream.Streaming;
 
 namespace PmacStream.IntegrationTests.Streaming;
@@ -16,26 +14,12 @@ public sealed class ProgramStopTests : IDisposable
     public void Dispose() => _temp.Dispose();
 
     /// <summary>200 moves; M00 alone at line 64, M01 at line 132 (after M05), then more moves; 40 lines per chunk.</summary>
-    private string Program()
+    private string Program() => TestPrograms.Write(Path.Combine(_temp.Path, "stops.nc"), TestPrograms.Text("G21 G90 G17\nG00 X0 Y0\nG01 F2400\n", 200, TestPrograms.Grid(25, 2), after: i => i switch
     {
-        var sb = new StringBuilder("G21 G90 G17\nG00 X0 Y0\nG01 F2400\n");
-        for (var i = 1; i <= 200; i++)
-        {
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 25 * 2} Y{i / 25}\n");
-            if (i == 60)
-            {
-                sb.Append("M00\n");      // line 64
-            }
-            else if (i == 126)
-            {
-                sb.Append("M05\nM01\n"); // lines 131, 132
-            }
-        }
-
-        var path = Path.Combine(_temp.Path, "stops.nc");
-        File.WriteAllText(path, sb.Append("M30\n").ToString());
-        return path;
-    }
+        60 => "M00",        // line 64
+        126 => "M05\nM01",  // lines 131, 132
+        _ => null,
+    }));
 
     [Theory]
     [InlineData(StrategyKind.Chunk)]

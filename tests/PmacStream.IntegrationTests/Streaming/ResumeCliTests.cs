@@ -1,7 +1,6 @@
 using System.Diagnostics;
 using System.Globalization;
 using System.Net;
-using System.Text;
 using PmacStream.Preparation;
 using PmacStream.Sim;
 using PmacStream.Sim.Servers;
@@ -27,18 +26,7 @@ public sealed class ResumeCliTests : IDisposable
     public void Dispose() => _temp.Dispose();
 
     /// <summary>1500 moves of 2 mm at F3000 (40 ms each: 3 s at the simulator's 20x), 250 lines a chunk.</summary>
-    private string Program()
-    {
-        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nG01 F3000\n");
-        for (var i = 1; i <= 1500; i++)
-        {
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 50 * 2}.0 Y{i / 50}.0\n");
-        }
-
-        var src = Path.Combine(_folder, "part.nc");
-        File.WriteAllText(src, sb.Append("M30\n").ToString());
-        return src;
-    }
+    private string Program() => TestPrograms.Write(Path.Combine(_folder, "part.nc"), TestPrograms.Text(TestPrograms.Metric + "G01 F3000\n", 1500, TestPrograms.Grid(50, 2, decimals: true)));
 
     /// <summary>Streams to the simulator over TCP and kills the host (SIGKILL: no last checkpoint) once M0 reaches <paramref name="line"/>.</summary>
     private static async Task<long> KillStreamAtAsync(PmacSimulator sim, int port, string src, string store, int line)

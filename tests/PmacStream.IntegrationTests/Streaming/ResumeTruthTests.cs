@@ -1,5 +1,4 @@
 using System.Globalization;
-using System.Text;
 using PmacStream.Sim;
 using PmacStream.Streaming;
 
@@ -19,23 +18,11 @@ public sealed class ResumeTruthTests : IDisposable
     public void Dispose() => _temp.Dispose();
 
     /// <summary>Moves of 0.25 mm at F1500 (10 ms each, 100 blocks a second) with coolant and spindle lines between them.</summary>
-    private string Source()
+    private string Source() => TestPrograms.Write(Path.Combine(_temp.Path, "part.nc"), TestPrograms.Text(TestPrograms.Metric + "F1500\n", Moves, TestPrograms.Raster, after: n =>
     {
-        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nF1500\n");
-        for (var i = 0; i < Moves; i++)
-        {
-            var (row, col) = Math.DivRem(i, 200);
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{(row % 2 == 0 ? col : 199 - col) * 0.25:0.00} Y{row * 0.25:0.00}\n");
-            if (i % 97 == 50)
-            {
-                sb.Append(i % 2 == 0 ? "M08\n" : string.Create(CultureInfo.InvariantCulture, $"S{1000 + i}\n"));
-            }
-        }
-
-        var path = Path.Combine(_temp.Path, "part.nc");
-        File.WriteAllText(path, sb.Append("M30\n").ToString());
-        return path;
-    }
+        var i = n - 1; // the raster's moves counted from 0, as the spindle speeds below were
+        return i % 97 != 50 ? null : i % 2 == 0 ? "M08" : string.Create(CultureInfo.InvariantCulture, $"S{1000 + i}");
+    }));
 
     private SimRig NewRig(StrategyKind strategy) =>
         new(Source(), 500, new StreamingOptions { Strategy = strategy }, simOptions: new SimOptions { RecordRotaryLines = true });

@@ -150,7 +150,8 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
     public void Rs274_passes_through_every_block_end_of_a_program_under_cutter_radius_compensation()
     {
         var rs274 = Requires.Rs274();
-        var dir = Directory.CreateTempSubdirectory("pmacstream-rs274-").FullName;
+        var folder = new TestFolder("rs274");
+        var dir = folder.Path;
         try
         {
             var path = Path.Combine(dir, "comp.ngc");
@@ -177,7 +178,7 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
         }
         finally
         {
-            Directory.Delete(dir, recursive: true);
+            folder.Dispose();
         }
     }
 

@@ -1,7 +1,6 @@
 using System.Diagnostics;
 using System.Globalization;
 using System.Net;
-using System.Text;
 using System.Text.Json;
 using Npgsql;
 using PmacStream.Preparation;
@@ -228,19 +227,8 @@ public sealed class ShopLeaseTests : IDisposable
     }
 
     /// <summary>A program of this run's own (the PostgreSQL store is shared): 2 mm moves at F6000, 20 ms each in real time.</summary>
-    private string Program(int blocks)
-    {
-        var sb = new StringBuilder($"%\n({Guid.NewGuid():N})\nG21 G17 G90\nG00 X0 Y0\nG01 F6000\n");
-        for (var i = 1; i <= blocks; i++)
-        {
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 50 * 2}.0 Y{i / 50}.0\n");
-        }
-
-        sb.Append("M05\nM30\n%\n");
-        var path = Path.Combine(_folder.NewFolder("p"), "part.nc");
-        File.WriteAllText(path, sb.ToString());
-        return path;
-    }
+    private string Program(int blocks) =>
+        TestPrograms.Write(Path.Combine(_folder.NewFolder("p"), "part.nc"), TestPrograms.Text($"%\n({Guid.NewGuid():N})\n{TestPrograms.Metric}G01 F6000\n", blocks, TestPrograms.Grid(50, 2, decimals: true), TestPrograms.TapeEnd));
 
     private static List<int> TrackedLines(string src) =>
         ChunkedProgram.Open(Path.Combine(Splitter.DefaultOutDir(src), ChunkManifest.FileName)).TrackedLines().ToList();

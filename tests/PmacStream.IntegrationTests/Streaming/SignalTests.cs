@@ -131,13 +131,7 @@ public sealed class SignalTests : IDisposable
     {
         Requires.NotWindows("POSIX signals");
         var src = Path.Combine(_folder, "part.nc");
-        var sb = new StringBuilder("G21 G17 G90\nG00 X0 Y0\nG01 F6000\n");
-        for (var i = 1; i <= 1500; i++)
-        {
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 50 * 2}.0 Y{i / 50}.0\n");
-        }
-
-        File.WriteAllText(src, sb.Append("M30\n").ToString());
+        TestPrograms.Write(src, TestPrograms.Text(TestPrograms.Metric + "G01 F6000\n", 1500, TestPrograms.Grid(50, 2, decimals: true)));
         var db = Path.Combine(_folder, "jobs.db");
         using var sim = new PmacSimulator(new SimOptions { Speed = SimSpeed.Factor(20) });
         await new PmacStream.Pmac.InProcessConnection(sim.OpenPort("setup")).DownloadAsync(SimRig.Library);

@@ -1,5 +1,4 @@
 using System.Diagnostics;
-using System.Globalization;
 using System.Text;
 using PmacStream.Streaming;
 
@@ -20,26 +19,12 @@ public sealed class StopCliTests : IDisposable
     public void Dispose() => _temp.Dispose();
 
     /// <summary>M00 at line 24, M01 at line 45; 60 moves.</summary>
-    private string Program(bool withM00 = true)
+    private string Program(bool withM00 = true) => TestPrograms.Write(Path.Combine(_folder, "stops.nc"), TestPrograms.Text("G21 G90 G17\nG00 X0 Y0\nG01 F3000\n", 60, TestPrograms.Grid(10), after: i => i switch
     {
-        var sb = new StringBuilder("G21 G90 G17\nG00 X0 Y0\nG01 F3000\n");
-        for (var i = 1; i <= 60; i++)
-        {
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 10} Y{i / 10}\n");
-            if (i == 20)
-            {
-                sb.Append(withM00 ? "M00\n" : "M08\n");
-            }
-            else if (i == 40)
-            {
-                sb.Append("M01\n");
-            }
-        }
-
-        var path = Path.Combine(_folder, "stops.nc");
-        File.WriteAllText(path, sb.Append("M30\n").ToString());
-        return path;
-    }
+        20 => withM00 ? "M00" : "M08",
+        40 => "M01",
+        _ => null,
+    }));
 
     [Fact]
     public void Without_a_terminal_a_program_with_stops_is_refused_unless_stops_continue_and_then_each_stop_is_printed()

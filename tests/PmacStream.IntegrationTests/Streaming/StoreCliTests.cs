@@ -127,8 +127,13 @@ public sealed class StoreCliTests : IDisposable
         return station;
     }
 
-    /// <summary>Runs the command line with this test's own home (the program cache lives there).</summary>
-    private (int Code, string Out, string Err) Run(params string[] args)
+    /// <summary>
+    /// Runs the command line: <c>stream</c> as a process with this test's own home (the program cache lives there, and
+    /// the home is the process's), the store's own commands (every one given <c>--store</c>) in process.
+    /// </summary>
+    private (int Code, string Out, string Err) Run(params string[] args) => args[0] == "stream" ? RunWithHome(args) : CliRun.InProcess(args);
+
+    private (int Code, string Out, string Err) RunWithHome(string[] args)
     {
         var psi = CliProcess.Info(args);
         psi.Environment["HOME"] = _folder.Path;

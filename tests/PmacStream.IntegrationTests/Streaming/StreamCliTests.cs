@@ -1,7 +1,6 @@
 using System.Diagnostics;
 using System.Globalization;
 using System.Net;
-using System.Text;
 using PmacStream.Pmac;
 using PmacStream.Preparation;
 using PmacStream.Sim;
@@ -22,20 +21,8 @@ public sealed class StreamCliTests : IDisposable
 
     public void Dispose() => _temp.Dispose();
 
-    private string Program(int blocks, double feed = 3000)
-    {
-        var sb = new StringBuilder("%\nO2000\nG21 G17 G90\nG00 X0 Y0\n");
-        sb.Append(CultureInfo.InvariantCulture, $"G01 F{feed}\n");
-        for (var i = 1; i <= blocks; i++)
-        {
-            sb.Append(CultureInfo.InvariantCulture, $"G01 X{i % 50 * 2}.0 Y{i / 50}.0\n");
-        }
-
-        sb.Append("M05\nM30\n%\n");
-        var path = Path.Combine(_temp.Path, "part.nc");
-        File.WriteAllText(path, sb.ToString());
-        return path;
-    }
+    private string Program(int blocks, double feed = 3000) =>
+        TestPrograms.Write(Path.Combine(_temp.Path, "part.nc"), TestPrograms.Text(string.Create(CultureInfo.InvariantCulture, $"%\nO2000\n{TestPrograms.Metric}G01 F{feed}\n"), blocks, TestPrograms.Grid(50, 2, decimals: true), TestPrograms.TapeEnd));
 
     [Theory]
     [InlineData("chunk")]
@@ -71,10 +58,10 @@ public sealed class StreamCliTests : IDisposable
     [Fact]
     public void Bad_usage_and_missing_files_exit_2()
     {
-        CliProcess.Run("stream", Path.Combine(_temp.Path, "none.nc"), "--sim").Code.Should().Be(2);
-        CliProcess.Run("stream", Program(10)).Code.Should().Be(2);
-        CliProcess.Run("stream", Program(10), "--sim", "--strategy", "fast").Code.Should().Be(2);
-        CliProcess.Run("resume", "--job-db", Path.Combine(_temp.Path, "empty.db")).Code.Should().Be(2);
+        CliRun.InProcess("stream", Path.Combine(_temp.Path, "none.nc"), "--sim").Code.Should().Be(2);
+        CliRun.InProcess("stream", Program(10)).Code.Should().Be(2);
+        CliRun.InProcess("stream", Program(10), "--sim", "--strategy", "fast").Code.Should().Be(2);
+        CliRun.InProcess("resume", "--job-db", Path.Combine(_temp.Path, "empty.db")).Code.Should().Be(2);
     }
 
     [SkippableTheory]

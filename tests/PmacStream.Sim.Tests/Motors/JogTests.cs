@@ -1,4 +1,3 @@
-using PmacStream.Sim.Tests.Engine;
 
 namespace PmacStream.Sim.Tests.Motors;
 

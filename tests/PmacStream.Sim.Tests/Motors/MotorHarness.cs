@@ -1,5 +1,4 @@
 using System.Globalization;
-using PmacStream.Sim.Tests.Engine;
 
 namespace PmacStream.Sim.Tests.Motors;
 

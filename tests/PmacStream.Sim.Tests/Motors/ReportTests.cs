@@ -1,5 +1,4 @@
 using System.Text;
-using PmacStream.Sim.Tests.Engine;
 
 namespace PmacStream.Sim.Tests.Motors;
 
