@@ -308,9 +308,12 @@ public sealed class ShopLeaseTests : IDisposable
     {
         private PmacTcpServer _server = null!;
 
-        private Rig(PmacSimulator sim) => Sim = sim;
+        private Rig(SimHarness harness) => Harness = harness;
 
-        public PmacSimulator Sim { get; }
+        /// <summary>The kit's rig, bottom layer: the simulator and the port the TCP server serves.</summary>
+        public SimHarness Harness { get; }
+
+        public PmacSimulator Sim => Harness.Sim;
 
         public string Spec => $"127.0.0.1:{_server.Port}";
 
@@ -318,8 +321,8 @@ public sealed class ShopLeaseTests : IDisposable
 
         public static async Task<Rig> StartAsync(SimSpeed speed)
         {
-            var rig = new Rig(new PmacSimulator(new SimOptions { Speed = speed }));
-            var ethernet = rig.Sim.OpenPort("ethernet");
+            var rig = new Rig(new SimHarness(new SimOptions { Speed = speed }, "ethernet"));
+            var ethernet = rig.Harness.Port;
             rig._server = new PmacTcpServer(() => ethernet, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
             rig._server.Start();
             rig.Sim.StartClock();
@@ -359,7 +362,7 @@ public sealed class ShopLeaseTests : IDisposable
         {
             Sim.StopClock();
             await _server.DisposeAsync();
-            Sim.Dispose();
+            Harness.Dispose();
         }
     }
 
