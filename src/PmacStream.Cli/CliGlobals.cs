@@ -112,6 +112,12 @@ internal static class CliGlobals
             await console.Error.WriteLineAsync($"{prefix}: {e.Message}").ConfigureAwait(false);
             return UsageOrIo;
         }
+        catch (Exception e) when (StoreError(e) is { } message)
+        {
+            // The shop's PostgreSQL failed or did not answer in time: what the server said, not a stack trace.
+            await console.Error.WriteLineAsync($"{prefix}: the store: {message}").ConfigureAwait(false);
+            return Failed;
+        }
         catch (OperationCanceledException)
         {
             await console.Error.WriteLineAsync($"{prefix}: interrupted").ConfigureAwait(false);
@@ -131,6 +137,16 @@ internal static class CliGlobals
     /// peak) into every command when it was compiled, even a check or split that never opens a database.</summary>
     [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.NoInlining)]
     private static bool IsSqliteError(Exception e) => e is Microsoft.Data.Sqlite.SqliteException;
+
+    /// <summary>What went wrong with PostgreSQL, in one line; null when <paramref name="e"/> is not Npgsql's. Never
+    /// inlined, for the reason <see cref="IsSqliteError"/> gives.</summary>
+    [System.Runtime.CompilerServices.MethodImpl(System.Runtime.CompilerServices.MethodImplOptions.NoInlining)]
+    private static string? StoreError(Exception e) => e switch
+    {
+        Npgsql.NpgsqlException { InnerException: TimeoutException t } => $"no answer in time ({t.Message}); a longer 'Command Timeout' in the connection string gives it more",
+        Npgsql.NpgsqlException n => n.Message,
+        _ => null,
+    };
 
     /// <summary>An input file that exists, or a one-line error (exit 2) that says what is there instead.</summary>
     public static void RequireFile(string path, string expected)

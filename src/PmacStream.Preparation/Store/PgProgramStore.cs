@@ -200,8 +200,11 @@ public sealed partial class PgProgramStore : IProgramRevisions
     /// <inheritdoc />
     public void DeleteProgram(long programId)
     {
+        // Deleting a revision's rows takes time in proportion to it, as its import did (10M blocks: well over Npgsql's
+        // default 30 s), so each statement gets the import's timeout for the revision's source size.
+        var timeout = Seconds(ImportTimeout ?? ImportTimeoutFor(SourceBytesOf(programId)));
         using var tx = _connection.BeginTransaction();
-        using (var prepared = new NpgsqlCommand("DELETE FROM preparation_files WHERE preparation_id IN (SELECT id FROM preparations WHERE program_id = @p)", _connection, tx))
+        using (var prepared = new NpgsqlCommand("DELETE FROM preparation_files WHERE preparation_id IN (SELECT id FROM preparations WHERE program_id = @p)", _connection, tx) { CommandTimeout = timeout })
         {
             prepared.Parameters.AddWithValue("p", programId);
             prepared.ExecuteNonQuery();
@@ -209,7 +212,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
 
         foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "cycle_holes", "preparations" })
         {
-            using var cmd = new NpgsqlCommand($"DELETE FROM {table} WHERE program_id = @p", _connection, tx); // table names from the list above
+            using var cmd = new NpgsqlCommand($"DELETE FROM {table} WHERE program_id = @p", _connection, tx) { CommandTimeout = timeout }; // table names from the list above
             cmd.Parameters.AddWithValue("p", programId);
             cmd.ExecuteNonQuery();
         }
@@ -221,6 +224,13 @@ public sealed partial class PgProgramStore : IProgramRevisions
         }
 
         tx.Commit();
+    }
+
+    private long SourceBytesOf(long programId)
+    {
+        using var cmd = new NpgsqlCommand("SELECT size FROM programs WHERE id = @p", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        return cmd.ExecuteScalar() is long bytes ? bytes : 0;
     }
 
     /// <inheritdoc />

@@ -61,4 +61,40 @@ public sealed class PgImportTimeoutTests : IDisposable
         store.ImportTimeout = null; // in proportion again: the same import goes through once nothing blocks it
         store.ImportRevision(file, MachineProfile.Default).Existing.Should().BeFalse();
     }
+
+    [SkippableFact]
+    public void Removing_a_revision_is_held_to_the_import_timeout_not_npgsqls_default()
+    {
+        var (station, admin) = Requires.Postgres();
+        Skip.If(admin is null, "PMACSTREAM_TEST_PG_ADMIN is not set: no role that may lock the blocks table");
+        using (PgSchema.OpenMigrated(StoreLocation.Parse(admin!)))
+        {
+        }
+
+        var file = Path.Combine(_folder.Path, $"rm-{Guid.NewGuid():N}.nc");
+        File.WriteAllText(file, $"({Guid.NewGuid():N})\nG21 G90\nG00 X0 Y0\nG01 X10 F300\nM30\n");
+        using var store = PgProgramStore.Open(StoreLocation.Parse(station));
+        var id = store.ImportRevision(file, MachineProfile.Default).Id;
+        store.ImportTimeout = TimeSpan.FromSeconds(2);
+        var clock = Stopwatch.StartNew();
+        using (var locker = new NpgsqlConnection(admin))
+        {
+            locker.Open();
+            using var tx = locker.BeginTransaction();
+            using (var lockCmd = new NpgsqlCommand("LOCK TABLE blocks IN ACCESS EXCLUSIVE MODE", locker, tx))
+            {
+                lockCmd.ExecuteNonQuery();
+            }
+
+            var act = () => store.DeleteProgram(id);
+            act.Should().Throw<NpgsqlException>().Where(e => e.InnerException is TimeoutException || e.Message.Contains("timeout", StringComparison.OrdinalIgnoreCase));
+            clock.Stop();
+            tx.Rollback();
+        }
+
+        clock.Elapsed.Should().BeLessThan(TimeSpan.FromSeconds(25), "the store's own 2 s timeout, not Npgsql's 30 s default");
+        store.ListRevisions().Should().Contain(p => p.Id == id, "a timed-out removal is rolled back");
+        store.DeleteProgram(id);
+        store.ListRevisions().Should().NotContain(p => p.Id == id);
+    }
 }
