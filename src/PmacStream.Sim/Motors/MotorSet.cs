@@ -493,10 +493,12 @@ internal sealed class MotorSet
             case FaultKind.PlusLimit:
                 motor.InjectedPlusLimit = motor.Machine;
                 TripLimit(motor);
+                motor.InjectedPlusLimit = motor.Machine; // where the abort left it: a move found at its end stands there
                 break;
             case FaultKind.MinusLimit:
                 motor.InjectedMinusLimit = motor.Machine;
                 TripLimit(motor);
+                motor.InjectedMinusLimit = motor.Machine;
                 break;
             case FaultKind.FatalFollowingError:
                 motor.FatalFollowingError = true;

@@ -82,7 +82,8 @@ public class FaultTests
     [InlineData("amp-fault", 0.0005, false)]
     public void A_fault_at_a_moves_end_logs_the_move_only_when_the_axes_stand_at_its_end(string kind, double shortBy, bool ended)
     {
-        // Two 1 mm moves at 10 mm/s, blended: the first ends at full speed, so shortBy mm is shortBy/10 s before its end.
+        // Two 1 mm moves at 10 mm/s towards -X, blended: the first ends at full speed, so shortBy mm is shortBy/10 s
+        // before its end (towards -X: an injected limit+ stays where the abort left the motor, ahead of the switch).
         static SimHarness TwoMoves(FaultInjection? fault)
         {
             var o = new SimOptions { RetainExecutedMoves = true };
@@ -93,7 +94,7 @@ public class FaultTests
 
             var h = new SimHarness(o);
             h.Ok("#1->1000X #2->1000Y I119=100 I121=1 I219=100 I221=1");
-            h.Ok("&1 OPEN PROG 1 CLEAR LINEAR ABS F600 M0==1 X1 M0==2 X2 CLOSE B1");
+            h.Ok("&1 OPEN PROG 1 CLEAR LINEAR ABS F600 M0==1 X-1 M0==2 X-2 CLOSE B1");
             return h;
         }
 
@@ -116,12 +117,17 @@ public class FaultTests
         if (ended)
         {
             h.Sim.ExecutedMoves.Select(m => m.SourceLine).Should().Equal([1], "the abort found the first move at its end: it ended");
-            x.Should().Be(1000, "the axes stand at its end exactly");
+            x.Should().Be(-1000, "the axes stand at its end exactly");
         }
         else
         {
             h.Sim.ExecutedMoves.Should().BeEmpty("the first move did not reach its end: not executed, to be re-run");
-            x.Should().BeApproximately(1000 - (shortBy * 1000), 0.01, "the axes stand where the fault stopped them");
+            x.Should().BeApproximately(-1000 + (shortBy * 1000), 0.01, "the axes stand where the fault stopped them");
+        }
+
+        if (kind == "limit+")
+        {
+            h.MotorBit(1, 1, 21).Should().BeTrue("the injected switch stays where the abort left the motor");
         }
     }
 
