@@ -236,6 +236,12 @@ internal sealed class ProgramsHandler
         o.WriteLine($"  sha256    {p.Sha256}");
         o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  size      {p.Size} bytes, {p.Lines} lines"));
         o.WriteLine($"  check     {p.CheckSummary}, estimated {TimeSpan.FromSeconds(Math.Round(p.EstimatedSeconds)):c}");
+        if (store.ReadExpansionMap(id) is { } map)
+        {
+            // Its blocks are numbered by expanded line (as M0== counts them); the map says where each came from.
+            var files = string.Join(", ", map.Files.Select(Path.GetFileName));
+            o.WriteLine(string.Create(CultureInfo.InvariantCulture, $"  expanded  {map.Lines} lines from {files}; e.g. expanded line {map.Lines} is {map.Describe(map.Lines)} (start at a source line with programs start {id} --from-line N --call K --file NAME)"));
+        }
         foreach (var d in diagnostics.Take(ShownDiagnostics))
         {
             o.WriteLine("  " + d.Format(name));

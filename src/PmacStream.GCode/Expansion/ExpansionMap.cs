@@ -248,11 +248,18 @@ public sealed class ExpansionMap
     /// <summary>Reads a map a split wrote (all of it).</summary>
     public static ExpansionMap Load(string path)
     {
-        var map = new ExpansionMap();
         using var r = new StreamReader(path, Encoding.UTF8);
+        return Read(r, path);
+    }
+
+    /// <summary>Reads a map as a split writes it (all of it) from <paramref name="r"/>; <paramref name="name"/> names it in an error.</summary>
+    public static ExpansionMap Read(TextReader r, string name)
+    {
+        ArgumentNullException.ThrowIfNull(r);
+        var map = new ExpansionMap();
         if (r.ReadLine() != Magic)
         {
-            throw new InvalidDataException($"{path}: not an expansion map");
+            throw new InvalidDataException($"{name}: not an expansion map");
         }
 
         while (r.ReadLine() is { } line)

@@ -47,12 +47,14 @@ public static class ProgramExpansion
 
     /// <summary>
     /// Checks a program through its expansion handing the interpreter to <paramref name="onInterpreted"/> after each
-    /// expanded block: the store's import, whose blocks are numbered as <c>M0==</c> numbers them.
+    /// expanded block: the store's import, whose blocks are numbered as <c>M0==</c> numbers them. With
+    /// <paramref name="map"/>, the expansion's source map is kept there too (the store keeps it with the revision).
     /// </summary>
     public static CheckSummary Check(Checker checker, string path, Action<Diagnostic> onDiagnostic, Action<Interpreter> onInterpreted,
-        ExpansionOptions? options, CancellationToken cancellationToken)
+        ExpansionOptions? options, CancellationToken cancellationToken, ExpansionMap? map = null)
     {
-        var expander = new MacroExpander(path, For(checker.Profile, options));
+        ArgumentNullException.ThrowIfNull(checker);
+        var expander = new MacroExpander(path, For(checker.Profile, options), map);
         using var stream = new ExpandedStream(expander);
         var summary = checker.Check(stream, path, d => onDiagnostic(ToSource(d, expander.Map)), onInterpreted, cancellationToken);
         if (expander.Error is { } e)

@@ -48,6 +48,13 @@ public interface IProgramRevisions : IDisposable
     /// </summary>
     IEnumerable<StoredBlock> ReadStoredBlocks(long programId, int fromLine = 0, int toLine = int.MaxValue);
 
+    /// <summary>
+    /// The source map of a revision whose program was expanded (subprograms, macros, o-words: its blocks are numbered by
+    /// expanded line, as <c>M0==</c> numbers them): file, line, call stack and iteration of every expanded line. Null for a
+    /// program that was not expanded, and for one imported before schema 10 (import it again).
+    /// </summary>
+    GCode.Expansion.ExpansionMap? ReadExpansionMap(long programId);
+
     /// <summary>The revision's preparation made from the inputs <paramref name="inputsKey"/> names, or null.</summary>
     StoredPreparation? FindPreparation(long programId, string inputsKey);
 

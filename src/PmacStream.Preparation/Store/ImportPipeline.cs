@@ -26,7 +26,13 @@ internal static class ImportPipeline
 
         /// <summary>Adds the holes of a cycle block (after that block).</summary>
         void Add(int line, CycleHoles holes);
+
+        /// <summary>Adds piece <paramref name="seq"/> (0-based) of an expanded program's source map (<see cref="GCode.Expansion.ExpansionMap"/> text), after every block.</summary>
+        void AddExpansionMap(int seq, string text);
     }
+
+    /// <summary>Characters per stored piece of a source map.</summary>
+    internal const int MapPiece = 1 << 20;
 
     /// <summary>Blocks per batch handed between the threads.</summary>
     internal const int BatchSize = 1024;
@@ -37,6 +43,58 @@ internal static class ImportPipeline
     /// <summary>Runs the check on a worker and stores every block and diagnostic through <paramref name="writer"/>.</summary>
     public static CheckSummary Run(Stream source, string file, MachineProfile profile, IBlockSink writer, Action<Diagnostic>? onDiagnostic,
         CancellationToken cancellationToken, Action? afterBatch = null)
+    {
+        // An expanded program's blocks are numbered by expanded line: its source map (file, line, calls, iteration of
+        // each) is written beside the import into a temporary file, bounded in memory, and stored after the blocks.
+        var mapPath = GCode.Expansion.ProgramExpansion.Applies(file, profile) ? Path.GetTempFileName() : null;
+        try
+        {
+            CheckSummary summary;
+            using (var mapText = mapPath is null ? null : new StreamWriter(mapPath, false, new System.Text.UTF8Encoding(false), 1 << 16))
+            {
+                summary = RunPipeline(source, file, profile, writer, onDiagnostic, cancellationToken, afterBatch, mapText);
+            }
+
+            if (mapPath is not null)
+            {
+                StoreMap(mapPath, writer);
+            }
+
+            return summary;
+        }
+        finally
+        {
+            if (mapPath is not null)
+            {
+                File.Delete(mapPath);
+            }
+        }
+    }
+
+    private static void StoreMap(string mapPath, IBlockSink writer)
+    {
+        // Whole lines per piece: a piece never ends inside a line (or a character).
+        using var r = new StreamReader(mapPath, System.Text.Encoding.UTF8);
+        var piece = new System.Text.StringBuilder(MapPiece + 256);
+        var seq = 0;
+        while (r.ReadLine() is { } line)
+        {
+            piece.Append(line).Append('\n');
+            if (piece.Length >= MapPiece)
+            {
+                writer.AddExpansionMap(seq++, piece.ToString());
+                piece.Clear();
+            }
+        }
+
+        if (piece.Length > 0)
+        {
+            writer.AddExpansionMap(seq, piece.ToString());
+        }
+    }
+
+    private static CheckSummary RunPipeline(Stream source, string file, MachineProfile profile, IBlockSink writer, Action<Diagnostic>? onDiagnostic,
+        CancellationToken cancellationToken, Action? afterBatch, TextWriter? mapText)
     {
         using var stop = CancellationTokenSource.CreateLinkedTokenSource(cancellationToken);
         using var full = new BlockingCollection<Batch>(QueueDepth);
@@ -51,7 +109,7 @@ internal static class ImportPipeline
             {
                 try
                 {
-                    return Produce(source, file, profile, onDiagnostic, full, free, stop.Token);
+                    return Produce(source, file, profile, onDiagnostic, full, free, mapText, stop.Token);
                 }
                 finally
                 {
@@ -112,7 +170,7 @@ internal static class ImportPipeline
 
     /// <summary>The reading side: checks the program (through its expansion when it has one) and hands full batches on.</summary>
     private static CheckSummary Produce(Stream source, string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic,
-        BlockingCollection<Batch> full, BlockingCollection<Batch> free, CancellationToken token)
+        BlockingCollection<Batch> full, BlockingCollection<Batch> free, TextWriter? mapText, CancellationToken token)
     {
         var batch = free.Take(token);
         var corners = new CornerHold(full, token);
@@ -157,7 +215,13 @@ internal static class ImportPipeline
             // Subprograms, macros or o-words: the blocks stored are the expansion's, as the controller gets
             // them (M0== numbers those); the source bytes are still the file's, read here for their hash.
             source.CopyTo(Stream.Null);
-            summary = GCode.Expansion.ProgramExpansion.Check(checker, file, OnDiagnostic, OnInterpreted, null, token);
+            var map = new GCode.Expansion.ExpansionMap(1 << 16);
+            if (mapText is not null)
+            {
+                map.WriteTo(mapText);
+            }
+
+            summary = GCode.Expansion.ProgramExpansion.Check(checker, file, OnDiagnostic, OnInterpreted, null, token, map);
         }
         else
         {

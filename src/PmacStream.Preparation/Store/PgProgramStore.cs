@@ -210,7 +210,7 @@ public sealed partial class PgProgramStore : IProgramRevisions
             prepared.ExecuteNonQuery();
         }
 
-        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "cycle_holes", "preparations" })
+        foreach (var table in new[] { "blocks", "diagnostics", "group_states", "program_source", "exec_states", "cycle_holes", "expansion_maps", "preparations" })
         {
             using var cmd = new NpgsqlCommand($"DELETE FROM {table} WHERE program_id = @p", _connection, tx) { CommandTimeout = timeout }; // table names from the list above
             cmd.Parameters.AddWithValue("p", programId);
@@ -231,6 +231,23 @@ public sealed partial class PgProgramStore : IProgramRevisions
         using var cmd = new NpgsqlCommand("SELECT size FROM programs WHERE id = @p", _connection);
         cmd.Parameters.AddWithValue("p", programId);
         return cmd.ExecuteScalar() is long bytes ? bytes : 0;
+    }
+
+    /// <inheritdoc />
+    public GCode.Expansion.ExpansionMap? ReadExpansionMap(long programId)
+    {
+        using var cmd = new NpgsqlCommand("SELECT data FROM expansion_maps WHERE program_id = @p ORDER BY seq", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        var text = new System.Text.StringBuilder();
+        using (var r = cmd.ExecuteReader())
+        {
+            while (r.Read())
+            {
+                text.Append(r.GetString(0));
+            }
+        }
+
+        return text.Length == 0 ? null : GCode.Expansion.ExpansionMap.Read(new StringReader(text.ToString()), $"program {programId}'s source map");
     }
 
     /// <inheritdoc />
@@ -416,6 +433,17 @@ public sealed partial class PgProgramStore : IProgramRevisions
             cmd.Parameters.AddWithValue("p", programId);
             cmd.Parameters.AddWithValue("s", _sourceSeq++);
             cmd.Parameters.AddWithValue("d", piece);
+            cmd.ExecuteNonQuery();
+        }
+
+        /// <summary>Stores piece <paramref name="seq"/> of an expanded program's source map (<c>expansion_maps</c>, migration 10).</summary>
+        public void AddExpansionMap(int seq, string text)
+        {
+            EndCopy();
+            using var cmd = new NpgsqlCommand("INSERT INTO expansion_maps (program_id, seq, data) VALUES (@p, @s, @d)", connection, tx) { CommandTimeout = Seconds(timeout) };
+            cmd.Parameters.AddWithValue("p", programId);
+            cmd.Parameters.AddWithValue("s", seq);
+            cmd.Parameters.AddWithValue("d", text);
             cmd.ExecuteNonQuery();
         }
 

@@ -315,6 +315,24 @@ public sealed partial class ProgramStore : IProgramRevisions
         return r.Read() ? ReadBlock(r, groups) : null;
     }
 
+    /// <inheritdoc />
+    public GCode.Expansion.ExpansionMap? ReadExpansionMap(long programId)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT data FROM expansion_maps WHERE program_id = $p ORDER BY seq";
+        cmd.Parameters.AddWithValue("$p", programId);
+        var text = new System.Text.StringBuilder();
+        using (var r = cmd.ExecuteReader())
+        {
+            while (r.Read())
+            {
+                text.Append(r.GetString(0));
+            }
+        }
+
+        return text.Length == 0 ? null : GCode.Expansion.ExpansionMap.Read(new StringReader(text.ToString()), $"program {programId}'s source map");
+    }
+
     /// <summary>The first block at or after a source line (where execution starts when a chosen line is empty), or null.</summary>
     public DecodedBlock? GetBlockAtOrAfterLine(long programId, int line)
     {
@@ -468,7 +486,7 @@ public sealed partial class ProgramStore : IProgramRevisions
         using var cmd = _connection.CreateCommand();
         cmd.Transaction = tx;
         cmd.CommandText = "DELETE FROM blocks WHERE key BETWEEN $a AND $b; DELETE FROM diagnostics WHERE program_id = $p; " +
-                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM program_source WHERE program_id = $p; DELETE FROM exec_states WHERE program_id = $p; DELETE FROM cycle_holes WHERE program_id = $p; " +
+                          "DELETE FROM group_states WHERE program_id = $p; DELETE FROM program_source WHERE program_id = $p; DELETE FROM exec_states WHERE program_id = $p; DELETE FROM cycle_holes WHERE program_id = $p; DELETE FROM expansion_maps WHERE program_id = $p; " +
                           "DELETE FROM preparation_files WHERE preparation_id IN (SELECT id FROM preparations WHERE program_id = $p); " +
                           "DELETE FROM preparations WHERE program_id = $p; DELETE FROM programs WHERE id = $p;";
         cmd.Parameters.AddWithValue("$p", programId);

@@ -187,6 +187,18 @@ public sealed class ProgramWriter : IDisposable, ImportPipeline.IBlockSink
         cmd.ExecuteNonQuery();
     }
 
+    /// <summary>Stores piece <paramref name="seq"/> of an expanded program's source map (<c>expansion_maps</c>, migration 10).</summary>
+    public void AddExpansionMap(int seq, string text)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.Transaction = _tx;
+        cmd.CommandText = "INSERT INTO expansion_maps (program_id, seq, data) VALUES ($p, $s, $d)";
+        cmd.Parameters.AddWithValue("$p", ProgramId);
+        cmd.Parameters.AddWithValue("$s", seq);
+        cmd.Parameters.AddWithValue("$d", text);
+        cmd.ExecuteNonQuery();
+    }
+
     /// <summary>The id of a stored revision with this content under this profile, other than this one, or null.</summary>
     public long? ExistingRevision(string sha256, string profile)
     {
