@@ -294,6 +294,11 @@ internal sealed partial class MainForm
 
     public int SelectedLine => listBox2.SelectedIndices.Count > 0 ? listBox2.SelectedIndices[0] + 1 : 0;
 
+    /// <inheritdoc />
+    /// <remarks>Selected blocks: lines A..B selected together (shift-click) in the program's lines; one line selected
+    /// (or none) runs to the end. A virtual list gives its selected indices in ascending order.</remarks>
+    public int? ToBlock => listBox2.SelectedIndices.Count > 1 ? listBox2.SelectedIndices[listBox2.SelectedIndices.Count - 1] + 1 : null;
+
     CommandStates IMainView.Commands
     {
         set

@@ -80,7 +80,8 @@ internal sealed partial class MainForm : Form, IMainView
     private readonly Label lblChunkLines = new();
     private readonly ListView lvChunkLines = NewVirtualList();
     private readonly Label lblProgramLines = new();
-    private readonly ListView listBox2 = NewVirtualList();
+    // Several lines may be selected: from the first to the last is a selected-block run (Start from line).
+    private readonly ListView listBox2 = NewVirtualList(multiSelect: true);
 
     // Shown only at a program stop: an operator must see at once that the machine waits for Resume.
     private readonly Label lblProgramStop = new() { BackColor = Color.Orange, ForeColor = Color.Black, Font = new Font(SystemFonts.DefaultFont, FontStyle.Bold), AutoEllipsis = true, Visible = false };
@@ -563,7 +564,7 @@ internal sealed partial class MainForm : Form, IMainView
     private void ApplyTitle() =>
         Text = _programFile.Length == 0 ? _texts[TextId.Title] : $"{_texts[TextId.Title]} – {_programFile}";
 
-    private static ListView NewVirtualList()
+    private static ListView NewVirtualList(bool multiSelect = false)
     {
         // ListBox has no virtual mode; a one-line-per-row ListView in VirtualMode asks only for the rows on screen.
         var list = new ListView
@@ -572,7 +573,7 @@ internal sealed partial class MainForm : Form, IMainView
             VirtualMode = true,
             VirtualListSize = 0,
             FullRowSelect = true,
-            MultiSelect = false,
+            MultiSelect = multiSelect,
             HideSelection = false,
             HeaderStyle = ColumnHeaderStyle.Nonclickable,
             Font = MonospaceFont(9f),
