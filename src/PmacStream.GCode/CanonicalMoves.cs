@@ -209,7 +209,8 @@ public readonly record struct CanonAxes(double? X, double? Y, double? Z, double?
 /// <param name="Position">Where the machine is, machine coordinates.</param>
 /// <param name="Offset">The offset from program to machine coordinates in force (work offset, G52, G92, tool length).</param>
 /// <param name="Tool">The tool T selected last.</param>
-public readonly record struct CanonStart(Point3 Position, Point3 Offset, int Tool);
+/// <param name="Tables">The work offset and tool tables and the G52/G92 shifts before the line (live: read them at once).</param>
+public readonly record struct CanonStart(Point3 Position, Point3 Offset, int Tool, WorkCoordinates Tables);
 
 /// <summary>A block's motion (<see cref="ICanonicalMoves.Motion"/>): a traverse, a feed, an arc, a dwell, a cycle's holes.</summary>
 /// <param name="Line">The block's source line.</param>

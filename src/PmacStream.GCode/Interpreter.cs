@@ -201,7 +201,7 @@ public sealed partial class Interpreter
         // Before anything here changes the mode or the work offset the lane's values were written under.
         Resolve();
         _blockKind = MotionKind.None;
-        Canon?.StartBlock(new CanonStart(_pos, _coords.Active, _tool));
+        Canon?.StartBlock(new CanonStart(_pos, _coords.Active, _tool, _coords));
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
         {

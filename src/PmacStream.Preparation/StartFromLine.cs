@@ -92,7 +92,8 @@ public static class StartFromLine
     {
         ArgumentNullException.ThrowIfNull(options);
         var profile = options.Profile ?? MachineProfile.Default;
-        var interp = new Interpreter(profile);
+        var decided = new PlannedBlock(profile);
+        var interp = new Interpreter(profile) { Canon = decided };
         var highest = double.NegativeInfinity;
         // An expanded program's lines (subprograms, macros, loops) are its expanded lines, as M0== counts them.
         using var reader = GCode.Expansion.ProgramExpansion.OpenReader(sourcePath, profile);
@@ -105,35 +106,32 @@ public static class StartFromLine
             }
 
             var block = reader.Current;
-            var before = interp.State;
-            var start = interp.Position;
-            var activeOffset = interp.ActiveOffset;
-            // What the controller must hold (tables, shifts) as the blocks before this one left it: taken before the
-            // block changes it, for the blocks from the requested line on only (the start is the first that moves).
-            var controller = block.LineNumber >= line ? ControllerState.Of(interp) : default;
-            var decoded = interp.Step(block);
-            var moved = decoded is not null && decoded.Motion != MotionKind.None;
+            var before = interp.State; // the modal snapshot the block starts from
+            // What the controller must hold (tables, shifts) as the blocks before this one left it: taken at the line's
+            // start, for the blocks from the requested line on only (the start is the first that moves).
+            decided.Watch = block.LineNumber >= line;
+            var moved = interp.Execute(block) && decided.Moved;
             if (block.LineNumber >= line && moved)
             {
                 // Work coordinates of the offset in force (work offset, shifts, tool length: what the controller's
                 // displacement holds): the preamble's G90 moves run under it. Millimetres, as positions are.
-                var offset = activeOffset;
-                var startWork = start - offset;
+                var offset = decided.Start.Offset;
+                var startWork = decided.Start.Position - offset;
                 var safeZ = options.SafeZMode == SafeZMode.HighestSoFar && double.IsFinite(highest)
                     ? highest - offset.Z + options.Clearance
                     : options.SafeZ;
 
                 // The block's own F travels on a feed-variable line before its marker line, which a start at the
                 // block skips: the preamble's feed is the one the block runs with.
-                var feedState = decoded!.Modal.Feed is { } blockFeed && blockFeed != before.Feed ? before with { Feed = blockFeed } : before;
-                return BuildCore(block.LineNumber, before, feedState, startWork, safeZ, options.FeedMode, options.FeedVariable, controller);
+                var feedState = decided.Feed is { } blockFeed && blockFeed != before.Feed ? before with { Feed = blockFeed } : before;
+                return BuildCore(block.LineNumber, before, feedState, startWork, safeZ, options.FeedMode, options.FeedVariable, decided.Controller);
             }
 
             if (moved)
             {
                 // Ends only: each move starts where the previous ended, and the first starts at the interpreter's
                 // initial position, which is not a place the program took the tool to.
-                highest = Math.Max(highest, decoded!.End.Z);
+                highest = Math.Max(highest, decided.End.Z);
             }
         }
 
@@ -183,6 +181,40 @@ public static class StartFromLine
     /// </summary>
     public static StartPlan Build(int line, ModalState state, Point3 start, double safeZ, FeedMode feedMode = FeedMode.Paper, string feedVariable = "P500") =>
         BuildCore(line, state, state, start, safeZ, feedMode, feedVariable, default);
+
+    /// <summary>
+    /// The planner's canonical sink: where the line starts (position, offset, and the controller's tables when the
+    /// planner watches it), whether it moved and where it ended, and the feed it leaves.
+    /// </summary>
+    private sealed class PlannedBlock(MachineProfile profile) : ICanonicalMoves
+    {
+        /// <summary>Set before a line from the requested one on: its start reads the tables the controller must hold.</summary>
+        public bool Watch { get; set; }
+
+        public CanonStart Start { get; private set; }
+
+        public (IReadOnlyList<string>? Before, string? Selection) Controller { get; private set; }
+
+        public bool Moved { get; private set; }
+
+        public Point3 End { get; private set; }
+
+        public double? Feed { get; private set; }
+
+        public void StartBlock(in CanonStart start)
+        {
+            (Start, Moved) = (start, false);
+            Controller = Watch ? ControllerState.Of(start.Tables, profile) : default;
+        }
+
+        public void Step(in HostMove step)
+        {
+        }
+
+        public void Motion(in CanonMotion motion) => (Moved, End) = (true, motion.End);
+
+        public void EndBlock(in CanonBlock block) => Feed = block.Feed;
+    }
 
     private static StartPlan BuildCore(int line, ModalState state, ModalState preambleState, Point3 start, double safeZ, FeedMode feedMode, string feedVariable,
         (IReadOnlyList<string>? Before, string? Selection) controller)
