@@ -77,6 +77,7 @@ internal sealed partial class MainForm
             ChunkTopLine = chunkTop + 1,
             ChunkVisibleLines = chunkRowHeight > 0 ? (lvChunkLines.ClientSize.Height / chunkRowHeight) - 1 : 0,
             SelectedLine = SelectedLine,
+            ToBlock = ToBlock,
             TopLine = top + 1,
             VisibleLines = rowHeight > 0 ? (listBox2.ClientSize.Height / rowHeight) - 1 : 0,
             Status = lblStatusValues.Select(l => l.Text).ToList(),

@@ -70,6 +70,9 @@ internal sealed record UiSnapshot
     /// <summary>The selected program line, 0 for none.</summary>
     public int SelectedLine { get; init; }
 
+    /// <summary>The last program line of a selection of several (selected blocks' "to"), null for one line or none.</summary>
+    public int? ToBlock { get; init; }
+
     /// <summary>First program line in view (1-based), 0 when the list is empty.</summary>
     public int TopLine { get; init; }
 

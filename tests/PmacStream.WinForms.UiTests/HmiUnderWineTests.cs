@@ -297,6 +297,22 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s.Errors.Should().BeEmpty();
         screen.Screenshot("16-completed");
 
+        Step("selected blocks: line 2500, then Shift+Down 20 times (real keys) select 2500..2520; the confirmation names the range's end; the job runs them and ends at 2520");
+        screen.Script("select-line 2500");
+        screen.WaitFor("line 2500 selected", v => v.SelectedLine == 2500 && v.ToBlock is null);
+        screen.Key("--repeat", "20", "shift+Down");
+        s = screen.WaitFor("lines 2500..2520 selected", v => v.SelectedLine == 2500 && v.ToBlock == 2520);
+        screen.Click(HmiLayout.StartFromLineButton);
+        s = screen.WaitFor("the confirmation with the range's end", v => v.DialogTitle == Zh[TextId.ConfirmStartTitle]);
+        s.DialogText.Should().Contain("2500").And.Contain(string.Format(System.Globalization.CultureInfo.InvariantCulture, Zh[TextId.ConfirmRangeEnd], 2520));
+        screen.Screenshot("17-selected-blocks-confirmation");
+        Confirm(screen, Zh[TextId.ConfirmStartTitle]);
+        s = screen.WaitFor("the selected blocks ran and the job completed at their last line", v => v.DialogTitle is null
+            && v.Status[StateRow] == Zh[TextId.StateCompleted] && v.ExecutingLine == 2520, TimeSpan.FromSeconds(120));
+        s.Errors.Should().BeEmpty();
+        s.LogTail.Should().Contain(l => l.Contains("from line 2500", StringComparison.Ordinal), "the job started at the range's first line");
+        screen.Screenshot("18-selected-blocks-completed");
+
         Step("another profile (real click on the profile selector, Down, Return): the split is dropped, the toolpath drawn anew");
         var stops = Path.Combine(work, "stops.nc");
         File.WriteAllLines(stops, StopsProgram());
@@ -311,7 +327,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("linuxcnc-mill chosen, the split dropped", v => v.Controls["cboProfile"].Text == "linuxcnc-mill" && v.ChunkFiles.Count == 0 && !v.Controls["btnExecute"].Enabled);
         s.LogTail.Should().Contain(l => l.Contains("Machine profile fanuc-mill -> linuxcnc-mill", StringComparison.Ordinal));
         screen.WaitFor("the toolpath drawn under it", v => v.Controls["lblToolpath"].Text.Contains("stops.nc", StringComparison.Ordinal) && v.Controls["lblToolpath"].Text.Contains("12", StringComparison.Ordinal));
-        screen.Screenshot("17-profile-changed");
+        screen.Screenshot("19-profile-changed");
 
         Step("a program stop: split under the new profile, execute; at M0 the banner shows and Resume (real click) continues");
         s.Controls["chkOptionalStop"].Text.Should().Be("checked", "M01 stops unless the operator says otherwise");
@@ -324,7 +340,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s.ExecutingLine.Should().Be(9, "the stop block is the executing line");
         (s.Controls["btnResume"].Enabled, s.Controls["btnHold"].Enabled).Should().Be((true, false), "Resume continues; nothing moves to hold");
         screen.WaitTicks(20).ExecutingLine.Should().Be(9, "the machine waits at the stop (20 more ticks)");
-        shot = screen.Screenshot("18-program-stop");
+        shot = screen.Screenshot("20-program-stop");
         HmiScreen.CountColour(shot, HmiLayout.ProgramStopBanner, "#FFA500").Should().BeGreaterThan(500, "the banner is on the screen, in orange");
         screen.Click(HmiLayout.ResumeButton);
         s = screen.WaitFor("stopped at the M1 on line 15", v => v.Controls["lblProgramStop"].Text == StopText(Zh[TextId.ProgramStopBanner], "M1", 15), TimeSpan.FromSeconds(60));
@@ -332,7 +348,7 @@ public sealed class HmiUnderWineTests(ITestOutputHelper output)
         s = screen.WaitFor("completed after the stops", v => v.Status[StateRow] == Zh[TextId.StateCompleted] && v.Controls["lblProgramStop"].Text.Length == 0, TimeSpan.FromSeconds(60));
         s.LogTail.Should().Contain(l => l.Contains("Program stop (M0) at line 9", StringComparison.Ordinal));
         s.Errors.Should().BeEmpty();
-        screen.Screenshot("19-stops-completed");
+        screen.Screenshot("21-stops-completed");
 
         Step("close");
         screen.Send("close");
