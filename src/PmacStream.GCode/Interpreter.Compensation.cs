@@ -20,7 +20,7 @@ public sealed partial class Interpreter
     public const int MaxHeldCompensationBlocks = CutterCompensation.MaxHeldBlocks;
 
     /// <summary>The last block's inside corner under compensation: where the compensated move before it ends instead of its reported end; null for other blocks.</summary>
-    public Point3? AmendedEnd => _amended;
+    internal Point3? AmendedEnd => _amended; // consumers read CanonBlock.AmendedEnd; the compensation tests read it here
 
     /// <summary>The last block's move was compensated: the host sends the interpreter's positions, not the block's words.</summary>
     internal bool CompensatedMove => _compensated;

@@ -111,12 +111,6 @@ public sealed partial class Interpreter
     /// <summary>The last interpreted block, without allocating (the checker's hot path when nothing is stored).</summary>
     public ref readonly LastBlock Last => ref _last;
 
-    /// <summary>
-    /// The holes of the line taken last when it was a cycle block (how many, and the R level and bottom they used), else
-    /// null: what <see cref="CanonBlock.Holes"/> says, for the store, which draws and runs its cycles from it.
-    /// </summary>
-    public CycleHoles? LastHoles => _blockKind == MotionKind.Cycle ? _cycle.LastHoles : null;
-
     /// <summary>The last interpreted block as a record.</summary>
     internal DecodedBlock Materialize() => new()
     {

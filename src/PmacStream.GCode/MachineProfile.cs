@@ -327,22 +327,6 @@ public sealed class MachineProfile
         return false;
     }
 
-    /// <summary>True when the profile knows some G (or M) code with this integer part and a decimal (G64.1).</summary>
-    public bool HasDecimalVariant(char letter, double number)
-    {
-        var whole = (int)Math.Floor(number) * 10;
-        var table = letter == 'M' ? _m : _g;
-        foreach (var k in table.Keys)
-        {
-            if (k / 10 * 10 == whole && k % 10 != 0)
-            {
-                return true;
-            }
-        }
-
-        return false;
-    }
-
     /// <summary>True when the address letter is accepted by this machine.</summary>
     public bool AcceptsLetter(char letter) => letter is >= 'A' and <= 'Z' && _letters[letter - 'A'];
 

@@ -64,10 +64,6 @@ public readonly record struct Point3(double X, double Y, double Z)
     /// <summary>Component-wise sum.</summary>
     public static Point3 operator +(Point3 a, Point3 b) => new(a.X + b.X, a.Y + b.Y, a.Z + b.Z);
 
-    /// <summary>Linear interpolation between two points.</summary>
-    public static Point3 Lerp(Point3 a, Point3 b, double t) =>
-        new(a.X + ((b.X - a.X) * t), a.Y + ((b.Y - a.Y) * t), a.Z + ((b.Z - a.Z) * t));
-
     /// <summary>This point, in program <paramref name="units"/>, in millimetres (an inch program's times 25.4).</summary>
     public Point3 InMillimetres(LengthUnits units) => units == LengthUnits.Inches ? new(X * 25.4, Y * 25.4, Z * 25.4) : this;
 }

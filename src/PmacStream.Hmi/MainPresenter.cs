@@ -247,9 +247,6 @@ public sealed class MainPresenter : IAsyncDisposable
     public string ProgramLine(int line) =>
         _program is { } p && line >= 1 && line <= p.IndexedLines ? p.GetLine(line) : string.Empty;
 
-    /// <summary>The text of line <paramref name="line"/> of the chunk file shown.</summary>
-    public string ChunkLine(int line) => _chunkLines.Line(line);
-
     /// <inheritdoc />
     public async ValueTask DisposeAsync()
     {

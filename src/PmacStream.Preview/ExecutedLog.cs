@@ -193,18 +193,6 @@ public sealed class ExecutionCounts(IReadOnlyDictionary<int, int>? expandedBlock
 
     /// <summary>Times <paramref name="line"/> was executed (255 means 255 or more).</summary>
     public int this[long line] => line >= 0 && line < _counts.Length ? _counts[line] : 0;
-
-    /// <summary>The counts of a whole log.</summary>
-    public static ExecutionCounts FromLog(string path, IReadOnlyDictionary<int, int>? expandedBlocks = null, CancellationToken cancellationToken = default)
-    {
-        var counts = new ExecutionCounts(expandedBlocks);
-        foreach (var row in ExecutedLogReader.Read(path, cancellationToken))
-        {
-            counts.Add(row.Line, row.BlockStart);
-        }
-
-        return counts;
-    }
 }
 
 /// <summary>A run of consecutive source lines (as listed in the report), with how often they ran.</summary>

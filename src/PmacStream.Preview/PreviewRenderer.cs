@@ -54,10 +54,6 @@ public static class PreviewRenderer
     public static PreviewPicture RenderFile(string path, PreviewOptions? options = null, string? executedLogPath = null, CancellationToken cancellationToken = default) =>
         Render(new GCodeToolpathSource(path), options, executedLogPath, cancellationToken);
 
-    /// <summary>Pass 1 alone: the toolpath's extents and move counts.</summary>
-    public static PreviewExtents MeasureExtents(IToolpathSource source, CancellationToken cancellationToken = default) =>
-        Measure(source, null, null, null, cancellationToken);
-
     /// <summary>Renders <paramref name="source"/>; with <paramref name="executedLogPath"/>, overlays that log.</summary>
     public static PreviewPicture Render(IToolpathSource source, PreviewOptions? options = null, string? executedLogPath = null, CancellationToken cancellationToken = default)
     {

@@ -235,9 +235,6 @@ public sealed class PmacSimulator : IDisposable
         }
     }
 
-    /// <summary>Sets the Y: word at <paramref name="address"/> (where Turbo PMAC I/O cards live, e.g. $078800).</summary>
-    public void SetInputWord(int address, int value) => SetWord('Y', address, value);
-
     /// <summary>Sets or clears one bit of a simulated memory word.</summary>
     public void SetBit(char space, int address, int bit, bool value)
     {
@@ -248,9 +245,6 @@ public sealed class PmacSimulator : IDisposable
             Memory.SetWord(s, address, value ? word | (1L << bit) : word & ~(1L << bit));
         }
     }
-
-    /// <summary>Reads one bit of a simulated memory word.</summary>
-    public bool GetBit(char space, int address, int bit) => ((GetWord(space, address) >> bit) & 1) != 0;
 
     /// <summary>Reads a variable: <paramref name="kind"/> I, P, Q (of <paramref name="coordinateSystem"/>) or M.</summary>
     public double ReadVariable(char kind, int index, int coordinateSystem = 1)

@@ -22,10 +22,10 @@ public sealed class SimRig : IDisposable
     /// <summary>The generated PROG 1000/1001 G and M code library for the default machine profile, one line each.</summary>
     public static IReadOnlyList<string> Library { get; } = ControllerLibrary.Lines();
 
-    public SimRig(string source, int linesPerChunk, StreamingOptions options, TrackingPlacement placement = TrackingPlacement.Exact, SimOptions? simOptions = null)
+    public SimRig(string source, int blocksPerChunk, StreamingOptions options, TrackingPlacement placement = TrackingPlacement.Exact, SimOptions? simOptions = null)
     {
         _folder = new TestFolder("rig");
-        var split = Splitter.Split(source, new SplitOptions { BlocksPerChunk = linesPerChunk, OutDir = Path.Combine(Folder, "chunks"), Tracking = placement });
+        var split = Splitter.Split(source, new SplitOptions { BlocksPerChunk = blocksPerChunk, OutDir = Path.Combine(Folder, "chunks"), Tracking = placement });
         Program = ChunkedProgram.Open(split.ManifestPath);
         _expanded = Program.ExpandedBlocks(); // read now: a test may change a chunk later
         Harness = new SimHarness(simOptions, "stream");

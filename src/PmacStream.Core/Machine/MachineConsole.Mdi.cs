@@ -193,7 +193,7 @@ public sealed partial class MachineConsole
         (int Line, string Code)? compensation = null;
         foreach (var block in GCodeReader.ReadAll(file))
         {
-            interpreter.Step(block);
+            interpreter.Execute(block); // the modal state is all it reads: no record of the block
             cycle.After(block, interpreter.State);
             if (compensation is null && interpreter.State.RadiusCompensation is { } rc && Math.Floor(rc) is 41 or 42)
             {
@@ -230,7 +230,7 @@ public sealed partial class MachineConsole
                 break;
             }
 
-            interpreter.Step(block);
+            interpreter.Execute(block); // the modal state is all it reads: no record of the block
             cycle.After(block, interpreter.State);
             ended |= block.WordList.Exists(static w => w.Letter == 'M' && CodeRoles.EndsProgram(w.CodeTimesTen));
         }

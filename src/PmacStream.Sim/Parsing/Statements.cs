@@ -179,8 +179,6 @@ internal sealed class NoOpStmt : Stmt;
 /// <summary>Parses program statements (what may be stored in a buffer) from a token stream.</summary>
 internal static class ProgramParser
 {
-    private const string AxisLetters = "XYZABCUVW";
-
     /// <summary>
     /// Parses the statement at the cursor, or returns null (cursor unchanged) when the next tokens are not a program
     /// statement (an online-only command, or the end of the line).
@@ -435,8 +433,6 @@ internal static class ProgramParser
             }
         }
     }
-
-    public static bool IsAxis(char letter) => AxisLetters.Contains(letter);
 
     private static int LabelNumber(ExprParser p)
     {

@@ -77,7 +77,7 @@ public class ArcToleranceTests
         using var reader = new GCodeReader(new MemoryStream(System.Text.Encoding.ASCII.GetBytes("G21 G90 G17\nG00 X0 Y0\nG02 X20. Y0 R9.999 F100.")));
         while (reader.Read())
         {
-            interp.Step(reader.Current);
+            interp.Execute(reader.Current);
         }
 
         interp.LastArc.Centre.Should().Be(new Point3(10, 0, 0));

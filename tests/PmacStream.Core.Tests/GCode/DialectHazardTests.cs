@@ -13,18 +13,15 @@ public class DialectHazardTests
 
     private static Point3 LastEnd(string text, string profile)
     {
+        // Where the last block left the machine: the interpreter's position after the program.
         var interp = new Interpreter(MachineProfile.Named(profile)!);
-        var end = default(Point3);
         using var reader = new GCodeReader(new MemoryStream(System.Text.Encoding.ASCII.GetBytes(text)));
         while (reader.Read())
         {
-            if (interp.Step(reader.Current) is { } d)
-            {
-                end = d.End;
-            }
+            interp.Execute(reader.Current);
         }
 
-        return end;
+        return interp.Position;
     }
 
     // What gSender writes to zero the work offset at the tool (issue 27), then a move.

@@ -393,19 +393,10 @@ public sealed class ExpansionTests : IDisposable
         refused.Error.Message.Should().Contain("G66").And.Contain(reason);
     }
 
-    /// <summary>The interpreter's block ends over expanded lines.</summary>
+    /// <summary>Where the interpreter's canonical moves end over expanded lines.</summary>
     private static List<Point3> Positions(List<string> lines)
     {
-        var interp = new Interpreter(MachineProfile.Default);
-        var ends = new List<Point3>();
-        foreach (var l in lines)
-        {
-            if (interp.Step(GCodeReader.LexLine(l, ends.Count + 1)) is { Motion: not MotionKind.None } d)
-            {
-                ends.Add(d.End);
-            }
-        }
-
-        return ends;
+        using var reader = new GCodeReader(new MemoryStream(System.Text.Encoding.ASCII.GetBytes(string.Join('\n', lines))));
+        return CanonBlockEnds.Of(reader, MachineProfile.Default, amend: false).Select(m => m.End).ToList();
     }
 }

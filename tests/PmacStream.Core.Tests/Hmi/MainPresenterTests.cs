@@ -37,11 +37,11 @@ public sealed class MainPresenterTests : IAsyncLifetime
         await _p.WhenIdleAsync();
     }
 
-    private async Task ReadyToRun(int lines = 100, int linesPerChunk = 30)
+    private async Task ReadyToRun(int lines = 100, int blocksPerChunk = 30)
     {
         await Do(() => _view.ChooseFile(Program(lines)));
         await Do(_view.ClickConnect);
-        _view.BlocksPerChunk = linesPerChunk;
+        _view.BlocksPerChunk = blocksPerChunk;
         await Do(_view.ClickSplit);
         _view.Errors.Should().BeEmpty();
     }
@@ -232,7 +232,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     [Fact]
     public async Task Split_fills_listbox1_and_selecting_a_chunk_shows_its_lines()
     {
-        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        await ReadyToRun(lines: 100, blocksPerChunk: 30);
 
         _view.ChunkFiles.Should().Equal(
             "part_0001.pmc   lines 1–30   (30 blocks)",
@@ -274,7 +274,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     [Fact]
     public async Task Execute_runs_to_completion_with_the_highlight_following_m0()
     {
-        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        await ReadyToRun(lines: 100, blocksPerChunk: 30);
         _view.Commands.Execute.Should().BeTrue();
 
         await Do(_view.ClickExecute);
@@ -391,7 +391,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     [Fact]
     public async Task Resume_after_interruption_continues_from_the_recorded_line()
     {
-        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        await ReadyToRun(lines: 100, blocksPerChunk: 30);
         await Do(_view.ClickResumeInterrupted);
         _view.Errors.Should().ContainSingle().Which.Should().Be("No interrupted job recorded for this program.");
         _view.Errors.Clear();
@@ -488,7 +488,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     [Fact]
     public async Task The_download_window_is_shown_with_the_lines_of_the_executing_chunk()
     {
-        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        await ReadyToRun(lines: 100, blocksPerChunk: 30);
         _view.Status.DownloadWindow.Should().Be("60–70 % of a file");
         await Do(() => _view.SetWindow(0.5, 0.6));
         _view.Status.DownloadWindow.Should().Be("50–60 % of a file");
@@ -510,7 +510,7 @@ public sealed class MainPresenterTests : IAsyncLifetime
     [Fact]
     public async Task The_chunk_lines_follow_execution_until_the_operator_looks_elsewhere()
     {
-        await ReadyToRun(lines: 100, linesPerChunk: 30);
+        await ReadyToRun(lines: 100, blocksPerChunk: 30);
         await Do(_view.ClickExecute);
         await _p.TickAsync();
         _view.SelectedChunk.Should().Be(0, "the executing chunk is selected in ListBox1");

@@ -162,7 +162,7 @@ public partial class ProgramMeaningTests
             var interp = new Interpreter(p);
             foreach (var (line, i) in program.Split('\n').Select((l, i) => (l, i)))
             {
-                interp.Step(GCodeReader.LexLine(line, i + 1));
+                interp.Execute(GCodeReader.LexLine(line, i + 1));
             }
 
             return interp;

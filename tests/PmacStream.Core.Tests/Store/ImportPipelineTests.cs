@@ -90,24 +90,14 @@ public sealed class ImportPipelineTests : IDisposable
         File.WriteAllText(file, sb.ToString());
 
         // Expected: the interpreter's ends, the move before each inside corner moved back (as the splitter sends it).
-        var interp = new Interpreter(profile);
-        var expected = new List<Point3>();
-        var lastMove = -1;
+        var ends = new BlockEnds();
+        var interp = new Interpreter(profile) { Canon = ends };
         foreach (var block in GCodeReader.ReadAll(file))
         {
-            if (interp.Step(block) is not { } d)
-            {
-                continue;
-            }
-
-            if (interp.AmendedEnd is { } amended && lastMove >= 0)
-            {
-                expected[lastMove] = amended;
-            }
-
-            expected.Add(d.End);
-            lastMove = d.Motion is MotionKind.None or MotionKind.Dwell ? lastMove : expected.Count - 1;
+            interp.Execute(block);
         }
+
+        var expected = ends.Ends;
 
         using var store = ProgramStore.Open(Path.Combine(_temp.Path, "s.db"));
         var (id, _) = store.Import(file, profile);
@@ -194,5 +184,36 @@ public sealed class ImportPipelineTests : IDisposable
         cancelled.Should().Throw<OperationCanceledException>();
         cancelAt.Should().BeInRange(1, 4, "the reader stops at the next line once cancelled (one line may carry several diagnostics)");
         store.ListPrograms().Should().BeEmpty();
+    }
+
+    /// <summary>
+    /// Where every block left the machine, from the canonical calls: a block's position at its end, the move before an
+    /// inside corner moved back to where the offset paths cross (<see cref="CanonBlock.AmendedEnd"/>).
+    /// </summary>
+    private sealed class BlockEnds : ICanonicalMoves
+    {
+        private int _lastMove = -1;
+        private bool _moved;
+
+        public List<Point3> Ends { get; } = [];
+
+        public void StartBlock(in CanonStart start) => _moved = false;
+
+        public void Step(in HostMove step)
+        {
+        }
+
+        public void Motion(in CanonMotion motion) => _moved = motion.Kind is not MotionKind.Dwell;
+
+        public void EndBlock(in CanonBlock block)
+        {
+            if (block.AmendedEnd is { } amended && _lastMove >= 0)
+            {
+                Ends[_lastMove] = amended;
+            }
+
+            Ends.Add(block.Position);
+            _lastMove = _moved ? Ends.Count - 1 : _lastMove;
+        }
     }
 }

@@ -67,7 +67,7 @@ public class EtaTests(ITestOutputHelper output)
             var program = FakeSplit.Write(folder, FakeSplit.Program(20_000, 7), 200);
             var table = new MoveTimeTable(program.TrackedLines().Select(l => (l, programmedSeconds, programmedFeed)));
             var options = new StreamingOptions { BufferWords = 8000, Feed = overrideMode ? FeedMode.Override : FeedMode.Paper };
-            var rig = new Rig(program, options, moveSeconds: realSeconds, capacityWords: 8000);
+            var rig = new FakeRig(program, options, moveSeconds: realSeconds, capacityWords: 8000);
             if (overrideMode)
             {
                 rig.Controller.Override = liveFeed;
@@ -119,7 +119,7 @@ public class EtaTests(ITestOutputHelper output)
             var program = FakeSplit.Write(folder, FakeSplit.Program(800, 3), 200);
             var table = new MoveTimeTable(program.TrackedLines().Select(l => (l, 0.01, 1000.0)));
             var options = new StreamingOptions { BufferWords = 8000, Feed = FeedMode.Override };
-            var rig = new Rig(program, options, moveSeconds: 0.01, capacityWords: 8000);
+            var rig = new FakeRig(program, options, moveSeconds: 0.01, capacityWords: 8000);
             rig.Session = new StreamingSession(rig.Connection, program, options, rig.Sink, moveTimes: table, time: rig.Time);
             await rig.Session.StartAsync();
             var samples = new List<(double Time, double Percent, double Eta)>();

@@ -97,9 +97,9 @@ public class FaultHarnessTests(ITestOutputHelper output)
         var folder = temp.Path;
         var program = FakeSplit.Write(folder, FakeSplit.Program(lines, seed), chunk, placement);
         var options = new StreamingOptions { LineProbeVariable = probe, Strategy = strategy, BufferWords = 6000, PrTargetLines = 20 + r.Next(60), AdaptiveMinLeadSeconds = 0.1 + (r.NextDouble() * 0.4) };
-        Rig? rig = null;
+        FakeRig? rig = null;
         var faulty = new FaultyConnection(new FakeRotaryController(), r, dt => rig!.Advance(dt));
-        rig = new Rig(program, options, connection: null, moveSeconds: 0.002 + (r.NextDouble() * 0.02), capacityWords: 6000);
+        rig = new FakeRig(program, options, connection: null, moveSeconds: 0.002 + (r.NextDouble() * 0.02), capacityWords: 6000);
         faulty = new FaultyConnection(rig.Controller, r, dt => rig.Advance(dt)) { FaultRate = 0.03, KillRate = 0.006 };
         rig.Connection = faulty;
         rig.Session = rig.NewSession();

@@ -65,7 +65,7 @@ public class JobRecordStartTests
     {
         using var temp = new TestFolder("startrec");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(300, 5), 60);
-        var rig = new Rig(program, new StreamingOptions { LineProbeVariable = "P640" });
+        var rig = new FakeRig(program, new StreamingOptions { LineProbeVariable = "P640" });
         await rig.Session.StartAsync();
         rig.Sink.Start!.FromLine.Should().BeNull();
         rig.Sink.Start.LineProbeVariable.Should().Be("P640");

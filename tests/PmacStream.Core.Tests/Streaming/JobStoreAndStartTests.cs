@@ -50,7 +50,7 @@ public class JobStoreTests
     {
         using var temp = new TestFolder("jobsink");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(600, 3), 100);
-        var rig = new Rig(program, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
+        var rig = new FakeRig(program, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
         await rig.Session.StartAsync();
         (await rig.RunAsync()).Should().BeTrue();
         rig.Sink.Writes.Should().BeGreaterThan(50, "one per tick at least");
@@ -77,7 +77,7 @@ public class StartFromLineTests
                 break;
             }
 
-            interp.Step(b);
+            interp.Execute(b);
         }
 
         plan.Line.Should().BeGreaterThanOrEqualTo(500);

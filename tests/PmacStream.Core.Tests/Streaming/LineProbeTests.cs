@@ -47,12 +47,12 @@ public sealed class LineProbeTests : IDisposable
 {
     private readonly TestFolder _folder = new("probe");
 
-    private (Rig Rig, CutOnceConnection Conn, string Folder) Setup(string? probe, Func<ChunkedProgramProbe, int> cutAt)
+    private (FakeRig Rig, CutOnceConnection Conn, string Folder) Setup(string? probe, Func<ChunkedProgramProbe, int> cutAt)
     {
         var folder = _folder.NewFolder("program");
         var program = FakeSplit.Write(folder, FakeSplit.Program(400, 11), 100);
         var options = new StreamingOptions { LineProbeVariable = probe, BufferWords = 8000 };
-        var rig = new Rig(program, options, capacityWords: 8000);
+        var rig = new FakeRig(program, options, capacityWords: 8000);
         program.UseLineProbe(probe);
         var conn = new CutOnceConnection(rig.Controller) { OnCall = 2, Cut = cutAt(new ChunkedProgramProbe(program)) };
         rig.Connection = conn;
@@ -78,7 +78,7 @@ public sealed class LineProbeTests : IDisposable
         }
     }
 
-    private static async Task RunWithRecovery(Rig rig)
+    private static async Task RunWithRecovery(FakeRig rig)
     {
         await rig.Session.StartAsync();
         var ok = await rig.RunAsync(everyTick: async _ =>
@@ -91,7 +91,7 @@ public sealed class LineProbeTests : IDisposable
         ok.Should().BeTrue(rig.Session.Status.Message);
     }
 
-    private static (LineCounts Motion, LineCounts NonMotion) Count(Rig rig)
+    private static (LineCounts Motion, LineCounts NonMotion) Count(FakeRig rig)
     {
         var p = rig.Program;
         var sent = Enumerable.Range(1, p.TotalChunks).SelectMany(c => p.Body(c)).Select(l => l.Text).ToList();

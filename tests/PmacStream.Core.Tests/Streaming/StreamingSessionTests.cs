@@ -5,7 +5,7 @@ namespace PmacStream.Core.Tests.Streaming;
 
 public class StreamingSessionTests
 {
-    private static List<int> Raw(Rig rig) => rig.Controller.Moves.Select(m => m.SourceLine).ToList();
+    private static List<int> Raw(FakeRig rig) => rig.Controller.Moves.Select(m => m.SourceLine).ToList();
 
     [Theory]
     [InlineData(StrategyKind.Chunk, 50, 0.6, 0.7, 0.01)]
@@ -21,7 +21,7 @@ public class StreamingSessionTests
     {
         using var temp = new TestFolder("exact");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(2500, chunkLines), chunkLines);
-        var rig = new Rig(program, new StreamingOptions { Strategy = strategy, WindowStart = w0, WindowEnd = w1, BufferWords = 20_000 }, moveSeconds: moveSeconds, capacityWords: 20_000);
+        var rig = new FakeRig(program, new StreamingOptions { Strategy = strategy, WindowStart = w0, WindowEnd = w1, BufferWords = 20_000 }, moveSeconds: moveSeconds, capacityWords: 20_000);
         await rig.Session.StartAsync();
         (await rig.RunAsync()).Should().BeTrue(rig.Session.Status.Message);
 
@@ -42,7 +42,7 @@ public class StreamingSessionTests
         using var temp = new TestFolder("once");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(5000, 3), chunkLines);
         // Slow moves against a 50 ms tick: M0 passes through every window, so every download must be on time.
-        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, WindowStart = w0, WindowEnd = w1, BufferWords = 30_000 }, moveSeconds: 0.02, capacityWords: 30_000);
+        var rig = new FakeRig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, WindowStart = w0, WindowEnd = w1, BufferWords = 30_000 }, moveSeconds: 0.02, capacityWords: 30_000);
         var downloads = new List<StreamingEvent>();
         rig.Session.EventRaised += (_, e) =>
         {
@@ -81,7 +81,7 @@ public class StreamingSessionTests
         using var temp = new TestFolder("late");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(3000, 5), 100);
         // Very fast moves: a 50 ms tick jumps over whole windows.
-        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 30_000 }, moveSeconds: 0.004, capacityWords: 30_000);
+        var rig = new FakeRig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 30_000 }, moveSeconds: 0.004, capacityWords: 30_000);
         var events = new List<StreamingEvent>();
         rig.Session.EventRaised += (_, e) => events.Add(e);
         await rig.Session.StartAsync();
@@ -101,7 +101,7 @@ public class StreamingSessionTests
         var biggest = program.Manifest.Chunks.Max(c => c.EstimatedWords);
         // Room for about 1.3 chunks: in the window the next chunk does not fit yet, so it must wait.
         var words = (int)(biggest * 1.3) + 64;
-        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = words }, moveSeconds: 0.01, capacityWords: words);
+        var rig = new FakeRig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = words }, moveSeconds: 0.01, capacityWords: words);
         await rig.Session.StartAsync();
         (await rig.RunAsync()).Should().BeTrue(rig.Session.Status.Message);
 
@@ -117,8 +117,8 @@ public class StreamingSessionTests
         var exact = FakeSplit.Write(temp.Path, source, 100, TrackingPlacement.Exact);
         using var temp2 = new TestFolder("paperp");
         var paper = FakeSplit.Write(temp2.Path, source, 100, TrackingPlacement.Paper);
-        var r1 = new Rig(exact, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
-        var r2 = new Rig(paper, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
+        var r1 = new FakeRig(exact, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
+        var r2 = new FakeRig(paper, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
         await r1.Session.StartAsync();
         await r2.Session.StartAsync();
         (await r1.RunAsync()).Should().BeTrue();
@@ -135,7 +135,7 @@ public class StreamingSessionTests
     {
         using var temp = new TestFolder("setup");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(300, 1), 100);
-        var rig = new Rig(program, new StreamingOptions());
+        var rig = new FakeRig(program, new StreamingOptions());
         await rig.Session.StartAsync();
         var log = rig.Controller.Log;
         var b0 = log.FindIndex(l => l.Replace(" ", string.Empty) == "&1B0");
@@ -152,7 +152,7 @@ public class StreamingSessionTests
     {
         using var temp = new TestFolder("ops");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1500, 2), 100);
-        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Pr }, moveSeconds: 0.01);
+        var rig = new FakeRig(program, new StreamingOptions { Strategy = StrategyKind.Pr }, moveSeconds: 0.01);
         await rig.Session.StartAsync();
         for (var i = 0; i < 10; i++)
         {
@@ -195,7 +195,7 @@ public class StreamingSessionTests
     {
         using var temp = new TestFolder("ovr");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(300, 2), 100);
-        var rig = new Rig(program, new StreamingOptions { Feed = FeedMode.Override, Strategy = StrategyKind.Adaptive });
+        var rig = new FakeRig(program, new StreamingOptions { Feed = FeedMode.Override, Strategy = StrategyKind.Adaptive });
         await rig.Session.StartAsync();
         await rig.Session.SetFeedAsync(50);
         rig.Controller.Override.Should().Be(50);
@@ -208,7 +208,7 @@ public class StreamingSessionTests
     {
         using var temp = new TestFolder("sb");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(200, 4), 100);
-        var rig = new Rig(program, new StreamingOptions { SingleBlock = true }, moveSeconds: 0.01);
+        var rig = new FakeRig(program, new StreamingOptions { SingleBlock = true }, moveSeconds: 0.01);
         await rig.Session.StartAsync();
         for (var i = 0; i < 20; i++)
         {
@@ -235,7 +235,7 @@ public class StreamingSessionTests
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1200, 6), 100);
         var all = program.TrackedLines().ToList();
         var from = all[500];
-        var rig = new Rig(program, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
+        var rig = new FakeRig(program, new StreamingOptions { BufferWords = 20_000 }, capacityWords: 20_000);
         await rig.Session.StartAsync(from, ["G90", "G00 Z10", "G00 X1 Y1", "G01 Z0 F(P500)"]);
         (await rig.RunAsync()).Should().BeTrue();
         var raw = Raw(rig);
@@ -257,7 +257,7 @@ public class StreamingSessionTests
         var size = chunk.LastSourceLine - chunk.FirstSourceLine + 1;
         var all = program.TrackedLines().ToList();
         var from = all.First(l => l >= chunk.FirstSourceLine + (int)(into * size));
-        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 30_000 }, moveSeconds: 0.02, capacityWords: 30_000);
+        var rig = new FakeRig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 30_000 }, moveSeconds: 0.02, capacityWords: 30_000);
         var downloads = new List<StreamingEvent>();
         rig.Session.EventRaised += (_, e) =>
         {
@@ -291,7 +291,7 @@ public class StreamingSessionTests
         using var temp = new TestFolder("status");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1000, 8), 250);
         var times = new MoveTimeTable(program.TrackedLines().Select(l => (l, 0.01)));
-        var rig = new Rig(program, new StreamingOptions());
+        var rig = new FakeRig(program, new StreamingOptions());
         rig.Session = new StreamingSession(rig.Connection, program, rig.Options, rig.Sink, times, rig.Time);
         await rig.Session.StartAsync();
         for (var i = 0; i < 30; i++)
@@ -316,7 +316,7 @@ public class StreamingSessionTests
     {
         using var temp = new TestFolder("big");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1000, 8), 1000);
-        var rig = new Rig(program, new StreamingOptions { BufferWords = 500 });
+        var rig = new FakeRig(program, new StreamingOptions { BufferWords = 500 });
         var act = () => rig.Session.StartAsync();
         (await act.Should().ThrowAsync<InvalidOperationException>()).WithMessage("*needs about*words*");
         rig.Controller.Log.Should().BeEmpty();
@@ -330,7 +330,7 @@ public class ResumeTests
     {
         using var temp = new TestFolder("resume");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(1500, 12), 150);
-        var rig = new Rig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 20_000 }, capacityWords: 20_000);
+        var rig = new FakeRig(program, new StreamingOptions { Strategy = StrategyKind.Chunk, BufferWords = 20_000 }, capacityWords: 20_000);
         await rig.Session.StartAsync();
         for (var i = 0; i < 40; i++)
         {
@@ -351,7 +351,7 @@ public class ResumeTests
     {
         using var temp = new TestFolder("aborted");
         var program = FakeSplit.Write(temp.Path, FakeSplit.Program(800, 13), 100);
-        var rig = new Rig(program, new StreamingOptions());
+        var rig = new FakeRig(program, new StreamingOptions());
         await rig.Session.StartAsync();
         for (var i = 0; i < 10; i++)
         {

@@ -80,7 +80,7 @@ public class TickCostTests
         using var temp = new TestFolder("tick-cost");
         var program = FakeSplit.Write(temp.Path, Source, 100);
         var options = new StreamingOptions { BufferWords = 8000 };
-        var rig = new Rig(program, options, moveSeconds: 0.4, capacityWords: 8000);
+        var rig = new FakeRig(program, options, moveSeconds: 0.4, capacityWords: 8000);
         await rig.Session.StartAsync();
         var ticks = 0;
         (await rig.RunAsync(everyTick: _ =>

@@ -4,8 +4,11 @@ using PmacStream.IntegrationTests.Streaming;
 namespace PmacStream.IntegrationTests.Hostile;
 
 /// <summary>
-/// Runs docs/hostile-inputs.md: every row's input is made by the generator its name picks, the command runs as a
-/// real process, and the exit code, the message and the absence of a stack trace are checked.
+/// Runs docs/hostile-inputs.md: every row's input is made by the generator its name picks, the command runs in the
+/// test's process through the CLI's own entry (<see cref="CliRun"/>: the same parser, handlers and exit-code
+/// convention, its log captured as the process's console shows it), and the exit code, the message and the absence of
+/// a stack trace are checked. A few rows also run as the real process (<see cref="ProcessSample"/>), to prove the
+/// binary says and exits the same.
 /// </summary>
 public sealed class HostileInputTests
 {
@@ -60,35 +63,142 @@ public sealed class HostileInputTests
         rows.Select(r => (string)r[0]).Should().OnlyContain(n => Generators.ContainsKey(n), "every named input is made by the test");
     }
 
+    /// <summary>
+    /// The rows that also run as a process: a usage-or-I/O error (a folder given as a program, exit 2), a bad file
+    /// (UTF-16: <c>FILE:LINE:COL: error CODE:</c>, exit 1) and a damaged job database (an SQLite error that would leave
+    /// the process as a stack trace if the CLI did not catch it; moved aside, exit 2).
+    /// </summary>
+    private static readonly (string Name, string Command)[] ProcessSample =
+    [
+        ("program-folder", "split {file}"),
+        ("program-utf16", "check {file}"),
+        ("jobdb-page-damaged", "resume --job-db {db} --yes"),
+    ];
+
+    public static IEnumerable<object[]> ProcessRows() =>
+        Rows().Where(r => ProcessSample.Contains(((string)r[0], (string)r[1])));
+
     [Theory]
     [MemberData(nameof(Rows))]
-    public void Each_hostile_input_gets_its_message_its_exit_code_and_no_stack_trace(string name, string command, int exit, string says)
+    public async Task Each_hostile_input_gets_its_message_its_exit_code_and_no_stack_trace(string name, string command, int exit, string says)
     {
-        var folder = HostileJobDatabases.Folder(name);
-        var made = Generators[name](folder);
-        var png = Path.Combine(folder, "out.png");
-        string Fill(string text) => text.Replace("{db}", made).Replace("{file}", made).Replace("{png}", png);
-        var args = command.Split(' ').Select(Fill).ToArray();
-
-        var (code, stdout, stderr) = CliProcess.Run(args);
-
-        var output = stdout + stderr;
-        code.Should().Be(exit, output);
-        output.Should().Contain(Fill(says));
-        output.Should().NotContain("   at ").And.NotContain("Exception").And.NotContain("unexpected error");
-        if (name.StartsWith("jobdb-", StringComparison.Ordinal) && says.Contains("moved aside", StringComparison.Ordinal))
+        var row = Row.Make(name, command);
+        using var log = new StringWriter();
+        (int Code, string Out, string Err) run;
+        using (LogCapture.Begin(log))
         {
-            Directory.EnumerateFiles(folder, "jobs.db.damaged-*").Should().NotBeEmpty("the damaged file is kept");
+            run = await CliRun.InProcessAsync(row.Args);
         }
 
-        if (command.Contains("{png}", StringComparison.Ordinal) && exit != 0)
+        row.Check(exit, says, run.Code, run.Out + run.Err + log);
+    }
+
+    [Theory]
+    [MemberData(nameof(ProcessRows))]
+    public async Task The_binary_gives_a_sampled_row_the_same_exit_code_and_output_as_the_run_in_process(string name, string command, int exit, string says)
+    {
+        var process = Row.Make(name, command);
+        var (code, stdout, stderr) = CliProcess.Run(process.Args);
+        process.Check(exit, says, code, stdout + stderr);
+
+        var inProcess = Row.Make(name, command);
+        using var log = new StringWriter();
+        (int Code, string Out, string Err) run;
+        using (LogCapture.Begin(log))
         {
-            File.Exists(png).Should().BeFalse("a failed preview writes no picture");
+            run = await CliRun.InProcessAsync(inProcess.Args);
+        }
+
+        run.Code.Should().Be(code);
+        process.Normalize(stdout).Should().Equal(inProcess.Normalize(run.Out), "the same standard output");
+        // Two writers share standard error (the command's messages, the log's console sink): their lines may interleave
+        // either way, so the lines are compared, not their order.
+        process.Normalize(stderr).Order().Should().Equal(inProcess.Normalize(run.Err + log).Order(), "the same standard error, the log included");
+    }
+
+    [Fact]
+    public void ProcessSample_names_rows_of_the_table()
+    {
+        ProcessRows().Should().HaveCount(ProcessSample.Length, "every sampled row is in docs/hostile-inputs.md");
+    }
+
+    [Fact]
+    public async Task A_usage_error_is_the_same_one_line_and_exit_code_as_a_process_and_in_process()
+    {
+        string[] args = ["split"]; // no file: a required argument missing
+        var (code, stdout, stderr) = CliProcess.Run(args);
+        var run = await CliRun.InProcessAsync(args);
+
+        code.Should().Be(2, stderr);
+        stderr.Should().Contain("Required argument missing").And.Contain("Try 'pmacstream --help'.").And.NotContain("   at ");
+        (run.Code, run.Out, run.Err).Should().Be((code, stdout, stderr));
+    }
+
+    [Fact]
+    public void A_logged_exception_in_a_run_in_process_shows_its_stack_trace_as_the_process_would()
+    {
+        // What the rows' "no stack trace" rests on in process: the log of the run is in its output.
+        using var log = new StringWriter();
+        using (LogCapture.Begin(log))
+        {
+            Serilog.Log.ForContext<HostileInputTests>().Error(Thrown(), "a fault");
+        }
+
+        log.ToString().Should().Contain("ERR] a fault").And.Contain("InvalidOperationException").And.Contain("   at ");
+    }
+
+    private static InvalidOperationException Thrown()
+    {
+        try
+        {
+            throw new InvalidOperationException("thrown");
+        }
+        catch (InvalidOperationException e)
+        {
+            return e;
+        }
+    }
+
+    /// <summary>One row's input, made in a folder of its own, and the command line that reads it.</summary>
+    private sealed record Row(string Name, string Command, string Folder, string Made, string Png)
+    {
+        public string[] Args => Command.Split(' ').Select(Fill).ToArray();
+
+        public static Row Make(string name, string command)
+        {
+            var folder = HostileJobDatabases.Folder(name);
+            return new Row(name, command, folder, Generators[name](folder), Path.Combine(folder, "out.png"));
+        }
+
+        public string Fill(string text) => text.Replace("{db}", Made).Replace("{file}", Made).Replace("{png}", Png);
+
+        /// <summary>The output's lines with this row's folder, the moved-aside file's time and a log line's time taken out, to compare two runs.</summary>
+        public string[] Normalize(string output)
+        {
+            var text = System.Text.RegularExpressions.Regex.Replace(output.Replace(Folder, "{folder}"), @"\.damaged-[^\s:;,)]+", ".damaged-{time}");
+            text = System.Text.RegularExpressions.Regex.Replace(text, @"^\[\d\d:\d\d:\d\d\.\d{3} ", "[{time} ", System.Text.RegularExpressions.RegexOptions.Multiline);
+            return text.Split('\n');
+        }
+
+        public void Check(int exit, string says, int code, string output)
+        {
+            code.Should().Be(exit, output);
+            output.Should().Contain(Fill(says));
+            output.Should().NotContain("   at ").And.NotContain("Exception").And.NotContain("unexpected error");
+            if (Name.StartsWith("jobdb-", StringComparison.Ordinal) && says.Contains("moved aside", StringComparison.Ordinal))
+            {
+                Directory.EnumerateFiles(Folder, "jobs.db.damaged-*").Should().NotBeEmpty("the damaged file is kept");
+            }
+
+            if (Command.Contains("{png}", StringComparison.Ordinal) && exit != 0)
+            {
+                File.Exists(Png).Should().BeFalse("a failed preview writes no picture");
+            }
         }
     }
 
     [SkippableFact]
-    public void Check_into_a_store_on_a_full_disk_names_the_file_and_the_full_disk()
+    public async Task Check_into_a_store_on_a_full_disk_names_the_file_and_the_full_disk()
     {
         Requires.NotWindows("a tmpfs of 16 KiB stands in for a full disk");
         var disk = HostileJobDatabases.Folder("fulldisk");
@@ -99,7 +209,7 @@ public sealed class HostileInputTests
             var program = Write(HostileJobDatabases.Folder("fullsrc"), "part.nc", Encoding.ASCII.GetBytes("G21 G90\nG00 X0 Y0\nG01 X10 F100\nM30\n"));
             var db = Path.Combine(disk, "program.db");
 
-            var (code, stdout, stderr) = CliProcess.Run("check", program, "--db", db);
+            var (code, stdout, stderr) = await CliRun.InProcessAsync(["check", program, "--db", db]);
 
             code.Should().Be(2, stdout + stderr);
             stderr.Should().Contain($"--db {db}: ").And.Contain("database or disk is full").And.NotContain("no such table");

@@ -6,7 +6,6 @@ using Npgsql;
 using PmacStream.Preparation;
 using PmacStream.Preparation.Store;
 using PmacStream.Sim;
-using PmacStream.Sim.Servers;
 using PmacStream.Streaming;
 
 namespace PmacStream.IntegrationTests.Streaming;
@@ -29,7 +28,7 @@ public sealed class ShopLeaseTests : IDisposable
     {
         var store = "sqlite:" + Path.Combine(_folder.Path, "store.db");
         var src = Program(300);
-        await using var rig = await Rig.StartAsync(SimSpeed.Factor(50));
+        await using var rig = ServedSim.Start(SimSpeed.Factor(50));
         var run = await RunAsync("stream", src, "--tcp", rig.Spec, "--load-library", "--machine", "mill-7", "--station", "cell-1", "--stops", "continue", "--store", store);
         run.Code.Should().Be(0, run.Out + run.Err);
 
@@ -72,11 +71,11 @@ public sealed class ShopLeaseTests : IDisposable
         var settings = Settings(heartbeat: 1, expiry: 8);
         var machine = "mill-" + Guid.NewGuid().ToString("N")[..8];
         var src = Program(1500);
-        await using var rig = await Rig.StartAsync(SimSpeed.Factor(2));
+        await using var rig = ServedSim.Start(SimSpeed.Factor(2));
         string[] Common(params string[] more) => [.. more, "--tcp", rig.Spec, "--machine", machine, "--store", store, "--settings", settings, "--stops", "continue"];
 
         var a = Start(Common("stream", src, "--station", "A", "--load-library"));
-        await rig.WaitForLineAsync(50, a);
+        await rig.WaitForLineAsync(50, () => a.HasExited, async () => await a.Output + await a.Error);
         var refused = await RunAsync(Common("stream", src, "--station", "B"));
         refused.Code.Should().Be(1, refused.Out + refused.Err);
         refused.Err.Should().MatchRegex($@"machine {machine} is leased by station A \(pid {a.Id}, job \d+\) since \d\d:\d\d:\d\d; it expires 8 s after its last heartbeat");
@@ -131,9 +130,9 @@ public sealed class ShopLeaseTests : IDisposable
         var settings = Settings(heartbeat: 1, expiry: 60);
         var machine = "mill-" + Guid.NewGuid().ToString("N")[..8];
         var src = Program(900); // 18 s in real time: the 10 s outage falls in the middle
-        await using var rig = await Rig.StartAsync(SimSpeed.Factor(1));
+        await using var rig = ServedSim.Start(SimSpeed.Factor(1));
         var a = Start("stream", src, "--tcp", rig.Spec, "--machine", machine, "--station", "A", "--store", store, "--settings", settings, "--stops", "continue", "--load-library");
-        await rig.WaitForLineAsync(100, a);
+        await rig.WaitForLineAsync(100, () => a.HasExited, async () => await a.Output + await a.Error);
 
         server.Stop();
         DateTimeOffset restarted;
@@ -184,7 +183,7 @@ public sealed class ShopLeaseTests : IDisposable
         Skip.If(string.IsNullOrEmpty(b.Password), "PMACSTREAM_TEST_PG has no password to hide");
         var uri = $"postgres://{b.Username}:{Uri.EscapeDataString(b.Password!)}@{b.Host}:{b.Port}/{b.Database}";
         var log = Path.Combine(_folder.Path, "verbose.log");
-        await using var rig = await Rig.StartAsync(SimSpeed.Factor(50));
+        await using var rig = ServedSim.Start(SimSpeed.Factor(50));
         var src = Program(200);
         var runs = new List<(int Code, string Out, string Err)>
         {
@@ -300,69 +299,6 @@ public sealed class ShopLeaseTests : IDisposable
             }
 
             _p.Dispose();
-        }
-    }
-
-    /// <summary>The simulator served over TCP (one Ethernet port, as a Turbo PMAC has), its clock running.</summary>
-    private sealed class Rig : IAsyncDisposable
-    {
-        private PmacTcpServer _server = null!;
-
-        private Rig(SimHarness harness) => Harness = harness;
-
-        /// <summary>The kit's rig, bottom layer: the simulator and the port the TCP server serves.</summary>
-        public SimHarness Harness { get; }
-
-        public PmacSimulator Sim => Harness.Sim;
-
-        public string Spec => $"127.0.0.1:{_server.Port}";
-
-        public long PacketsServed => _server.PacketsServed;
-
-        public static async Task<Rig> StartAsync(SimSpeed speed)
-        {
-            var rig = new Rig(new SimHarness(new SimOptions { Speed = speed }, "ethernet"));
-            var ethernet = rig.Harness.Port;
-            rig._server = new PmacTcpServer(() => ethernet, new PmacTcpServerOptions { EndPoint = new IPEndPoint(IPAddress.Loopback, 0) });
-            rig._server.Start();
-            rig.Sim.StartClock();
-            await Task.CompletedTask;
-            return rig;
-        }
-
-        public async Task WaitForLineAsync(int line, CliRun run)
-        {
-            var sw = Stopwatch.StartNew();
-            while (Sim.ReadVariable('M', 0) < line)
-            {
-                if (run.HasExited || sw.Elapsed > TimeSpan.FromSeconds(60))
-                {
-                    throw new InvalidOperationException($"the job did not reach line {line}: {await run.Output}{await run.Error}");
-                }
-
-                await Task.Delay(20);
-            }
-        }
-
-        public List<int> ExecutedLines()
-        {
-            var executed = new List<int>();
-            foreach (var m in Sim.ExecutedMoves)
-            {
-                if (m.SourceLine > 0 && (executed.Count == 0 || executed[^1] != m.SourceLine))
-                {
-                    executed.Add(m.SourceLine);
-                }
-            }
-
-            return executed;
-        }
-
-        public async ValueTask DisposeAsync()
-        {
-            Sim.StopClock();
-            await _server.DisposeAsync();
-            Harness.Dispose();
         }
     }
 

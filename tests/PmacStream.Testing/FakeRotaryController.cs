@@ -3,13 +3,13 @@ using System.Text;
 using System.Text.RegularExpressions;
 using PmacStream.Pmac;
 
-namespace PmacStream.Core.Tests.Streaming;
+namespace PmacStream.Testing;
 
 /// <summary>One executed move of the fake: its order and the tracking variable at its start.</summary>
 public sealed record FakeMove(int Sequence, int SourceLine, double StartSeconds, bool BlockStart = false);
 
 /// <summary>
-/// A small, strict Turbo PMAC stand-in for streaming tests (until the real simulator is wired in): a rotary buffer
+/// A small, strict Turbo PMAC stand-in for the streaming session's tests (<see cref="FakeRig"/>): a rotary buffer
 /// with a word capacity (ERR006 when full), the open/closed rule (anything sent while open is stored, and recorded as
 /// a violation when it is an online command), B0/R/S/H/A, M0 and P variables, PR, synchronous M0== written at the
 /// start of the move that follows it, % override, and a virtual clock advanced by the test.

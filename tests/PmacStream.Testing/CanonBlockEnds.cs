@@ -1,12 +1,12 @@
 using PmacStream.GCode;
 
-namespace PmacStream.IntegrationTests.Streaming;
+namespace PmacStream.Testing;
 
 /// <summary>
 /// Where the interpreter's canonical moves say every moving block ends (machine coordinates, millimetres): what the
 /// position proof and the rs274 comparison hold the controller and LinuxCNC to.
 /// </summary>
-internal sealed class CanonBlockEnds : ICanonicalMoves
+public sealed class CanonBlockEnds : ICanonicalMoves
 {
     private readonly List<(int Line, Point3 End, MotionKind Kind)> _ends = [];
     private bool _amend = true;

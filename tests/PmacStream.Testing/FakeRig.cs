@@ -4,7 +4,7 @@ using PmacStream.Pmac;
 using PmacStream.Preparation;
 using PmacStream.Streaming;
 
-namespace PmacStream.Core.Tests.Streaming;
+namespace PmacStream.Testing;
 
 /// <summary>A TimeProvider the test moves by hand, so sessions see the fake controller's virtual time.</summary>
 public sealed class ManualTime : TimeProvider
@@ -97,10 +97,14 @@ public static class FakeSplit
     }
 }
 
-/// <summary>A fake controller, a session on it and a loop that ticks and advances virtual time together.</summary>
-public sealed class Rig
+/// <summary>
+/// The rig's streaming layer in its fake-controller mode: a <see cref="FakeRotaryController"/> (buffer size and move
+/// time the test sets, protocol violations recorded), a session on it and a loop that ticks and advances virtual time
+/// together. <see cref="SimRig"/> is the same layer on the real simulator and the real splitter.
+/// </summary>
+public sealed class FakeRig
 {
-    public Rig(ChunkedProgram program, StreamingOptions options, IPmacConnection? connection = null, double moveSeconds = 0.01, int capacityWords = 4000)
+    public FakeRig(ChunkedProgram program, StreamingOptions options, IPmacConnection? connection = null, double moveSeconds = 0.01, int capacityWords = 4000)
     {
         Program = program;
         Options = options;
