@@ -45,13 +45,26 @@ public sealed class MoveTimeTable : IMoveTimes
             }
         }
 
-        static (int, double, double) Sample(CanonMotion m)
-        {
-            var seconds = m.Kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw
-                ? Math.Max(m.Seconds, MinimumMoveSeconds) // the controller's shortest blended move
-                : m.Seconds;
-            return (m.Line, seconds, m.Feed ?? double.NaN);
-        }
+        static (int, double, double) Sample(CanonMotion m) => MoveTimeTable.Sample(m.Line, m.Kind, m.Seconds, m.Feed);
+    }
+
+    /// <summary>
+    /// Move times of blocks the interpreter decided earlier (a stored revision's blocks: line, kind, seconds at
+    /// programmed feed with inside corners already applied, feed in force), in source order: the same table
+    /// <see cref="FromProgram"/> builds from those blocks, without interpreting the source again.
+    /// </summary>
+    public static MoveTimeTable FromMoves(IEnumerable<(int Line, MotionKind Kind, double Seconds, double? Feed)> moves, int maxSamples = DefaultMaxSamples)
+    {
+        ArgumentNullException.ThrowIfNull(moves);
+        return new MoveTimeTable(moves.Where(m => m.Kind != MotionKind.None).Select(m => Sample(m.Line, m.Kind, m.Seconds, m.Feed)), maxSamples);
+    }
+
+    private static (int, double, double) Sample(int line, MotionKind kind, double seconds, double? feed)
+    {
+        var s = kind is MotionKind.Linear or MotionKind.ArcCw or MotionKind.ArcCcw
+            ? Math.Max(seconds, MinimumMoveSeconds) // the controller's shortest blended move
+            : seconds;
+        return (line, s, feed ?? double.NaN);
     }
 
     /// <summary>

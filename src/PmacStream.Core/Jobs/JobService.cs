@@ -234,7 +234,7 @@ public sealed partial class JobService
         FeedOverrides.Validate(request.FeedOverride);
         // Selected blocks (A..B): the range runs as a program of its own, so nothing after B reaches the controller.
         var program = request.ToLine is { } to ? CutRange(request.Program, request.Plan?.Line, to, request.Profile) : request.Program;
-        var times = await MoveTimesAsync(program.Manifest.SourcePath, request.Profile, cancellationToken).ConfigureAwait(false);
+        var times = await JobMoveTimesAsync(request.ProgramId, program, request.Plan?.Line, request.ToLine, request.Profile, cancellationToken).ConfigureAwait(false);
         var store = request.Record ? JobStores.Open(Store) : null;
         try
         {
@@ -475,7 +475,7 @@ public sealed partial class JobService
 
         // The gate again: a job forced past it at its start is resumed only when forced again.
         ProgramGate.EnsureRunnable(record.ProgramPath, job.Program.Manifest, profile, request.Force, cancellationToken);
-        var times = await MoveTimesAsync(record.ProgramPath, profile, cancellationToken).ConfigureAwait(false);
+        var times = await JobMoveTimesAsync(record.History.ProgramId, job.Program, record.FromLine, record.ToLine, profile, cancellationToken).ConfigureAwait(false);
         var store = OpenExistingStore();
         try
         {

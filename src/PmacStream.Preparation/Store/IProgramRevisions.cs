@@ -49,6 +49,13 @@ public interface IProgramRevisions : IDisposable
     IEnumerable<StoredBlock> ReadStoredBlocks(long programId, int fromLine = 0, int toLine = int.MaxValue);
 
     /// <summary>
+    /// The stored moves (blocks with a motion: moves, dwells, cycles) of source lines <paramref name="fromLine"/>..<paramref name="toLine"/>
+    /// in program order, with the seconds the import's interpreter gave each (an inside corner's shortening applied) and
+    /// the feed in force: a range's ETA without interpreting the source again. Streams rows, as <see cref="ReadStoredBlocks"/>.
+    /// </summary>
+    IEnumerable<StoredMoveTime> ReadMoveTimes(long programId, int fromLine = 0, int toLine = int.MaxValue);
+
+    /// <summary>
     /// The source map of a revision whose program was expanded (subprograms, macros, o-words: its blocks are numbered by
     /// expanded line, as <c>M0==</c> numbers them): file, line, call stack and iteration of every expanded line. Null for a
     /// program that was not expanded, and for one imported before schema 10 (import it again).
@@ -75,6 +82,13 @@ public interface IProgramRevisions : IDisposable
 /// <param name="Block">The block with its modal state, as the interpreter had it.</param>
 /// <param name="Holes">A cycle block's holes (null for other blocks, and for cycles stored before schema 9).</param>
 public readonly record struct StoredBlock(DecodedBlock Block, CycleHoles? Holes);
+
+/// <summary>A stored move's time: what the ETA reads of a block.</summary>
+/// <param name="Line">The block's source line.</param>
+/// <param name="Kind">What it moves (never <see cref="MotionKind.None"/>).</param>
+/// <param name="Seconds">Its time at the programmed feed (a dwell's, a cycle's holes'), as the import's interpreter decided it.</param>
+/// <param name="Feed">The feed in force after the block, in program units; null when none was programmed yet.</param>
+public readonly record struct StoredMoveTime(int Line, MotionKind Kind, double Seconds, double? Feed);
 
 /// <summary>Opens a store's program library by its location.</summary>
 public static class ProgramStores

@@ -324,6 +324,20 @@ public sealed partial class PgProgramStore : IProgramRevisions
         }
     }
 
+    /// <inheritdoc />
+    public IEnumerable<StoredMoveTime> ReadMoveTimes(long programId, int fromLine = 0, int toLine = int.MaxValue)
+    {
+        using var cmd = new NpgsqlCommand("SELECT line, motion, duration, modal_f FROM blocks WHERE program_id = @p AND line BETWEEN @a AND @b AND motion <> 0 ORDER BY line", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        cmd.Parameters.AddWithValue("a", fromLine);
+        cmd.Parameters.AddWithValue("b", toLine);
+        using var r = cmd.ExecuteReader();
+        while (r.Read())
+        {
+            yield return new StoredMoveTime(r.GetInt32(0), (MotionKind)r.GetInt32(1), r.IsDBNull(2) ? 0 : r.GetDouble(2), r.IsDBNull(3) ? null : r.GetDouble(3));
+        }
+    }
+
     private StoredGroups GroupsOf(long programId)
     {
         using var cmd = new NpgsqlCommand("SELECT groups FROM programs WHERE id = @id", _connection);

@@ -427,6 +427,20 @@ public sealed partial class ProgramStore : IProgramRevisions
         }
     }
 
+    /// <inheritdoc />
+    public IEnumerable<StoredMoveTime> ReadMoveTimes(long programId, int fromLine = 0, int toLine = int.MaxValue)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT Lines, motion, duration, modal_f FROM blocks WHERE key BETWEEN $a AND $b AND motion <> 0 ORDER BY key";
+        cmd.Parameters.AddWithValue("$a", Key(programId, Math.Max(0, fromLine)));
+        cmd.Parameters.AddWithValue("$b", Key(programId, Math.Max(0, toLine)));
+        using var r = cmd.ExecuteReader();
+        while (r.Read())
+        {
+            yield return new StoredMoveTime(r.GetInt32(0), (MotionKind)r.GetInt32(1), r.IsDBNull(2) ? 0 : r.GetDouble(2), r.IsDBNull(3) ? null : r.GetDouble(3));
+        }
+    }
+
     /// <summary>
     /// The cycle holes of a range, by line: cycle blocks are few beside the others, so they are read first (PostgreSQL
     /// keeps one reader open per connection) rather than joined to every block.

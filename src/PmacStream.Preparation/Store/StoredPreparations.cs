@@ -33,7 +33,8 @@ public static class PreparationFiles
 
     /// <summary>
     /// True when <paramref name="folder"/> already holds <paramref name="prepared"/>'s chunks: its manifest names the
-    /// same chunks (by SHA-256) and every chunk file is there at its size. Its source path may be another's.
+    /// same chunks (by SHA-256) and every chunk file is there with exactly the stored bytes (its SHA-256: a file edited
+    /// in place, even to the same size, is not held, and is written again from the store). Its source path may be another's.
     /// </summary>
     public static bool Holds(string folder, StoredPreparation prepared)
     {
@@ -57,7 +58,18 @@ public static class PreparationFiles
         var stored = prepared.ReadManifest();
         return local.SourceSha256 == stored.SourceSha256 && local.Shape == stored.Shape && local.Chunks.Count == stored.Chunks.Count
             && local.Chunks.Zip(stored.Chunks).All(p => p.First.Sha256 == p.Second.Sha256 && p.First.FileName == p.Second.FileName)
-            && stored.Chunks.All(c => new FileInfo(Path.Combine(folder, c.FileName)) is { Exists: true } f && f.Length == c.ByteSize);
+            && stored.Chunks.All(c => SameBytes(Path.Combine(folder, c.FileName), c));
+    }
+
+    private static bool SameBytes(string path, ChunkInfo chunk)
+    {
+        if (new FileInfo(path) is not { Exists: true } f || f.Length != chunk.ByteSize)
+        {
+            return false;
+        }
+
+        using var stream = File.OpenRead(path);
+        return string.Equals(Convert.ToHexStringLower(SHA256.HashData(stream)), chunk.Sha256, StringComparison.OrdinalIgnoreCase);
     }
 
     /// <summary>
