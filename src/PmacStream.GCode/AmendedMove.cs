@@ -29,6 +29,12 @@ public static class AmendedMove
         return Math.Clamp(fraction, 0, 1);
     }
 
+    /// <summary>
+    /// <paramref name="point"/> moved to the crossing of an inside corner (<see cref="CanonBlock.AmendedEnd"/>) on X and Y,
+    /// its own Z kept: the end of the move held, or both ends of a move queued behind it.
+    /// </summary>
+    public static Point3 MovedTo(Point3 point, Point3 crossing) => new(crossing.X, crossing.Y, point.Z);
+
     /// <summary>The angle an arc about <paramref name="c"/> sweeps from <paramref name="from"/> to <paramref name="to"/> in its direction (0..2π, XY).</summary>
     private static double Sweep(Point3 from, Point3 to, Point3 c, bool clockwise)
     {

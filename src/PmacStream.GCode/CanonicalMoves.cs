@@ -292,11 +292,23 @@ public readonly record struct CanonBlock
     public CompensationCorner? Corner { get; init; }
 
     /// <summary>
-    /// An inside corner under compensation: the compensated move before this one ends here, not where it was reported
-    /// to end (rs274ngc's one queued move); this move starts here. Whoever sends or draws moves holds the last
-    /// compensated one until the next move is known. Null for any other block.
+    /// An inside corner under compensation: the compensated XY move held (<see cref="CompensationHold.Held"/>) ends at
+    /// this X and Y, not where it was reported to end, and so does every move queued behind it
+    /// (<see cref="CompensationHold.Queued"/>: a plunge or retract runs at this X and Y, its own Z); this move starts
+    /// here. Z is the tool's when this move starts (the last queued move's), not the held move's: rewrite X and Y only
+    /// (<see cref="AmendedMove.MovedTo"/>). Null for any other block.
     /// </summary>
     public Point3? AmendedEnd { get; init; }
+
+    /// <summary>
+    /// The block's part in the hold under G41/G42, the one decision every consumer applies (rs274ngc's queue): the
+    /// compensated XY move whose end the next XY move may still move (<see cref="CompensationHold.Held"/>: what was held
+    /// before is final, after this block's <see cref="AmendedEnd"/>), a block queued behind it
+    /// (<see cref="CompensationHold.Queued"/>: its moves, all out of the XY plane, stay held with it), or none (what
+    /// was held is final). The hold is bounded: at most <see cref="Interpreter.MaxHeldCompensationBlocks"/> blocks after
+    /// the move (an inside corner after that is refused, E135).
+    /// </summary>
+    public CompensationHold Hold { get; init; }
 
     /// <summary>The last arc's centre (a mirror may have reversed its direction: <see cref="ArcClockwise"/>).</summary>
     public Point3? ArcCentre { get; init; }
@@ -321,4 +333,17 @@ public readonly record struct CanonBlock
 
     /// <summary>The line's axis and arc words as given, in millimetres (<see cref="CanonAxes"/>).</summary>
     public CanonAxes Given { get; init; }
+}
+
+/// <summary>A block's part in the moves held under G41/G42 until the next XY move decides where they end (<see cref="CanonBlock.Hold"/>).</summary>
+public enum CompensationHold : byte
+{
+    /// <summary>Not held: the moves held before it (if any) are final, and so are its own.</summary>
+    None,
+
+    /// <summary>Its move (its last, after an outside corner's arc) is the compensated XY move held now; the moves held before are final.</summary>
+    Held,
+
+    /// <summary>Queued behind the move held: its moves (Z only, no XY motion) end at the held move's X and Y, wherever that ends.</summary>
+    Queued,
 }

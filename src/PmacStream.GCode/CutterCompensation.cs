@@ -23,7 +23,7 @@ internal enum CompensationFault : byte
     /// <summary>
     /// An inside corner the tool cannot fit: the two offset paths do not cross (rs274ngc: "... makes a corner the
     /// compensated tool can't fit in without gouging"), they run back on each other, or the move before is not the
-    /// one held (a move without XY motion, or more than <see cref="CutterCompensation.MaxHeldBlocks"/> blocks between).
+    /// one held (more than <see cref="CutterCompensation.MaxHeldBlocks"/> blocks between).
     /// </summary>
     ConcaveCorner,
 
@@ -53,7 +53,10 @@ internal sealed class CutterCompensation
     // TOLERANCE_CONCAVE_CORNER).
     private const double CornerTolerance = 0.05;
 
-    /// <summary>Blocks between the move held and the next move beyond which an inside corner is refused: the sender holds at most this many.</summary>
+    /// <summary>
+    /// Blocks after the move held (out-of-plane moves, dwells, codes queued behind it) beyond which an inside corner is
+    /// refused: every consumer holds at most this many blocks besides the move.
+    /// </summary>
     public const int MaxHeldBlocks = 256;
 
     private double _programX;
@@ -62,6 +65,7 @@ internal sealed class CutterCompensation
     private double _heldCentreX;  // an arc's centre (its offset circle runs through the tool)
     private double _heldCentreY;
     private int _heldBlocks;      // blocks since it
+    private int _heldLine;        // its source line (the refusal names it)
 
     private enum HeldKind : byte
     {
@@ -91,6 +95,20 @@ internal sealed class CutterCompensation
     /// <summary>True after a move that could not be compensated: the path is unknown until G40 (the program is refused anyway).</summary>
     public bool Lost { get; private set; }
 
+    /// <summary>
+    /// The last block's part in the hold: the move whose end an inside corner may still move (<see cref="CompensationHold.Held"/>),
+    /// a block queued behind it (<see cref="CompensationHold.Queued"/>), or none (what came before is final).
+    /// </summary>
+    public CompensationHold HoldOfBlock =>
+        _held == HeldKind.None || Lost || _heldBlocks > MaxHeldBlocks ? CompensationHold.None
+        : _heldBlocks == 0 ? CompensationHold.Held : CompensationHold.Queued;
+
+    /// <summary>The source line of the move held (or last held); 0 before the first.</summary>
+    public int HeldLine => _heldLine;
+
+    /// <summary>True when the last inside corner was refused because its held move lay more than <see cref="MaxHeldBlocks"/> blocks back.</summary>
+    public bool HeldTooFar { get; private set; }
+
     /// <summary>Turns compensation on (or off with side 0); the next XY move is the entry move.</summary>
     public void Set(int side, double radius)
     {
@@ -115,8 +133,9 @@ internal sealed class CutterCompensation
     /// The compensated end of a straight move from the tool at <paramref name="tool"/> to the programmed
     /// <paramref name="target"/>, with the corner before it, if any.
     /// </summary>
-    public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Line(Point3 tool, Point3 target, bool rapid)
+    public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Line(Point3 tool, Point3 target, bool rapid, int line)
     {
+        HeldTooFar = false;
         if (!Entered)
         {
             var sign = Side == 41 ? 1.0 : -1.0; // the normal to the left of the move, or to its right
@@ -131,15 +150,15 @@ internal sealed class CutterCompensation
 
             var end = new Point3(target.X - (sign * Radius * dy / distance), target.Y + (sign * Radius * dx / distance), target.Z);
             Remember(target);
-            Hold(HeldKind.Line, 0, 0);
+            Hold(HeldKind.Line, 0, 0, line);
             return (end, null, CompensationFault.None);
         }
 
         if (target.X == _programX && target.Y == _programY)
         {
-            // No XY motion: the tool stays off the programmed point where it is; the move before is no longer the
-            // last, so an inside corner after this one cannot move it back.
-            _held = HeldKind.None;
+            // No XY motion (a plunge, a retract): the tool stays off the programmed point where it is. The move held
+            // stays held, this one queued behind it: an inside corner at the next XY move moves both to the crossing
+            // (rs274ngc queues it the same way, move_endpoint_and_flush).
             return (new Point3(tool.X, tool.Y, target.Z), null, CompensationFault.None);
         }
 
@@ -157,7 +176,7 @@ internal sealed class CutterCompensation
         }
 
         Remember(target);
-        Hold(HeldKind.Line, 0, 0);
+        Hold(HeldKind.Line, 0, 0, line);
         return (lineEnd, corner, fault);
     }
 
@@ -166,8 +185,9 @@ internal sealed class CutterCompensation
     /// <paramref name="target"/>: the same centre, the radius one cutter radius larger (the cutter outside the arc) or
     /// smaller (inside: G41 with G03, G42 with G02); with the corner before it, if any.
     /// </summary>
-    public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Arc(Point3 tool, Point3 target, Point3 centre, bool clockwise)
+    public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Arc(Point3 tool, Point3 target, Point3 centre, bool clockwise, int line)
     {
+        HeldTooFar = false;
         if (!Entered)
         {
             return (target, null, CompensationFault.StartOnArc);
@@ -202,7 +222,7 @@ internal sealed class CutterCompensation
         }
 
         Remember(target);
-        Hold(HeldKind.Arc, centre.X, centre.Y);
+        Hold(HeldKind.Arc, centre.X, centre.Y, line);
         return (end, corner, fault);
     }
 
@@ -218,6 +238,7 @@ internal sealed class CutterCompensation
     {
         if (_held == HeldKind.None || _heldBlocks > MaxHeldBlocks)
         {
+            HeldTooFar = _held != HeldKind.None;
             return null;
         }
 
@@ -288,9 +309,9 @@ internal sealed class CutterCompensation
     private static (double X, double Y) Nearer((double X, double Y) p1, (double X, double Y) p2, Point3 near) =>
         ((p1.X - near.X) * (p1.X - near.X)) + ((p1.Y - near.Y) * (p1.Y - near.Y)) <= ((p2.X - near.X) * (p2.X - near.X)) + ((p2.Y - near.Y) * (p2.Y - near.Y)) ? p1 : p2;
 
-    private void Hold(HeldKind kind, double centreX, double centreY)
+    private void Hold(HeldKind kind, double centreX, double centreY, int line)
     {
-        (_held, _heldCentreX, _heldCentreY, _heldBlocks) = (kind, centreX, centreY, 0);
+        (_held, _heldCentreX, _heldCentreY, _heldBlocks, _heldLine) = (kind, centreX, centreY, 0, line);
     }
 
     // One radius square to direction alpha, on the compensation's side.

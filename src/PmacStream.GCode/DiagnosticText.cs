@@ -53,7 +53,8 @@ public static class DiagnosticText
         [DiagnosticCodes.NoCutterRadius] = ("{0} without a cutter radius: {1} is not in profile '{2}''s toolRadii", "{0} 没有刀具半径：{1} 不在机床配置 '{2}' 的 toolRadii 中"),
         [DiagnosticCodes.CompensationNotRunnable] = ("{0} under cutter radius compensation: {1}", "刀具半径补偿下的 {0}：{2}"),
         [DiagnosticCodes.CompensationEntryTooShort] = ("cutter radius compensation entry move is not longer than the tool radius ({0} mm)", "刀具半径补偿的引入运动不长于刀具半径（{0} mm）"),
-        [DiagnosticCodes.CompensationConcaveCorner] = ("inside corner under cutter radius compensation the compensated tool can't fit in without gouging: the offset paths of the move before and this one do not cross (or the move before has no XY motion, or more than 256 blocks lie between)", "刀具半径补偿下的内拐角无法不过切：前一运动与本运动的偏置路径不相交（或前一运动没有 XY 运动，或两者之间超过 256 个程序段）"),
+        [DiagnosticCodes.CompensationConcaveCorner] = ("inside corner under cutter radius compensation the compensated tool can't fit in without gouging: the offset paths of the move before and this one do not cross", "刀具半径补偿下的内拐角无法不过切：前一运动与本运动的偏置路径不相交"),
+        [HeldTooFarKey] = ("inside corner under cutter radius compensation more than {1} blocks after the XY move it ends (line {0}): the host holds that move and the blocks queued behind it (Z moves, dwells, codes) at most {1} blocks until the next XY move decides where it ends; move the XY move nearer, or G40 before the blocks between", "刀具半径补偿下的内拐角距其所结束的 XY 运动（第 {0} 行）超过 {1} 个程序段：主机最多保留该运动及其后排队的程序段（Z 运动、暂停、代码）{1} 个，直到下一个 XY 运动确定其终点；请把 XY 运动移近，或在中间的程序段之前 G40"),
         [DiagnosticCodes.DialectG10L20] = ("G10 L20 P{0} at line {1} set the extended work offset G54.1 P{0} under profile '{2}' (FANUC), which the program has not selected before this move; under grbl and LinuxCNC G10 L20 P{0} sets work offset P{0} (G54 for P1) so that the position there reads as {3}: a program written for them runs this move off by that offset", "第 {1} 行的 G10 L20 P{0} 在机床配置 '{2}'（FANUC）下设定扩展工件坐标系 G54.1 P{0}，而程序在此运动之前没有选用它；在 grbl 和 LinuxCNC 中 G10 L20 P{0} 设定工件坐标系 P{0}（P1 即 G54），使当时位置读作 {3}：为它们编写的程序此运动将偏移该偏置量"),
         [DiagnosticCodes.DialectDwellUnits] = ("G04 P{0}: FANUC and Haas read P in milliseconds ({1} s), LinuxCNC and grbl in seconds ({0} s); profile '{2}' takes the {3} meaning, and the value looks written for the other: write G04 X in seconds", "G04 P{0}：FANUC 和 Haas 的 P 以毫秒计（{1} 秒），LinuxCNC 和 grbl 以秒计（{0} 秒）；机床配置 '{2}' 按 {3} 的含义执行，而此值像是为另一方言编写：请用 G04 X 指定秒数"),
         [DiagnosticCodes.DialectG10L2P0] = ("G10 L2 P0 has two meanings: FANUC sets the external work offset, added to every work coordinate system; LinuxCNC and grbl set the work offset in force ({2}); profile '{0}' takes the {1} meaning", "G10 L2 P0 有两种含义：FANUC 设定外部工件坐标偏置，加到所有工件坐标系上；LinuxCNC 和 grbl 设定当前生效的工件坐标系（{2}）；机床配置 '{0}' 按 {1} 的含义执行"),
@@ -67,6 +68,9 @@ public static class DiagnosticText
 
     /// <summary>The key of W012's text for G28/G30 in G90 through an intermediate point that moves.</summary>
     internal const string ReturnThroughWorkKey = "return-through-work";
+
+    /// <summary>The key of E135's text for an inside corner too many blocks after the move it ends (the hold's bound).</summary>
+    internal const string HeldTooFarKey = "comp-held-too-far";
 
     /// <summary>The key of E115's text for an R shorter than half the chord.</summary>
     internal const string ArcRadiusKey = "arc-r";

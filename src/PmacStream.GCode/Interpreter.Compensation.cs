@@ -15,12 +15,16 @@ public sealed partial class Interpreter
     private CompensationCorner? _corner;
     private bool _compensated;
     private Point3? _amended; // the block's inside corner: where the move before it ends instead (CanonBlock.AmendedEnd)
+    private bool _taken;      // the last line was a block (not a comment or label line): the hold's decision is its own
 
     /// <summary>Blocks after a compensated move within which an inside corner still moves its end back (a sender holds it that long at most).</summary>
     public const int MaxHeldCompensationBlocks = CutterCompensation.MaxHeldBlocks;
 
     /// <summary>The last block's inside corner under compensation: where the compensated move before it ends instead of its reported end; null for other blocks.</summary>
     internal Point3? AmendedEnd => _amended; // consumers read CanonBlock.AmendedEnd; the compensation tests read it here
+
+    /// <summary>The last block's part in the hold under G41/G42 (<see cref="CanonBlock.Hold"/>).</summary>
+    public CompensationHold HoldOfBlock => _comp.Active ? _comp.HoldOfBlock : CompensationHold.None;
 
     /// <summary>The last block's move was compensated: the host sends the interpreter's positions, not the block's words.</summary>
     internal bool CompensatedMove => _compensated;
@@ -128,14 +132,14 @@ public sealed partial class Interpreter
             return (target, 0);
         }
 
-        var (end, corner, fault) = _comp.Line(start, target, mode == 0);
+        var (end, corner, fault) = _comp.Line(start, target, mode == 0, line);
         switch (fault)
         {
             case CompensationFault.EntryTooShort:
                 Add(diags, DiagnosticCodes.CompensationEntryTooShort, line, column, ModalState.Num(_comp.Radius));
                 return (target, 0);
             case CompensationFault.ConcaveCorner:
-                Add(diags, DiagnosticCodes.CompensationConcaveCorner, line, column);
+                ConcaveCorner(diags, line, column);
                 _comp.Lose();
                 return (end, 0);
         }
@@ -165,7 +169,7 @@ public sealed partial class Interpreter
             return (target, length);
         }
 
-        var (end, corner, fault) = _comp.Arc(start, target, c, clockwise);
+        var (end, corner, fault) = _comp.Arc(start, target, c, clockwise, line);
         if (fault != CompensationFault.None)
         {
             var (en, zh) = fault switch
@@ -177,7 +181,7 @@ public sealed partial class Interpreter
             };
             if (fault == CompensationFault.ConcaveCorner)
             {
-                Add(diags, DiagnosticCodes.CompensationConcaveCorner, line, column);
+                ConcaveCorner(diags, line, column);
             }
             else
             {
@@ -199,6 +203,20 @@ public sealed partial class Interpreter
         }
 
         return (end, corner is { } k ? _comp.CornerLength(start, k) + arc : arc);
+    }
+
+    /// <summary>E135: the offset paths do not cross, or the move the corner ends lies beyond the hold's bound (named by its line).</summary>
+    private void ConcaveCorner(List<Diagnostic>? diags, int line, int column)
+    {
+        if (_comp.HeldTooFar)
+        {
+            diags?.Add(new Diagnostic(Severity.Error, DiagnosticCodes.CompensationConcaveCorner, line, column,
+                DiagnosticText.Format(DiagnosticText.HeldTooFarKey, _comp.HeldLine, CutterCompensation.MaxHeldBlocks)));
+        }
+        else
+        {
+            Add(diags, DiagnosticCodes.CompensationConcaveCorner, line, column);
+        }
     }
 
     /// <summary>The sweep from <paramref name="from"/> to <paramref name="to"/> about <paramref name="centre"/> in the arc's sense, the nearest to <paramref name="programmed"/> radians (a full turn more or less).</summary>

@@ -182,6 +182,7 @@ public sealed partial class Interpreter
         Compensated = _compensated,
         Corner = _corner,
         AmendedEnd = _amended,
+        Hold = _taken || HoldOfBlock == CompensationHold.None ? HoldOfBlock : CompensationHold.Queued, // a comment line keeps the hold
         ArcCentre = _arcCentre,
         ArcClockwise = _arcClockwise,
         Holes = _blockKind == MotionKind.Cycle ? _cycle.LastHoles : null,
@@ -201,6 +202,7 @@ public sealed partial class Interpreter
         // Before anything here changes the mode or the work offset the lane's values were written under.
         Resolve();
         _blockKind = MotionKind.None;
+        (_corner, _compensated, _amended, _taken) = (null, false, null, false); // a line taken as no block decides nothing
         Canon?.StartBlock(new CanonStart(_pos, _coords.Active, _tool, _coords));
         var words = block.WordList;
         if (words.Count == 0 || block.IsTapeMark || (BlockDeleteEnabled && block.BlockDelete))
@@ -331,7 +333,7 @@ public sealed partial class Interpreter
         var codes = new BlockCodes();
         var exactStopOnce = false;
         var compColumn = 0;
-        (_corner, _compensated, _amended) = (null, false, null);
+        _taken = true;
         if (_comp.Active)
         {
             _comp.NextBlock();

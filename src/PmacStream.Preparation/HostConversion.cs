@@ -50,24 +50,24 @@ internal sealed class HostConversion : ICanonicalMoves
     private readonly WrittenWords _moveWords = new();
     private int _moveLine = -1;
     private int _heldLine = -1;  // the line of the converted block that ends its compensated move
-    private Point3 _heldOffset;  // the work offset that move was written in
 
     /// <summary>
     /// The index, in the lines <see cref="TakeLines"/> returned last, of the line ending a compensated move: the sender
-    /// holds it until the next move is known, since an inside corner there moves its end back (<see cref="AmendedLine"/>);
-    /// -1 when the block has none.
+    /// holds it while the interpreter holds the move (<see cref="CanonBlock.Hold"/>), since an inside corner at the next
+    /// XY move moves it to the crossing (<see cref="MovedLine"/>); -1 when the block has none.
     /// </summary>
     public int HeldMoveLine => _heldLine;
 
-    /// <summary>
-    /// When the block taken last has an inside corner under compensation: <paramref name="held"/> (the line
-    /// <see cref="HeldMoveLine"/> named for the compensated move before it) rewritten to end where the offset paths
-    /// cross; null for any other block.
-    /// </summary>
-    public string? AmendedLine(string held) =>
-        _block.AmendedEnd is { } end ? CompensatedMoves.MoveEndTo(held, end - _heldOffsetBefore) : null;
+    /// <summary>What the interpreter decided for the line taken last: its part in the hold under G41/G42, its inside corner.</summary>
+    public CanonBlock Block => _block;
 
-    private Point3 _heldOffsetBefore; // the offset of the move held before this block (AmendedLine)
+    /// <summary>
+    /// A move line <see cref="HeldMoveLine"/> named, written in work offset <paramref name="offset"/>, moved on X and Y to
+    /// the <paramref name="crossing"/> of an inside corner (machine coordinates, <see cref="CanonBlock.AmendedEnd"/>):
+    /// the held move's end, or a plunge or retract queued behind it.
+    /// </summary>
+    public static string MovedLine(string line, Point3 crossing, Point3 offset) => CompensatedMoves.MoveEndTo(line, crossing - offset);
+
     private readonly List<string> _modes = [], _data = [], _stopsBefore = [], _after = []; // a block's parts, reused
 
     /// <summary>Converts what <paramref name="interp"/> decides: it becomes the interpreter's canonical move sink.</summary>
@@ -145,7 +145,6 @@ internal sealed class HostConversion : ICanonicalMoves
     {
         _moves.Clear();
         _before = start;
-        _heldOffsetBefore = _heldOffset;
         _converted = null;
         (_feedWord, _speedWord, _dwell, _lengthLine) = (null, null, null, null);
         _modes.Clear();
@@ -230,7 +229,6 @@ internal sealed class HostConversion : ICanonicalMoves
         else if (_block.Compensated)
         {
             _heldLine = CompensatedMoves.Write(_lines, _block, _before.Position, feed);
-            _heldOffset = _block.Offset;
         }
         else if (_block.Transforming && !_block.MachineCoordinates && (given.Any || arcByCentre))
         {

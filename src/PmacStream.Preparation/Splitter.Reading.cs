@@ -38,13 +38,17 @@ public static partial class Splitter
         private readonly List<int> _unused = new(2); // columns of the words the check found unused on the line being taken
         private Interpreter? _own;          // interprets for the host's conversions when the checker does not run (--force)
         private HostConversion? _host;
-        private int _heldMove = -1;  // the batch line ending the last compensated move (an inside corner after it moves its end)
-        private int _heldBlocks;     // blocks taken since
+        // The batch lines of the compensated move held and the moves queued behind it, with the work offset each was
+        // written in: an inside corner at the next XY move moves them to the crossing (the interpreter's decision).
+        private HeldMoves<(int Index, Point3 Offset)>? _heldMoves;
+        private readonly List<(int Index, Point3 Offset)> _heldNow = new(1), _final = new(4);
         private GBlock? _hostLine; // the host's converted lines are lexed into this one block (the batch copies them)
         private bool _started;              // the power-on call went before the first block
         private readonly Dictionary<string, int>? _notYet = options.CheckProfile != null ? new Dictionary<string, int>(StringComparer.Ordinal) : null; // codes the controller cannot run yet, first line
         private int _laneLines;        // lines the AxisLine lane took ...
         private int _bufferLaneLines;  // ... of them, straight from the read buffer
+
+        private HeldMoves<(int Index, Point3 Offset)> HeldLines => _heldMoves ??= new(MoveLine);
 
         /// <summary>The checker runs in this pass whenever there is a profile (see <see cref="SplitRun"/>).</summary>
         private bool Checking => _o.CheckProfile != null;
@@ -205,7 +209,7 @@ public static partial class Splitter
         /// <summary>Hands the full batch over and takes an empty one.</summary>
         private void Hand(long endPosition)
         {
-            _heldMove = -1;
+            HeldLines.Clear();
             // The splitting thread reuses the batch's text once done with it: axis values still left there are read now.
             var batch = _batch!;
             _check?.ReleaseText(batch.Text);
@@ -264,7 +268,6 @@ public static partial class Splitter
 
             if (converted != null)
             {
-                Amend();
                 // One source block, several controller blocks: all carry its line, and they stay in one chunk.
                 for (var i = 0; i < converted.Count; i++)
                 {
@@ -284,39 +287,49 @@ public static partial class Splitter
                 _batch!.Add(b, b.SkipFrom >= 0 && _o.BlockDelete ? b.SkipFrom : int.MaxValue, _unused, continues: first);
             }
 
-            if (converted != null && _host!.HeldMoveLine >= 0)
+            if (_host != null)
             {
-                (_heldMove, _heldBlocks) = (_batch!.Count - converted.Count + _host.HeldMoveLine, 0);
-            }
-            else if (_heldMove >= 0 && ++_heldBlocks > Interpreter.MaxHeldCompensationBlocks + 1)
-            {
-                _heldMove = -1; // the interpreter no longer moves it back
+                Hold(converted);
             }
 
-            // A compensated move stays in the batch until the next move is known (bounded: the interpreter moves an end
-            // back only within MaxHeldBlocks blocks).
-            if (_batch!.IsFull && (_heldMove < 0 || _batch.Count > 4 * LineBatch.MaxLines))
+            // A compensated move stays in the batch until the next XY move is known (bounded: the interpreter holds it
+            // at most MaxHeldCompensationBlocks blocks).
+            if (_batch!.IsFull && (HeldLines.Count == 0 || _batch.Count > 4 * LineBatch.MaxLines))
             {
                 Hand(b.ByteOffset + b.Length);
             }
         }
 
         /// <summary>
-        /// Before a converted block's lines: an inside corner moves the end of the compensated move held in the batch
-        /// back to where the offset paths cross (the interpreter already started this block's move there).
+        /// After a block's lines: the interpreter's decision for it (<see cref="CanonBlock.Hold"/>). An inside corner moves
+        /// the compensated move held in the batch, and the plunges and retracts queued behind it, to where the offset
+        /// paths cross (the interpreter already started this block's move there); the block's own move is held or
+        /// queued in turn.
         /// </summary>
-        private void Amend()
+        private void Hold(IReadOnlyList<string>? converted)
         {
-            if (_heldMove >= 0 && _host!.AmendedLine(_batch!.TextAt(_heldMove)) is { } amended)
-            {
-                _batch.Replace(_heldMove, GCodeReader.LexLine(amended, _batch.Lines[_heldMove].LineNumber, _hostLine ??= new GBlock()));
-            }
-            else if (_host!.AmendedLine(string.Empty) is not null)
+            var block = _host!.Block;
+            if (block.AmendedEnd is not null && HeldLines.Count == 0)
             {
                 throw new InvalidOperationException("an inside corner moves back the end of a move already handed over");
             }
 
-            _heldMove = -1;
+            _heldNow.Clear();
+            if (converted != null && _host.HeldMoveLine >= 0)
+            {
+                _heldNow.Add((_batch!.Count - converted.Count + _host.HeldMoveLine, block.Offset));
+            }
+
+            HeldLines.Take(block, _heldNow, _final);
+            _final.Clear();
+        }
+
+        /// <summary>A held line moved on X and Y to the crossing of an inside corner, in place in the batch.</summary>
+        private (int Index, Point3 Offset) MoveLine((int Index, Point3 Offset) held, Point3 crossing, bool _)
+        {
+            var moved = HostConversion.MovedLine(_batch!.TextAt(held.Index), crossing, held.Offset);
+            _batch.Replace(held.Index, GCodeReader.LexLine(moved, _batch.Lines[held.Index].LineNumber, _hostLine ??= new GBlock()));
+            return held;
         }
 
         /// <summary>A line of only O and N words (a program number, a label): nothing for the controller.</summary>

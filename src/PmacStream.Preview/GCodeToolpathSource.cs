@@ -61,7 +61,11 @@ public sealed class GCodeToolpathSource : IToolpathSource, IToolpathIssues
         var builder = new ToolpathBuilder();
         var diags = new List<Diagnostic>(4);
         var segments = new List<PathSegment>(4);
-        var held = new List<PathSegment>(4); // the last move's segments: an inside corner at the next move moves its end back
+        // G41/G42: the move held and the plunges queued behind it, until the next XY move says where they end.
+        var held = new HeldMoves<PathSegment>((s, crossing, first) => first
+            ? s with { End = AmendedMove.MovedTo(s.End, crossing) }
+            : s with { Start = AmendedMove.MovedTo(s.Start, crossing), End = AmendedMove.MovedTo(s.End, crossing) });
+        var final = new List<PathSegment>(4);
         var lines = 0L;
         while (reader.Read())
         {
@@ -92,25 +96,22 @@ public sealed class GCodeToolpathSource : IToolpathSource, IToolpathIssues
                 AddIssue(d);
             }
 
-            if (taken && builder.Add(canon.Block, segments) > 0)
+            if (taken)
             {
-                if (canon.AmendedEnd is { } amended && held.Count > 0)
-                {
-                    // G41/G42 inside corner: the move before ends where the offset paths cross, as the controller runs it.
-                    held[^1] = held[^1] with { End = amended };
-                }
-
-                foreach (var segment in held)
+                builder.Add(canon.Block, segments);
+                held.Take(canon.Hold, canon.AmendedEnd, segments, final);
+                segments.Clear();
+                foreach (var segment in final)
                 {
                     yield return segment;
                 }
 
-                (held, segments) = (segments, held);
-                segments.Clear();
+                final.Clear();
             }
         }
 
-        foreach (var segment in held)
+        held.Flush(final);
+        foreach (var segment in final)
         {
             yield return segment;
         }

@@ -146,6 +146,9 @@ internal sealed class CanonToolpath : ICanonicalMoves
     /// <summary>At a G41/G42 inside corner: where the move before this block ends instead (<see cref="CanonBlock.AmendedEnd"/>).</summary>
     public Point3? AmendedEnd { get; private set; }
 
+    /// <summary>The block's part in the moves held under G41/G42 (<see cref="CanonBlock.Hold"/>).</summary>
+    public CompensationHold Hold { get; private set; }
+
     /// <summary>The rotary axes (A, B, C) some line named, as bits 1, 2, 4: the picture draws X, Y and Z only, and the legend says so.</summary>
     public int Rotary { get; private set; }
 
@@ -161,7 +164,7 @@ internal sealed class CanonToolpath : ICanonicalMoves
     {
         var given = block.Given;
         Rotary |= (given.A.HasValue ? 1 : 0) | (given.B.HasValue ? 2 : 0) | (given.C.HasValue ? 4 : 0);
-        AmendedEnd = block.AmendedEnd;
+        (AmendedEnd, Hold) = (block.AmendedEnd, block.Hold);
         var m = _moved ? _motion : default;
         Block = new DrawnBlock(m.Line, _moved ? m.Kind : MotionKind.None, m.Start, m.End, m.Centre, block.Plane, block.Absolute,
             given.X.HasValue, given.Y.HasValue, given.Z.HasValue, block.UnitScale != 1.0 ? LengthUnits.Inches : LengthUnits.Millimetres, block.Holes);

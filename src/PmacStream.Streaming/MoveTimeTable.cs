@@ -24,24 +24,38 @@ public sealed class MoveTimeTable : IMoveTimes
             var motions = new LastMotion();
             var interp = new Interpreter(profile) { Canon = motions };
             using var reader = GCode.Expansion.ProgramExpansion.OpenReader(path, profile);
-            CanonMotion? held = null; // the last move: an inside corner at the next move shortens it
+            // G41/G42: the move held and the plunges queued behind it; an inside corner at the next XY move shortens
+            // the held one (the queued ones keep their length: they run at the crossing instead).
+            var held = new HeldMoves<CanonMotion>((m, crossing, first) => first
+                ? Amended(m, AmendedMove.MovedTo(m.End, crossing))
+                : m with { Start = AmendedMove.MovedTo(m.Start, crossing), End = AmendedMove.MovedTo(m.End, crossing) });
+            var moves = new List<CanonMotion>(1);
+            var final = new List<CanonMotion>(2);
             while (reader.Read())
             {
                 // The interpreter's allocation-free step: a gigabyte program is tens of millions of blocks.
-                if (interp.Execute(reader.Current) && motions.Take() is { } m)
+                if (interp.Execute(reader.Current))
                 {
-                    if (held is { } h)
+                    moves.Clear();
+                    if (motions.Take() is { } m)
                     {
-                        yield return Sample(motions.AmendedEnd is { } amended ? Amended(h, amended) : h);
+                        moves.Add(m);
                     }
 
-                    held = m;
+                    held.Take(motions.Hold, motions.AmendedEnd, moves, final);
+                    foreach (var f in final)
+                    {
+                        yield return Sample(f);
+                    }
+
+                    final.Clear();
                 }
             }
 
-            if (held is { } last)
+            held.Flush(final);
+            foreach (var f in final)
             {
-                yield return Sample(last);
+                yield return Sample(f);
             }
         }
 
@@ -89,7 +103,10 @@ public sealed class MoveTimeTable : IMoveTimes
         /// <summary>Where the move before the last block ends instead, at a G41/G42 inside corner (<see cref="CanonBlock.AmendedEnd"/>).</summary>
         public Point3? AmendedEnd { get; private set; }
 
-        public void StartBlock(in CanonStart start) => (_moved, AmendedEnd) = (false, null);
+        /// <summary>The last block's part in the moves held under G41/G42 (<see cref="CanonBlock.Hold"/>).</summary>
+        public CompensationHold Hold { get; private set; }
+
+        public void StartBlock(in CanonStart start) => (_moved, AmendedEnd, Hold) = (false, null, CompensationHold.None);
 
         public void Step(in HostMove step)
         {
@@ -97,7 +114,7 @@ public sealed class MoveTimeTable : IMoveTimes
 
         public void Motion(in CanonMotion motion) => (_motion, _moved) = (motion, true);
 
-        public void EndBlock(in CanonBlock block) => AmendedEnd = block.AmendedEnd;
+        public void EndBlock(in CanonBlock block) => (AmendedEnd, Hold) = (block.AmendedEnd, block.Hold);
 
         public CanonMotion? Take() => _moved ? _motion : null;
     }

@@ -9,7 +9,16 @@ namespace PmacStream.Testing;
 public sealed class CanonBlockEnds : ICanonicalMoves
 {
     private readonly List<(int Line, Point3 End, MotionKind Kind)> _ends = [];
-    private bool _amend = true;
+    private readonly List<(int Line, Point3 End, MotionKind Kind)> _block = [];
+    private readonly HeldMoves<(int Line, Point3 End, MotionKind Kind)> _held;
+    private readonly bool _amend;
+
+    private CanonBlockEnds(bool amend)
+    {
+        _amend = amend;
+        // The move held and the moves queued behind it end at the crossing on X and Y (each its own Z).
+        _held = new((m, crossing, _) => _amend ? (m.Line, AmendedMove.MovedTo(m.End, crossing), m.Kind) : m);
+    }
 
     /// <summary>
     /// The motions of the program at <paramref name="path"/>, in order; <paramref name="amend"/> false leaves a move
@@ -24,33 +33,29 @@ public sealed class CanonBlockEnds : ICanonicalMoves
     /// <summary>The motions of the lines <paramref name="reader"/> gives (an expansion's, say), in order.</summary>
     public static List<(int Line, Point3 End, MotionKind Kind)> Of(GCodeReader reader, MachineProfile profile, bool blockDelete = false, bool amend = true)
     {
-        var ends = new CanonBlockEnds { _amend = amend };
+        var ends = new CanonBlockEnds(amend);
         var interp = new Interpreter(profile) { BlockDeleteEnabled = blockDelete, Canon = ends };
         while (reader.Read())
         {
             interp.Execute(reader.Current);
         }
 
+        ends._held.Flush(ends._ends);
         return ends._ends;
     }
 
-    public void StartBlock(in CanonStart start)
-    {
-    }
+    public void StartBlock(in CanonStart start) => _block.Clear();
 
     public void Step(in HostMove step)
     {
     }
 
-    public void Motion(in CanonMotion motion) => _ends.Add((motion.Line, motion.End, motion.Kind));
+    public void Motion(in CanonMotion motion) => _block.Add((motion.Line, motion.End, motion.Kind));
 
-    /// <summary>An inside corner under compensation moves the end of the move before this block's back (the one move held).</summary>
+    /// <summary>An inside corner under compensation moves the end of the move held, and of the moves queued behind it, to the crossing.</summary>
     public void EndBlock(in CanonBlock block)
     {
-        if (_amend && block.AmendedEnd is { } end && _ends.Count >= 2)
-        {
-            var held = _ends[^2];
-            _ends[^2] = (held.Line, end, held.Kind);
-        }
+        _held.Take(block, _block, _ends);
+        _block.Clear();
     }
 }

@@ -187,14 +187,13 @@ internal static class ImportPipeline
         // its words and modal state from the interpreter's record of the line and its modal snapshot.
         void OnInterpreted(Interpreter interp)
         {
-            var moved = corners.BeforeAdd(decided);
             batch.Add(in interp.Last, interp.State, decided);
             if (decided.Holes is { } holes)
             {
                 batch.Holes.Add((interp.Last.Line, holes));
             }
 
-            corners.AfterAdd(batch, moved);
+            corners.Added(batch, decided);
 
             if (states.After(interp.Last.Line, decided, interp.State) is { } changed)
             {
@@ -250,8 +249,11 @@ internal static class ImportPipeline
         /// <summary>A cycle block's holes, else null.</summary>
         public CycleHoles? Holes { get; private set; }
 
-        /// <summary>At a G41/G42 inside corner: where the move before this block ends instead.</summary>
+        /// <summary>At a G41/G42 inside corner: where the move held (and the moves queued behind it) end instead, on X and Y.</summary>
         public Point3? AmendedEnd { get; private set; }
+
+        /// <summary>The line's part in the moves held under G41/G42 (<see cref="CanonBlock.Hold"/>).</summary>
+        public CompensationHold Hold { get; private set; }
 
         /// <summary>The offset from program to machine coordinates in force after the line.</summary>
         public Point3 Offset { get; private set; }
@@ -268,44 +270,44 @@ internal static class ImportPipeline
         public void Motion(in CanonMotion motion) => (_motion, Moved) = (motion, true);
 
         public void EndBlock(in CanonBlock block) =>
-            (Holes, AmendedEnd, Offset, Tables) = (block.Holes, block.AmendedEnd, block.Offset, block.Tables);
+            (Holes, AmendedEnd, Hold, Offset, Tables) = (block.Holes, block.AmendedEnd, block.Hold, block.Offset, block.Tables);
     }
 
     /// <summary>
-    /// The last move's record: a G41/G42 inside corner at the next move moves its end back (<see cref="CanonBlock.AmendedEnd"/>),
-    /// so a full batch holding it waits until that move is known (a whole batch without one lets it go: an inside
-    /// corner that far on is refused anyway, <see cref="Interpreter.MaxHeldCompensationBlocks"/>).
+    /// The records of the moves held under G41/G42 (the interpreter's decision, <see cref="CanonBlock.Hold"/>): an
+    /// inside corner at the next XY move moves the held move's end, and the plunges and retracts queued behind it, to
+    /// the crossing (<see cref="CanonBlock.AmendedEnd"/>), so a full batch holding one of them waits until that move is
+    /// known. The hold spans at most <see cref="Interpreter.MaxHeldCompensationBlocks"/> blocks after the move, fewer
+    /// than a batch, so at most one batch waits.
     /// </summary>
     private sealed class CornerHold(BlockingCollection<Batch> full, CancellationToken token)
     {
-        private (Batch? Batch, int Index) _held = (null, -1);
+        private readonly HeldMoves<(Batch Batch, int Index)> _held = new(Move);
+        private readonly List<(Batch Batch, int Index)> _moves = new(1), _final = new(2);
         private Batch? _pending;
 
-        /// <summary>Before a block is added: a move amends the move held and lets its batch go; returns whether it moved.</summary>
-        public bool BeforeAdd(Decisions decided)
+        /// <summary>After a block was added to <paramref name="batch"/>: the interpreter's decision for it; a batch waiting goes on once nothing in it is held.</summary>
+        public void Added(Batch batch, Decisions decided)
         {
-            if (!decided.Moved || decided.Move.Kind == MotionKind.Dwell)
+            _moves.Clear();
+            if (decided.Moved)
             {
-                return false;
+                _moves.Add((batch, batch.Count - 1));
             }
 
-            if (decided.AmendedEnd is { } amended && _held.Batch is { } batch)
+            _held.Take(decided.Hold, decided.AmendedEnd, _moves, _final);
+            _final.Clear();
+            if (_held.Count == 0)
             {
-                Amend(ref batch.Blocks[_held.Index], amended);
+                Release();
             }
-
-            Release();
-            return true;
         }
 
-        /// <summary>After a block was added: a move is the one held now.</summary>
-        public void AfterAdd(Batch batch, bool moved) => _held = moved ? (batch, batch.Count - 1) : _held;
-
-        /// <summary>A full batch goes on, unless it holds the last move.</summary>
+        /// <summary>A full batch goes on, unless it holds a move still held.</summary>
         public void Full(Batch batch)
         {
             Release();
-            if (_held.Batch == batch)
+            if (_held.Count > 0)
             {
                 _pending = batch;
             }
@@ -315,22 +317,35 @@ internal static class ImportPipeline
             }
         }
 
-        /// <summary>Hands the batch waiting for the next move on.</summary>
+        /// <summary>Hands the batch waiting for the next XY move on.</summary>
         public void Release()
         {
             if (_pending is { } p)
             {
                 full.Add(p, token);
                 _pending = null;
-                _held = _held.Batch == p ? (null, -1) : _held;
             }
         }
 
-        /// <summary>The record of a move whose end an inside corner moved back: its end there, its length and time what is left.</summary>
-        private static void Amend(ref Interpreter.LastBlock block, Point3 end)
+        /// <summary>
+        /// The record of a move an inside corner moved: the held move ends at the crossing, its length and time what is
+        /// left; a move queued behind it runs at the crossing (both ends), its length and time its own.
+        /// </summary>
+        private static (Batch Batch, int Index) Move((Batch Batch, int Index) at, Point3 crossing, bool held)
         {
-            var part = AmendedMove.Fraction(block.Motion, block.Start, block.End, block.Center, end);
-            (block.End, block.Length, block.DurationSeconds) = (end, block.Length * part, block.DurationSeconds * part);
+            ref var block = ref at.Batch.Blocks[at.Index];
+            if (held)
+            {
+                var end = AmendedMove.MovedTo(block.End, crossing);
+                var part = AmendedMove.Fraction(block.Motion, block.Start, block.End, block.Center, end);
+                (block.End, block.Length, block.DurationSeconds) = (end, block.Length * part, block.DurationSeconds * part);
+            }
+            else
+            {
+                (block.Start, block.End) = (AmendedMove.MovedTo(block.Start, crossing), AmendedMove.MovedTo(block.End, crossing));
+            }
+
+            return at;
         }
     }
 
