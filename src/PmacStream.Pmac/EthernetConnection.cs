@@ -26,6 +26,17 @@ public sealed record EthernetOptions
 
     /// <summary>Data bytes per WRITEBUFFER packet (at most 1024).</summary>
     public int WriteBufferBytes { get; init; } = VrPmac.MaxWriteBuffer;
+
+    /// <summary>
+    /// With several WRITEBUFFER packets in flight: how long the last reply may be late before a READREADY probe is
+    /// sent. The probe's reply, arriving after a lost one, gets the controller's TCP stack to resend the lost reply at
+    /// once (selective ACKs) instead of after its retransmission timeout (200 ms or more). READREADY only reads
+    /// whether a reply is waiting: it changes nothing on the controller.
+    /// </summary>
+    public TimeSpan ProbeAfter { get; init; } = TimeSpan.FromMilliseconds(20);
+
+    /// <summary>Most READREADY probes one pipelined download sends (0: none).</summary>
+    public int MaxProbes { get; init; } = 4;
 }
 
 /// <summary>
@@ -113,27 +124,7 @@ public sealed class EthernetConnection : IPmacConnection
                 // Pack as many whole NUL-terminated lines as fit; the controller stops at the first refused line of a
                 // packet and we send nothing more, so no line after a refusal is ever executed.
                 var start = index;
-                var length = 0;
-                var data = _send.AsSpan(VrPmac.HeaderSize);
-                while (index < lines.Count)
-                {
-                    var line = lines[index];
-                    if (line.Length + 1 > _options.WriteBufferBytes)
-                    {
-                        throw new ArgumentException($"line {index} is {line.Length} characters, longer than a WRITEBUFFER packet allows", nameof(lines));
-                    }
-
-                    if (length + line.Length + 1 > _options.WriteBufferBytes)
-                    {
-                        break;
-                    }
-
-                    length += Encoding.ASCII.GetBytes(line, data[length..]);
-                    data[length++] = 0;
-                    index++;
-                }
-
-                VrPmac.WriteHeader(_send, VrPmac.Download, VrPmac.WriteBuffer, 0, 0, (ushort)length);
+                var length = PackPacket(lines, ref index);
                 var status = await RunGuardedAsync(
                     async ct =>
                     {
@@ -158,6 +149,49 @@ public sealed class EthernetConnection : IPmacConnection
             }
 
             Log.Debug("{Device} downloaded {Count} lines in {Packets} packets ({Ms:0.000} ms)", Description, lines.Count, packets, sw.Elapsed.TotalMilliseconds);
+        }
+        finally
+        {
+            _gate.Release();
+        }
+    }
+
+    /// <inheritdoc />
+    public async Task DownloadAsync(IReadOnlyList<string> lines, int packetsInFlight, CancellationToken cancellationToken = default)
+    {
+        ArgumentNullException.ThrowIfNull(lines);
+        if (packetsInFlight <= 1)
+        {
+            await DownloadAsync(lines, cancellationToken).ConfigureAwait(false);
+            return;
+        }
+
+        await _gate.WaitAsync(cancellationToken).ConfigureAwait(false);
+        try
+        {
+            var socket = await EnsureConnectedAsync(cancellationToken).ConfigureAwait(false);
+            var sw = Stopwatch.StartNew();
+            var run = new PipelinedDownload(lines.Count, packetsInFlight, _options.MaxProbes);
+            while (!run.Finished)
+            {
+                // Each reply has the whole reply timeout, as with one packet in flight.
+                await RunGuardedAsync(
+                    async ct =>
+                    {
+                        await FillWindowAsync(socket, lines, run, ct).ConfigureAwait(false);
+                        await ReceiveNextAsync(socket, run, ct).ConfigureAwait(false);
+                        return 0;
+                    },
+                    "WRITEBUFFER",
+                    cancellationToken).ConfigureAwait(false);
+            }
+
+            Log.Debug("{Device} downloaded {Count} lines in {Packets} packets, up to {Window} in flight, {Probes} probes ({Ms:0.000} ms)", Description, lines.Count, run.Packets, packetsInFlight, run.ProbesSent, sw.Elapsed.TotalMilliseconds);
+            if (run.Refusal is { } r)
+            {
+                Log.Debug("{Device} WRITEBUFFER refused line {Index}: {Line} -> ERR{Number:000}; {After} lines of later packets stored after it", Description, r.Line, lines[r.Line], r.Number, run.StoredAfterGap);
+                throw new PmacErrorException(r.Number, lines[r.Line], r.Line) { LinesStoredAfterGap = run.StoredAfterGap };
+            }
         }
         finally
         {
@@ -220,6 +254,81 @@ public sealed class EthernetConnection : IPmacConnection
         {
             _gate.Release();
         }
+    }
+
+    /// <summary>Packs whole NUL-terminated lines from <paramref name="index"/> into <c>_send</c>; returns the data length.</summary>
+    private int PackPacket(IReadOnlyList<string> lines, ref int index)
+    {
+        var length = 0;
+        var data = _send.AsSpan(VrPmac.HeaderSize);
+        while (index < lines.Count)
+        {
+            var line = lines[index];
+            if (line.Length + 1 > _options.WriteBufferBytes)
+            {
+                throw new ArgumentException($"line {index} is {line.Length} characters, longer than a WRITEBUFFER packet allows", nameof(lines));
+            }
+
+            if (length + line.Length + 1 > _options.WriteBufferBytes)
+            {
+                break;
+            }
+
+            length += Encoding.ASCII.GetBytes(line, data[length..]);
+            data[length++] = 0;
+            index++;
+        }
+
+        VrPmac.WriteHeader(_send, VrPmac.Download, VrPmac.WriteBuffer, 0, 0, (ushort)length);
+        return length;
+    }
+
+    /// <summary>Sends packets until the window is full, everything is sent, or a refusal came back (nothing more goes then).</summary>
+    private async Task FillWindowAsync(Socket socket, IReadOnlyList<string> lines, PipelinedDownload run, CancellationToken ct)
+    {
+        while (run.MaySend)
+        {
+            var start = run.NextLine;
+            var index = start;
+            var length = PackPacket(lines, ref index);
+            await SendAsync(socket, VrPmac.HeaderSize + length, ct).ConfigureAwait(false);
+            run.Sent(start, index);
+        }
+    }
+
+    /// <summary>
+    /// Reads the oldest reply in flight (a probe's 2 bytes, or a packet's 4-byte status). While a packet's reply is late
+    /// and nothing more can be sent, probes with READREADY so a lost reply is resent at once (see <see cref="EthernetOptions.ProbeAfter"/>).
+    /// </summary>
+    private async Task ReceiveNextAsync(Socket socket, PipelinedDownload run, CancellationToken ct)
+    {
+        if (run.HeadIsProbe)
+        {
+            await ReceiveExactlyAsync(socket, 2, ct).ConfigureAwait(false);
+            run.Received(default);
+            return;
+        }
+
+        var receive = ReceiveExactlyAsync(socket, 4, ct);
+        using var stopDelays = CancellationTokenSource.CreateLinkedTokenSource(ct);
+        var wait = _options.ProbeAfter;
+        while (!receive.IsCompleted && run.MayProbe && wait > TimeSpan.Zero)
+        {
+            var delay = Task.Delay(wait, stopDelays.Token);
+            if (await Task.WhenAny(receive, delay).ConfigureAwait(false) == receive)
+            {
+                break;
+            }
+
+            VrPmac.WriteHeader(_send, VrPmac.Upload, VrPmac.ReadReady, 0, 0, 2);
+            await SendAsync(socket, VrPmac.HeaderSize, ct).ConfigureAwait(false);
+            run.Probed();
+            wait *= 2;
+        }
+
+        await stopDelays.CancelAsync().ConfigureAwait(false);
+        await receive.ConfigureAwait(false);
+        run.Received(_receive.AsSpan(0, 4));
     }
 
     private async Task<byte[]> ExchangeAsync(string what, Func<Socket, CancellationToken, Task<byte[]>> exchange, CancellationToken cancellationToken)

@@ -21,6 +21,17 @@ public interface IPmacConnection : IAsyncDisposable
     /// </summary>
     Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default);
 
+    /// <summary>
+    /// As <see cref="DownloadAsync(IReadOnlyList{string}, CancellationToken)"/>, with up to <paramref name="packetsInFlight"/>
+    /// packets sent before their replies arrive, where the transport can (Ethernet: replies come back in order on one
+    /// TCP stream). Over a lossy link that lets TCP recover a lost reply from the next one's duplicate ACKs instead of
+    /// its retransmission timeout. A refusal then may find later packets already stored: the exception's
+    /// <see cref="PmacErrorException.LinesStoredAfterGap"/> counts their lines. Transports that cannot pipeline send one
+    /// packet at a time (nothing is ever stored after a refusal).
+    /// </summary>
+    Task DownloadAsync(IReadOnlyList<string> lines, int packetsInFlight, CancellationToken cancellationToken = default) =>
+        DownloadAsync(lines, cancellationToken);
+
     /// <summary>Discards pending replies (Ctrl-X).</summary>
     Task FlushAsync(CancellationToken cancellationToken = default);
 

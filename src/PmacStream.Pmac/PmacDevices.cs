@@ -9,7 +9,7 @@ namespace PmacStream.Pmac;
 /// The PComm-style device API over any <see cref="IPmacConnection"/>: devices are configured by number
 /// (<see cref="Add"/> or <see cref="AddFromSpec"/>), <c>GetResponse</c> and <c>Download</c> keep PComm's meaning.
 /// Downloads are prepared on the host (comments, macros, includes) and sent with the transport's fastest path
-/// (<see cref="IPmacConnection.DownloadAsync"/>: WRITEBUFFER batches over Ethernet).
+/// (<see cref="IPmacConnection.DownloadAsync(IReadOnlyList{string}, CancellationToken)"/>: WRITEBUFFER batches over Ethernet).
 /// </summary>
 public sealed class PmacDevices : IPmacDevices, IAsyncDisposable
 {

@@ -73,6 +73,13 @@ public sealed class PmacErrorException : Exception
 
     /// <summary>For downloads: the 0-based index of the failing line within what was sent, when known.</summary>
     public int? LineInBatch { get; }
+
+    /// <summary>
+    /// For downloads with several packets in flight: lines of later packets the controller stored although an earlier
+    /// line was refused. They sit in the buffer behind a gap (the refused line and the rest of its packet), so
+    /// execution must be stopped before it reaches them. 0: nothing was stored after the refusal.
+    /// </summary>
+    public int LinesStoredAfterGap { get; init; }
 }
 
 /// <summary>The link to the controller failed (timeout, closed connection, bad framing). The job stays resumable.</summary>

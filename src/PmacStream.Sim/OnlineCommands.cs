@@ -250,6 +250,9 @@ internal sealed class OnlineCommands(PmacSimulator sim, CoordinateSystem[] coord
             case "PR":
                 outputs.Add(cs.RotaryLinesAhead().ToString(CultureInfo.InvariantCulture));
                 return;
+            case "SIZE":
+                outputs.Add(buffers.UnusedWords().ToString(CultureInfo.InvariantCulture));
+                return;
             case "OPEN":
                 buffers.Open(port, p);
                 return;

@@ -170,6 +170,33 @@ internal sealed class ProgramBuffers(CoordinateSystem[] coordinateSystems, PlcTa
         _open!.Clear();
     }
 
+    /// <summary>
+    /// <c>SIZE</c>: the user memory's words not taken by stored motion programs, PLCs and defined rotary buffers;
+    /// negative while a buffer is open (PMAC Software Reference p. 286, "If a buffer is currently open, the value is
+    /// reported as a negative number").
+    /// </summary>
+    public int UnusedWords()
+    {
+        long used = 0;
+        foreach (var p in _programs.Values)
+        {
+            used += p.UsedWords;
+        }
+
+        for (var i = 0; i < PlcTable.Count; i++)
+        {
+            used += plcs[i]?.Buffer.UsedWords ?? 0;
+        }
+
+        foreach (var c in coordinateSystems.Skip(1))
+        {
+            used += c.Rotary?.CapacityWords ?? 0;
+        }
+
+        var unused = (int)Math.Max(0, options.UserMemoryWords - used);
+        return _owner is null ? unused : -unused;
+    }
+
     /// <summary><c>DEFINE ROT n</c> (a new rotary buffer of n words for the port's coordinate system), <c>DEFINE GATHER</c> (accepted).</summary>
     public void Define(SimPort port, ExprParser p)
     {

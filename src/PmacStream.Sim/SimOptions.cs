@@ -94,6 +94,20 @@ public sealed class SimOptions
     /// </summary>
     public int DefaultRotWords { get; set; } = 65536;
 
+    /// <summary>
+    /// User memory for programs and buffers, words, as <c>SIZE</c> reports it less what the stored programs, PLCs and
+    /// rotary buffers take: the standard 26K words by default, 212K (217,088) with the expanded memory option (Turbo PMAC2
+    /// product description; docs/turbo-pmac-timing.md). *Assumed*: <c>DEFINE ROT</c> is not refused beyond it (the
+    /// manual's error for that is not documented on the pages found), so a host must ask <c>SIZE</c> first.
+    /// </summary>
+    public int UserMemoryWords { get; set; } = StandardUserMemoryWords;
+
+    /// <summary>The standard user memory, 26K words.</summary>
+    public const int StandardUserMemoryWords = 26 * 1024;
+
+    /// <summary>The expanded user memory option, 212K words.</summary>
+    public const int ExpandedUserMemoryWords = 212 * 1024;
+
     /// <summary>Feed time unit in milliseconds (Isx90): F is in user units per this time. Default 60000 (per minute, G-code).</summary>
     public double FeedTimeUnitMs { get; set; } = 60000;
 

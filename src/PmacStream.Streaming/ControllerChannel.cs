@@ -91,12 +91,13 @@ internal sealed class ControllerChannel
 
     /// <summary>
     /// Sends a batch of lines in one write (<c>OPEN ROT</c>, program lines, <c>CLOSE</c>), measuring the round trip;
-    /// a refused line throws <see cref="PmacErrorException"/> with its index in the batch.
+    /// a refused line throws <see cref="PmacErrorException"/> with its index in the batch. With several packets in flight
+    /// the measured time is the batch's, not one request's.
     /// </summary>
-    public async Task DownloadAsync(IReadOnlyList<string> batch, int programLines, CancellationToken cancellationToken)
+    public async Task DownloadAsync(IReadOnlyList<string> batch, int programLines, int packetsInFlight, CancellationToken cancellationToken)
     {
         var sw = Stopwatch.StartNew();
-        await _conn.DownloadAsync(batch, cancellationToken).ConfigureAwait(false);
+        await _conn.DownloadAsync(batch, packetsInFlight, cancellationToken).ConfigureAwait(false);
         MeasureRoundTrip(sw.Elapsed.TotalSeconds);
         Log.Debug("{Device} sent {Count} program lines ({Ms:0.0} ms)", _conn.Description, programLines, sw.Elapsed.TotalMilliseconds);
     }

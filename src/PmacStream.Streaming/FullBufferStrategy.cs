@@ -35,6 +35,20 @@ public sealed class FullBufferStrategy : IStreamingStrategy
     /// <summary>The smallest lead seen once the buffer was first filled (seconds); infinity before.</summary>
     public double WorstLeadSeconds { get; private set; } = double.PositiveInfinity;
 
+    /// <summary>
+    /// One batch within <paramref name="free"/> words. With several packets in flight the words are the controller's
+    /// count (the session's buffer model charges <see cref="ControllerWords"/>) and a batch carries at most
+    /// <see cref="StreamingOptions.WordsInFlight"/>: the credit is what the controller last reported free, less the
+    /// words in flight, so <c>ERR006</c> cannot leave later packets stored behind a gap.
+    /// </summary>
+    private static Task SendAsync(StreamingContext context, int free, CancellationToken cancellationToken)
+    {
+        var o = context.Options;
+        return context.PacketsInFlight > 1
+            ? context.SendLinesPipelinedAsync(o.FullMaxBatchLines, Math.Min(free, o.WordsInFlight), context.PacketsInFlight, cancellationToken)
+            : context.SendLinesAsync(o.FullMaxBatchLines, free, oneByOne: false, cancellationToken);
+    }
+
     /// <inheritdoc />
     public void Reset()
     {
@@ -60,9 +74,9 @@ public sealed class FullBufferStrategy : IStreamingStrategy
         {
             try
             {
-                await context.SendLinesAsync(context.Options.FullMaxBatchLines, free, oneByOne: false, cancellationToken).ConfigureAwait(false);
+                await SendAsync(context, free, cancellationToken).ConfigureAwait(false);
             }
-            catch (PmacErrorException e) when (e.Number == NoRoomError && e.LineInBatch is not null && room - context.FreeWords > context.BufferWords / 4)
+            catch (PmacErrorException e) when (e.Number == NoRoomError && e.LineInBatch is not null && e.LinesStoredAfterGap == 0 && room - context.FreeWords > context.BufferWords / 4)
             {
                 // The lines before the refused one are stored and the position stands exactly before it (the
                 // sender's rule). The model still counts the lines executed while the batch went out (M0 was not

@@ -144,23 +144,27 @@ internal sealed class ProgramSender(ChunkedProgram program, ControllerChannel ch
         throw new PmacLinkException($"download of {path} failed without a reason");
     }
 
-    /// <summary>Sends up to <paramref name="maxLines"/> lines within <paramref name="maxWords"/> words, in one batch or line by line.</summary>
-    public Task SendLinesAsync(int maxLines, int maxWords, bool oneByOne, CancellationToken cancellationToken)
+    /// <summary>
+    /// Sends up to <paramref name="maxLines"/> lines within <paramref name="maxWords"/> words (as the buffer model
+    /// counts them), in one batch or line by line; a batch with up to <paramref name="packetsInFlight"/> packets in flight.
+    /// </summary>
+    public Task SendLinesAsync(int maxLines, int maxWords, bool oneByOne, CancellationToken cancellationToken, int packetsInFlight = 1)
     {
         var lines = new List<ProgramLine>();
         var words = 0;
         foreach (var l in Ahead())
         {
-            if (lines.Count >= maxLines || words + l.Words > maxWords)
+            var w = buffer.WordsOf(l);
+            if (lines.Count >= maxLines || words + w > maxWords)
             {
                 break;
             }
 
             lines.Add(l);
-            words += l.Words;
+            words += w;
         }
 
-        return lines.Count == 0 ? Task.CompletedTask : SendBatchAsync(lines, advance: true, oneByOne, cancellationToken);
+        return lines.Count == 0 ? Task.CompletedTask : SendBatchAsync(lines, advance: true, oneByOne, cancellationToken, packetsInFlight);
     }
 
     /// <summary>
@@ -196,7 +200,7 @@ internal sealed class ProgramSender(ChunkedProgram program, ControllerChannel ch
     /// <paramref name="advance"/> they are program lines at <see cref="Next"/> and the position moves past each one
     /// accepted; without, they are extra lines (a preamble) that take room but are not program positions.
     /// </summary>
-    public async Task SendBatchAsync(List<ProgramLine> lines, bool advance, bool oneByOne, CancellationToken cancellationToken)
+    public async Task SendBatchAsync(List<ProgramLine> lines, bool advance, bool oneByOne, CancellationToken cancellationToken, int packetsInFlight = 1)
     {
         if (advance)
         {
@@ -226,7 +230,7 @@ internal sealed class ProgramSender(ChunkedProgram program, ControllerChannel ch
                 var batch = new List<string>(lines.Count + 2) { "OPEN ROT" };
                 batch.AddRange(lines.Select(l => l.Text));
                 batch.Add("CLOSE");
-                await channel.DownloadAsync(batch, lines.Count, cancellationToken).ConfigureAwait(false);
+                await channel.DownloadAsync(batch, lines.Count, packetsInFlight, cancellationToken).ConfigureAwait(false);
                 if (advance)
                 {
                     foreach (var l in lines)
@@ -246,7 +250,8 @@ internal sealed class ProgramSender(ChunkedProgram program, ControllerChannel ch
         {
             if (!oneByOne && advance && e.LineInBatch is { } i)
             {
-                // Index 0 was OPEN ROT: lines 1..i-1 of the batch were accepted.
+                // Index 0 was OPEN ROT: lines 1..i-1 of the batch were accepted. Lines stored behind a gap (several
+                // packets in flight) are not positions to continue from: the session stops the motion before them.
                 for (var k = 0; k < Math.Min(i - 1, lines.Count); k++)
                 {
                     Accept(lines[k]);

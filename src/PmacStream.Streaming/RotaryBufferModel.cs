@@ -11,16 +11,27 @@ namespace PmacStream.Streaming;
 internal sealed class RotaryBufferModel
 {
     private readonly Queue<Entry> _lines = new();
+    private readonly Func<ProgramLine, int>? _wordsOf;
 
-    /// <summary>Creates the model of a buffer of <paramref name="bufferWords"/> words, <paramref name="safetyWords"/> of them kept free.</summary>
-    public RotaryBufferModel(int bufferWords, int safetyWords)
+    /// <summary>
+    /// Creates the model of a buffer of <paramref name="bufferWords"/> words, <paramref name="safetyWords"/> of them
+    /// kept free; a line is charged <paramref name="wordsOf"/> (the splitter's estimate when null).
+    /// </summary>
+    public RotaryBufferModel(int bufferWords, int safetyWords, Func<ProgramLine, int>? wordsOf = null)
     {
         BufferWords = bufferWords;
         SafetyWords = safetyWords;
+        _wordsOf = wordsOf;
     }
 
+    /// <summary>The words this model charges <paramref name="line"/>.</summary>
+    public int WordsOf(ProgramLine line) => _wordsOf is null ? line.Words : _wordsOf(line);
+
     /// <summary>The buffer's size (<c>DEFINE ROT</c>), words.</summary>
-    public int BufferWords { get; }
+    public int BufferWords { get; private set; }
+
+    /// <summary>The buffer was defined with <paramref name="words"/> words (sized from the controller's free memory).</summary>
+    public void Resize(int words) => BufferWords = words;
 
     /// <summary>Words never filled, a margin for the estimate.</summary>
     public int SafetyWords { get; }
@@ -72,8 +83,9 @@ internal sealed class RotaryBufferModel
         }
 
         // A non-motion line belongs to the move before it: it is freed when a later move is reached.
-        _lines.Enqueue(new Entry(LastSentLine, line.Words, line.TrackedLine > 0));
-        Words += line.Words;
+        var words = WordsOf(line);
+        _lines.Enqueue(new Entry(LastSentLine, words, line.TrackedLine > 0));
+        Words += words;
     }
 
     /// <summary>The tracking variable reads <paramref name="trackedLine"/>: every line before that move has been calculated.</summary>

@@ -1,3 +1,4 @@
+using PmacStream.Pmac;
 using Serilog;
 
 namespace PmacStream.Streaming;
@@ -73,7 +74,9 @@ internal sealed class StartSequence(ChunkedProgram program, StreamingOptions opt
         {
             await channel.OnlineAsync("DELETE GATHER", cancellationToken).ConfigureAwait(false);
             await channel.OnlineIgnoringErrorAsync(cs.DeleteRotary, cancellationToken).ConfigureAwait(false);
-            await channel.OnlineAsync(cs.DefineRotary(options.BufferWords), cancellationToken).ConfigureAwait(false);
+            var words = options.SizeBufferFromController ? await WordsFromControllerAsync(cancellationToken).ConfigureAwait(false) : options.BufferWords;
+            await channel.OnlineAsync(cs.DefineRotary(words), cancellationToken).ConfigureAwait(false);
+            buffer.Resize(words);
         }
 
         if (options.ResetTrackVariable)
@@ -89,6 +92,42 @@ internal sealed class StartSequence(ChunkedProgram program, StreamingOptions opt
 
         // B0 must precede the first OPEN ROT: inside an open buffer it would be a B-axis move.
         await channel.OnlineAsync(cs.PointAtRotary, cancellationToken).ConfigureAwait(false);
+    }
+
+    /// <summary>
+    /// The rotary buffer's size from the controller's free memory: <c>SIZE</c> ("the amount of unused long words of
+    /// memory available for buffers", PMAC Software Reference p. 286) less <see cref="StreamingOptions.MemoryReserveWords"/>
+    /// (PLCs and programs loaded later), capped by <see cref="StreamingOptions.BufferWordsCap"/>. A controller that does
+    /// not answer it (or answers a buffer open, a negative number) gets <see cref="StreamingOptions.BufferWords"/>.
+    /// </summary>
+    private async Task<int> WordsFromControllerAsync(CancellationToken cancellationToken)
+    {
+        string reply;
+        try
+        {
+            reply = await channel.OnlineAsync("SIZE", cancellationToken).ConfigureAwait(false);
+        }
+        catch (PmacErrorException e)
+        {
+            Logger.Information("SIZE refused (ERR{Number:000}): the rotary buffer gets the setting's {Words} words", e.Number, options.BufferWords);
+            return options.BufferWords;
+        }
+
+        if (!long.TryParse(reply.Trim(), System.Globalization.NumberStyles.Integer, System.Globalization.CultureInfo.InvariantCulture, out var free) || free <= 0)
+        {
+            Logger.Information("SIZE answered '{Reply}': the rotary buffer gets the setting's {Words} words", reply, options.BufferWords);
+            return options.BufferWords;
+        }
+
+        var words = free - options.MemoryReserveWords;
+        if (options.BufferWordsCap > 0)
+        {
+            words = Math.Min(words, options.BufferWordsCap);
+        }
+
+        var chosen = (int)Math.Clamp(words, 1, int.MaxValue);
+        Logger.Information("SIZE: {Free} words of user memory free; the rotary buffer gets {Words} (reserve {Reserve}, cap {Cap})", free, chosen, options.MemoryReserveWords, options.BufferWordsCap > 0 ? options.BufferWordsCap : (object)"none");
+        return chosen;
     }
 
     /// <summary>What <see cref="LoadAsync"/> loads: the program from <paramref name="start"/>, after <paramref name="preamble"/> (none when null or empty).</summary>

@@ -47,6 +47,9 @@ public sealed class StreamingContext
     /// <summary>The longest single query or batch so far, seconds (a retransmission stall shows here).</summary>
     public double WorstRoundTripSeconds => _channel.WorstRoundTripSeconds;
 
+    /// <summary>WRITEBUFFER packets the full strategy may keep in flight now (1: one at a time).</summary>
+    public int PacketsInFlight => _session.PacketsInFlight;
+
     /// <summary>The rotary buffer's size in words, as defined.</summary>
     public int BufferWords => _buffer.BufferWords;
 
@@ -72,6 +75,14 @@ public sealed class StreamingContext
 
     /// <summary>Sends up to <paramref name="maxLines"/> lines within <paramref name="maxWords"/> words, in one batch or line by line.</summary>
     public Task SendLinesAsync(int maxLines, int maxWords, bool oneByOne, CancellationToken cancellationToken) => _sender.SendLinesAsync(maxLines, maxWords, oneByOne, cancellationToken);
+
+    /// <summary>
+    /// Sends up to <paramref name="maxLines"/> lines within <paramref name="maxWords"/> words in one batch, with up to
+    /// <paramref name="packetsInFlight"/> packets in flight; the words are the buffer model's (the controller's count
+    /// when the session pipelines).
+    /// </summary>
+    public Task SendLinesPipelinedAsync(int maxLines, int maxWords, int packetsInFlight, CancellationToken cancellationToken) =>
+        _sender.SendLinesAsync(maxLines, maxWords, oneByOne: false, cancellationToken, packetsInFlight);
 
     /// <summary>Seconds of motion in the buffer ahead of the executing block (move times, or the measured block rate).</summary>
     public double LeadSeconds() => _pace.LeadSeconds(TrackedLine, _buffer.LastSentLine, _buffer.MovesAhead);

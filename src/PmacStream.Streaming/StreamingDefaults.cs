@@ -18,6 +18,19 @@ public static class StreamingDefaults
     /// <summary>Words the session keeps free in the rotary buffer against the splitter's estimate.</summary>
     public const int BufferMarginWords = 64;
 
+    /// <summary>
+    /// WRITEBUFFER packets the <c>full</c> strategy keeps in flight over Ethernet (1: each waits for its reply). Several
+    /// in flight let TCP recover a lost reply from the next reply's duplicate ACKs within a round trip, where a lone
+    /// request waits for the controller's retransmission timeout (200 ms or more): issue 28's 3 % loss runs.
+    /// </summary>
+    public const int PacketsInFlight = 8;
+
+    /// <summary>Most rotary-buffer words (the controller's count) one pipelined batch of the <c>full</c> strategy carries.</summary>
+    public const int WordsInFlight = 8_000;
+
+    /// <summary>Words of the controller's free memory (<c>SIZE</c>) a buffer sized from it leaves for PLCs and programs loaded later.</summary>
+    public const int MemoryReserveWords = 1_024;
+
     /// <summary>The timer period (timer1's interval).</summary>
     public static readonly TimeSpan TickPeriod = TimeSpan.FromMilliseconds(50);
 }

@@ -48,6 +48,19 @@ public sealed record StreamingOptions
     /// <summary>When set, the session defines the rotary buffer with this many words before starting (<c>DEL GAT</c>, <c>DEF ROT</c>).</summary>
     public bool DefineBuffer { get; init; }
 
+    /// <summary>
+    /// With <see cref="DefineBuffer"/>: define the rotary buffer from what the controller's <c>SIZE</c> reports free
+    /// (less <see cref="MemoryReserveWords"/>, at most <see cref="BufferWordsCap"/>) instead of <see cref="BufferWords"/>,
+    /// which stays the size for a controller that does not answer it. The <c>full</c> strategy's.
+    /// </summary>
+    public bool SizeBufferFromController { get; init; }
+
+    /// <summary>Words of free user memory left out of a buffer sized from <c>SIZE</c> (PLCs and programs loaded later).</summary>
+    public int MemoryReserveWords { get; init; } = StreamingDefaults.MemoryReserveWords;
+
+    /// <summary>Most words a buffer sized from <c>SIZE</c> gets; 0: no cap (as large as the controller allows).</summary>
+    public int BufferWordsCap { get; init; }
+
     /// <summary>Words kept free as a margin against the splitter's estimate.</summary>
     public int SafetyWords { get; init; } = StreamingDefaults.BufferMarginWords;
 
@@ -74,6 +87,19 @@ public sealed record StreamingOptions
     /// lines a tick gave 69 underruns where 2,000 gave none (issue 28's bench), so 2,000 (about 70 WRITEBUFFER packets).
     /// </summary>
     public int FullMaxBatchLines { get; init; } = 2000;
+
+    /// <summary>
+    /// <c>full</c> strategy: WRITEBUFFER packets sent before their replies arrive (Ethernet; other links send one at a
+    /// time). 1 keeps one request in flight. With more, every batch is sized within the free words the controller
+    /// last reported less the words already in flight, counted as the controller counts them
+    /// (<see cref="ControllerWords"/>), so a line cannot be refused for room; should one be refused anyway while later
+    /// packets were stored behind it, the session aborts the coordinate system at once and ends the job at the last
+    /// block executed, resumable from there (<see cref="StreamingSession"/>).
+    /// </summary>
+    public int PacketsInFlight { get; init; } = StreamingDefaults.PacketsInFlight;
+
+    /// <summary><c>full</c> strategy with several packets in flight: most words (controller's count) one batch carries.</summary>
+    public int WordsInFlight { get; init; } = StreamingDefaults.WordsInFlight;
 
     /// <summary>Feed control: <c>P500</c> (paper) or the <c>%</c> override; defaults to the manifest's mode.</summary>
     public FeedMode? Feed { get; init; }

@@ -48,6 +48,7 @@ public sealed partial class StreamingSession
     private bool _optionalStop;
     private bool _runSent;
     private long _ticks;
+    private bool _resumedFromCheckpoint;
 
     /// <summary>Creates a session on a PComm-style device facade; downloads go through its <c>Download</c>.</summary>
     public StreamingSession(IPmacDevices devices, ChunkedProgram program, StreamingOptions options, ICheckpointSink? checkpoints = null, IMoveTimes? moveTimes = null, TimeProvider? time = null, IStreamingStrategy? strategy = null)
@@ -64,7 +65,7 @@ public sealed partial class StreamingSession
         _optionalStop = options.OptionalStop;
         program.UseLineProbe(options.LineProbeVariable);
         _queries = new ControllerQueries(_channel, _cs, program.Sync);
-        _buffer = new RotaryBufferModel(options.BufferWords, options.SafetyWords);
+        _buffer = new RotaryBufferModel(options.BufferWords, options.SafetyWords, Pipelined(_strategy, options) ? l => Math.Max(l.Words, ControllerWords.Of(l.Text)) : null);
         _checkpoints = new CheckpointWriter(checkpoints, () => Checkpoint);
         _sender = new ProgramSender(program, _channel, devices, options.PmacNumber, _buffer, () => SaveCheckpoint(durable: false));
         _pace = new ExecutionPace(_time, moveTimes, _cs.FeedMode);
@@ -129,6 +130,13 @@ public sealed partial class StreamingSession
     internal int Tracked => _tracked;
 
     internal int CurrentChunk => _currentChunk;
+
+    /// <summary>
+    /// WRITEBUFFER packets the full strategy may keep in flight: the setting's, but one after a resume from a
+    /// checkpoint, whose buffer may have been sized from the controller's memory to other than the setting (the
+    /// one-in-flight strategy learns the real size from <c>ERR006</c>, which with several in flight would leave a gap).
+    /// </summary>
+    internal int PacketsInFlight => _resumedFromCheckpoint ? 1 : Options.PacketsInFlight;
 
     /// <summary>The status now.</summary>
     public StreamingStatus Status
@@ -322,6 +330,7 @@ public sealed partial class StreamingSession
 
             _runSent = true;
             _start.Loaded = true;
+            _resumedFromCheckpoint = true;
             var m = seen.TrackedLine;
             await _channel.OnlineAsync(OptionalStopCommand, cancellationToken).ConfigureAwait(false);
             _stops.Reset(m);
@@ -399,6 +408,10 @@ public sealed partial class StreamingSession
             }
 
             SaveCheckpoint(durable: _currentChunk != before || _sender.ChunksDownloaded != downloadedBefore || _state != stateBefore);
+        }
+        catch (PmacErrorException e) when (e.LinesStoredAfterGap > 0)
+        {
+            await StopBeforeGapAsync(e, cancellationToken).ConfigureAwait(false);
         }
         catch (Exception e) when (e is PmacLinkException or PmacErrorException)
         {
@@ -585,6 +598,41 @@ public sealed partial class StreamingSession
 
     private async Task ReadFeedAsync(CancellationToken cancellationToken) =>
         _pace.Feed = await _queries.FeedAsync(cancellationToken).ConfigureAwait(false);
+
+    /// <summary>True when the strategy sends with several packets in flight (the full strategy, more than one allowed).</summary>
+    private static bool Pipelined(IStreamingStrategy strategy, StreamingOptions options) => strategy is FullBufferStrategy && options.PacketsInFlight > 1;
+
+    /// <summary>
+    /// A line was refused while later packets were in flight, and the controller stored their lines behind the gap
+    /// (the refused line and the rest of its packet). Nothing can take lines back out of a rotary buffer, and the gap
+    /// lies at least the lead ahead of execution (a second of motion), so the coordinate system is aborted at once
+    /// (<c>&amp;n A</c>: it breaks into the trajectory and stops, Turbo PMAC User Manual p. 319; a feed hold would
+    /// decelerate over Isx95 and stay resumable into the gap with <c>R</c>). The job ends aborted at the block M0 names,
+    /// recorded durably before anything is sent: its resume restarts there with a preamble on a cleared buffer, the
+    /// way an operator's abort does, never running a line behind the gap.
+    /// </summary>
+    private async Task StopBeforeGapAsync(PmacErrorException e, CancellationToken cancellationToken)
+    {
+        _state = SessionState.Aborted;
+        var why = $"ERR{e.Number:000} refused '{e.Command}' while {e.LinesStoredAfterGap} lines of later packets were stored after it";
+        _log.Message = $"{why}: aborting before execution reaches the gap";
+        SaveCheckpoint(durable: true);
+        try
+        {
+            await _channel.TryCloseAsync(cancellationToken).ConfigureAwait(false);
+            await _channel.OnlineAsync(_cs.Abort, cancellationToken).ConfigureAwait(false);
+            FollowTrack(await _queries.TrackedLineAsync(cancellationToken).ConfigureAwait(false));
+            _log.Message = $"{why}: aborted at line {_tracked}, before the gap; resume restarts there";
+        }
+        catch (Exception x) when (x is PmacLinkException or PmacErrorException)
+        {
+            _log.Message = $"{why}: the abort could not be sent ({x.Message}); stop the machine before it reaches the gap";
+        }
+
+        Log.Error("Streaming stopped: {Message}", _log.Message);
+        Raise(StreamingEventKind.Fault, _log.Message, _currentChunk);
+        SaveCheckpoint(durable: true);
+    }
 
     private void Fault(Exception e)
     {

@@ -217,3 +217,66 @@ public sealed class ScriptedConnection(IPmacPortEndpoint port) : IPmacConnection
 
     public ValueTask DisposeAsync() => ValueTask.CompletedTask;
 }
+
+/// <summary>
+/// An in-process connection that pipelines program downloads as the Ethernet transport does (packets of
+/// <see cref="LinesPerPacket"/> lines, up to the window in flight) and, on the <see cref="RefuseDownload"/>th
+/// pipelined download, refuses the first tracked line (<c>M0==</c>) of its second packet, as a controller answering
+/// ERR003 would: the lines of that packet before it are stored, the rest of the packet is not, and the packets already
+/// in flight behind it are stored whole, after the gap. Then it throws what the transport throws.
+/// </summary>
+public sealed class PipelinedRefusalConnection(IPmacPortEndpoint port) : IPmacConnection
+{
+    private readonly InProcessConnection _inner = new(port, "pipelined refusal");
+    private int _pipelined;
+
+    /// <summary>Lines per simulated WRITEBUFFER packet.</summary>
+    public int LinesPerPacket { get; set; } = 29;
+
+    /// <summary>The pipelined download (1-based) whose second packet is refused.</summary>
+    public int RefuseDownload { get; set; } = 5;
+
+    /// <summary>The refused line, once refused.</summary>
+    public string? Refused { get; private set; }
+
+    /// <summary>Lines stored behind the gap.</summary>
+    public int StoredAfterGap { get; private set; }
+
+    public string Description => "pipelined refusal in-process";
+
+    public Task<string> GetResponseAsync(string command, CancellationToken cancellationToken = default) => _inner.GetResponseAsync(command, cancellationToken);
+
+    public Task DownloadAsync(IReadOnlyList<string> lines, CancellationToken cancellationToken = default) => _inner.DownloadAsync(lines, cancellationToken);
+
+    public async Task DownloadAsync(IReadOnlyList<string> lines, int packetsInFlight, CancellationToken cancellationToken = default)
+    {
+        var packets = lines.Chunk(LinesPerPacket).ToList();
+        if (packetsInFlight <= 1 || ++_pipelined != RefuseDownload || packets.Count < 3)
+        {
+            await _inner.DownloadAsync(lines, cancellationToken).ConfigureAwait(false);
+            return;
+        }
+
+        await _inner.DownloadAsync(packets[0], cancellationToken).ConfigureAwait(false);
+        var second = packets[1];
+        var refused = Array.FindIndex(second, l => l.Contains("M0==", StringComparison.Ordinal));
+        refused = refused < 0 ? 0 : refused;
+        await _inner.DownloadAsync(second.Take(refused).ToList(), cancellationToken).ConfigureAwait(false);
+        Refused = second[refused];
+
+        // The packets sent before the refusal came back: stored whole, behind the gap.
+        foreach (var p in packets.Skip(2).Take(packetsInFlight - 1))
+        {
+            await _inner.DownloadAsync(p, cancellationToken).ConfigureAwait(false);
+            StoredAfterGap += p.Length;
+        }
+
+        throw new PmacErrorException(PmacErrors.UnknownCommand, Refused, LinesPerPacket + refused) { LinesStoredAfterGap = StoredAfterGap };
+    }
+
+    public Task FlushAsync(CancellationToken cancellationToken = default) => _inner.FlushAsync(cancellationToken);
+
+    public Task<string> ControlAsync(char control, CancellationToken cancellationToken = default) => _inner.ControlAsync(control, cancellationToken);
+
+    public ValueTask DisposeAsync() => ValueTask.CompletedTask;
+}

@@ -13,7 +13,7 @@ namespace PmacStream.Benchmarks.Transport;
 
 /// <summary>
 /// Download of a 1,000,000-line program over TCP loopback to the simulator's VR_PMAC server: WRITEBUFFER batching
-/// (<see cref="EthernetConnection.DownloadAsync"/>) against one GETRESPONSE per line. Both report the time per line
+/// (<see cref="EthernetConnection.DownloadAsync(IReadOnlyList{string}, CancellationToken)"/>) against one GETRESPONSE per line. Both report the time per line
 /// (OperationsPerInvoke), so lines/s = 1 / Mean and the Ratio column is the speed-up. Line-at-a-time sends the first
 /// 100,000 lines only: each line is one independent round trip, so its per-line time does not depend on the length,
 /// and 1,000,000 round trips take minutes per iteration on a shared machine.

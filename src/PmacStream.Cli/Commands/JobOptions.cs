@@ -40,6 +40,8 @@ internal sealed class JobOptions
     private readonly Option<string?> _machine = new("--machine") { Description = "The machine's name in the job history (default: its connection, host:port or the serial device)." };
     private readonly Option<string?> _settings = new("--settings") { Description = "Run settings file (JSON); default $PMACSTREAM_SETTINGS or ~/.pmacstream/settings.json when it exists." };
     private readonly Option<int?> _bufferWords = new("--buffer-words") { Description = $"Rotary buffer size in words (default {D.BufferWords}; the simulator's is defined to this)." };
+    private readonly Option<int?> _packetsInFlight = new("--packets-in-flight") { Description = $"full strategy over Ethernet: WRITEBUFFER packets sent before their replies (default {D.PacketsInFlight}; 1: one at a time)." };
+    private readonly Option<int?> _bufferCap = new("--buffer-cap") { Description = "full strategy: most words of a rotary buffer sized from the controller's SIZE (default: no cap)." };
     private readonly Option<int?> _tickMs = new("--tick-ms") { Description = $"Timer period of the streaming tick, milliseconds (default {D.TickPeriod.TotalMilliseconds:0})." };
     private readonly Option<string?> _window = new("--window") { Description = $"Download window of the chunk strategy, as fractions of a chunk (default {D.Window}: lines 600-700 of a 1000-line chunk) or percent (60-70%)." };
     private readonly Option<double?> _safeZ = new("--safe-z") { Description = $"Safe Z (work coordinates) for the approach when starting from a line (default {D.SafeZ}; --safe-z-mode fixed, and the fallback of highest)." };
@@ -96,7 +98,7 @@ internal sealed class JobOptions
                 options.AddRange([o._sim, o._tcp, o._serial, o._yes, o._jobDb, o._store, o._station, o._machine, o._safeZ, o._safeZMode, o._clearance, o._feedOverride, o._stops, o._optionalStop, o._loadLibrary, o._noHomeCheck]);
             }
 
-            options.AddRange([o._settings, o._simSpeed, o._bufferWords, o._tickMs, o._window]);
+            options.AddRange([o._settings, o._simSpeed, o._bufferWords, o._packetsInFlight, o._bufferCap, o._tickMs, o._window]);
         }
 
         foreach (var option in options)
@@ -278,6 +280,16 @@ internal sealed class JobOptions
         if (parse.GetValue(_bufferWords) is { } words)
         {
             s = s with { BufferWords = words };
+        }
+
+        if (parse.GetValue(_packetsInFlight) is { } inFlight)
+        {
+            s = s with { PacketsInFlight = inFlight is >= 1 and <= 64 ? inFlight : throw new CliException("--packets-in-flight must be between 1 and 64") };
+        }
+
+        if (parse.GetValue(_bufferCap) is { } cap)
+        {
+            s = s with { BufferWordsCap = cap >= 0 ? cap : throw new CliException("--buffer-cap must be 0 (no cap) or more") };
         }
 
         if (parse.GetValue(_tickMs) is { } tick)

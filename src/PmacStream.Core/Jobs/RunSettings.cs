@@ -66,6 +66,15 @@ public sealed record RunSettings
     /// <summary>Rotary buffer size in words; the built-in simulator's buffer is defined to it.</summary>
     public int BufferWords { get; init; } = DefaultBufferWords;
 
+    /// <summary>
+    /// <c>full</c> strategy over Ethernet: WRITEBUFFER packets in flight (1: each waits for its reply). Several ride out
+    /// lost replies (docs/turbo-pmac-timing.md, "Links").
+    /// </summary>
+    public int PacketsInFlight { get; init; } = StreamingDefaults.PacketsInFlight;
+
+    /// <summary><c>full</c> strategy: most words of a rotary buffer sized from the controller's <c>SIZE</c>; 0: no cap.</summary>
+    public int BufferWordsCap { get; init; }
+
     /// <summary>Estimated words one chunk may take (<see cref="ChunkShape.ChunkWords"/>: the splitter's budget; bytes = words x 8).</summary>
     public int ChunkWords { get => Shape.ChunkWords; init => Shape = Shape with { ChunkWords = value }; }
 
@@ -131,6 +140,11 @@ public sealed record RunSettings
             throw new ArgumentException($"a chunk of {ChunkWords} words does not fit a rotary buffer of {BufferWords} words (less the {BufferMarginWords}-word margin)");
         }
 
+        if (PacketsInFlight is < 1 or > 64 || BufferWordsCap < 0)
+        {
+            throw new ArgumentException($"packets in flight must be 1 to 64 and the buffer cap 0 or more (got {PacketsInFlight}, {BufferWordsCap})");
+        }
+
         if (!(WindowStart >= 0 && WindowStart < WindowEnd && WindowEnd <= 1))
         {
             throw new ArgumentException($"download window {Window}: expected 0 <= start < end <= 1");
@@ -177,6 +191,9 @@ public sealed record RunSettings
         BufferWords = strategy == StrategyKind.Full ? Math.Max(BufferWords, FullBufferWords) : BufferWords,
         SafetyWords = BufferMarginWords,
         DefineBuffer = defineBuffer || strategy == StrategyKind.Full,
+        SizeBufferFromController = strategy == StrategyKind.Full,
+        BufferWordsCap = BufferWordsCap,
+        PacketsInFlight = PacketsInFlight,
         WindowStart = WindowStart,
         WindowEnd = WindowEnd,
         TickPeriod = TickPeriod * clockFactor,

@@ -38,7 +38,7 @@ public static class RunSettingsFile
     public const string OldBlocksPerChunkName = "linesPerChunk";
 
     /// <summary>The properties of the settings themselves; the rest are the chunk shape's.</summary>
-    private static readonly string[] RunNames = ["bufferWords", "windowStart", "windowEnd", "tickMs", "safeZMode", "safeZ", "clearance"];
+    private static readonly string[] RunNames = ["bufferWords", "packetsInFlight", "bufferWordsCap", "windowStart", "windowEnd", "tickMs", "safeZMode", "safeZ", "clearance"];
 
     /// <summary>The settings file both faces read when none is named: <c>$PMACSTREAM_SETTINGS</c>, else <c>~/.pmacstream/settings.json</c>.</summary>
     public static string DefaultPath =>
@@ -179,6 +179,8 @@ public static class RunSettingsFile
         {
             w.WriteStartObject();
             w.WriteNumber("bufferWords", settings.BufferWords);
+            w.WriteNumber("packetsInFlight", settings.PacketsInFlight);
+            w.WriteNumber("bufferWordsCap", settings.BufferWordsCap);
             w.WriteNumber("windowStart", settings.WindowStart);
             w.WriteNumber("windowEnd", settings.WindowEnd);
             w.WriteNumber("tickMs", settings.TickPeriod.TotalMilliseconds);
@@ -207,6 +209,8 @@ public static class RunSettingsFile
     private static RunSettings Apply(RunSettings s, string name, ref Utf8JsonReader r) => name switch
     {
         "bufferWords" => s with { BufferWords = Positive(r.GetInt32()) },
+        "packetsInFlight" => s with { PacketsInFlight = r.GetInt32() is >= 1 and <= 64 and var n ? n : throw new ArgumentException("must be 1 to 64") },
+        "bufferWordsCap" => s with { BufferWordsCap = r.GetInt32() is >= 0 and var c ? c : throw new ArgumentException("must be 0 (no cap) or more") },
         "windowStart" => s with { WindowStart = Fraction(r.GetDouble()) },
         "windowEnd" => s with { WindowEnd = Fraction(r.GetDouble()) },
         "tickMs" => s with { TickPeriod = TimeSpan.FromMilliseconds(Positive(r.GetDouble())) },

@@ -79,6 +79,44 @@ public sealed class EthernetTransportTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task Pipelined_download_sends_every_line_in_order()
+    {
+        var lines = Enumerable.Range(0, 5000).Select(i => $"X{i}.5 Y{i}").ToArray();
+        await _connection.DownloadAsync(lines, packetsInFlight: 8);
+        _controller.Executed.Should().Equal(lines);
+        (await _connection.GetResponseAsync("VER")).Should().Be("1.947", "every reply was read: the next exchange is in step");
+    }
+
+    [Fact]
+    public async Task Pipelined_download_refused_mid_way_reports_the_lines_stored_behind_the_gap()
+    {
+        // With four packets in flight the three sent after the refused one reach the controller before its reply
+        // comes back: their lines are stored after the gap, and the exception counts them.
+        var lines = Enumerable.Range(0, 3000).Select(i => i == 1777 ? "BAD LINE" : $"X{i}").ToArray();
+        var act = () => _connection.DownloadAsync(lines, packetsInFlight: 4);
+        var e = (await act.Should().ThrowAsync<PmacErrorException>()).Which;
+        e.LineInBatch.Should().Be(1777);
+        e.Number.Should().Be(3);
+        e.LinesStoredAfterGap.Should().BeGreaterThan(0);
+        _controller.Executed.Take(1777).Should().Equal(lines.Take(1777));
+        var after = _controller.Executed.Skip(1777).ToList();
+        after.Should().HaveCount(e.LinesStoredAfterGap, "the count is what the controller stored");
+        var from = Array.IndexOf(lines, after[0]);
+        from.Should().BeGreaterThan(1777, "the rest of the refused packet is not stored");
+        after.Should().Equal(lines.Skip(from).Take(after.Count), "the packets behind the gap, whole and in order");
+        (await _connection.GetResponseAsync("VER")).Should().Be("1.947", "the replies of the packets in flight were all read");
+    }
+
+    [Fact]
+    public async Task One_packet_in_flight_stores_nothing_after_a_refusal()
+    {
+        var lines = Enumerable.Range(0, 3000).Select(i => i == 1777 ? "BAD LINE" : $"X{i}").ToArray();
+        var act = () => _connection.DownloadAsync(lines, packetsInFlight: 1);
+        (await act.Should().ThrowAsync<PmacErrorException>()).Which.LinesStoredAfterGap.Should().Be(0);
+        _controller.Executed.Should().Equal(lines.Take(1777));
+    }
+
+    [Fact]
     public async Task Flush_and_control_characters_reach_the_controller()
     {
         await _connection.FlushAsync();
