@@ -8,7 +8,8 @@ namespace PmacStream.Cli.Commands;
 /// <summary>
 /// What <c>stream</c> runs: a stored revision (<c>--program ID</c>), its exact source written from the store into the
 /// station's program cache (<c>~/.pmacstream/programs/SHA/NAME</c>, content-addressed, so every station and store
-/// agree and a resume finds it again); or a file, imported into the store first so its job names its revision.
+/// agree and a resume finds it again); or a file, which the job service's preparation imports first (<c>PrepareRequest.Import</c>)
+/// so its job names its revision.
 /// </summary>
 internal static class StoredPrograms
 {
@@ -16,7 +17,7 @@ internal static class StoredPrograms
     public static string CacheFolder => Path.Combine(Path.GetDirectoryName(StoreLocation.DefaultSqlitePath)!, "programs");
 
     /// <summary>The source file to prepare and the revision's id.</summary>
-    public static (string Source, long? Revision) Source(StoreLocation location, string? file, long? programId, MachineProfile profile, CancellationToken ct)
+    public static (string Source, long? Revision) Source(StoreLocation location, string? file, long? programId)
     {
         if (file is not null && programId is not null)
         {
@@ -35,30 +36,8 @@ internal static class StoredPrograms
             throw new CliException("say what to run: a FILE or --program ID");
         }
 
-        if (!File.Exists(file))
-        {
-            return (file, null); // the gate reports it as it always has
-        }
-
-        using (var store = ProgramsCommand.OpenStore(location))
-        {
-            // The check's findings are the gate's to report (with the split): here the revision only records them.
-            try
-            {
-                // Hashing is a fraction of a check: a file streamed again is found by its content, not imported again.
-                var sha = FileHash.Sha256Hex(file, ct);
-                if (store.FindRevision(sha, profile.Name) is { } known)
-                {
-                    return (file, known.Id);
-                }
-
-                return (file, store.ImportRevision(file, profile, null, ct).Id);
-            }
-            catch (Exception e) when (e is Microsoft.Data.Sqlite.SqliteException or Npgsql.NpgsqlException or IOException)
-            {
-                throw new CliException($"store {location.Display}: cannot import {file}: {StoreLocation.Redact(e.Message)}");
-            }
-        }
+        // A file is found in the store, or imported into it, by the job service's preparation (PrepareRequest.Import).
+        return (file, null);
     }
 
     /// <summary>

@@ -148,11 +148,13 @@ internal sealed class StreamHandler
         {
             Store = location, Simulator = sim.OpenAsync, Rules = new Machine.MachineRules(Machine.MachineAxis.Default, !options.NoHomeCheck),
         });
-        var (source, revision) = StoredPrograms.Source(location, o.File, o.ProgramId, machine, ct);
+        var (source, revision) = StoredPrograms.Source(location, o.File, o.ProgramId);
 
         // The gate: checked under the machine profile in the split's own pass and refused with every error, or with
         // every code the controller cannot run yet; nothing sent.
-        var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { Profile = machine, Force = o.Force, ProgramId = revision }, null, ct).ConfigureAwait(false);
+        // A file is imported first (found by its SHA-256 when stored already) so that its job names its revision.
+        var prepared = await service.PrepareAsync(new PrepareRequest(source, settings) { Profile = machine, Force = o.Force, ProgramId = revision, Import = revision is null }, null, ct).ConfigureAwait(false);
+        revision = prepared.ProgramId;
         JobConsole.WarnForced(prepared.Program.Manifest, machine, o.Force, console);
         var program = prepared.Program;
         StartPlan? plan = null;

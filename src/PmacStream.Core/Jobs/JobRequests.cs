@@ -26,6 +26,14 @@ public sealed record PrepareRequest(string SourcePath, RunSettings Settings)
     /// reused while the same inputs would make it (<see cref="JobService.PreparationsReused"/>); null: the split beside the file only.
     /// </summary>
     public long? ProgramId { get; init; }
+
+    /// <summary>
+    /// Without a <see cref="ProgramId"/>: store the file as a revision first (found by its SHA-256 and profile when
+    /// stored already, else checked and decoded into the store), so that its preparation is kept with it and the job
+    /// names it (<see cref="PreparedProgram.ProgramId"/>). A program with errors is stored with its diagnostics and
+    /// refused as before. What <c>stream FILE</c> asks for.
+    /// </summary>
+    public bool Import { get; init; }
 }
 
 /// <summary>A checked, split program ready to run.</summary>
@@ -34,7 +42,11 @@ public sealed record PrepareRequest(string SourcePath, RunSettings Settings)
 /// <param name="Profile">The profile it was checked against (start plans interpret with it).</param>
 /// <param name="Reused">True when an earlier split with the same bytes and options was taken as it was.</param>
 /// <param name="Warnings">Lexical warnings of a new split (0 when reused).</param>
-public sealed record PreparedProgram(string SourcePath, ChunkedProgram Program, MachineProfile Profile, bool Reused, int Warnings);
+public sealed record PreparedProgram(string SourcePath, ChunkedProgram Program, MachineProfile Profile, bool Reused, int Warnings)
+{
+    /// <summary>The stored revision it is (<see cref="PrepareRequest.ProgramId"/>, or the one <see cref="PrepareRequest.Import"/> found or stored); null: a file only.</summary>
+    public long? ProgramId { get; init; }
+}
 
 /// <summary>A check's findings for the screen.</summary>
 /// <param name="Diagnostics">Findings in line order (a huge list is cut; the counts are not).</param>

@@ -140,6 +140,33 @@ public sealed partial class JobService
         }
     }
 
+    /// <summary>
+    /// The revision a file is under <paramref name="profile"/>: found by its SHA-256 (hashing is a fraction of a check,
+    /// so a file streamed again is not imported again), else checked and decoded into the store now
+    /// (<see cref="IProgramRevisions.ImportRevision"/>; a program with errors is stored with its diagnostics, and the
+    /// preparation that follows refuses it with them).
+    /// </summary>
+    /// <exception cref="JobException">The store cannot be read or written, or the file read (<see cref="JobErrorKind.BadRequest"/>).</exception>
+    private long RevisionOf(string source, MachineProfile profile, CancellationToken cancellationToken)
+    {
+        try
+        {
+            using var store = ProgramStores.Open(Store);
+            if (store.FindRevision(FileHash.Sha256Hex(source, cancellationToken), profile.Name) is { } known)
+            {
+                return known.Id;
+            }
+
+            var imported = store.ImportRevision(source, profile, null, cancellationToken);
+            Log.Information("Imported {Source:l} into {Store:l} as program {Id}: {Summary:l}", source, Store.Display, imported.Id, imported.Summary.ToString());
+            return imported.Id;
+        }
+        catch (Exception e) when (e is System.Data.Common.DbException or IOException)
+        {
+            throw new JobException($"store {Store.Display}: cannot import {source}: {StoreLocation.Redact(e.Message)}", JobErrorKind.BadRequest, e);
+        }
+    }
+
     /// <summary>How a job plans a start at a line of its program (the alarm's check of where the next block starts): from the store for a revision.</summary>
     private Func<int, StartPlan> PlannerOf(long? programId, ChunkedProgram program, RunSettings settings, MachineProfile profile) =>
         line =>

@@ -595,8 +595,9 @@ public sealed partial class JobService
         }
 
         var outDir = Path.GetFullPath(options.OutDir ?? Splitter.DefaultOutDir(source));
+        var revision = request.ProgramId ?? (request.Import ? RevisionOf(source, request.Profile, cancellationToken) : null);
         PreparedProgram prepared;
-        if (request.ProgramId is { } programId && PrepareStored(programId, request, source, options, outDir, progress, cancellationToken) is { } stored)
+        if (revision is { } programId && PrepareStored(programId, request, source, options, outDir, progress, cancellationToken) is { } stored)
         {
             prepared = stored;
         }
@@ -617,7 +618,7 @@ public sealed partial class JobService
             Log.Information("Forced: {Source:l} uses codes the controller cannot run yet under {Profile:l}: {Codes:l}", source, request.Profile.Name, ProgramGate.Describe(forced));
         }
 
-        return prepared;
+        return prepared with { ProgramId = revision };
     }
 
     /// <summary>Splits a program (the check in the same pass); a refusal lists every error.</summary>
