@@ -54,8 +54,8 @@ internal sealed class CutterCompensation
     private const double CornerTolerance = 0.05;
 
     /// <summary>
-    /// Blocks after the move held (out-of-plane moves, dwells, codes queued behind it) beyond which an inside corner is
-    /// refused: every consumer holds at most this many blocks besides the move.
+    /// Blocks queued behind the move held (out-of-plane moves, dwells, codes) at most: an inside corner after more is
+    /// refused, so every consumer holds at most this many blocks besides the move.
     /// </summary>
     public const int MaxHeldBlocks = 256;
 
@@ -103,11 +103,8 @@ internal sealed class CutterCompensation
         _held == HeldKind.None || Lost || _heldBlocks > MaxHeldBlocks ? CompensationHold.None
         : _heldBlocks == 0 ? CompensationHold.Held : CompensationHold.Queued;
 
-    /// <summary>The source line of the move held (or last held); 0 before the first.</summary>
-    public int HeldLine => _heldLine;
-
-    /// <summary>True when the last inside corner was refused because its held move lay more than <see cref="MaxHeldBlocks"/> blocks back.</summary>
-    public bool HeldTooFar { get; private set; }
+    /// <summary>When the last inside corner was refused because the move it ends lay more than <see cref="MaxHeldBlocks"/> blocks back: that move's line; else null.</summary>
+    public int? HeldTooFar { get; private set; }
 
     /// <summary>Turns compensation on (or off with side 0); the next XY move is the entry move.</summary>
     public void Set(int side, double radius)
@@ -135,7 +132,7 @@ internal sealed class CutterCompensation
     /// </summary>
     public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Line(Point3 tool, Point3 target, bool rapid, int line)
     {
-        HeldTooFar = false;
+        HeldTooFar = null;
         if (!Entered)
         {
             var sign = Side == 41 ? 1.0 : -1.0; // the normal to the left of the move, or to its right
@@ -187,7 +184,7 @@ internal sealed class CutterCompensation
     /// </summary>
     public (Point3 End, CompensationCorner? Corner, CompensationFault Fault) Arc(Point3 tool, Point3 target, Point3 centre, bool clockwise, int line)
     {
-        HeldTooFar = false;
+        HeldTooFar = null;
         if (!Entered)
         {
             return (target, null, CompensationFault.StartOnArc);
@@ -236,9 +233,10 @@ internal sealed class CutterCompensation
     /// </summary>
     private (double X, double Y)? Meet(Point3 tool, Offset next)
     {
-        if (_held == HeldKind.None || _heldBlocks > MaxHeldBlocks)
+        // The corner's own block is one more than the blocks queued between.
+        if (_held == HeldKind.None || _heldBlocks > MaxHeldBlocks + 1)
         {
-            HeldTooFar = _held != HeldKind.None;
+            HeldTooFar = _held != HeldKind.None ? _heldLine : null;
             return null;
         }
 

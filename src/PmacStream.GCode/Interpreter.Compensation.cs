@@ -208,10 +208,10 @@ public sealed partial class Interpreter
     /// <summary>E135: the offset paths do not cross, or the move the corner ends lies beyond the hold's bound (named by its line).</summary>
     private void ConcaveCorner(List<Diagnostic>? diags, int line, int column)
     {
-        if (_comp.HeldTooFar)
+        if (_comp.HeldTooFar is { } held)
         {
             diags?.Add(new Diagnostic(Severity.Error, DiagnosticCodes.CompensationConcaveCorner, line, column,
-                DiagnosticText.Format(DiagnosticText.HeldTooFarKey, _comp.HeldLine, CutterCompensation.MaxHeldBlocks)));
+                DiagnosticText.Format(DiagnosticText.HeldTooFarKey, held, CutterCompensation.MaxHeldBlocks)));
         }
         else
         {

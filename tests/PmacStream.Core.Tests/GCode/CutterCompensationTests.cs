@@ -139,6 +139,94 @@ public class CutterCompensationTests
         text.Should().NotContain("X55 Y0 Z-1", "the entry's end was moved back before it was sent");
     }
 
+    // A pocket under G41 D1 (radius 5), counter-clockwise: Z blocks, a dwell and a coolant code between its XY moves.
+    private const string Plunged = "O1\nG21 G90 G17\nG00 X50. Y25. Z5.\nG01 Z-1. F100\nG41 D1 X50. Y0\nX100.\nZ-2.\nG04 X0.5\nM08\nG00 Z1.\nG01 Z-1.\nY50.\nX0\nG40 X50. Y25.\nM30\n";
+
+    [Fact]
+    public void Z_blocks_between_two_compensated_moves_are_queued_behind_the_held_move_and_run_at_the_inside_corners_crossing()
+    {
+        var interp = new Interpreter(Fanuc);
+        var decided = new List<(int Line, CompensationHold Hold, Point3? Amended)>();
+        var ends = new CanonEnds();
+        interp.Canon = ends;
+        var line = 0;
+        foreach (var text in Plunged.TrimEnd('\n').Split('\n'))
+        {
+            if (interp.Execute(GCodeReader.LexLine(text, ++line)))
+            {
+                decided.Add((line, interp.HoldOfBlock, interp.AmendedEnd));
+            }
+        }
+
+        ends.Finish();
+        decided.Where(d => d.Line is >= 5 and <= 13).Select(d => d.Hold).Should().Equal(
+            CompensationHold.Held, CompensationHold.Held, CompensationHold.Queued, CompensationHold.Queued, CompensationHold.Queued,
+            CompensationHold.Queued, CompensationHold.Queued, CompensationHold.Held, CompensationHold.Held);
+        decided.Single(d => d.Line == 12).Amended.Should().Be(new Point3(95, 5, -1), "Y50 after the Z blocks: the inside corner of X100 and Y50");
+        decided.Single(d => d.Line == 14).Hold.Should().Be(CompensationHold.None, "G40 lets everything go");
+
+        // X100 ends at the crossing, and so do the plunge, the rapid retract and the plunge back (each its own Z).
+        ends.Ends.Where(e => e.Line is >= 6 and <= 12).Should().Equal(
+            (6, new Point3(95, 5, -1)), (7, new Point3(95, 5, -2)), (8, new Point3(95, 5, -2)), (10, new Point3(95, 5, 1)),
+            (11, new Point3(95, 5, -1)), (12, new Point3(95, 45, -1)));
+        Check(Plunged, Fanuc).Where(d => d.Severity == Severity.Error).Should().BeEmpty("E135 before: the Z blocks are queued now");
+
+        // The splitter sends the same: every held line moved before it is handed over (the chunk boundary too).
+        using var dir = new TestFolder("comp");
+        var src = Path.Combine(dir.Path, "plunged.nc");
+        File.WriteAllText(src, Plunged);
+        foreach (var blocks in new[] { 1000, 3, 4 })
+        {
+            var result = Splitter.Split(src, new SplitOptions { OutDir = Path.Combine(dir.Path, "chunks" + blocks), CheckProfile = Fanuc, BlocksPerChunk = blocks });
+            var text = string.Concat(result.ChunkPaths.Select(File.ReadAllText));
+            text.Should().ContainAll("X95 Y5 Z-1", "X95 Y5 Z-2", "X95 Y5 Z1", "X95 Y45 Z-1");
+            text.Should().NotContain("X100 Y5", "no line before the corner was sent unmoved");
+            text.IndexOf("X95 Y5 Z-2", StringComparison.Ordinal).Should().BeLessThan(text.IndexOf("X95 Y5 Z1", StringComparison.Ordinal), "in order");
+        }
+    }
+
+    [Theory]
+    [InlineData(256, false)]
+    [InlineData(257, true)]
+    public void The_blocks_queued_behind_a_held_move_are_bounded_and_an_inside_corner_beyond_is_refused_naming_the_held_move(int between, bool refused)
+    {
+        var program = "G21 G90 G17\nG00 X50. Y25. Z5.\nG01 Z-1. F100\nG41 D1 X50. Y0\nX100.\n" +
+            string.Concat(Enumerable.Range(0, between).Select(i => i % 2 == 0 ? "Z-2.\n" : "Z-1.\n")) + "Y50.\nG40 X50. Y25.";
+        var diags = Check(program, Fanuc);
+        var corner = 6 + between;
+        if (refused)
+        {
+            var e135 = diags.Should().ContainSingle(d => d.Code == DiagnosticCodes.CompensationConcaveCorner).Which;
+            e135.Line.Should().Be(corner);
+            e135.Message.Should().Contain("line 5").And.Contain("256");
+        }
+        else
+        {
+            diags.Where(d => d.Severity == Severity.Error).Should().BeEmpty();
+        }
+    }
+
+    /// <summary>The block ends as a consumer holds them under G41/G42 (<see cref="HeldMoves{T}"/>).</summary>
+    private sealed class CanonEnds : ICanonicalMoves
+    {
+        private readonly HeldMoves<(int Line, Point3 End)> _held = new((m, crossing, _) => (m.Line, AmendedMove.MovedTo(m.End, crossing)));
+        private readonly List<(int Line, Point3 End)> _block = [];
+
+        public List<(int Line, Point3 End)> Ends { get; } = [];
+
+        public void StartBlock(in CanonStart start) => _block.Clear();
+
+        public void Step(in HostMove step)
+        {
+        }
+
+        public void Motion(in CanonMotion motion) => _block.Add((motion.Line, motion.End));
+
+        public void EndBlock(in CanonBlock block) => _held.Take(block, _block, Ends);
+
+        public void Finish() => _held.Flush(Ends);
+    }
+
     [Fact]
     public void The_radius_comes_from_G10_L12_and_L13_under_FANUC_and_from_the_spindle_tool_under_RS274NGC()
     {

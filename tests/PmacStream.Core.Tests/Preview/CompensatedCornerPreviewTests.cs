@@ -64,6 +64,34 @@ public sealed class CompensatedCornerPreviewTests : IDisposable
         expected.Should().BeApproximately((Math.Sqrt(425) + 40 + 40 + 90 + 40 + 45) / 100.0 * 60.0, 1e-6, "the entry from (50, 25) to (55, 5), then 40 + 40 + 90 + 40 + 45 mm on the offset path");
     }
 
+    // The pocket with a plunge and a retract between its XY moves: queued behind the held move, they run at the crossing.
+    private const string Plunged = "O1\nG21 G90 G17\nG00 X50. Y25. Z5.\nG01 Z-1. F100\nG41 D1 X50. Y0\nX100.\nZ-2.\nY50.\nZ-1.\nX0\nY0\nX50.\nG40 X50. Y25.\nM30\n";
+
+    [Fact]
+    public void The_preview_and_the_ETA_run_Z_blocks_queued_behind_a_held_move_at_the_crossing()
+    {
+        var path = Path.Combine(_temp.Path, "plunged.nc");
+        File.WriteAllText(path, Plunged);
+        var segments = new GCodeToolpathSource(path, Fanuc()).ReadSegments().Where(s => s.SourceLine is >= 5 and <= 10).ToList();
+        segments.Select(s => (s.SourceLine, s.End)).Should().Equal(
+            (5L, new Point3(55, 5, -1)), (6L, new Point3(95, 5, -1)), (7L, new Point3(95, 5, -2)),
+            (8L, new Point3(95, 45, -2)), (9L, new Point3(95, 45, -1)), (10L, new Point3(5, 45, -1)));
+        for (var i = 1; i < segments.Count; i++)
+        {
+            segments[i].Start.Should().Be(segments[i - 1].End, "the path is continuous: the plunge starts where the held move ends");
+        }
+
+        // The splitter sends the same ends.
+        var result = Splitter.Split(path, new SplitOptions { OutDir = Path.Combine(_temp.Path, "plunged-chunks"), CheckProfile = Fanuc() });
+        string.Concat(result.ChunkPaths.Select(File.ReadAllText)).Should().ContainAll("X55 Y5 Z-1", "X95 Y5 Z-1", "X95 Y5 Z-2", "X95 Y45 Z-2", "X95 Y45 Z-1", "X5 Y45 Z-1");
+
+        // The ETA: the held moves shortened, the plunges their own 1 mm each, at F100.
+        var table = MoveTimeTable.FromProgram(path, profile: Fanuc());
+        var expected = segments.Sum(s => s.Start.DistanceTo(s.End)) / 100.0 * 60.0;
+        table.SecondsBetween(4, 10).Should().BeApproximately(expected, 1e-6);
+        expected.Should().BeApproximately((Math.Sqrt(425) + 40 + 1 + 40 + 1 + 90) / 100.0 * 60.0, 1e-6);
+    }
+
     [Fact]
     public void Amending_an_arc_times_the_angle_it_still_sweeps()
     {

@@ -110,6 +110,39 @@ public sealed class ImportPipelineTests : IDisposable
     }
 
     [Fact]
+    public void Z_blocks_queued_behind_a_G41_move_are_stored_at_the_inside_corners_crossing_across_batch_boundaries()
+    {
+        // The pocket round and round with a plunge or a retract (and now and then a dwell) between every two XY moves:
+        // queued behind the held move, they run at the crossing; batch boundaries fall inside the holds.
+        var json = System.Text.Json.Nodes.JsonNode.Parse(MachineProfile.Default.ToJson())!.AsObject();
+        json["toolRadii"] = System.Text.Json.Nodes.JsonNode.Parse("""{ "1": 5 }""");
+        var profile = MachineProfile.Parse(json.ToJsonString(), "fanuc-mill+radii");
+        var sb = new System.Text.StringBuilder("G21 G90 G17\nG00 X50. Y25. Z5.\nG01 Z-1. F100\nG41 D1 X50. Y0\n");
+        for (var i = 0; i < 300; i++)
+        {
+            sb.Append("Z-2.\nX100.\nZ-1.\nY50.\nG04 X0.1\nZ-2.\nX0\nZ-1.\nY0\n");
+        }
+
+        sb.Append("G40 X50. Y25.\nM30\n");
+        var file = Path.Combine(_temp.Path, "plunged.nc");
+        File.WriteAllText(file, sb.ToString());
+
+        using var store = ProgramStore.Open(Path.Combine(_temp.Path, "s.db"));
+        var (id, summary) = store.Import(file, profile);
+        summary.Errors.Should().Be(0);
+        var stored = store.ReadBlocks(id).ToList();
+        stored.Should().HaveCountGreaterThan(2 * ImportPipeline.BatchSize);
+        var comp = stored.Where(b => b.Line > 5 && b.Line < stored[^1].Line - 2 && b.Motion == MotionKind.Linear).ToList(); // the last Y0 before G40 is not moved
+        static bool Near(double a, double b) => Math.Abs(a - b) < 1e-9;
+        comp.Where(b => !((Near(b.End.X, 5) || Near(b.End.X, 95)) && (Near(b.End.Y, 5) || Near(b.End.Y, 45)))).Should().BeEmpty("every move under G41 ends at a corner of the offset pocket, the Z blocks too");
+        comp.Where(b => b.Start.Z != b.End.Z && !(Near(b.Start.X, b.End.X) && Near(b.Start.Y, b.End.Y) && Near(b.Length, 1))).Should().BeEmpty("a plunge runs at the crossing, its own 1 mm");
+        comp.Where(b => b.Start.Z == b.End.Z && !(Near(b.Length, 90) || Near(b.Length, 40))).Should().BeEmpty("the XY moves as they run: 90 and 40 mm between the crossings");
+        comp.Count(b => b.Start.Z != b.End.Z).Should().Be(1199, "two plunges and two retracts a round, the first (line 5) checked below");
+        stored.Single(b => b.Line == 4).End.Should().Be(new Point3(55, 5, -1), "the entry and the plunge after it end at the first crossing");
+        stored.Single(b => b.Line == 5).End.Should().Be(new Point3(55, 5, -2));
+    }
+
+    [Fact]
     public void Exactly_one_full_batch_and_diagnostics_across_batches_are_stored()
     {
         // "O0100" alone is no block: 1 header block + (BatchSize - 2) moves + M30 = BatchSize blocks.

@@ -359,6 +359,93 @@ public class PositionProofTests(ITestOutputHelper output)
         report.Lines.Should().BeGreaterThan(20);
     }
 
+    /// <summary>
+    /// Z blocks between compensated XY moves (issue 27 item 4): plunges, retracts, a rapid, an incremental Z, a dwell
+    /// and a coolant code queued behind the held move at inside corners (they run at the crossing), and at outside
+    /// corners; lines and arcs before and after them; G41 and G42; an inch pocket.
+    /// </summary>
+    public const string PlungedPockets = """
+        %
+        O2002 (Z BLOCKS BETWEEN COMPENSATED MOVES)
+        G90 G17 G21 G40 G49 G80
+        G55
+        T2 M06
+        G43 H2
+        G00 X50. Y25. Z5.
+        G01 Z-1. F500.
+        G41 D1 X100. Y25.
+        Z-2.
+        Y50.
+        G00 Z1.
+        G01 Z-1.
+        G03 X0 Y50. R60.
+        G04 X0.1
+        G01 Z-1.5
+        Y0
+        M08
+        G91 Z-0.5
+        G90 G02 X50. Y0 R40.
+        G01 Z-1.
+        G02 X100. Y0 I25. J-31.225
+        G01 Z-2.
+        Y25.
+        G40 X50. Y25.
+        G00 Z5.
+        X50. Y70.
+        G01 Z-1.
+        G42 D1 X50. Y50.
+        X0
+        Z-2.
+        Y0
+        G00 Z1.
+        G01 Z-1.
+        X100.
+        Z-2.
+        G03 X100. Y50. R25.
+        G01 Z-1.
+        X50.
+        G40 X50. Y70.
+        G00 Z5.
+        G20 X1.9685 Y0.9843
+        G01 Z-0.04 F20.
+        G42 D2 X0 Y0.9843
+        Z-0.06
+        Y1.9685
+        Z-0.05
+        G02 X3.937 Y1.9685 R2.3622
+        G01 Z-0.06
+        Y0
+        Z-0.04
+        X0
+        G40 X1.9685 Y0.9843
+        G21 G00 Z10.
+        M09
+        M30
+        %
+        """;
+
+    [Fact]
+    public async Task Z_blocks_between_compensated_moves_end_where_the_interpreter_moved_them_to()
+    {
+        using var dir = new TestFolder("proof");
+        var path = Path.Combine(dir.Path, "plunged.nc");
+        await File.WriteAllTextAsync(path, PlungedPockets);
+        var (_, profile) = WithRadii();
+        new Checker(profile).CheckText(PlungedPockets).Diagnostics.Where(d => d.Severity == Severity.Error).Should().BeEmpty("Z blocks are queued behind the held move");
+        var report = await ProveAsync(path, profile, force: false);
+        output.WriteLine($"{report.Lines} moving lines, {report.Moves} moves, largest difference {report.Largest:0.######} mm");
+        report.Lines.Should().BeGreaterThan(45);
+
+        // The plunge after the entry runs where the inside corner ends the entry, not beside the programmed (100, 25).
+        var ends = CanonBlockEnds.Of(path, profile, blockDelete: true);
+        var plunge = ends.Single(e => e.Line == 10).End;
+        var held = ends.Single(e => e.Line == 9).End;
+        (plunge.X, plunge.Y).Should().Be((held.X, held.Y), "the plunge runs at the held move's end");
+        var provisional = CanonBlockEnds.Of(path, profile, blockDelete: true, amend: false).Single(e => e.Line == 10).End;
+        (provisional.X - plunge.X).Should().BeApproximately(5, 1e-9, "the entry's offset line (Y30) crosses Y50's (X95) 5 mm back from beside the programmed X100");
+        provisional.Y.Should().BeApproximately(plunge.Y, 1e-9);
+    }
+
     [Theory]
     [InlineData(13)]
     [InlineData(16)]

@@ -284,6 +284,7 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
         var ends = CanonBlockEnds.Of(path, profile).Where(m => m.Kind != MotionKind.Dwell).Select(m => (m.Line, m.End)).ToList();
 
         var at = 0;
+        var worst = 0.0;
         foreach (var (line, end) in ends)
         {
             while (at < moves.Count && Distance(moves[at], end) > tolerance)
@@ -292,10 +293,11 @@ public partial class Rs274ComparisonTests(ITestOutputHelper output)
             }
 
             at.Should().BeLessThan(moves.Count, $"{Path.GetFileName(path)}:{line}: rs274 never reaches ({end.X}, {end.Y}, {end.Z}) after the ends before it");
+            worst = Math.Max(worst, Distance(moves[at], end));
             at++;
         }
 
-        return (true, $"{ends.Count} block ends, all on rs274's {moves.Count} moves in order");
+        return (true, $"{ends.Count} block ends, all on rs274's {moves.Count} moves in order (largest difference {worst:0.######} mm)");
     }
 
     /// <summary>rs274 on <paramref name="path"/> with the profile's tool table: its exit code (null when it did not finish), canonical calls and errors.</summary>
