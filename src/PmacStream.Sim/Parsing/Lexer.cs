@@ -37,7 +37,7 @@ internal static class Lexer
         "ENDWHILE", "EXP", "GAT", "GATHER", "GOSUB", "GOTO", "IF", "INC", "INT", "LINEAR", "LIST", "LN", "NORMAL", "OPEN",
         "OR", "PLC", "PR", "PROG", "RAPID", "READ", "RET", "RETURN", "ROT", "SAVE", "SIN", "SQRT", "STOP", "TA", "TAN",
         "TM", "TS", "TYPE", "VER", "VERSION", "WHILE", "CMD", "SEND", "ROTARY", "PROGRAM", "CTRL",
-        "TSEL", "TSELECT", "TINIT", "ADIS", "IDIS", "AROT", "IROT", "TBUF", "HM", "HMZ", "HOME", "HOMEZ", "PMATCH",
+        "TSEL", "TSELECT", "TINIT", "ADIS", "IDIS", "AROT", "IROT", "TBUF", "HM", "HMZ", "HOME", "HOMEZ", "PMATCH", "SIZE",
     ];
 
     private static readonly HashSet<string> KeywordSet = new(Keywords, StringComparer.Ordinal);
