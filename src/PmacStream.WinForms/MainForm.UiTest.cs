@@ -94,7 +94,7 @@ internal sealed partial class MainForm
     }
 
     /// <summary>
-    /// Carries out one scripted command the way the operator's input would: <c>click NAME</c>, <c>select-chunk INDEX</c>, <c>select-line N</c>,
+    /// Carries out one scripted command the way the operator's input would: <c>click NAME</c>, <c>select-chunk INDEX</c>, <c>select-line N</c>, <c>select-lines A B</c>,
     /// <c>language N</c> (the selector's index), <c>feed VALUE</c> (the override box), <c>window START END</c> (percent),
     /// <c>open PATH</c> (as chosen in the open dialog), <c>close</c>.
     /// </summary>
@@ -132,6 +132,17 @@ internal sealed partial class MainForm
                 break;
             case "select-line":
                 ((IMainView)this).FocusedLine = int.Parse(argument, CultureInfo.InvariantCulture);
+                break;
+            case "select-lines":
+                // A..B as a Shift+click leaves it: A focused and selected, every line to B selected with it.
+                var range = argument.Split(' ', StringSplitOptions.RemoveEmptyEntries);
+                var (from, to) = (int.Parse(range[0], CultureInfo.InvariantCulture), int.Parse(range[1], CultureInfo.InvariantCulture));
+                ((IMainView)this).FocusedLine = from;
+                for (var index = from; index < to; index++)
+                {
+                    listBox2.SelectedIndices.Add(index);
+                }
+
                 break;
             case "language":
                 cboLanguage.SelectedIndex = int.Parse(argument, CultureInfo.InvariantCulture);
