@@ -105,8 +105,10 @@ public static partial class Splitter
 
                     // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
                     // The lane takes G0/G1 lines without looking them up: only when the profile runs both on the controller.
-                    // An import needs every line's record, which the lane does not make: it reads every line in full.
+                    // An import needs every line's record and measured move, which the lane does not make: each line is then
+                    // interpreted in full, and a line the lane would have taken still goes as the lane's text (checkedLane).
                     var lane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile) && _feed == null;
+                    var checkedLane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile) && _feed != null && check != null;
                     while (true)
                     {
                         // The lane first, straight on the read buffer: it finds the line's end itself.
@@ -143,6 +145,11 @@ public static partial class Splitter
                         var at = tryLane ? _batch!.AxisTextRoom(rawLength) : 0; // first: it may grow the text
                         if (tryLane && AxisLine.TryParse(data, start, rawLength, _batch!.Text, at, out var rawAxes) &&
                             TakeAxisLine(number, rawAxes, reader.Position))
+                        {
+                            continue;
+                        }
+
+                        if (checkedLane && TakeCheckedAxisLine(reader, data, start, rawLength, number))
                         {
                             continue;
                         }
@@ -259,13 +266,40 @@ public static partial class Splitter
                 _stop.ThrowIfCancellationRequested();
             }
 
+            KeepAxisLine(number, axes, position);
+            return true;
+        }
+
+        /// <summary>
+        /// With an import in the same pass: a line the lane would have taken (<see cref="CheckRun.AxisLineOnlyMoves"/>) is
+        /// interpreted in full, so the store gets its record and measured move, and goes as the lane's text, the bytes a
+        /// plain split sends. False (nothing taken) for any other line.
+        /// </summary>
+        private bool TakeCheckedAxisLine(GCodeReader reader, byte[] data, int start, int rawLength, int number)
+        {
+            var batch = _batch!;
+            var at = batch.AxisTextRoom(rawLength); // first: it may grow the text
+            if (!AxisLine.TryParse(data, start, rawLength, batch.Text, at, out var axes) || !_check!.AxisLineOnlyMoves(axes))
+            {
+                return false;
+            }
+
+            _check.Line(reader.LexRaw());
+            KeepAxisLine(number, axes, reader.Position);
+            return true;
+        }
+
+        /// <summary>A lane line, checked: kept in the batch (unless the split is refused).</summary>
+        private void KeepAxisLine(int number, in AxisLine axes, long position)
+        {
+            var batch = _batch!;
             _laneLines++;
             if (_refusing)
             {
                 // The line is not kept, so its text is overwritten next: read the values it left there now.
                 _check?.ReleaseText(batch.Text);
                 _own?.ReleaseText(batch.Text);
-                return true;
+                return;
             }
 
             batch.AddAxisLine(number, axes.TextLength, axes.Words);
@@ -273,8 +307,6 @@ public static partial class Splitter
             {
                 Hand(position);
             }
-
-            return true;
         }
 
         /// <summary>Hands the full batch over and takes an empty one.</summary>

@@ -55,7 +55,7 @@ public sealed class OnePassImportTests : IDisposable
         errors.Errors.Should().BeGreaterThan(0);
 
         var utf16 = Path.Combine(_folder.Path, $"utf16-{Guid.NewGuid():N}.nc");
-        File.WriteAllText(utf16, "G21 G90\nG0 X1\nM30\n", new UnicodeEncoding(false, true));
+        File.WriteAllText(utf16, $"({Guid.NewGuid():N})\nG21 G90\nG0 X1\nM30\n", new UnicodeEncoding(false, true));
         Same(location, utf16, force: false).Errors.Should().Be(1, "one error for the UTF-16 file, and the check ends there");
     }
 
@@ -140,7 +140,9 @@ public sealed class OnePassImportTests : IDisposable
             var split = () => Splitter.SplitAndImport(file, Options(profile, onePassDir, force, blockDelete), import);
             if (plainRefusal is null)
             {
-                SameFiles(plain!.OutputDirectory, split().OutputDirectory);
+                var onePass = split();
+                SameFiles(plain!.OutputDirectory, onePass.OutputDirectory);
+                onePass.LaneLines.Should().Be(plain.LaneLines, "the lines a plain split sends as the lane's text go the same way, interpreted in full");
             }
             else
             {
