@@ -140,9 +140,9 @@ public sealed class OnePassImportTests : IDisposable
             var split = () => Splitter.SplitAndImport(file, Options(profile, onePassDir, force, blockDelete), import);
             if (plainRefusal is null)
             {
-                var onePass = split();
-                SameFiles(plain!.OutputDirectory, onePass.OutputDirectory);
-                onePass.LaneLines.Should().Be(plain.LaneLines, "the lines a plain split sends as the lane's text go the same way, interpreted in full");
+                var together = split();
+                SameFiles(plain!.OutputDirectory, together.OutputDirectory);
+                together.LaneLines.Should().Be(plain.LaneLines, "the lines a plain split sends as the lane's text go the same way, interpreted in full");
             }
             else
             {
