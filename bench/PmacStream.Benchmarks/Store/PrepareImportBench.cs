@@ -30,13 +30,15 @@ internal static class PrepareImportBench
         {
             using var programs = ProgramStores.Open(store);
             id = programs.ImportRevision(file, MachineProfile.Default).Id;
-            Console.WriteLine($"imported program {id} in {sw.Elapsed.TotalSeconds:F2} s");
+            Console.WriteLine($"imported program {id} in {sw.Elapsed.TotalSeconds:F2} s, {Cpu():F2} CPU s");
         }
 
         var prepared = service.PrepareAsync(new PrepareRequest(file, RunSettings.Default) { Import = id is null, ProgramId = id, OutDir = outDir })
             .GetAwaiter().GetResult();
         Console.WriteLine($"{mode}: program {prepared.ProgramId}, {prepared.Program.TotalChunks} chunks in {sw.Elapsed.TotalSeconds:F2} s " +
-                          $"(imported in the split's pass: {service.ImportedInSplitPass}, preparations stored: {service.PreparationsStored})");
+                          $"(imported in the split's pass: {service.ImportedInSplitPass}, preparations stored: {service.PreparationsStored}), {Cpu():F2} CPU s");
         return 0;
     }
+
+    private static double Cpu() => Process.GetCurrentProcess().TotalProcessorTime.TotalSeconds;
 }
