@@ -201,20 +201,25 @@ public sealed partial class JobService
     private (long Id, PreparedProgram? Prepared) SplitImporting(IProgramRevisions store, PrepareRequest request, string source, SplitOptions options, string outDir,
         IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
     {
-        using var import = RevisionImport.Begin(store, source, new FileInfo(source).Length, request.Profile);
         SplitResult? split = null;
         ProgramRefusedException? refused = null;
-        try
+        ProgramImport? imported;
+        using (var import = RevisionImport.Begin(store, source, new FileInfo(source).Length, request.Profile))
         {
-            split = Splitter.SplitAndImport(source, options with { OutDir = outDir }, import, progress, cancellationToken);
-        }
-        catch (SplitException e)
-        {
-            refused = Refused(request, source, e);
+            try
+            {
+                split = Splitter.SplitAndImport(source, options with { OutDir = outDir }, import, progress, cancellationToken);
+            }
+            catch (SplitException e)
+            {
+                refused = Refused(request, source, e);
+            }
+
+            imported = import.Result;
         }
 
         long id;
-        if (import.Result is { } imported)
+        if (imported is not null)
         {
             id = imported.Id;
             Interlocked.Increment(ref _importedInSplitPass);

@@ -292,6 +292,15 @@ public sealed partial class PgProgramStore : IProgramRevisions
     }
 
     /// <inheritdoc />
+    public bool HasBlockDeleteBlock(long programId, int line)
+    {
+        using var cmd = new NpgsqlCommand("SELECT 1 FROM blocks WHERE program_id = @p AND line <= @l AND block_delete <> 0 LIMIT 1", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        cmd.Parameters.AddWithValue("l", Math.Max(0, line));
+        return cmd.ExecuteScalar() is not null;
+    }
+
+    /// <inheritdoc />
     public StoredStart? GetStart(long programId, int line)
     {
         var groups = GroupsOf(programId);

@@ -355,6 +355,16 @@ public sealed partial class ProgramStore : IProgramRevisions
     }
 
     /// <inheritdoc />
+    public bool HasBlockDeleteBlock(long programId, int line)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT 1 FROM blocks WHERE key >= $a AND key <= $b AND block_delete <> 0 LIMIT 1";
+        cmd.Parameters.AddWithValue("$a", Key(programId, 0));
+        cmd.Parameters.AddWithValue("$b", Key(programId, Math.Max(0, line)));
+        return cmd.ExecuteScalar() is not null;
+    }
+
+    /// <inheritdoc />
     public StoredStart? GetStart(long programId, int line)
     {
         var groups = GroupsOf(programId);
