@@ -36,6 +36,11 @@ if (args.Length > 0 && args[0] == "macro-expand")
     return PmacStream.Benchmarks.GCode.MacroExpansionBench.Run(args[1..]);
 }
 
+if (args.Length > 0 && args[0] == "prepare-import")
+{
+    return PmacStream.Benchmarks.Store.PrepareImportBench.Run(args[1..]);
+}
+
 if (args.Length > 0 && args[0] == "stream-bench")
 {
     return PmacStream.Benchmarks.Streaming.StreamBench.Run(args[1..]);

@@ -232,6 +232,14 @@ public sealed class CheckRun
         return true;
     }
 
+    /// <summary>
+    /// Whether <see cref="TryAxisLine"/> would take <paramref name="line"/> now were the interpreter neither recording nor
+    /// measuring (<see cref="Interpreter.AxisLineOnlyMoves"/>): it then leaves no diagnostic, and its full check
+    /// (<see cref="Line"/>) changes what <see cref="TryAxisLine"/> would, besides recording and measuring it.
+    /// </summary>
+    public bool AxisLineOnlyMoves(in AxisLine line) =>
+        !(line.HasN ? !_sawSequence : (_sawSequence || !_undecidedOverflow)) && _interp.AxisLineOnlyMoves(line);
+
     /// <summary>Whether <see cref="TryAxisLine"/> can take any line now: when not, a caller need not even scan for one.</summary>
     public bool AxisLaneOpen => _interp.AxisLaneOpen;
 

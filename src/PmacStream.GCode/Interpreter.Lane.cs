@@ -44,6 +44,14 @@ public sealed partial class Interpreter
     public bool AxisLaneOpen => _laneOpen;
 
     /// <summary>
+    /// Whether <see cref="TryStepAxisLine"/> would take <paramref name="a"/> now if neither lengths nor records were
+    /// wanted: the line then only moves, and its full interpretation (<see cref="StepCore"/>, which records and
+    /// measures it) leaves the state the lane would. A split that stores every block in its pass interprets such a
+    /// line in full and still sends it as the lane's text.
+    /// </summary>
+    public bool AxisLineOnlyMoves(in AxisLine a) => _laneOpenUnrecorded && !(a.HasG && a.G != _g[_motionGroup]);
+
+    /// <summary>
     /// The caller is about to reuse <paramref name="text"/> (an <see cref="AxisLine"/>'s text array given to
     /// <see cref="TryStepAxisLine"/>): values still held there are read now.
     /// </summary>
@@ -82,8 +90,9 @@ public sealed partial class Interpreter
     private void UpdateLane()
     {
         var mode = MotionMode();
-        _laneOpen = !_nonModalSet && _absolute && !_recordBlocks && !_measureMoves && _axisLineLetters && !_cycle.Active &&
+        _laneOpenUnrecorded = !_nonModalSet && _absolute && _axisLineLetters && !_cycle.Active &&
             _feedMode == 94 && _scale == 1.0 && _transform == null && !_exactStop && !_comp.Active && (mode == 1 ? _feed > 0 : mode == 0 && _profile.RapidRate > 0);
+        _laneOpen = _laneOpenUnrecorded && !_recordBlocks && !_measureMoves;
     }
 
     // The motion mode of the motion group (0..3 for G00..G03, 4 for the other moves to a point, -1 when none),

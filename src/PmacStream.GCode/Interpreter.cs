@@ -55,6 +55,7 @@ public sealed partial class Interpreter
     private int _motion = -1;
     private bool _axisLineLetters; // the profile takes N, G and X/Y/Z as usual, and the motion group is modal
     private bool _laneOpen;        // an AxisLine would only move now (see UpdateLane)
+    private bool _laneOpenUnrecorded; // ... were neither records nor lengths wanted
     private bool _measureMoves = true;
     private bool _recordBlocks = true;
     private MotionKind _blockKind; // the motion of the line taken last (None until it moves)

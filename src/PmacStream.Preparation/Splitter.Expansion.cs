@@ -29,7 +29,15 @@ public static partial class Splitter
                 return new ExpandedStream(_expander);
             }
 
-            return new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
+            var file = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
+            if (_import == null)
+            {
+                return file;
+            }
+
+            // An import in the same pass: the SHA-256 and the stored source bytes come from this one read.
+            _file = file;
+            return _hashing = new Store.HashingReadStream(file, _import.Revision.Pieces);
         }
 
         /// <summary>The bytes of the source read (the file's size when it was expanded: the manifest's size is the file's).</summary>

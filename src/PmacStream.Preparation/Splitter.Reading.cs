@@ -10,15 +10,32 @@ public static partial class Splitter
     /// bounded queue of line batches.
     /// </summary>
     private sealed record ReadOutcome(long Size, List<Diagnostic> Errors, int ErrorCount, List<Diagnostic> CheckErrors, int CheckErrorCount,
-        int Warnings, Dictionary<string, int>? NotYet, int LaneLines, int BufferLaneLines);
+        int Warnings, Dictionary<string, int>? NotYet, int LaneLines, int BufferLaneLines)
+    {
+        /// <summary>The check's totals (an import in the same pass stores them), or null without a check.</summary>
+        public CheckSummary? Summary { get; init; }
+
+        /// <summary>The SHA-256 of the bytes read, when an import in the same pass hashed them.</summary>
+        public string? Sha { get; init; }
+
+        /// <summary>Why the import in the same pass was given up (nothing of it is kept), or null.</summary>
+        public string? ImportGivenUp { get; init; }
+    }
 
     /// <summary>
     /// The reading side of a split, on its own thread: lexes the source (and checks it on the same blocks), converts
     /// the host blocks, and hands batches of lines to the writing side over <c>full</c>, taking empty ones back from
     /// <c>free</c>. Every field is this thread's; the writing side gets the <see cref="ReadOutcome"/> when it ends.
     /// </summary>
-    private sealed partial class SourceReader(string source, string folder, long totalBytes, SplitOptions options, HandOff<LineBatch> full, HandOff<LineBatch> free, CancellationToken stop)
+    private sealed partial class SourceReader(string source, string folder, long totalBytes, SplitOptions options, HandOff<LineBatch> full, HandOff<LineBatch> free,
+        CancellationToken stop, ImportSide? import = null)
     {
+        private readonly ImportSide? _import = import;
+        private Store.ImportPipeline.Feed? _feed;  // the import's reading side, while it is fed
+        private string? _importGivenUp;            // why it stopped being fed
+        private bool _importSealed;                // the check's findings after this are not the stored check's (UTF-16)
+        private FileStream? _file;                 // the file under the hashing stream of an import
+        private Store.HashingReadStream? _hashing;
         private readonly string _source = source;
         private readonly string _folder = folder;     // the chunk folder: an expansion's map goes beside the manifest
         private readonly long _totalBytes = totalBytes; // the source file's size (an expanded source is longer than its file)
@@ -56,14 +73,19 @@ public static partial class Splitter
         /// <summary>The reading thread: lexes (and checks) the source, hands lines over; returns what it found.</summary>
         public ReadOutcome Read()
         {
+            var watch = System.Diagnostics.Stopwatch.StartNew();
             try
             {
                 _batch = TakeFree();
+                _feed = _import is { } import ? new Store.ImportPipeline.Feed(_o.CheckProfile!, import.Queue, null, _stop) : null;
                 long size;
+                CheckSummary? summary = null;
+                string? sha = null;
                 using (var stream = OpenSource())
                 using (var reader = new GCodeReader(stream, leaveOpen: true, bufferSize: 1 << 16))
                 {
-                    var check = _check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: false, OnCheckDiagnostic, null, null) : null;
+                    // An import in the same pass stores each block's record and measured move: that check records and measures.
+                    var check = _check = Checking ? new CheckRun(_o.CheckProfile!, measureMoves: _feed != null, OnChecked, null, _feed != null ? OnInterpreted : null) : null;
                     // The host's conversions (units, cycles, data blocks...) need the interpreter's state: the checker's, or
                     // without a check (--force) one of their own. Without a profile the program goes as it is written.
                     var own = _own = check == null && _o.CheckProfile != null ? new Interpreter(_o.CheckProfile) { MeasureMoves = false, RecordBlocks = false } : null;
@@ -75,9 +97,18 @@ public static partial class Splitter
                     }
 
                     var host = _host = check != null ? new HostConversion(check.Interpreter) : own != null ? new HostConversion(own) : null;
+                    if (_feed != null && check != null && host != null)
+                    {
+                        // One interpreter's decisions, to both: the blocks the host sends and the store's records.
+                        check.Interpreter.Canon = new CanonFanOut(host, _feed.Canon);
+                    }
+
                     // With N kept, the lane's text (N dropped) is not the block; such splits take the full path.
                     // The lane takes G0/G1 lines without looking them up: only when the profile runs both on the controller.
-                    var lane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile);
+                    // An import needs every line's record and measured move, which the lane does not make: each line is then
+                    // interpreted in full, and a line the lane would have taken still goes as the lane's text (checkedLane).
+                    var lane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile) && _feed == null;
+                    var checkedLane = _o.AxisLane && !_o.KeepN && LaneCodesRun(_o.CheckProfile) && _feed != null && check != null;
                     while (true)
                     {
                         // The lane first, straight on the read buffer: it finds the line's end itself.
@@ -118,13 +149,27 @@ public static partial class Splitter
                             continue;
                         }
 
+                        if (checkedLane && TakeCheckedAxisLine(reader, data, start, rawLength, number))
+                        {
+                            continue;
+                        }
+
                         var block = reader.LexRaw();
                         if (check != null)
                         {
                             if (number == 1 && reader.StartsWithUtf16Bom)
                             {
-                                check.Utf16(_source, reader.Position, TimeSpan.Zero);
+                                summary = check.Utf16(_source, reader.Position, watch.Elapsed);
+                                _importSealed = true; // the check ends here: what the split adds after is not the check's
                                 break;
+                            }
+
+                            if (_feed != null && _o.BlockDelete && (block.SkipFrom >= 0 || (block.BlockDelete && block.WordList.Count > 0)))
+                            {
+                                // The split skips this block (block delete on); the store decodes every block, as a separate
+                                // import does: one interpreter cannot give both, so the import stops being fed here.
+                                _importGivenUp = $"line {number} is skipped with block delete on, and the store decodes every block";
+                                _feed = null;
                             }
 
                             check.Line(block);
@@ -151,24 +196,57 @@ public static partial class Splitter
                         check.TextAfterTapeEnd(reader.TapeEndLine);
                     }
 
-                    if (check?.Finish(_source, reader.Position, TimeSpan.Zero, reader.LineNumber) is { UnlistedErrors: > 0 } checkedAll)
+                    if (check?.Finish(_source, reader.Position, watch.Elapsed, reader.LineNumber) is { } checkedAll)
                     {
-                        // Errors past the per-line listing limit were counted, not listed: the refusal counts them all.
-                        _checkErrorCount += Math.Min(int.MaxValue - _checkErrorCount, checkedAll.UnlistedErrors);
+                        summary ??= checkedAll;
+                        if (checkedAll.UnlistedErrors > 0)
+                        {
+                            // Errors past the per-line listing limit were counted, not listed: the refusal counts them all.
+                            _checkErrorCount += Math.Min(int.MaxValue - _checkErrorCount, checkedAll.UnlistedErrors);
+                        }
                     }
+
                     size = SourceRead(reader);
+                    if (_hashing != null)
+                    {
+                        // The revision keeps the whole file, also what the check did not read (after a UTF-16 mark).
+                        stream.CopyTo(Stream.Null);
+                        sha = _hashing.HashHex();
+                    }
                 }
 
+                _feed?.Finish();
                 _batch!.EndPosition = size;
                 _full.Add(_batch);
                 _batch = null;
-                return new ReadOutcome(size, _errors, _errorCount, _checkErrors, _checkErrorCount, _warnings, _notYet, _laneLines, _bufferLaneLines);
+                return new ReadOutcome(size, _errors, _errorCount, _checkErrors, _checkErrorCount, _warnings, _notYet, _laneLines, _bufferLaneLines)
+                {
+                    Summary = summary,
+                    Sha = sha,
+                    ImportGivenUp = _import == null ? null : _importGivenUp,
+                };
             }
             finally
             {
                 _full.Complete();
+                _import?.Queue.Complete();
+                _file?.Dispose();
             }
         }
+
+        /// <summary>A finding of the check: the import's (while it is the check's), then the split's.</summary>
+        private void OnChecked(Diagnostic d)
+        {
+            if (!_importSealed)
+            {
+                _feed?.OnDiagnostic(d);
+            }
+
+            OnCheckDiagnostic(d);
+        }
+
+        /// <summary>A block the check interpreted, for the import while it is fed.</summary>
+        private void OnInterpreted(Interpreter interp) => _feed?.OnInterpreted(interp);
 
         /// <summary>
         /// An <see cref="AxisLine"/> written at the end of the batch's text: checked (false: the checker wants the
@@ -188,13 +266,40 @@ public static partial class Splitter
                 _stop.ThrowIfCancellationRequested();
             }
 
+            KeepAxisLine(number, axes, position);
+            return true;
+        }
+
+        /// <summary>
+        /// With an import in the same pass: a line the lane would have taken (<see cref="CheckRun.AxisLineOnlyMoves"/>) is
+        /// interpreted in full, so the store gets its record and measured move, and goes as the lane's text, the bytes a
+        /// plain split sends. False (nothing taken) for any other line.
+        /// </summary>
+        private bool TakeCheckedAxisLine(GCodeReader reader, byte[] data, int start, int rawLength, int number)
+        {
+            var batch = _batch!;
+            var at = batch.AxisTextRoom(rawLength); // first: it may grow the text
+            if (!AxisLine.TryParse(data, start, rawLength, batch.Text, at, out var axes) || !_check!.AxisLineOnlyMoves(axes))
+            {
+                return false;
+            }
+
+            _check.Line(reader.LexRaw());
+            KeepAxisLine(number, axes, reader.Position);
+            return true;
+        }
+
+        /// <summary>A lane line, checked: kept in the batch (unless the split is refused).</summary>
+        private void KeepAxisLine(int number, in AxisLine axes, long position)
+        {
+            var batch = _batch!;
             _laneLines++;
             if (_refusing)
             {
                 // The line is not kept, so its text is overwritten next: read the values it left there now.
                 _check?.ReleaseText(batch.Text);
                 _own?.ReleaseText(batch.Text);
-                return true;
+                return;
             }
 
             batch.AddAxisLine(number, axes.TextLength, axes.Words);
@@ -202,8 +307,6 @@ public static partial class Splitter
             {
                 Hand(position);
             }
-
-            return true;
         }
 
         /// <summary>Hands the full batch over and takes an empty one.</summary>

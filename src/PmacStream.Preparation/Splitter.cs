@@ -1,4 +1,5 @@
 using PmacStream.GCode;
+using PmacStream.Preparation.Store;
 using Serilog;
 
 namespace PmacStream.Preparation;
@@ -44,9 +45,44 @@ public static partial class Splitter
     /// <exception cref="ArgumentException">An option is invalid.</exception>
     /// <exception cref="OperationCanceledException">Cancelled; nothing is written.</exception>
     public static SplitResult Split(string sourcePath, SplitOptions? options = null,
+        IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default) =>
+        SplitCore(sourcePath, options ?? new SplitOptions(), null, progress, cancellationToken);
+
+    /// <summary>
+    /// Splits <paramref name="sourcePath"/> as <see cref="Split"/> does and stores it as a program revision in the same
+    /// pass: the splitter's check, which decides the chunks, also feeds <paramref name="import"/> (every block's words,
+    /// modal state and measured move, the diagnostics, the execution states, the exact source bytes and their SHA-256
+    /// from the one read), and the import is completed as soon as the file was read whole, before a refusal is thrown,
+    /// so a program with errors is stored with its diagnostics. The rows are those a separate
+    /// <see cref="Store.IProgramRevisions.ImportRevision"/> writes. Where one check cannot give both (block delete on
+    /// and a block-delete block in the program: the store decodes every block, the split skips those), the import is
+    /// given up at that line, nothing of it kept, and <see cref="RevisionImport.Result"/> stays null (the caller
+    /// imports separately). Needs <see cref="SplitOptions.CheckProfile"/> (the import's profile) and a program
+    /// without subprograms or macros (an expanded program's split reads its expansion, not the file).
+    /// </summary>
+    /// <exception cref="ArgumentException">No check profile, another profile than the import's, or an expanded program.</exception>
+    /// <exception cref="System.Data.Common.DbException">The store failed; nothing of the import is kept and nothing is split.</exception>
+    public static SplitResult SplitAndImport(string sourcePath, SplitOptions options, RevisionImport import,
         IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default)
     {
-        options ??= new SplitOptions();
+        ArgumentNullException.ThrowIfNull(options);
+        ArgumentNullException.ThrowIfNull(import);
+        if (options.CheckProfile is not { } profile || !ReferenceEquals(profile, import.Profile) && profile.Identity != import.Profile.Identity)
+        {
+            throw new ArgumentException("a split that imports checks under the import's profile (SplitOptions.CheckProfile)", nameof(options));
+        }
+
+        if (GCode.Expansion.ProgramExpansion.Applies(sourcePath, profile))
+        {
+            throw new ArgumentException($"{sourcePath}: a program with subprograms or macros is split from its expansion; import it separately", nameof(sourcePath));
+        }
+
+        return SplitCore(sourcePath, options, import, progress, cancellationToken);
+    }
+
+    private static SplitResult SplitCore(string sourcePath, SplitOptions options, RevisionImport? import,
+        IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
+    {
         options.Validate();
         var source = Path.GetFullPath(sourcePath);
         if (!File.Exists(source))
@@ -62,7 +98,7 @@ public static partial class Splitter
             source, outDir, options.BlocksPerChunk, options.RotWords, options.MaxChunkBytes);
         try
         {
-            var run = new SplitRun(source, temp, options, progress, cancellationToken);
+            var run = new SplitRun(source, temp, options, import, progress, cancellationToken);
             var (manifest, warnings) = run.Execute();
             manifest.Save(Path.Combine(temp, ChunkManifest.FileName));
             Publish(temp, outDir);
@@ -170,10 +206,12 @@ public static partial class Splitter
         private readonly ChunkLineWriter _lines;   // a block's chunk text
         private readonly ChunkPacker _packer;      // the chunks, under the budgets
         private ReadOutcome? _read;                // the reading side's findings, once it finished
+        private readonly RevisionImport? _import; // the revision stored in the same pass, or null
 
-        public SplitRun(string source, string folder, SplitOptions options, IProgress<SplitProgress>? progress, CancellationToken ct)
+        public SplitRun(string source, string folder, SplitOptions options, RevisionImport? import, IProgress<SplitProgress>? progress, CancellationToken ct)
         {
             _source = source;
+            _import = import;
             _folder = folder;
             _o = options;
             _ct = ct;
@@ -200,9 +238,59 @@ public static partial class Splitter
         public (ChunkManifest Manifest, int Warnings) Execute()
         {
             var totalBytes = _packer.TotalBytes = new FileInfo(_source).Length;
-            // The source hash runs on its own thread over a second (page-cached) read, overlapping the split.
-            var sourceHash = Task.Run(() => (Sha: FileHash.Sha256Hex(_source, out var hashed), Size: hashed), _ct);
+            // The source hash runs on its own thread over a second (page-cached) read, overlapping the split; an import
+            // in the same pass hashes (and keeps) the bytes of the one read instead.
+            var sourceHash = _import == null ? Task.Run(() => (Sha: FileHash.Sha256Hex(_source, out var hashed), Size: hashed), _ct) : null;
             using var stop = CancellationTokenSource.CreateLinkedTokenSource(_ct);
+            using var importQueue = _import != null ? new ImportPipeline.Queue(stop.Token) : null;
+            // The store's inserts run on a thread of their own, behind the bounded queue: the slowest stage of the pass.
+            var storing = importQueue == null ? null : Task.Factory.StartNew(() => StoreBatches(importQueue, stop), CancellationToken.None, TaskCreationOptions.LongRunning, TaskScheduler.Default);
+            ReadOutcome read;
+            try
+            {
+                read = Run(totalBytes, importQueue, storing, stop);
+            }
+            catch (Exception e) when (storing != null)
+            {
+                // The storing thread uses the store's connection: it has ended before the caller may dispose it, and its
+                // failure (which stopped the reading side) is the one reported.
+                importQueue!.Complete();
+                if (Ended(storing) is { } failure && e is OperationCanceledException && !_ct.IsCancellationRequested)
+                {
+                    System.Runtime.ExceptionServices.ExceptionDispatchInfo.Capture(failure).Throw();
+                }
+
+                throw;
+            }
+
+            string sha;
+            if (sourceHash != null)
+            {
+                (sha, var hashedSize) = sourceHash.GetAwaiter().GetResult();
+                if (hashedSize != read.Size)
+                {
+                    throw new IOException($"{_source}: changed while it was being split ({read.Size} bytes read, {hashedSize} hashed)");
+                }
+            }
+            else
+            {
+                sha = read.Sha!;
+            }
+
+            var manifest = new ChunkManifest(_source, read.Size, sha, _packer.TotalBlocks, _packer.TotalMotion, _o.TrackVariable,
+                _o.Tracking, _o.Feed, _o.FeedVariable, _packer.Chunks)
+            {
+                Shape = _o.ResolvedShape,
+                CheckedProfile = _o.CheckedProfile,
+                NotYetCodes = read.NotYet,
+                StopCodes = _lines.StopCodes,
+            };
+            return (manifest, read.Warnings);
+        }
+
+        /// <summary>The reading side on its thread, the chunks on this one; the import completed before the split may be refused.</summary>
+        private ReadOutcome Run(long totalBytes, ImportPipeline.Queue? importQueue, Task? storing, CancellationTokenSource stop)
+        {
             using var full = new HandOff<LineBatch>(QueueDepth, stop.Token);
             using var free = new HandOff<LineBatch>(QueueDepth + 2, stop.Token);
             for (var i = 0; i < QueueDepth + 2; i++)
@@ -210,7 +298,8 @@ public static partial class Splitter
                 free.Add(new LineBatch());
             }
 
-            var source = new SourceReader(_source, _folder, totalBytes, _o, full, free, stop.Token);
+            var importing = importQueue == null ? null : new ImportSide(_import!, importQueue);
+            var source = new SourceReader(_source, _folder, totalBytes, _o, full, free, stop.Token, importing);
             ReadOutcome read;
             using (var writer = new ChunkFileWriter(_packer.Chunks, _o.AfterChunkWritten, _ct, (int)Math.Min(_o.MaxChunkBytes + 256, 1 << 20)))
             {
@@ -244,27 +333,63 @@ public static partial class Splitter
                 }
 
                 _read = read;
+                CompleteImport(read, storing);
                 Finish(read);
                 writer.Complete();
             }
 
-            var (sha, hashedSize) = sourceHash.GetAwaiter().GetResult();
-            if (hashedSize != read.Size)
+            return read;
+        }
+
+        /// <summary>The storing thread: every batch of the import into the store; a failure stops the reading side.</summary>
+        private void StoreBatches(ImportPipeline.Queue queue, CancellationTokenSource stop)
+        {
+            try
             {
-                throw new IOException($"{_source}: changed while it was being split ({read.Size} bytes read, {hashedSize} hashed)");
+                ImportPipeline.Consume(queue, _import!.Blocks, _import.AfterBatch);
+            }
+            catch
+            {
+                stop.Cancel();
+                throw;
+            }
+        }
+
+        /// <summary>The file was read whole: once every batch is stored, the import is completed (kept), unless it was given up.</summary>
+        private void CompleteImport(ReadOutcome read, Task? storing)
+        {
+            if (storing == null)
+            {
+                return;
             }
 
-            var manifest = new ChunkManifest(_source, read.Size, sha, _packer.TotalBlocks, _packer.TotalMotion, _o.TrackVariable,
-                _o.Tracking, _o.Feed, _o.FeedVariable, _packer.Chunks)
+            storing.GetAwaiter().GetResult(); // the reading side completed the queue; a store failure surfaces here
+            if (read.ImportGivenUp is { } why)
             {
-                Shape = _o.ResolvedShape,
-                CheckedProfile = _o.CheckedProfile,
-                NotYetCodes = read.NotYet,
-                StopCodes = _lines.StopCodes,
-            };
-            return (manifest, read.Warnings);
+                Logger.Information("{Source}: not stored in the same pass as its split: {Why}", _source, why);
+                return;
+            }
+
+            _import!.Complete(read.Summary!, read.Sha!);
+        }
+
+        /// <summary>Waits for a task that may have failed; its failure, or null.</summary>
+        private static Exception? Ended(Task task)
+        {
+            try
+            {
+                task.Wait(CancellationToken.None);
+                return null;
+            }
+            catch (AggregateException e)
+            {
+                return e.InnerException;
+            }
         }
     }
+
+    /// <summary>The import a split feeds in the same pass: the revision and the queue to its storing thread.</summary>
+    private sealed record ImportSide(RevisionImport Revision, ImportPipeline.Queue Queue);
 }
 
 /// <summary>Codes of the splitter's own findings (the G-code checker owns the E1xx/E2xx codes).</summary>

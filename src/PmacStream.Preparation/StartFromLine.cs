@@ -48,6 +48,13 @@ public sealed record StartPlanOptions
     /// <summary>The feed variable (P500).</summary>
     public string FeedVariable { get; init; } = "P500";
 
+    /// <summary>
+    /// Block delete as the program runs (the split's <see cref="ChunkShape.BlockDelete"/>): on, the blocks starting with
+    /// <c>/</c> (and the rest of a block after a <c>/</c> in it) never ran, so the state and position a start restores
+    /// must not count them. Off (the default here, and what the store decodes): every block ran.
+    /// </summary>
+    public bool BlockDelete { get; init; }
+
     /// <summary>Machine profile for the interpreter (work offsets, codes); null: the seed-002 mill.</summary>
     public MachineProfile? Profile { get; init; }
 
@@ -57,6 +64,8 @@ public sealed record StartPlanOptions
         {
             FeedMode = manifest.Feed,
             FeedVariable = string.IsNullOrWhiteSpace(manifest.FeedVariable) ? "P500" : manifest.FeedVariable.Trim(),
+            // A manifest without its shape was split with the splitter's default: block delete on.
+            BlockDelete = manifest.Shape?.BlockDelete ?? true,
         };
 }
 
@@ -93,7 +102,7 @@ public static class StartFromLine
         ArgumentNullException.ThrowIfNull(options);
         var profile = options.Profile ?? MachineProfile.Default;
         var decided = new PlannedBlock(profile);
-        var interp = new Interpreter(profile) { Canon = decided };
+        var interp = new Interpreter(profile) { Canon = decided, BlockDeleteEnabled = options.BlockDelete };
         var highest = double.NegativeInfinity;
         // An expanded program's lines (subprograms, macros, loops) are its expanded lines, as M0== counts them.
         using var reader = GCode.Expansion.ProgramExpansion.OpenReader(sourcePath, profile);
@@ -153,6 +162,13 @@ public static class StartFromLine
         var start = store.GetStart(programId, line)
             ?? throw new ArgumentOutOfRangeException(nameof(line), $"program {programId}: no motion block at or after line {line}");
         var exec = start.State ?? throw new StoredStateMissingException(programId);
+        if (options.BlockDelete && store.HasBlockDeleteBlock(programId, start.Block.Line))
+        {
+            // The store decoded every block; with block delete on, a '/' block up to the start never ran.
+            throw new StoredStateMissingException(programId,
+                $"program {programId} has a block-delete block at or before line {start.Block.Line}, which the store decodes and block delete skips");
+        }
+
         ModalState before;
         Point3 position;
         if (start.Previous is { } previous)
@@ -280,9 +296,12 @@ public static class StartFromLine
     private static string Num(double v) => Math.Round(v, 4).ToString("0.####", CultureInfo.InvariantCulture);
 }
 
-/// <summary>A revision stored before its execution states were (schema 7): a start from it must re-interpret the source.</summary>
-public sealed class StoredStateMissingException(long programId)
-    : InvalidOperationException($"program {programId} was stored without the execution states a start reads (imported before schema 7)")
+/// <summary>
+/// The store does not hold the state a start needs: a revision stored before its execution states were (schema 7), or
+/// one whose stored states count blocks that block delete skips. A start from it must re-interpret the source.
+/// </summary>
+public sealed class StoredStateMissingException(long programId, string? message = null)
+    : InvalidOperationException(message ?? $"program {programId} was stored without the execution states a start reads (imported before schema 7)")
 {
     /// <summary>The revision.</summary>
     public long ProgramId { get; } = programId;

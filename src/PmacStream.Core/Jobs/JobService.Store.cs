@@ -12,12 +12,16 @@ public sealed partial class JobService
     private long _startFallbacks;
     private long _preparationsReused;
     private long _preparationsStored;
+    private long _importedInSplitPass;
 
     /// <summary>Preparations taken from the store as they were (nothing split) by this service.</summary>
     public long PreparationsReused => Interlocked.Read(ref _preparationsReused);
 
     /// <summary>Revisions split by this service and stored as a new preparation (a first run, or other inputs than every stored one).</summary>
     public long PreparationsStored => Interlocked.Read(ref _preparationsStored);
+
+    /// <summary>Files checked, stored as a revision and split in one pass by this service (<see cref="Splitter.SplitAndImport"/>).</summary>
+    public long ImportedInSplitPass => Interlocked.Read(ref _importedInSplitPass);
 
     /// <summary>Starts planned from the store's stored states (<see cref="PlanStartFromStore"/>) by this service.</summary>
     public long StartsFromStore => Interlocked.Read(ref _startsFromStore);
@@ -141,30 +145,120 @@ public sealed partial class JobService
     }
 
     /// <summary>
-    /// The revision a file is under <paramref name="profile"/>: found by its SHA-256 (hashing is a fraction of a check,
-    /// so a file streamed again is not imported again), else checked and decoded into the store now
-    /// (<see cref="IProgramRevisions.ImportRevision"/>; a program with errors is stored with its diagnostics, and the
-    /// preparation that follows refuses it with them).
+    /// The revision a file is under the request's profile: found by its SHA-256 (hashing is a fraction of a check, so a
+    /// file streamed again is not imported again; it is then prepared from the store like any revision), else checked,
+    /// decoded and stored in the same pass as its split (<see cref="Splitter.SplitAndImport"/>), which is also the
+    /// preparation (returned, and stored with the revision). A program with errors is stored with its diagnostics and
+    /// refused with them. A program that expands subprograms or macros is imported by itself first (its split reads its
+    /// expansion, not the file), and so is one the split cannot import in its pass (block delete on and a block-delete
+    /// block: the store decodes every block).
     /// </summary>
     /// <exception cref="JobException">The store cannot be read or written, or the file read (<see cref="JobErrorKind.BadRequest"/>).</exception>
-    private long RevisionOf(string source, MachineProfile profile, CancellationToken cancellationToken)
+    /// <exception cref="ProgramRefusedException">The program has errors (it is stored with them).</exception>
+    private (long Id, PreparedProgram? Prepared) RevisionOf(PrepareRequest request, string source, SplitOptions options, string outDir,
+        IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
+    {
+        var profile = request.Profile;
+        try
+        {
+            using var store = Imported(() => ProgramStores.Open(Store), source);
+            if (Imported(() => store.FindRevision(FileHash.Sha256Hex(source, cancellationToken), profile.Name), source) is { } known)
+            {
+                return (known.Id, null);
+            }
+
+            if (GCode.Expansion.ProgramExpansion.Applies(source, profile) || options.CheckProfile is null)
+            {
+                return (ImportAlone(store, source, profile, "its split reads its expansion, not the file", cancellationToken), null);
+            }
+
+            return SplitImporting(store, request, source, options, outDir, progress, cancellationToken);
+        }
+        catch (System.Data.Common.DbException e)
+        {
+            // Also while the split stores the revision in its pass: nothing of the import is kept, nothing published.
+            throw StoreFailed(source, e);
+        }
+    }
+
+    /// <summary>A store step of an import (opening, finding, importing): a store or file failure is the request's.</summary>
+    private T Imported<T>(Func<T> step, string source)
     {
         try
         {
-            using var store = ProgramStores.Open(Store);
-            if (store.FindRevision(FileHash.Sha256Hex(source, cancellationToken), profile.Name) is { } known)
-            {
-                return known.Id;
-            }
-
-            var imported = store.ImportRevision(source, profile, null, cancellationToken);
-            Log.Information("Imported {Source:l} into {Store:l} as program {Id}: {Summary:l}", source, Store.Display, imported.Id, imported.Summary.ToString());
-            return imported.Id;
+            return step();
         }
         catch (Exception e) when (e is System.Data.Common.DbException or IOException)
         {
-            throw new JobException($"store {Store.Display}: cannot import {source}: {StoreLocation.Redact(e.Message)}", JobErrorKind.BadRequest, e);
+            throw StoreFailed(source, e);
         }
+    }
+
+    private JobException StoreFailed(string source, Exception e) =>
+        new($"store {Store.Display}: cannot import {source}: {StoreLocation.Redact(e.Message)}", JobErrorKind.BadRequest, e);
+
+    /// <summary>One pass: the split checks, decodes and stores the revision as it cuts the chunks; the preparation is stored with it.</summary>
+    private (long Id, PreparedProgram? Prepared) SplitImporting(IProgramRevisions store, PrepareRequest request, string source, SplitOptions options, string outDir,
+        IProgress<SplitProgress>? progress, CancellationToken cancellationToken)
+    {
+        SplitResult? split = null;
+        ProgramRefusedException? refused = null;
+        ProgramImport? imported;
+        using (var import = RevisionImport.Begin(store, source, new FileInfo(source).Length, request.Profile))
+        {
+            try
+            {
+                split = Splitter.SplitAndImport(source, options with { OutDir = outDir }, import, progress, cancellationToken);
+            }
+            catch (SplitException e)
+            {
+                refused = Refused(request, source, e);
+            }
+
+            imported = import.Result;
+        }
+
+        long id;
+        if (imported is not null)
+        {
+            id = imported.Id;
+            Interlocked.Increment(ref _importedInSplitPass);
+            Log.Information("Imported {Source:l} into {Store:l} as program {Id} in the same pass as its split: {Summary:l}",
+                source, Store.Display, id, imported.Summary.ToString());
+        }
+        else
+        {
+            // The split ended before the file was read whole (a block too large for a chunk), or gave the import up.
+            id = ImportAlone(store, source, request.Profile, "the split could not store it in its pass", cancellationToken);
+        }
+
+        if (refused is not null)
+        {
+            throw refused;
+        }
+
+        if (split is null)
+        {
+            throw new InvalidOperationException("the split ended without a result");
+        }
+
+        var inputs = PreparationInputs.Of(split.Manifest.SourceSha256, options);
+        if (store.FindPreparation(id, StoredPreparation.KeyOf(inputs)) is null)
+        {
+            var kept = store.StorePreparation(id, inputs, outDir);
+            Interlocked.Increment(ref _preparationsStored);
+            Log.Information("Prepared program {Id}: split and stored as its preparation {Preparation}", id, kept.Id);
+        }
+
+        return (id, new PreparedProgram(source, ChunkedProgram.FromManifest(split.Manifest, split.OutputDirectory), request.Profile, false, split.Warnings));
+    }
+
+    /// <summary>The import by itself (a pass of its own before the split), for what one pass cannot store.</summary>
+    private long ImportAlone(IProgramRevisions store, string source, MachineProfile profile, string why, CancellationToken cancellationToken)
+    {
+        var imported = Imported(() => store.ImportRevision(source, profile, null, cancellationToken), source);
+        Log.Information("Imported {Source:l} into {Store:l} as program {Id} ({Why:l}): {Summary:l}", source, Store.Display, imported.Id, why, imported.Summary.ToString());
+        return imported.Id;
     }
 
     /// <summary>How a job plans a start at a line of its program (the alarm's check of where the next block starts): from the store for a revision.</summary>

@@ -595,9 +595,19 @@ public sealed partial class JobService
         }
 
         var outDir = Path.GetFullPath(options.OutDir ?? Splitter.DefaultOutDir(source));
-        var revision = request.ProgramId ?? (request.Import ? RevisionOf(source, request.Profile, cancellationToken) : null);
+        var revision = request.ProgramId;
+        PreparedProgram? importedWithSplit = null;
+        if (revision is null && request.Import)
+        {
+            (revision, importedWithSplit) = RevisionOf(request, source, options, outDir, progress, cancellationToken);
+        }
+
         PreparedProgram prepared;
-        if (revision is { } programId && PrepareStored(programId, request, source, options, outDir, progress, cancellationToken) is { } stored)
+        if (importedWithSplit is { } split)
+        {
+            prepared = split;
+        }
+        else if (revision is { } programId && PrepareStored(programId, request, source, options, outDir, progress, cancellationToken) is { } stored)
         {
             prepared = stored;
         }
@@ -631,10 +641,16 @@ public sealed partial class JobService
         }
         catch (SplitException e)
         {
-            var why = e.FromChecker || e.ErrorCount > 0 ? $"{e.ErrorCount} error(s) under the {request.Profile.Name} profile" : e.Message;
-            Log.Information("Refused {Source:l}: {Why:l}; nothing split, nothing sent", source, why);
-            throw new ProgramRefusedException(source, e.Diagnostics, e.ErrorCount, e.Message, e) { Profile = request.Profile.Name };
+            throw Refused(request, source, e);
         }
+    }
+
+    /// <summary>A split refused: logged, with every error for the caller.</summary>
+    private static ProgramRefusedException Refused(PrepareRequest request, string source, SplitException e)
+    {
+        var why = e.FromChecker || e.ErrorCount > 0 ? $"{e.ErrorCount} error(s) under the {request.Profile.Name} profile" : e.Message;
+        Log.Information("Refused {Source:l}: {Why:l}; nothing split, nothing sent", source, why);
+        return new ProgramRefusedException(source, e.Diagnostics, e.ErrorCount, e.Message, e) { Profile = request.Profile.Name };
     }
 
     private async Task<IMoveTimes?> MoveTimesAsync(string sourcePath, MachineProfile profile, CancellationToken cancellationToken) =>

@@ -40,6 +40,9 @@ public interface IProgramRevisions : IDisposable
     /// </summary>
     StoredStart? GetStart(long programId, int line);
 
+    /// <summary>Whether a block starting with <c>/</c> (block delete) is stored at or before <paramref name="line"/>.</summary>
+    bool HasBlockDeleteBlock(long programId, int line);
+
     /// <summary>
     /// The stored blocks of source lines <paramref name="fromLine"/>..<paramref name="toLine"/> in program order, each
     /// with its cycle holes (null for other blocks, and for cycle blocks of revisions stored before schema 9): the

@@ -97,23 +97,17 @@ internal static class ImportPipeline
         CancellationToken cancellationToken, Action? afterBatch, TextWriter? mapText)
     {
         using var stop = CancellationTokenSource.CreateLinkedTokenSource(cancellationToken);
-        using var full = new BlockingCollection<Batch>(QueueDepth);
-        using var free = new BlockingCollection<Batch>();
-        for (var i = 0; i < QueueDepth + 2; i++)
-        {
-            free.Add(new Batch());
-        }
-
+        using var queue = new Queue(stop.Token);
         var producer = Task.Factory.StartNew(
             () =>
             {
                 try
                 {
-                    return Produce(source, file, profile, onDiagnostic, full, free, mapText, stop.Token);
+                    return Produce(source, file, profile, onDiagnostic, queue, mapText, stop.Token);
                 }
                 finally
                 {
-                    full.CompleteAdding();
+                    queue.Complete();
                 }
             },
             CancellationToken.None,
@@ -122,32 +116,7 @@ internal static class ImportPipeline
 
         try
         {
-            foreach (var batch in full.GetConsumingEnumerable())
-            {
-                for (var i = 0; i < batch.Count; i++)
-                {
-                    writer.Add(in batch.Blocks[i], batch.Modals[i]!);
-                }
-
-                foreach (var d in batch.Diagnostics)
-                {
-                    writer.Add(d);
-                }
-
-                foreach (var s in batch.States)
-                {
-                    writer.Add(s);
-                }
-
-                foreach (var (line, holes) in batch.Holes)
-                {
-                    writer.Add(line, holes);
-                }
-
-                batch.Clear();
-                free.Add(batch);
-                afterBatch?.Invoke();
-            }
+            Consume(queue, writer, afterBatch);
         }
         catch
         {
@@ -168,46 +137,46 @@ internal static class ImportPipeline
         return producer.GetAwaiter().GetResult();
     }
 
+    /// <summary>
+    /// The storing side: every batch the reading side hands over, in order, into <paramref name="writer"/>, until the
+    /// reading side completes the queue. Runs on the thread that may use the store's connection.
+    /// </summary>
+    internal static void Consume(Queue queue, IBlockSink writer, Action? afterBatch)
+    {
+        foreach (var batch in queue.Full.GetConsumingEnumerable())
+        {
+            for (var i = 0; i < batch.Count; i++)
+            {
+                writer.Add(in batch.Blocks[i], batch.Modals[i]!);
+            }
+
+            foreach (var d in batch.Diagnostics)
+            {
+                writer.Add(d);
+            }
+
+            foreach (var s in batch.States)
+            {
+                writer.Add(s);
+            }
+
+            foreach (var (line, holes) in batch.Holes)
+            {
+                writer.Add(line, holes);
+            }
+
+            batch.Clear();
+            queue.Free.Add(batch);
+            afterBatch?.Invoke();
+        }
+    }
+
     /// <summary>The reading side: checks the program (through its expansion when it has one) and hands full batches on.</summary>
     private static CheckSummary Produce(Stream source, string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic,
-        BlockingCollection<Batch> full, BlockingCollection<Batch> free, TextWriter? mapText, CancellationToken token)
+        Queue queue, TextWriter? mapText, CancellationToken token)
     {
-        var batch = free.Take(token);
-        var corners = new CornerHold(full, token);
-        var states = new ExecStateTracker(profile);
-        var decided = new Decisions();
-        batch.States.Add(states.Initial);
-        void OnDiagnostic(Diagnostic d)
-        {
-            batch.Diagnostics.Add(d);
-            onDiagnostic?.Invoke(d);
-        }
-
-        // After each block: its move, holes, corner, offset and tables as the canonical calls said them (Decisions);
-        // its words and modal state from the interpreter's record of the line and its modal snapshot.
-        void OnInterpreted(Interpreter interp)
-        {
-            batch.Add(in interp.Last, interp.State, decided);
-            if (decided.Holes is { } holes)
-            {
-                batch.Holes.Add((interp.Last.Line, holes));
-            }
-
-            corners.Added(batch, decided);
-
-            if (states.After(interp.Last.Line, decided, interp.State) is { } changed)
-            {
-                batch.States.Add(changed);
-            }
-
-            if (batch.Count == BatchSize)
-            {
-                corners.Full(batch);
-                batch = free.Take(token);
-            }
-        }
-
-        var checker = new Checker(profile) { Canon = decided };
+        var feed = new Feed(profile, queue, onDiagnostic, token);
+        var checker = new Checker(profile) { Canon = feed.Canon };
         CheckSummary summary;
         if (GCode.Expansion.ProgramExpansion.Applies(file, profile))
         {
@@ -220,16 +189,118 @@ internal static class ImportPipeline
                 map.WriteTo(mapText);
             }
 
-            summary = GCode.Expansion.ProgramExpansion.Check(checker, file, OnDiagnostic, OnInterpreted, null, token, map);
+            summary = GCode.Expansion.ProgramExpansion.Check(checker, file, feed.OnDiagnostic, feed.OnInterpreted, null, token, map);
         }
         else
         {
-            summary = checker.Check(source, file, OnDiagnostic, OnInterpreted, token);
+            summary = checker.Check(source, file, feed.OnDiagnostic, feed.OnInterpreted, token);
         }
 
-        corners.Release();
-        full.Add(batch, token);
+        feed.Finish();
         return summary;
+    }
+
+    /// <summary>The bounded hand-over between the reading side and the storing side: full batches one way, emptied ones back.</summary>
+    internal sealed class Queue : IDisposable
+    {
+        /// <summary>A queue of <see cref="QueueDepth"/> full batches, its waits ended by <paramref name="token"/>.</summary>
+        public Queue(CancellationToken token)
+        {
+            Token = token;
+            for (var i = 0; i < QueueDepth + 2; i++)
+            {
+                Free.Add(new Batch());
+            }
+        }
+
+        /// <summary>Ends the reading side's waits (the storing side failed, or the caller cancelled).</summary>
+        public CancellationToken Token { get; }
+
+        /// <summary>Batches for the storing side, in program order.</summary>
+        public BlockingCollection<Batch> Full { get; } = new(QueueDepth);
+
+        /// <summary>Batches the storing side emptied.</summary>
+        public BlockingCollection<Batch> Free { get; } = new();
+
+        /// <summary>The reading side ended (whole or not): the storing side ends after what was handed over.</summary>
+        public void Complete() => Full.CompleteAdding();
+
+        /// <inheritdoc />
+        public void Dispose()
+        {
+            Full.Dispose();
+            Free.Dispose();
+        }
+    }
+
+    /// <summary>
+    /// The reading side of an import, fed by a check as it interprets: each block's record (its words and modal state
+    /// from the interpreter's record of the line; its move, holes, corner and offsets from the canonical calls, which
+    /// <see cref="Canon"/> must receive), the diagnostics and the execution states, in batches handed to the storing
+    /// side. <see cref="ImportPipeline"/>'s own check feeds one; so does the splitter's reading side when a split
+    /// stores the revision in the same pass.
+    /// </summary>
+    internal sealed class Feed
+    {
+        private readonly Queue _queue;
+        private readonly Action<Diagnostic>? _onDiagnostic;
+        private readonly CornerHold _corners;
+        private readonly ExecStateTracker _states;
+        private readonly Decisions _decided = new();
+        private Batch _batch;
+
+        /// <summary>A feed into <paramref name="queue"/> under <paramref name="profile"/>; <paramref name="onDiagnostic"/> also sees each diagnostic.</summary>
+        public Feed(MachineProfile profile, Queue queue, Action<Diagnostic>? onDiagnostic, CancellationToken token)
+        {
+            _queue = queue;
+            _onDiagnostic = onDiagnostic;
+            _corners = new CornerHold(queue.Full, token);
+            _states = new ExecStateTracker(profile);
+            _batch = queue.Free.Take(token);
+            _batch.States.Add(_states.Initial);
+        }
+
+        /// <summary>Where the check's interpreter must make its canonical calls (alone, or beside other consumers).</summary>
+        public ICanonicalMoves Canon => _decided;
+
+        /// <summary>A diagnostic of the check, in line order.</summary>
+        public void OnDiagnostic(Diagnostic d)
+        {
+            _batch.Diagnostics.Add(d);
+            _onDiagnostic?.Invoke(d);
+        }
+
+        /// <summary>After each block: its record, holes, corner and the execution state when it changed.</summary>
+        public void OnInterpreted(Interpreter interp)
+        {
+            var batch = _batch;
+            var decided = _decided;
+            batch.Add(in interp.Last, interp.State, decided);
+            if (decided.Holes is { } holes)
+            {
+                batch.Holes.Add((interp.Last.Line, holes));
+            }
+
+            _corners.Added(batch, decided);
+
+            if (_states.After(interp.Last.Line, decided, interp.State) is { } changed)
+            {
+                batch.States.Add(changed);
+            }
+
+            if (batch.Count == BatchSize)
+            {
+                _corners.Full(batch);
+                _batch = _queue.Free.Take(_queue.Token);
+            }
+        }
+
+        /// <summary>The check ended whole: the last batch (and one held for an inside corner) goes to the storing side.</summary>
+        public void Finish()
+        {
+            _corners.Release();
+            _queue.Full.Add(_batch, _queue.Token);
+        }
     }
 
     /// <summary>

@@ -73,73 +73,102 @@ public sealed partial class PgProgramStore : IProgramRevisions
     public ProgramImport ImportRevision(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(profile);
-        using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
-        var pieces = new SourcePieces();
-        using var hashing = new HashingReadStream(fs, pieces);
-        var timeout = ImportTimeout ?? ImportTimeoutFor(fs.Length);
-        using var connection = OpenImportConnection(timeout, exact: ImportTimeout is not null);
-        using var tx = connection.BeginTransaction();
-        long id;
-        using (var cmd = new NpgsqlCommand(
-                   "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups, profile_identity) " +
-                   "VALUES (@path, @size, '', 0, 0, 0, 0, 0, @profile, 'incomplete', @created, @groups, @identity) RETURNING id", connection, tx))
+        using var import = BeginRevision(file, new FileInfo(file).Length, profile);
+        return import.Run(source => ImportPipeline.Run(source, file, profile, import.Blocks, onDiagnostic, cancellationToken, import.AfterBatch));
+    }
+
+    /// <summary>
+    /// Opens the import of a revision (<see cref="RevisionImport.Begin"/>): a connection and transaction of its own,
+    /// every statement given the import's timeout (<see cref="ImportTimeout"/>, else in proportion to <paramref name="size"/>).
+    /// </summary>
+    internal RevisionImport BeginRevision(string file, long size, MachineProfile profile)
+    {
+        var timeout = ImportTimeout ?? ImportTimeoutFor(size);
+        var connection = OpenImportConnection(timeout, exact: ImportTimeout is not null);
+        NpgsqlTransaction? tx = null;
+        try
         {
+            tx = connection.BeginTransaction();
+            using var cmd = new NpgsqlCommand(
+                "INSERT INTO programs (path, size, sha256, lines, blocks, errors, warnings, estimated_seconds, profile, check_summary, created, groups, profile_identity) " +
+                "VALUES (@path, @size, '', 0, 0, 0, 0, 0, @profile, 'incomplete', @created, @groups, @identity) RETURNING id", connection, tx);
             cmd.Parameters.AddWithValue("path", Path.GetFullPath(file));
-            cmd.Parameters.AddWithValue("size", fs.Length);
+            cmd.Parameters.AddWithValue("size", size);
             cmd.Parameters.AddWithValue("profile", profile.Name);
             cmd.Parameters.AddWithValue("created", DateTimeOffset.UtcNow.ToString("O", CultureInfo.InvariantCulture));
             cmd.Parameters.AddWithValue("groups", StoredGroups.Describe(profile));
             cmd.Parameters.AddWithValue("identity", profile.Identity);
             cmd.CommandTimeout = Seconds(timeout);
-            id = (long)cmd.ExecuteScalar()!;
+            var id = (long)cmd.ExecuteScalar()!;
+            return new PgRevision(this, connection, tx, id, timeout, file, profile);
         }
-
-        using var writer = new Writer(connection, tx, id, timeout);
-        void Store()
+        catch
         {
-            writer.EndCopy();
-            foreach (var piece in pieces.Drain())
+            tx?.Dispose();
+            connection.Dispose();
+            throw;
+        }
+    }
+
+    /// <summary>A revision imported into PostgreSQL: its own connection and transaction, blocks by binary COPY.</summary>
+    private sealed class PgRevision(PgProgramStore store, NpgsqlConnection connection, NpgsqlTransaction tx, long id, TimeSpan timeout, string file, MachineProfile profile)
+        : RevisionImport(file, profile)
+    {
+        private readonly Writer _writer = new(connection, tx, id, timeout);
+
+        internal override ImportPipeline.IBlockSink Blocks => _writer;
+
+        internal override void AfterBatch()
+        {
+            _writer.EndCopy();
+            foreach (var piece in Pieces.Drain())
             {
-                writer.AddSource(piece);
+                _writer.AddSource(piece);
             }
         }
 
-        var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken, Store);
-        pieces.Finish();
-        Store();
-        var sha = hashing.HashHex();
-        using (var find = new NpgsqlCommand("SELECT id FROM programs WHERE sha256 = @s AND profile = @p AND revision = 1 ORDER BY id LIMIT 1", connection, tx))
+        private protected override ProgramImport CompleteCore(CheckSummary summary, string sha256)
         {
-            find.CommandTimeout = Seconds(timeout);
-            find.Parameters.AddWithValue("s", sha);
-            find.Parameters.AddWithValue("p", profile.Name);
-            if (find.ExecuteScalar() is long existing)
+            using (var find = new NpgsqlCommand("SELECT id FROM programs WHERE sha256 = @s AND profile = @p AND revision = 1 ORDER BY id LIMIT 1", connection, tx))
             {
-                tx.Rollback();
-                return new ProgramImport(existing, summary, true);
+                find.CommandTimeout = Seconds(timeout);
+                find.Parameters.AddWithValue("s", sha256);
+                find.Parameters.AddWithValue("p", Profile.Name);
+                if (find.ExecuteScalar() is long existing)
+                {
+                    tx.Rollback();
+                    return new ProgramImport(existing, summary, true);
+                }
             }
+
+            using (var cmd = new NpgsqlCommand(
+                       "UPDATE programs SET sha256 = @sha, lines = @lines, blocks = @blocks, errors = @e, warnings = @w, estimated_seconds = @t, " +
+                       "check_summary = @sum, name = @name, revision = 1 WHERE id = @id", connection, tx))
+            {
+                cmd.CommandTimeout = Seconds(timeout);
+                cmd.Parameters.AddWithValue("sha", sha256);
+                cmd.Parameters.AddWithValue("lines", summary.Lines);
+                cmd.Parameters.AddWithValue("blocks", _writer.Blocks);
+                cmd.Parameters.AddWithValue("e", summary.Errors);
+                cmd.Parameters.AddWithValue("w", summary.Warnings);
+                cmd.Parameters.AddWithValue("t", summary.EstimatedSeconds);
+                cmd.Parameters.AddWithValue("sum", summary.ToString());
+                cmd.Parameters.AddWithValue("name", Path.GetFileName(File));
+                cmd.Parameters.AddWithValue("id", id);
+                cmd.ExecuteNonQuery();
+            }
+
+            tx.Commit();
+            Logger.Information("Stored {File} as program revision {Id} in {Store}: {Summary}", File, id, store._location.Display, summary.ToString());
+            return new ProgramImport(id, summary, false);
         }
 
-        using (var cmd = new NpgsqlCommand(
-                   "UPDATE programs SET sha256 = @sha, lines = @lines, blocks = @blocks, errors = @e, warnings = @w, estimated_seconds = @t, " +
-                   "check_summary = @sum, name = @name, revision = 1 WHERE id = @id", connection, tx))
+        private protected override void DisposeCore()
         {
-            cmd.CommandTimeout = Seconds(timeout);
-            cmd.Parameters.AddWithValue("sha", sha);
-            cmd.Parameters.AddWithValue("lines", summary.Lines);
-            cmd.Parameters.AddWithValue("blocks", writer.Blocks);
-            cmd.Parameters.AddWithValue("e", summary.Errors);
-            cmd.Parameters.AddWithValue("w", summary.Warnings);
-            cmd.Parameters.AddWithValue("t", summary.EstimatedSeconds);
-            cmd.Parameters.AddWithValue("sum", summary.ToString());
-            cmd.Parameters.AddWithValue("name", Path.GetFileName(file));
-            cmd.Parameters.AddWithValue("id", id);
-            cmd.ExecuteNonQuery();
+            _writer.Dispose();
+            tx.Dispose();
+            connection.Dispose();
         }
-
-        tx.Commit();
-        Logger.Information("Stored {File} as program revision {Id} in {Store}: {Summary}", file, id, _location.Display, summary.ToString());
-        return new ProgramImport(id, summary, false);
     }
 
     /// <inheritdoc />
@@ -260,6 +289,15 @@ public sealed partial class PgProgramStore : IProgramRevisions
         cmd.Parameters.AddWithValue("l", Math.Max(0, line));
         using var r = cmd.ExecuteReader();
         return r.Read() ? ProgramStore.ReadBlock(r, groups) : null;
+    }
+
+    /// <inheritdoc />
+    public bool HasBlockDeleteBlock(long programId, int line)
+    {
+        using var cmd = new NpgsqlCommand("SELECT 1 FROM blocks WHERE program_id = @p AND line <= @l AND block_delete <> 0 LIMIT 1", _connection);
+        cmd.Parameters.AddWithValue("p", programId);
+        cmd.Parameters.AddWithValue("l", Math.Max(0, line));
+        return cmd.ExecuteScalar() is not null;
     }
 
     /// <inheritdoc />

@@ -220,31 +220,40 @@ public sealed partial class ProgramStore : IProgramRevisions
     public ProgramImport ImportRevision(string file, MachineProfile profile, Action<Diagnostic>? onDiagnostic = null, CancellationToken cancellationToken = default)
     {
         ArgumentNullException.ThrowIfNull(profile);
-        using var fs = new FileStream(file, FileMode.Open, FileAccess.Read, FileShare.Read, 1, FileOptions.SequentialScan);
-        var pieces = new SourcePieces();
-        using var hashing = new HashingReadStream(fs, pieces);
-        using var writer = BeginProgram(System.IO.Path.GetFullPath(file), fs.Length, profile);
-        void Store()
+        using var import = BeginRevision(file, new FileInfo(file).Length, profile);
+        return import.Run(source => ImportPipeline.Run(source, file, profile, import.Blocks, onDiagnostic, cancellationToken, import.AfterBatch));
+    }
+
+    /// <summary>Opens the import of a revision (<see cref="RevisionImport.Begin"/>): one transaction on this store's connection.</summary>
+    internal RevisionImport BeginRevision(string file, long size, MachineProfile profile) => new SqliteRevision(BeginProgram(System.IO.Path.GetFullPath(file), size, profile), file, profile);
+
+    /// <summary>A revision imported into SQLite: one <see cref="ProgramWriter"/>, its transaction committed by completing.</summary>
+    private sealed class SqliteRevision(ProgramWriter writer, string file, MachineProfile profile) : RevisionImport(file, profile)
+    {
+        internal override ImportPipeline.IBlockSink Blocks => writer;
+
+        internal override void AfterBatch()
         {
-            foreach (var piece in pieces.Drain())
+            foreach (var piece in Pieces.Drain())
             {
                 writer.AddSource(piece);
             }
         }
 
-        var summary = ImportPipeline.Run(hashing, file, profile, writer, onDiagnostic, cancellationToken, Store);
-        pieces.Finish();
-        Store();
-        var sha = hashing.HashHex();
-        if (writer.ExistingRevision(sha, profile.Name) is { } existing)
+        private protected override ProgramImport CompleteCore(CheckSummary summary, string sha256)
         {
-            Logger.Information("{File} is program {Id} already (same content, profile {Profile})", file, existing, profile.Name);
-            return new ProgramImport(existing, summary, true);
+            if (writer.ExistingRevision(sha256, Profile.Name) is { } existing)
+            {
+                Logger.Information("{File} is program {Id} already (same content, profile {Profile})", File, existing, Profile.Name);
+                return new ProgramImport(existing, summary, true);
+            }
+
+            writer.Complete(summary, sha256, System.IO.Path.GetFileName(File));
+            Logger.Information("Stored {File} as program revision {Id}: {Summary} in {Ms} ms", File, writer.ProgramId, summary.ToString(), (int)summary.Elapsed.TotalMilliseconds);
+            return new ProgramImport(writer.ProgramId, summary, false);
         }
 
-        writer.Complete(summary, sha, System.IO.Path.GetFileName(file));
-        Logger.Information("Stored {File} as program revision {Id}: {Summary} in {Ms} ms", file, writer.ProgramId, summary.ToString(), (int)summary.Elapsed.TotalMilliseconds);
-        return new ProgramImport(writer.ProgramId, summary, false);
+        private protected override void DisposeCore() => writer.Dispose();
     }
 
     /// <summary>Program revisions (imported with their source), newest first.</summary>
@@ -343,6 +352,16 @@ public sealed partial class ProgramStore : IProgramRevisions
         cmd.Parameters.AddWithValue("$b", Key(programId, int.MaxValue));
         using var r = cmd.ExecuteReader();
         return r.Read() ? ReadBlock(r, groups) : null;
+    }
+
+    /// <inheritdoc />
+    public bool HasBlockDeleteBlock(long programId, int line)
+    {
+        using var cmd = _connection.CreateCommand();
+        cmd.CommandText = "SELECT 1 FROM blocks WHERE key >= $a AND key <= $b AND block_delete <> 0 LIMIT 1";
+        cmd.Parameters.AddWithValue("$a", Key(programId, 0));
+        cmd.Parameters.AddWithValue("$b", Key(programId, Math.Max(0, line)));
+        return cmd.ExecuteScalar() is not null;
     }
 
     /// <inheritdoc />
