@@ -123,6 +123,45 @@ public sealed class HmiStoredFileTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task A_job_of_a_file_resumed_after_a_crash_shows_its_preamble_from_the_store_and_the_next_start_names_the_revision()
+    {
+        // 300 moves of 1 mm at F600 in chunks of 50: the job is still running when the host dies.
+        _source = TestPrograms.Write(Path.Combine(_temp.Path, "long.nc"),
+            TestPrograms.Text("G21 G90 G17 G54\nM03 S1000\nG0 X0 Y0 Z5\nG1 Z-1 F600\n", 300, i => $"G1 X{i % 50} Y{i / 50}"));
+        var (p, v, service) = NewHmi();
+        await Do(p, () => v.ChooseFile(_source));
+        await Do(p, v.ClickConnect);
+        v.BlocksPerChunk = 50;
+        await Do(p, v.ClickSplit);
+        var id = service.StoredPrograms().Single().Id;
+        await Do(p, v.ClickExecute);
+        for (var i = 0; i < 200 && v.ExecutingLine < 100; i++)
+        {
+            await p.TickAsync();
+            _sim.Advance(TimeSpan.FromSeconds(0.5));
+        }
+
+        v.ExecutingLine.Should().BeGreaterThanOrEqualTo(100);
+        _presenters.Remove(p); // the host dies: no abort, no goodbye
+
+        var (p2, v2, service2) = NewHmi();
+        await Do(p2, () => v2.ChooseFile(_source));
+        await Do(p2, v2.ClickConnect);
+        await Do(p2, v2.ClickResumeInterrupted);
+        v2.Errors.Should().BeEmpty();
+        v2.Confirmations.Should().ContainSingle().Which.Text.Should().Contain("Resume job");
+        service2.StartsFromStore.Should().BeGreaterThanOrEqualTo(1, "the preamble shown is planned from the revision the job recorded");
+        service2.StartFallbacks.Should().Be(0);
+        await RunToEnd(p2);
+        v2.Status.State.Should().Be("Completed");
+
+        await Do(p2, v2.ClickExecute);
+        await RunToEnd(p2);
+        service2.JobHistory().Select(j => j.ProgramId).Should().Equal([id, id], "the resumed program is the revision, as if split here");
+        service2.StoredPrograms().Should().ContainSingle();
+    }
+
+    [Fact]
     public async Task A_store_that_cannot_import_leaves_the_file_to_run_without_a_revision_and_the_log_says_why()
     {
         using (ProgramStores.Open(Store))
