@@ -1,7 +1,6 @@
 using PmacStream.GCode;
 using PmacStream.Jobs;
 using PmacStream.Preview;
-using Serilog;
 
 namespace PmacStream.Hmi;
 
@@ -128,7 +127,7 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
         }
         catch (JobException e) when (request.Import && StoreCannotKeep(e))
         {
-            Log.Warning("{Why:l}; {Source:l} is prepared as a file, its job records no program", e.Message, sourcePath);
+            // The presenter logs why (one warning in the operator's log pane, which the global logger also feeds).
             var split = await Service.PrepareViewAsync(request with { Import = false }, cancellationToken).ConfigureAwait(false);
             return split with { NotStored = e.Message };
         }
