@@ -112,12 +112,35 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
         PrepareAsync(sourcePath, settings, profile, null, cancellationToken);
 
     /// <inheritdoc />
-    public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default) =>
-        Service.PrepareViewAsync(new PrepareRequest(sourcePath, settings) { Profile = profile, MaxListedErrors = MaxListedDiagnostics, ProgramId = programId }, cancellationToken);
+    /// <remarks>
+    /// A file (no <paramref name="programId"/>) is stored first, as <c>stream FILE</c> stores it: found in the store by
+    /// its SHA-256 and profile, else imported (<see cref="PrepareRequest.Import"/>), and the split names the revision.
+    /// A store that cannot keep it does not stop the operator running the file: it is prepared as a file, without a
+    /// revision, and the split says why (<see cref="SplitView.NotStored"/>). A program with errors is still refused.
+    /// </remarks>
+    public async Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default)
+    {
+        var request = new PrepareRequest(sourcePath, settings) { Profile = profile, MaxListedErrors = MaxListedDiagnostics, ProgramId = programId, Import = programId is null };
+        try
+        {
+            return await Service.PrepareViewAsync(request, cancellationToken).ConfigureAwait(false);
+        }
+        catch (JobException e) when (request.Import && StoreCannotKeep(e))
+        {
+            // The presenter logs why (one warning in the operator's log pane, which the global logger also feeds).
+            var split = await Service.PrepareViewAsync(request with { Import = false }, cancellationToken).ConfigureAwait(false);
+            return split with { NotStored = e.Message };
+        }
+    }
+
+    /// <summary>The import failed in the store (it cannot be read or written), not in the program: the file can still run.</summary>
+    private static bool StoreCannotKeep(JobException e) =>
+        e.Kind == JobErrorKind.BadRequest && e.InnerException is System.Data.Common.DbException or IOException or UnauthorizedAccessException;
 
     /// <inheritdoc />
+    /// <remarks>The split of a stored revision plans from the store's states (<see cref="JobService.PreambleFor"/>), as its job will.</remarks>
     public Task<IReadOnlyList<string>> BuildPreambleAsync(SplitView program, int line, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default) =>
-        Task.Run(() => Service.PreambleOf(program, line, settings, profile, cancellationToken), cancellationToken);
+        Task.Run(() => Service.PreambleFor(program, program.ProgramId, line, settings, profile, cancellationToken), cancellationToken);
 
     /// <inheritdoc />
     public ChunkRows ReadChunkRows(SplitView program, int chunk) => Service.RowsOf(program, chunk);
@@ -138,7 +161,7 @@ public sealed partial class CoreHmiBackend(JobService service) : IHmiBackend, IC
                 FeedOverride = request.FeedOverride,
                 Profile = request.Profile,
                 OptionalStop = request.OptionalStop,
-                ProgramId = request.ProgramId,
+                ProgramId = request.ProgramId ?? request.Program.ProgramId,
                 Station = lease is null ? null : Settings.StationName(Station),
                 Machine = lease?.Machine,
             }, cancellationToken).ConfigureAwait(false);

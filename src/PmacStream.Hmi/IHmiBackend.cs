@@ -141,7 +141,10 @@ public sealed record HmiJobRequest(SplitView Program, string Strategy, int? From
     /// <summary>Optional stop on: the controller stops at M01.</summary>
     public bool OptionalStop { get; init; } = true;
 
-    /// <summary>The store's program revision the program is (opened from the Store page), or null: the job history names it, as <c>stream --program ID</c>.</summary>
+    /// <summary>
+    /// The store's program revision the program is (opened from the Store page, or a file its split stored), or null:
+    /// the job history names it, as <c>stream --program ID</c> and <c>stream FILE</c>.
+    /// </summary>
     public long? ProgramId { get; init; }
 
     /// <summary>Selected blocks: the job ends after this line's block (<c>stream --to-line</c>); null: at the program's end.</summary>
@@ -218,8 +221,10 @@ public interface IHmiBackend
 
     /// <summary>
     /// <see cref="PrepareAsync(string, RunSettings, MachineProfile, CancellationToken)"/> of a stored revision's source
-    /// (<paramref name="programId"/>, null: a plain file): the preparation stored with the revision is reused, as
-    /// <c>stream --program ID</c> does.
+    /// (<paramref name="programId"/>): the preparation stored with the revision is reused, as <c>stream --program ID</c>
+    /// does. Null: a file, which a backend with a store finds in it or imports first, as <c>stream FILE</c> does; the
+    /// split names the revision (<see cref="SplitView.ProgramId"/>), or says why the store could not keep it
+    /// (<see cref="SplitView.NotStored"/>: the file is prepared without one).
     /// </summary>
     Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default) =>
         PrepareAsync(sourcePath, settings, profile, cancellationToken);

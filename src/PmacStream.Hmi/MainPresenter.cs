@@ -15,7 +15,8 @@ public sealed class MainPresenter : IAsyncDisposable
     /// <summary>Lines indexed before a newly opened program is shown (more than any screen holds).</summary>
     public const int FirstScreenLines = 256;
 
-    private long? _programId; // the store revision the open program is, when opened from the Store page
+    private long? _openedRevision; // the store revision opened from the Store page, else null (a file)
+    private long? _programId; // the store revision the program is: the split's (a file is stored as it is split), else the opened one
     private readonly ILogger _log;
     private readonly IMainView _view;
     private readonly IHmiBackend _backend;
@@ -225,7 +226,7 @@ public sealed class MainPresenter : IAsyncDisposable
         }
 
         CloseProgram();
-        _programId = storedId; // after CloseProgram, which forgets the revision of the program before
+        _openedRevision = _programId = storedId; // after CloseProgram, which forgets the revision of the program before
         var source = ProgramLineSource.Open(path);
         _program = source;
         _view.ProgramPath = path;
@@ -312,11 +313,16 @@ public sealed class MainPresenter : IAsyncDisposable
         // The job service checks the shape (one place: ChunkShape.Validate); the box only offers 1 and more.
         _settings = _settings with { BlocksPerChunk = _view.BlocksPerChunk };
 
-        // The job service's gate: the program is checked under the machine profile whether or not Check ran.
-        var split = await _gate.SplitAsync(program.Path, _settings, _language, _life.Token, _programId).ConfigureAwait(true);
+        // The job service's gate: the program is checked under the machine profile whether or not Check ran. A file
+        // is found in or imported into the store as it is split (at each split: it may have been edited since).
+        var split = await _gate.SplitAsync(program.Path, _settings, _language, _life.Token, _openedRevision).ConfigureAwait(true);
         SetSplit(split);
-        _log.Information("Split {Path:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
-            program.Path, split.Chunks.Count, split.TotalBlocks, split.Folder);
+        _log.Information("Split {Path:l}{Revision:l} into {Chunks} chunk files ({Blocks} blocks) in {Directory:l}",
+            program.Path, split.ProgramId is { } id ? $" (program {id} of the store)" : string.Empty, split.Chunks.Count, split.TotalBlocks, split.Folder);
+        if (split.NotStored is { } why)
+        {
+            _log.Warning("Not stored, run as a file (its job records no program): {Why:l}", why);
+        }
     }
 
     /// <summary>Another machine profile: the check and the split were the old one's; the toolpath is drawn under the new one, the simulator gets its library.</summary>
@@ -369,9 +375,15 @@ public sealed class MainPresenter : IAsyncDisposable
         return Task.CompletedTask;
     }
 
+    /// <summary>
+    /// The split to run: the program is now the revision it was prepared from (its job, start from a line and the
+    /// executed path read the store), or the opened one.
+    /// </summary>
     private void SetSplit(SplitView split)
     {
         _split = split;
+        _programId = split.ProgramId ?? _openedRevision;
+        _toolpath.Stored(_programId);
         _chunkLines.SetProgram(split);
         ShowChunkFiles();
     }
@@ -379,6 +391,7 @@ public sealed class MainPresenter : IAsyncDisposable
     private void DropSplit()
     {
         _split = null;
+        _programId = _openedRevision; // a file's revision is its split's (under another profile it is another revision)
         _chunkLines.SetProgram(null);
         ShowChunkFiles();
     }
@@ -615,7 +628,7 @@ public sealed class MainPresenter : IAsyncDisposable
     {
         _program?.Dispose();
         _program = null;
-        _programId = null;
+        _openedRevision = _programId = null;
         _shownLineCount = 0;
         DropSplit();
         _toolpath.Close();

@@ -95,6 +95,19 @@ internal sealed class ToolpathPane : IDisposable
         Show();
     }
 
+    /// <summary>
+    /// The open program is now stored revision <paramref name="programId"/> (its split found or imported it; null: a
+    /// file): what is read from now on (the executed path) reads its stored blocks. The planned picture stays: it was
+    /// drawn from the same bytes under the same profile, so drawing it again would show nothing new.
+    /// </summary>
+    public void Stored(long? programId)
+    {
+        if (_path is not null)
+        {
+            _programId = programId;
+        }
+    }
+
     /// <summary>The program's toolpath: a stored revision's stored blocks, else the file.</summary>
     private IToolpathSource Source() =>
         _programId is { } id ? _backend.OpenStoredToolpath(id, _path!, _profile!) : _backend.OpenToolpath(_path!, _profile!);

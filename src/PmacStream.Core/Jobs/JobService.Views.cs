@@ -6,11 +6,14 @@ namespace PmacStream.Jobs;
 /// <summary>The calls of a screen that holds views of splits and jobs, not preparation's and streaming's types (the HMI).</summary>
 public sealed partial class JobService
 {
-    /// <summary>Prepares a program (<see cref="PrepareAsync"/>) and returns its split as a view.</summary>
+    /// <summary>Prepares a program (<see cref="PrepareAsync"/>) and returns its split as a view, naming the stored revision it is.</summary>
     /// <exception cref="ProgramRefusedException">The check found errors, or a block fits no chunk.</exception>
-    /// <exception cref="JobException">Bad settings or no such file.</exception>
-    public async Task<SplitView> PrepareViewAsync(PrepareRequest request, CancellationToken cancellationToken = default) =>
-        SplitView.Of((await PrepareAsync(request, null, cancellationToken).ConfigureAwait(false)).Program);
+    /// <exception cref="JobException">Bad settings or no such file, or (<see cref="PrepareRequest.Import"/>) the store cannot keep it.</exception>
+    public async Task<SplitView> PrepareViewAsync(PrepareRequest request, CancellationToken cancellationToken = default)
+    {
+        var prepared = await PrepareAsync(request, null, cancellationToken).ConfigureAwait(false);
+        return SplitView.Of(prepared.Program, prepared.ProgramId);
+    }
 
     /// <summary>The restore preamble of a start at the block of <paramref name="line"/> (<see cref="PlanStart"/>): what is shown and sent.</summary>
     /// <exception cref="JobException">The line is out of the program or has no block after it.</exception>
@@ -79,7 +82,7 @@ public sealed partial class JobService
     /// <summary>The newest job recorded for a program that did not complete (<see cref="FindInterrupted"/>), as a view; else null.</summary>
     public InterruptedJobView? FindInterruptedView(string sourcePath) =>
         FindInterrupted(sourcePath) is { } r
-            ? new InterruptedJobView(r.Record.Id, SplitView.Of(r.Program), r.ResumeLine, r.Chunk, r.Record.Strategy.ToString().ToLowerInvariant(), r.Record.Checkpoint?.TimeUtc ?? r.Record.Created)
+            ? new InterruptedJobView(r.Record.Id, SplitView.Of(r.Program, r.Record.History.ProgramId), r.ResumeLine, r.Chunk, r.Record.Strategy.ToString().ToLowerInvariant(), r.Record.Checkpoint?.TimeUtc ?? r.Record.Created)
             {
                 Resumable = r,
             }

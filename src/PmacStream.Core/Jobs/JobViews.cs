@@ -25,6 +25,18 @@ public sealed record SplitView(string SourcePath, string Folder, IReadOnlyList<C
     /// <summary>The split as the service read it; null: read it from <see cref="Folder"/>.</summary>
     internal ChunkedProgram? Program { get; init; }
 
+    /// <summary>
+    /// The stored revision the split was prepared from (<see cref="PreparedProgram.ProgramId"/>): a job of it records
+    /// it, a start from a line reads its stored states and the preview its stored blocks; null: a file only.
+    /// </summary>
+    public long? ProgramId { get; init; }
+
+    /// <summary>
+    /// Why the program is not a stored revision although the face asked for one (the store could not keep it, so it
+    /// was prepared as a file, as before the store); null otherwise.
+    /// </summary>
+    public string? NotStored { get; init; }
+
     /// <summary>Full path of a chunk file.</summary>
     public string ChunkPath(ChunkView chunk)
     {
@@ -32,14 +44,15 @@ public sealed record SplitView(string SourcePath, string Folder, IReadOnlyList<C
         return Path.Combine(Folder, chunk.FileName);
     }
 
-    /// <summary>The view of a split.</summary>
-    internal static SplitView Of(ChunkedProgram program) => new(
+    /// <summary>The view of a split, of the stored revision <paramref name="programId"/> when it is one.</summary>
+    internal static SplitView Of(ChunkedProgram program, long? programId = null) => new(
         program.Manifest.SourcePath,
         program.Folder,
         program.Manifest.Chunks.Select(c => new ChunkView(c.Index, c.FileName, c.FirstSourceLine, c.LastSourceLine, c.BlockCount)).ToList(),
         program.Manifest.TotalBlocks)
     {
         Program = program,
+        ProgramId = programId,
     };
 }
 

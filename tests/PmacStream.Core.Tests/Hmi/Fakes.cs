@@ -186,11 +186,21 @@ internal sealed class FakeBackend : IHmiBackend
     }
 
     /// <summary>Refuses a program with a "BAD" line (the service's gate), else writes chunk files of <see cref="RunSettings.BlocksPerChunk"/> lines.</summary>
-    public Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default)
+    public async Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, long? programId, CancellationToken cancellationToken = default)
     {
         PreparedRevisions.Add(programId);
-        return PrepareAsync(sourcePath, settings, profile, cancellationToken);
+        var split = await PrepareAsync(sourcePath, settings, profile, cancellationToken);
+        if (programId is not null || StoreFilesAs is null)
+        {
+            return split with { ProgramId = programId };
+        }
+
+        var (id, why) = StoreFilesAs(sourcePath, profile);
+        return split with { ProgramId = id, NotStored = why };
     }
+
+    /// <summary>As a backend with a store: the revision a file's split names (or why it is not stored); null: a file stays a file.</summary>
+    public Func<string, MachineProfile, (long? Id, string? NotStored)>? StoreFilesAs { get; set; }
 
     public async Task<SplitView> PrepareAsync(string sourcePath, RunSettings settings, MachineProfile profile, CancellationToken cancellationToken = default)
     {

@@ -272,6 +272,48 @@ public sealed class MainPresenterTests : IAsyncLifetime
     }
 
     [Fact]
+    public async Task A_file_its_split_stored_runs_as_that_revision_until_the_profile_or_the_program_changes()
+    {
+        _backend.StoreFilesAs = (_, profile) => (profile.Name == "fanuc-mill" ? 12 : 13, null);
+        await ReadyToRun(lines: 40);
+        _view.Log.Should().Contain(l => l.Contains("(program 12 of the store)"));
+        await Do(_view.ClickExecute);
+        await TickUntilFinished();
+        _backend.Started.Single().ProgramId.Should().Be(12, "the split found or stored the file as revision 12, as stream FILE does");
+        _backend.PreparedRevisions.Should().Equal(new long?[] { null }, "a file is asked to be stored, not handed a revision");
+
+        await Do(() => _view.ChooseProfile("linuxcnc-mill"));
+        await Do(_view.ClickSplit);
+        _view.SelectedLine = 10;
+        await Do(_view.ClickStartFromLine);
+        await TickUntilFinished();
+        _backend.Started[1].FromLine.Should().Be(10);
+        _backend.Started[1].ProgramId.Should().Be(13, "under another profile the file is another revision, found by the split again");
+        _backend.PreparedRevisions.Should().Equal(new long?[] { null, null }, "each split of a file asks the store again");
+
+        _backend.StoreFilesAs = null;
+        await Do(() => _view.ChooseFile(Program(40)));
+        await Do(_view.ClickSplit);
+        await Do(_view.ClickExecute);
+        await TickUntilFinished();
+        _backend.Started[2].ProgramId.Should().BeNull("another program forgets the revision of the one before");
+        _view.Errors.Should().BeEmpty();
+    }
+
+    [Fact]
+    public async Task A_file_the_store_cannot_keep_still_runs_as_a_file_and_the_log_says_why()
+    {
+        _backend.StoreFilesAs = (_, _) => (null, "store sqlite:/shop/store.db: cannot import part.nc: database or disk is full");
+        await ReadyToRun(lines: 40);
+        _view.Log.Should().Contain(l => l.Contains("Not stored, run as a file") && l.Contains("disk is full"));
+        await Do(_view.ClickExecute);
+        await TickUntilFinished();
+        _view.Errors.Should().BeEmpty();
+        _backend.Started.Single().ProgramId.Should().BeNull("the job records no revision the store does not hold");
+        _view.Status.State.Should().Be("Completed");
+    }
+
+    [Fact]
     public async Task Execute_runs_to_completion_with_the_highlight_following_m0()
     {
         await ReadyToRun(lines: 100, blocksPerChunk: 30);
