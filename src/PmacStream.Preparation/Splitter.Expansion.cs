@@ -15,6 +15,7 @@ public static partial class Splitter
     private sealed partial class SourceReader
     {
         private MacroExpander? _expander;
+        private Diagnostic? _expansionError; // the expansion's refusal, for an import in the same pass
         private StreamWriter? _mapWriter;
 
         /// <summary>The program text to split: the file, or its expansion (writing the map beside the chunks).</summary>
@@ -53,7 +54,8 @@ public static partial class Splitter
 
             if (_expander.Error is { } e)
             {
-                OnCheckDiagnostic(ProgramExpansion.ToDiagnostic(e, _source));
+                _expansionError = ProgramExpansion.ToDiagnostic(e, _source);
+                OnCheckDiagnostic(_expansionError);
             }
             else
             {

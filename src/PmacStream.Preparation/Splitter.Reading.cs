@@ -20,6 +20,9 @@ public static partial class Splitter
 
         /// <summary>Why the import in the same pass was given up (nothing of it is kept), or null.</summary>
         public string? ImportGivenUp { get; init; }
+
+        /// <summary>The split read the program's expansion (its map is beside the chunks).</summary>
+        public bool Expanded { get; init; }
     }
 
     /// <summary>
@@ -198,6 +201,13 @@ public static partial class Splitter
 
                     if (check?.Finish(_source, reader.Position, watch.Elapsed, reader.LineNumber) is { } checkedAll)
                     {
+                        if (_expansionError is { } refusal && !_importSealed)
+                        {
+                            // The expansion's refusal comes after the check's findings, as the import by itself reports it.
+                            _feed?.OnDiagnostic(refusal);
+                            checkedAll = checkedAll with { Errors = checkedAll.Errors + 1 };
+                        }
+
                         summary ??= checkedAll;
                         if (checkedAll.UnlistedErrors > 0)
                         {
@@ -213,6 +223,14 @@ public static partial class Splitter
                         stream.CopyTo(Stream.Null);
                         sha = _hashing.HashHex();
                     }
+                    else if (_import != null && _expander != null)
+                    {
+                        // The split read the expansion: the revision's bytes and hash are the file's, read for them alone.
+                        using var file = new FileStream(_source, FileMode.Open, FileAccess.Read, FileShare.Read, 1 << 16, FileOptions.SequentialScan);
+                        using var hashing = new Store.HashingReadStream(file, _import.Revision.Pieces);
+                        hashing.CopyTo(Stream.Null);
+                        sha = hashing.HashHex();
+                    }
                 }
 
                 _feed?.Finish();
@@ -224,6 +242,7 @@ public static partial class Splitter
                     Summary = summary,
                     Sha = sha,
                     ImportGivenUp = _import == null ? null : _importGivenUp,
+                    Expanded = _expander != null,
                 };
             }
             finally
@@ -239,7 +258,8 @@ public static partial class Splitter
         {
             if (!_importSealed)
             {
-                _feed?.OnDiagnostic(d);
+                // An expanded line's finding on the source line it came from, as the import by itself stores it.
+                _feed?.OnDiagnostic(FromExpansion(d));
             }
 
             OnCheckDiagnostic(d);

@@ -57,10 +57,11 @@ public static partial class Splitter
     /// <see cref="Store.IProgramRevisions.ImportRevision"/> writes. Where one check cannot give both (block delete on
     /// and a block-delete block in the program: the store decodes every block, the split skips those), the import is
     /// given up at that line, nothing of it kept, and <see cref="RevisionImport.Result"/> stays null (the caller
-    /// imports separately). Needs <see cref="SplitOptions.CheckProfile"/> (the import's profile) and a program
-    /// without subprograms or macros (an expanded program's split reads its expansion, not the file).
+    /// imports separately). A program with subprograms or macros stores the blocks of its expansion, as the split cuts
+    /// them (and its source map); its file's bytes are hashed and kept by a read of their own. Needs
+    /// <see cref="SplitOptions.CheckProfile"/> (the import's profile).
     /// </summary>
-    /// <exception cref="ArgumentException">No check profile, another profile than the import's, or an expanded program.</exception>
+    /// <exception cref="ArgumentException">No check profile, or another profile than the import's.</exception>
     /// <exception cref="System.Data.Common.DbException">The store failed; nothing of the import is kept and nothing is split.</exception>
     public static SplitResult SplitAndImport(string sourcePath, SplitOptions options, RevisionImport import,
         IProgress<SplitProgress>? progress = null, CancellationToken cancellationToken = default)
@@ -70,11 +71,6 @@ public static partial class Splitter
         if (options.CheckProfile is not { } profile || !ReferenceEquals(profile, import.Profile) && profile.Identity != import.Profile.Identity)
         {
             throw new ArgumentException("a split that imports checks under the import's profile (SplitOptions.CheckProfile)", nameof(options));
-        }
-
-        if (GCode.Expansion.ProgramExpansion.Applies(sourcePath, profile))
-        {
-            throw new ArgumentException($"{sourcePath}: a program with subprograms or macros is split from its expansion; import it separately", nameof(sourcePath));
         }
 
         return SplitCore(sourcePath, options, import, progress, cancellationToken);
@@ -368,6 +364,12 @@ public static partial class Splitter
             {
                 Logger.Information("{Source}: not stored in the same pass as its split: {Why}", _source, why);
                 return;
+            }
+
+            if (read.Expanded)
+            {
+                // The expansion's source map, as the split wrote it beside the chunks, goes with the revision.
+                ImportPipeline.StoreMap(Path.Combine(_folder, GCode.Expansion.ExpansionMap.FileName), _import!.Blocks);
             }
 
             _import!.Complete(read.Summary!, read.Sha!);

@@ -167,9 +167,9 @@ public sealed partial class JobService
                 return (known.Id, null);
             }
 
-            if (GCode.Expansion.ProgramExpansion.Applies(source, profile) || options.CheckProfile is null)
+            if (options.CheckProfile is null)
             {
-                return (ImportAlone(store, source, profile, "its split reads its expansion, not the file", cancellationToken), null);
+                return (ImportAlone(store, source, profile, "the split does not check it", cancellationToken), null);
             }
 
             return SplitImporting(store, request, source, options, outDir, progress, cancellationToken);
@@ -243,7 +243,11 @@ public sealed partial class JobService
         }
 
         var inputs = PreparationInputs.Of(split.Manifest.SourceSha256, options);
-        if (store.FindPreparation(id, StoredPreparation.KeyOf(inputs)) is null)
+        if (GCode.Expansion.ProgramExpansion.Applies(source, request.Profile))
+        {
+            Log.Information("Program {Id}: its split reads subprogram files and persistent variables; prepared beside {Source:l}, not stored", id, source);
+        }
+        else if (store.FindPreparation(id, StoredPreparation.KeyOf(inputs)) is null)
         {
             var kept = store.StorePreparation(id, inputs, outDir);
             Interlocked.Increment(ref _preparationsStored);

@@ -71,7 +71,8 @@ internal static class ImportPipeline
         }
     }
 
-    private static void StoreMap(string mapPath, IBlockSink writer)
+    /// <summary>Stores an expansion's source map from its text file, in pieces of whole lines.</summary>
+    internal static void StoreMap(string mapPath, IBlockSink writer)
     {
         // Whole lines per piece: a piece never ends inside a line (or a character).
         using var r = new StreamReader(mapPath, System.Text.Encoding.UTF8);

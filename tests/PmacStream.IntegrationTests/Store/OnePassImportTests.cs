@@ -54,6 +54,15 @@ public sealed class OnePassImportTests : IDisposable
         var errors = Same(location, Write("errors.nc", Errors), force: false);
         errors.Errors.Should().BeGreaterThan(0);
 
+        // o-words: the blocks stored are the expansion's, as the split cuts them, with the expansion's source map.
+        var loop = Same(location, Write("loop.ngc", Loop), MachineProfile.Named("linuxcnc-mill")!, force: false);
+        loop.Errors.Should().Be(0);
+        loop.Blocks.Should().BeGreaterThanOrEqualTo(5, "the loop's body is stored once for each of its three runs");
+        using (var store = ProgramStores.Open(location))
+        {
+            store.ReadExpansionMap(loop.Id).Should().NotBeNull("the expansion's map is stored with the revision");
+        }
+
         var utf16 = Path.Combine(_folder.Path, $"utf16-{Guid.NewGuid():N}.nc");
         File.WriteAllText(utf16, $"({Guid.NewGuid():N})\nG21 G90\nG0 X1\nM30\n", new UnicodeEncoding(false, true));
         Same(location, utf16, force: false).Errors.Should().Be(1, "one error for the UTF-16 file, and the check ends there");
@@ -109,6 +118,13 @@ public sealed class OnePassImportTests : IDisposable
         again.ProgramId.Should().Be(first.ProgramId);
         service.ImportedInSplitPass.Should().Be(1, "found by its SHA-256, not read again");
         service.PreparationsReused.Should().Be(1);
+
+        // A program with o-words: imported in the split's pass too; its preparation (which reads other files and the
+        // persistent variables) stays beside the file.
+        var loop = await service.PrepareAsync(new PrepareRequest(Write("loop.ngc", Loop), RunSettings.Default) { Import = true, Profile = MachineProfile.Named("linuxcnc-mill")!, OutDir = _folder.NewFolder("chunks") });
+        loop.ProgramId.Should().NotBeNull();
+        service.ImportedInSplitPass.Should().Be(2);
+        service.PreparationsStored.Should().Be(1, "an expanded program's preparation is not stored");
     }
 
     /// <summary>
@@ -165,7 +181,7 @@ public sealed class OnePassImportTests : IDisposable
         }
 
         onePass["blocks"].Count.Should().Be((int)info.Blocks);
-        return info;
+        return info with { Id = separate.Id };
     }
 
     private static SplitOptions Options(string outDir, bool force, bool blockDelete = true) => Options(MachineProfile.Default, outDir, force, blockDelete);
@@ -315,6 +331,16 @@ public sealed class OnePassImportTests : IDisposable
         G17 M9
         M5
         M30
+        """;
+
+    private const string Loop = """
+        G21 G90 G17
+        #1 = 0
+        o100 while [#1 LT 3]
+        G01 X[#1] Y1 F600
+        #1 = [#1 + 1]
+        o100 endwhile
+        M2
         """;
 
     private const string Numbered = """
